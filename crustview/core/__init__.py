@@ -1,0 +1,27 @@
+"""The reconstruction core: numpy and scipy only (never Qt, pyvista or VTK).
+
+Entry points
+------------
+reconstruct(points, d, *, test="cocone", theta=pi/8) -> Reconstruction
+reextract(rec, test, theta) -> Reconstruction   (Algorithm 3 again, fast)
+"""
+
+from .errors import Cancelled, CrustviewError, InputError, QhullFailure
+from .reconstruct import reconstruct, reextract
+from .result import CANDIDATE_TESTS, RULES, Candidates, Extraction, Reconstruction, Step, TopologyReport
+
+__all__ = [
+    "CANDIDATE_TESTS",
+    "RULES",
+    "Cancelled",
+    "Candidates",
+    "CrustviewError",
+    "Extraction",
+    "InputError",
+    "QhullFailure",
+    "Reconstruction",
+    "Step",
+    "TopologyReport",
+    "reconstruct",
+    "reextract",
+]

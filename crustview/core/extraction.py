@@ -1,0 +1,319 @@
+"""Algorithm 3: manifold extraction as a recorded, replayable sequence of steps.
+
+The paper's loop::
+
+    while T is not a closed d-manifold:
+        recursively remove d-simplices that have a (d-1)-face without an
+            adjacent d-simplex meeting it at an angle of 3pi/2 or larger   (2)
+        find a (d-1)-simplex tau in more than two d-simplices               (3)
+        let sigma, sigma' be two of them meeting at an angle < pi/2         (4)
+        remove all d-simplices containing tau except sigma and sigma'       (5)
+
+Angles in any codimension
+-------------------------
+The paper speaks of dihedral angles, which only exist in codimension 1.  For
+a (d-1)-face ``tau`` of a d-simplex ``sigma`` let ``u(sigma, tau)`` be the
+unit vector from ``aff(tau)`` to the vertex of ``sigma`` opposite ``tau``,
+orthogonal to ``aff(tau)``.  The angle between two d-simplices at ``tau`` is
+``phi = arccos(u . u')`` in ``[0, pi]``: ``pi`` means flat (they continue
+each other), ``0`` means folded onto each other.  In codimension 1 this is the
+ordinary dihedral angle.
+
+* **Sharp face (line 2).**  In codimension 1 the simplices around ``tau`` are
+  cyclically ordered; "no simplex meets at 3pi/2 or larger" is Cocone's sharp
+  edge: some gap between consecutive simplices exceeds 3pi/2, i.e. all of them
+  lie in a wedge narrower than pi/2, i.e. *every pair meets at phi < pi/2*.
+  That last form needs no cyclic order, so it is our definition in every
+  codimension.  A face with a single simplex is sharp (boundary).  All
+  simplices at a sharp face are removed in one step (rule ``prune-sharp``),
+  and the faces they touch are re-examined ("recursively").
+* **Non-manifold face (lines 3-5).**  "Meet at an angle smaller than pi/2" is
+  the deviation from flat, ``pi - phi < pi/2``.  Among the eligible pairs we
+  keep the one whose removals create the fewest new boundary faces, then the
+  flattest (largest ``phi``), then the smallest ids, so the run is
+  deterministic.  Faces are processed most-confident first: largest best
+  ``phi`` first (rule ``resolve-nonmanifold``).
+
+The loop stops when no rule applies.  Then every (d-1)-face has 0 or 2
+simplices; if the complex is nevertheless not a closed manifold (a pinched
+vertex) or is empty, :attr:`Extraction.stopped` says so and the topology
+report explains it -- the paper's loop would not terminate there.
+"""
+
+from __future__ import annotations
+
+import heapq
+from collections import deque
+from collections.abc import Callable
+
+import numpy as np
+
+from .result import RULE_PRUNE, RULE_RESOLVE, Extraction, Step
+
+HALF_PI = np.pi / 2
+
+
+def facet_structure(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(d-1)-faces of a d-complex.
+
+    Returns
+    -------
+    facets : ndarray of shape (g, d)
+        Sorted vertex rows.
+    facet_of : ndarray of shape (c, d + 1)
+        ``facet_of[i, a]`` is the facet of simplex ``i`` opposite its vertex ``a``.
+    ptr, inc : ndarray
+        CSR: simplices containing facet ``g`` are ``inc[ptr[g]:ptr[g+1]]``.
+    """
+    c, dp1 = simplices.shape
+    srt = np.sort(simplices, axis=1)
+    parts = [np.delete(srt, a, axis=1) for a in range(dp1)]
+    allf = np.stack(parts, axis=1).reshape(-1, dp1 - 1)
+    facets, inverse = np.unique(allf, axis=0, return_inverse=True)
+    inverse = inverse.ravel()
+    facet_of = inverse.reshape(c, dp1)
+    order = np.argsort(inverse, kind="stable")
+    counts = np.bincount(inverse, minlength=len(facets))
+    ptr = np.concatenate([[0], np.cumsum(counts)])
+    return facets, facet_of, ptr, order // dp1
+
+
+def opposite_vectors(points: np.ndarray, simplices: np.ndarray) -> np.ndarray:
+    """Unit vectors ``u(sigma, tau)`` for every simplex and facet.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, k)
+    simplices : ndarray of shape (c, d + 1), rows sorted
+
+    Returns
+    -------
+    ndarray of shape (c, d + 1, k)
+        ``[i, a]``: from aff(facet opposite vertex a) to vertex a.
+    """
+    c, dp1 = simplices.shape
+    p = points[simplices]
+    out = np.empty((c, dp1, points.shape[1]))
+    for a in range(dp1):
+        rest = np.delete(p, a, axis=1)  # (c, d, k)
+        v = p[:, a] - rest[:, 0]
+        if dp1 > 2:
+            q, _ = np.linalg.qr(np.swapaxes(rest[:, 1:] - rest[:, :1], 1, 2))
+            v = v - np.einsum("ckj,cj->ck", q, np.einsum("ckj,ck->cj", q, v))
+        out[:, a] = v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
+    return out
+
+
+class _Extractor:
+    """Mutable state of one run; see :func:`extract`."""
+
+    def __init__(self, points: np.ndarray, simplices: np.ndarray) -> None:
+        self.simplices = np.sort(np.asarray(simplices, dtype=np.int64), axis=1)
+        c = len(self.simplices)
+        self.facets, self.facet_of, self.ptr, self.inc = facet_structure(self.simplices)
+        self.u = opposite_vectors(points, self.simplices)
+        # position of each facet inside each incident simplex, for u lookup
+        self.alive = np.ones(c, dtype=bool)
+        self.count = np.diff(self.ptr).copy()
+        self.removed_at = np.full(c, -1, dtype=np.int64)
+        self.steps: list[Step] = []
+
+    # -- geometry ---------------------------------------------------------
+    def _u(self, s: int, g: int) -> np.ndarray:
+        a = int(np.flatnonzero(self.facet_of[s] == g)[0])
+        return self.u[s, a]
+
+    def alive_at(self, g: int) -> list[int]:
+        return [int(s) for s in self.inc[self.ptr[g] : self.ptr[g + 1]] if self.alive[s]]
+
+    def pair_angles(self, g: int, simp: list[int]) -> np.ndarray:
+        vec = np.array([self._u(s, g) for s in simp])
+        return np.arccos(np.clip(vec @ vec.T, -1.0, 1.0))
+
+    def is_sharp(self, g: int) -> tuple[bool, float, list[int]]:
+        simp = self.alive_at(g)
+        if len(simp) == 0:
+            return False, float("nan"), simp
+        if len(simp) == 1:
+            return True, float("nan"), simp
+        ang = self.pair_angles(g, simp)
+        best = float(ang[np.triu_indices(len(simp), 1)].max())
+        return best < HALF_PI, best, simp
+
+    # -- mutation ---------------------------------------------------------
+    def remove(self, simp: list[int], step: int) -> set[int]:
+        touched: set[int] = set()
+        for s in simp:
+            if not self.alive[s]:
+                continue
+            self.alive[s] = False
+            self.removed_at[s] = step
+            for g in self.facet_of[s]:
+                self.count[g] -= 1
+                touched.add(int(g))
+        return touched
+
+    def tau(self, g: int) -> tuple[int, ...]:
+        return tuple(int(v) for v in self.facets[g])
+
+
+def _initial_sharp(ex: _Extractor) -> list[int]:
+    """Facets sharp in the full complex, vectorised for the common 1- and 2-simplex cases."""
+    cnt = ex.count
+    sharp = cnt == 1
+    two = np.flatnonzero(cnt == 2)
+    if len(two):
+        s0 = ex.inc[ex.ptr[two]]
+        s1 = ex.inc[ex.ptr[two] + 1]
+        a0 = np.argmax(ex.facet_of[s0] == two[:, None], axis=1)
+        a1 = np.argmax(ex.facet_of[s1] == two[:, None], axis=1)
+        dots = (ex.u[s0, a0] * ex.u[s1, a1]).sum(axis=1)
+        sharp[two[np.arccos(np.clip(dots, -1, 1)) < HALF_PI]] = True
+    many = [int(g) for g in np.flatnonzero(cnt > 2) if ex.is_sharp(int(g))[0]]
+    return sorted(set(np.flatnonzero(sharp).tolist()) | set(many))
+
+
+def extract(
+    points: np.ndarray,
+    simplices: np.ndarray,
+    *,
+    cancel: object | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> Extraction:
+    """Run Algorithm 3 on a d-complex and record every step.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, k)
+    simplices : ndarray of shape (c, d + 1)
+        The candidate complex T_S.
+    cancel : object with ``is_set()``, optional
+        Checked every 256 steps; raises :class:`~crustview.core.errors.Cancelled`.
+    progress : callable, optional
+        Called with a rough fraction of simplices decided.
+
+    Returns
+    -------
+    Extraction
+    """
+    from .errors import Cancelled
+
+    simplices = np.asarray(simplices, dtype=np.int64)
+    d1 = simplices.shape[1] if simplices.ndim == 2 else 1
+    if len(simplices) == 0:
+        return Extraction(np.empty((0, d1), np.int64), [], np.zeros(0, np.int64), "empty")
+    ex = _Extractor(points, simplices)
+    prune = deque(_initial_sharp(ex))
+    queued = set(prune)
+    heap = []
+    for g in np.flatnonzero(ex.count > 2):
+        heap.append((-np.pi, int(g)))  # evaluated lazily on first pop
+    heapq.heapify(heap)
+
+    def check_cancel() -> None:
+        if cancel is not None and len(ex.steps) % 256 == 0 and cancel.is_set():
+            raise Cancelled("reconstruction cancelled")
+
+    while True:
+        while prune:
+            g = prune.popleft()
+            queued.discard(g)
+            sharp, best, simp = ex.is_sharp(g)
+            if not sharp:
+                continue
+            idx = len(ex.steps)
+            touched = ex.remove(simp, idx)
+            why = (
+                "only one d-simplex left at this face (boundary)"
+                if len(simp) == 1
+                else f"all {len(simp)} d-simplices meet within {np.degrees(best):.1f} deg < 90 deg (sharp)"
+            )
+            ex.steps.append(Step(idx, RULE_PRUNE, ex.tau(g), (), tuple(simp), best, why))
+            for h in sorted(touched):
+                if h != g and ex.count[h] > 0 and h not in queued:
+                    prune.append(h)
+                    queued.add(h)
+            check_cancel()
+        # lines 3-5: one non-manifold face, most confident first
+        chosen = None
+        while heap:
+            key, g = heapq.heappop(heap)
+            if ex.count[g] <= 2:
+                continue
+            simp = ex.alive_at(g)
+            ang = ex.pair_angles(g, simp)
+            best = float(ang[np.triu_indices(len(simp), 1)].max())
+            if -key > best + 1e-12:  # stale priority: re-queue with the true one
+                heapq.heappush(heap, (-best, g))
+                continue
+            chosen = (g, simp, ang)
+            break
+        if chosen is None:
+            break
+        g, simp, ang = chosen
+        pick = _choose_pair(ex, g, simp, ang)
+        if pick is None:  # no eligible pair: the face is sharp, prune handles it
+            prune.append(g)
+            queued.add(g)
+            continue
+        i, j = pick
+        keep = (simp[i], simp[j])
+        drop = [s for s in simp if s not in keep]
+        idx = len(ex.steps)
+        touched = ex.remove(drop, idx)
+        ex.steps.append(
+            Step(
+                idx,
+                RULE_RESOLVE,
+                ex.tau(g),
+                keep,
+                tuple(drop),
+                float(ang[i, j]),
+                f"{len(simp)} d-simplices at this face; kept the pair meeting at "
+                f"{np.degrees(ang[i, j]):.1f} deg (180 = flat), removed {len(drop)}",
+            )
+        )
+        for h in sorted(touched):
+            if ex.count[h] > 0 and h not in queued:
+                prune.append(h)
+                queued.add(h)
+            if ex.count[h] > 2:
+                heapq.heappush(heap, (-np.pi, h))
+        check_cancel()
+        if progress is not None and idx % 64 == 0:
+            progress(1.0 - len(heap) / max(len(ex.facets), 1))
+    n_steps = len(ex.steps)
+    # a simplex removed by step j is alive after i steps iff i <= j
+    removed_at = np.where(ex.removed_at < 0, n_steps, ex.removed_at)
+    if not ex.alive.any():
+        stopped = "empty"
+    elif (ex.count[ex.count > 0] == 2).all():
+        stopped = "closed"
+    else:  # pragma: no cover - the loop only ends with counts in {0, 2}
+        stopped = "stuck"
+    return Extraction(ex.simplices, ex.steps, removed_at, stopped)
+
+
+def _choose_pair(ex: _Extractor, g: int, simp: list[int], ang: np.ndarray) -> tuple[int, int] | None:
+    """Eligible pair (phi > pi/2) creating fewest new boundary faces, then flattest."""
+    best = None
+    best_key = None
+    m = len(simp)
+    for i in range(m):
+        for j in range(i + 1, m):
+            if not ang[i, j] > HALF_PI:
+                continue
+            new_boundary = 0
+            drop = [s for t, s in enumerate(simp) if t not in (i, j)]
+            lost: dict[int, int] = {}
+            for s in drop:
+                for h in ex.facet_of[s]:
+                    if h != g:
+                        lost[int(h)] = lost.get(int(h), 0) + 1
+            for h, k in lost.items():
+                if ex.count[h] - k == 1:
+                    new_boundary += 1
+            key = (new_boundary, -ang[i, j], simp[i], simp[j])
+            if best_key is None or key < best_key:
+                best_key, best = key, (i, j)
+    return best

@@ -1,0 +1,226 @@
+"""Input preparation: validation, duplicate merging, normalisation.
+
+Everything Qhull sees goes through :func:`prepare_points`.  It
+
+1. rejects non-finite values, too few points and ``d`` outside ``[1, k-1]``;
+2. merges duplicates and near-duplicates: points closer than
+   ``merge_tol * spacing`` (``spacing`` = median nearest-neighbour distance)
+   become one sample, so tolerance scales with the data, not with 1e-12;
+3. centres and scales the samples to unit radius (Qhull loses precision at
+   large offsets);
+4. detects a lower-dimensional affine hull (relative singular value below
+   ``1e-9``) and expresses the points in an orthonormal basis of it; the
+   caller lifts results back with :attr:`PreparedPoints.basis`;
+5. applies a deterministic joggle of relative size ``joggle`` (of the
+   spacing).  Exactly cospherical input (sphere, Clifford torus, S^3) is
+   25-130x slower in Qhull and its Voronoi vertices all collapse onto the
+   centre; a perturbation far below the sample spacing restores general
+   position and a meaningful Voronoi diagram while changing no geometric
+   quantity the algorithm uses by more than ``joggle * spacing``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from .errors import InputError
+
+#: Default joggle relative to the sample spacing.
+DEFAULT_JOGGLE = 1e-6
+#: Default merge tolerance relative to the sample spacing.
+DEFAULT_MERGE_TOL = 1e-4
+
+
+@dataclass(frozen=True)
+class PreparedPoints:
+    """Samples ready for Qhull and the maps back to the input.
+
+    Attributes
+    ----------
+    points : ndarray of shape (n, k)
+        Unique samples in input coordinates (mean of each merged group's
+        first member, i.e. the first input row of the group).
+    input_index : ndarray of shape (n_in,)
+        Sample each input row was merged into.
+    point_input : ndarray of shape (n,)
+        First input row of each sample.
+    center : ndarray of shape (k,)
+    scale : float
+        ``work = ((points - center) @ basis) / scale`` (plus joggle).
+    basis : ndarray of shape (k, r)
+        Orthonormal basis of the affine hull's directions.
+    work : ndarray of shape (n, r)
+        Working coordinates given to Qhull (joggled).
+    spacing : float
+        Median nearest-neighbour distance of the samples, input units.
+    joggle : float
+        Joggle size in input units.
+    """
+
+    points: np.ndarray
+    input_index: np.ndarray
+    point_input: np.ndarray
+    center: np.ndarray
+    scale: float
+    basis: np.ndarray
+    work: np.ndarray
+    spacing: float
+    joggle: float
+
+    @property
+    def r(self) -> int:
+        """Dimension of the affine hull of the samples."""
+        return self.basis.shape[1]
+
+    def lift(self, work_coords: np.ndarray) -> np.ndarray:
+        """Map working coordinates ``(..., r)`` back to input space ``(..., k)``."""
+        return work_coords @ self.basis.T * self.scale + self.center
+
+    def lift_vectors(self, vectors: np.ndarray) -> np.ndarray:
+        """Map direction vectors ``(..., r)`` to input space (no scaling)."""
+        return vectors @ self.basis.T
+
+
+def validate(points: np.ndarray, d: int) -> np.ndarray:
+    """Check shape, finiteness and ``d``; return a float64 copy.
+
+    Raises
+    ------
+    InputError
+        With a sentence saying what to change.
+    """
+    try:
+        pts = np.array(points, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"points must be a numeric (n, k) array: {exc}") from None
+    if pts.ndim != 2:
+        raise InputError(f"points must be a 2-D array of shape (n, k); got {pts.ndim}-D shape {pts.shape}")
+    n, k = pts.shape
+    if k < 2:
+        raise InputError(f"points must have at least 2 coordinates (k >= 2); got k = {k}")
+    if not isinstance(d, (int, np.integer)) or isinstance(d, bool):
+        raise InputError(f"d must be an integer; got {d!r}")
+    if not 1 <= d <= k - 1:
+        raise InputError(f"d must be between 1 and k-1 = {k - 1} for points in R^{k}; got d = {d}")
+    bad = ~np.isfinite(pts).all(axis=1)
+    if bad.any():
+        rows = np.flatnonzero(bad)
+        raise InputError(
+            f"{bad.sum()} point(s) contain NaN or infinity (first at row {rows[0]}); remove them"
+        )
+    if n < k + 2:
+        raise InputError(f"need at least k + 2 = {k + 2} points in R^{k}; got {n}")
+    return pts
+
+
+def merge_duplicates(pts: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, float]:
+    """Merge points closer than ``tol * spacing``.
+
+    Returns
+    -------
+    input_index : ndarray of shape (n_in,)
+        Group of each input row, numbered in order of first appearance.
+    point_input : ndarray of shape (n,)
+        First input row of each group.
+    spacing : float
+        Median nearest-neighbour distance among distinct points.
+    """
+    tree = cKDTree(pts)
+    dist, _ = tree.query(pts, k=min(len(pts), 8))
+    # median NN distance ignoring exact duplicates
+    nz = dist[:, 1:]
+    positive = nz[nz > 0]
+    if positive.size == 0:
+        raise InputError("all points coincide; nothing to reconstruct")
+    first_pos = np.where(nz > 0, nz, np.inf).min(axis=1)
+    spacing = float(np.median(first_pos[np.isfinite(first_pos)]))
+    pairs = tree.query_pairs(tol * spacing, output_type="ndarray")
+    n = len(pts)
+    if len(pairs) == 0:
+        idx = np.arange(n)
+        return idx, idx.copy(), spacing
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, labels = connected_components(graph, directed=False)
+    # renumber groups by first appearance
+    _, first = np.unique(labels, return_index=True)
+    order = np.argsort(first)
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    input_index = rank[labels]
+    point_input = np.sort(first)
+    return input_index, point_input, spacing
+
+
+def prepare_points(
+    points: np.ndarray,
+    d: int,
+    *,
+    merge_tol: float = DEFAULT_MERGE_TOL,
+    joggle: float = DEFAULT_JOGGLE,
+    seed: int = 0,
+) -> PreparedPoints:
+    """Validate, merge, normalise and joggle a sample for Qhull.
+
+    Parameters
+    ----------
+    points : array_like of shape (n_in, k)
+    d : int
+        Intrinsic dimension, ``1 <= d <= k - 1``.
+    merge_tol : float
+        Points closer than ``merge_tol * spacing`` are merged.
+    joggle : float
+        Relative size (of the spacing) of the deterministic perturbation.
+        0 disables it.
+    seed : int
+        Seed of the joggle.
+
+    Raises
+    ------
+    InputError
+        Bad values, too few distinct points, or an affine hull of dimension
+        ``<= d``.
+    """
+    pts = validate(points, d)
+    n_in, k = pts.shape
+    input_index, point_input, spacing = merge_duplicates(pts, merge_tol)
+    uniq = pts[point_input]
+    n = len(uniq)
+    if n < k + 2:
+        raise InputError(
+            f"only {n} distinct points remain after merging duplicates; need at least {k + 2} in R^{k}"
+        )
+    center = uniq.mean(axis=0)
+    centred = uniq - center
+    # affine hull
+    _, sv, vt = np.linalg.svd(centred, full_matrices=False)
+    rank = int((sv > sv[0] * 1e-9).sum())
+    if rank <= d:
+        raise InputError(
+            f"the points span only a {rank}-dimensional affine subspace, so they cannot sample "
+            f"a closed {d}-manifold; check d (got d = {d})"
+        )
+    basis = vt[:rank].T if rank < k else np.eye(k)
+    local = centred @ basis
+    scale = float(np.sqrt((local**2).sum(axis=1).max()))
+    work = local / scale
+    jog = 0.0
+    if joggle > 0:
+        rng = np.random.default_rng(seed)
+        jog = joggle * spacing
+        work = work + rng.uniform(-1.0, 1.0, size=work.shape) * (jog / scale)
+    return PreparedPoints(
+        points=uniq,
+        input_index=input_index,
+        point_input=point_input,
+        center=center,
+        scale=scale,
+        basis=basis,
+        work=work,
+        spacing=spacing,
+        joggle=jog,
+    )

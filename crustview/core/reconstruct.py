@@ -1,0 +1,206 @@
+"""The whole pipeline: prepare -> Delaunay -> Algorithm 1 -> 2 -> 3 -> topology."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import replace
+
+import numpy as np
+
+from . import candidates as cand
+from .delaunay import bounding_points, circumcenters, delaunay
+from .errors import Cancelled, InputError
+from .extraction import extract
+from .normals import complete_bases, greedy_poles
+from .prepare import DEFAULT_JOGGLE, prepare_points
+from .result import CANDIDATE_TESTS, Candidates, Reconstruction
+from .topology import analyse
+
+ProgressFn = Callable[[str, float], None]
+
+
+def _check(cancel: object | None) -> None:
+    if cancel is not None and cancel.is_set():
+        raise Cancelled("reconstruction cancelled")
+
+
+def _validate_params(test: str, theta: float) -> float:
+    if test not in CANDIDATE_TESTS:
+        raise InputError(f"unknown candidate test {test!r}; choose one of {', '.join(CANDIDATE_TESTS)}")
+    try:
+        theta = float(theta)
+    except (TypeError, ValueError):
+        raise InputError(f"theta must be an angle in radians; got {theta!r}") from None
+    if not 0 < theta < np.pi / 2:
+        raise InputError(f"theta must lie strictly between 0 and pi/2 radians (90 deg); got {theta!r}")
+    return theta
+
+
+def reconstruct(
+    points: np.ndarray,
+    d: int,
+    *,
+    test: str = "cocone",
+    theta: float = np.pi / 8,
+    joggle: float = DEFAULT_JOGGLE,
+    progress: ProgressFn | None = None,
+    cancel: object | None = None,
+) -> Reconstruction:
+    """Reconstruct a closed d-manifold from samples in R^k.
+
+    Parameters
+    ----------
+    points : array_like of shape (n, k)
+        The samples.  Duplicates are merged (see :mod:`.prepare`).
+    d : int
+        Intrinsic dimension, ``1 <= d <= k - 1``.
+    test : {"cocone", "literal"}
+        Candidate test used for extraction.  Both are always computed and
+        stored in ``result.candidates``.  ``"cocone"`` (default) also looks at
+        *where* the dual Voronoi cell is and reconstructs the built-in
+        manifolds; ``"literal"`` is the paper's orientation-only test.
+    theta : float
+        Angle threshold of the candidate test, radians (paper: pi/8).
+    joggle : float
+        Relative size (of the sample spacing) of the perturbation applied
+        before Qhull; 0 disables it (slow and degenerate on cospherical data).
+    progress : callable(stage, fraction), optional
+        Called between and inside stages.
+    cancel : object with ``is_set()``, optional
+        When it becomes set, :class:`~crustview.core.errors.Cancelled` is raised.
+
+    Returns
+    -------
+    Reconstruction
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 2 * np.pi, 60, endpoint=False)
+    >>> rec = reconstruct(np.c_[np.cos(t), 2 * np.sin(t)], d=1)
+    >>> rec.topology.closed_manifold, rec.topology.betti
+    (True, (1, 1))
+    """
+    theta = _validate_params(test, theta)
+    report = progress or (lambda stage, frac: None)
+    timings: dict[str, float] = {}
+    t0 = time.perf_counter()
+    report("prepare", 0.0)
+    prep = prepare_points(points, d, joggle=joggle)
+    n, k = prep.points.shape
+    r = prep.r
+    timings["prepare"] = time.perf_counter() - t0
+    _check(cancel)
+
+    t0 = time.perf_counter()
+    report("delaunay", 0.0)
+    bounds = bounding_points(r)
+    simplices = delaunay(prep.work, bounds)
+    work_all = np.vstack([prep.work, bounds])
+    centres = circumcenters(work_all, simplices)
+    timings["delaunay"] = time.perf_counter() - t0
+    _check(cancel)
+
+    t0 = time.perf_counter()
+    report("normals", 0.0)
+    pole_w, normals_w = greedy_poles(work_all, simplices, centres, n, r - d)
+    # lift: in-subspace normals plus the complement of the affine hull
+    normals = prep.lift_vectors(np.swapaxes(normals_w, 1, 2))  # (n, r-d, k)
+    if r < k:
+        comp = np.linalg.qr(prep.basis, mode="complete")[0][:, r:]  # (k, k-r)
+        normals = np.concatenate([normals, np.broadcast_to(comp.T, (n, k - r, k))], axis=1)
+        pole_w = np.concatenate([pole_w, np.full((n, k - r), -1, dtype=np.int64)], axis=1)
+    normals, tangents = complete_bases(np.swapaxes(normals, 1, 2))
+    timings["normals"] = time.perf_counter() - t0
+    _check(cancel)
+
+    t0 = time.perf_counter()
+    report("candidates", 0.0)
+    faces, cptr, csimp = cand.enumerate_faces(simplices, n, d)
+    lit = cand.literal_angles(prep.work, normals_w, faces)
+    _check(cancel)
+    coc = cand.cocone_angles(
+        work_all, normals_w, centres, faces, cptr, csimp,
+        progress=lambda f: (report("candidates", f), _check(cancel)),
+    )
+    candidates = Candidates(faces=faces, angles={"cocone": coc, "literal": lit}, theta=theta)
+    timings["candidates"] = time.perf_counter() - t0
+    _check(cancel)
+
+    rec = Reconstruction(
+        d=d,
+        k=k,
+        input_points=np.asarray(points, dtype=np.float64),
+        input_index=prep.input_index,
+        points=prep.points,
+        point_input=prep.point_input,
+        spacing=prep.spacing,
+        joggle=prep.joggle,
+        subspace_dim=r,
+        bounding_points=prep.lift(bounds),
+        delaunay_simplices=simplices,
+        voronoi_vertices=prep.lift(centres),
+        pole_index=pole_w,
+        normals=normals,
+        tangents=tangents,
+        candidates=candidates,
+        test=test,
+        theta=theta,
+        extraction=None,  # type: ignore[arg-type]
+        manifold=np.empty((0, d + 1), np.int64),
+        topology=None,  # type: ignore[arg-type]
+        timings=timings,
+    )
+    return reextract(rec, test, theta, progress=progress, cancel=cancel)
+
+
+def reextract(
+    rec: Reconstruction,
+    test: str,
+    theta: float,
+    *,
+    progress: ProgressFn | None = None,
+    cancel: object | None = None,
+) -> Reconstruction:
+    """Re-run Algorithm 3 and the topology report for another test or threshold.
+
+    Nothing before Algorithm 3 is recomputed: both tests' angles are stored.
+
+    Returns
+    -------
+    Reconstruction
+        A new object sharing the arrays of ``rec``.
+    """
+    theta = _validate_params(test, theta)
+    report = progress or (lambda stage, frac: None)
+    timings = dict(rec.timings)
+    t0 = time.perf_counter()
+    report("extraction", 0.0)
+    tset = rec.candidates.select(test, theta)
+    ext = extract(rec.points, tset, cancel=cancel, progress=lambda f: report("extraction", f))
+    manifold = ext.complex_at(ext.n_steps)
+    timings["extraction"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    report("topology", 0.0)
+    topo = analyse(manifold, rec.n, rec.d)
+    counts = ext.counts_by_rule()
+    if ext.stopped == "empty":
+        topo.messages.insert(
+            0,
+            f"extraction removed every simplex of T_S ({len(tset)} candidates; "
+            + ", ".join(f"{r}: {c['steps']} steps removed {c['removed']}" for r, c in counts.items())
+            + "): the sample is probably too sparse (undersampled) for this test and angle",
+        )
+    elif not topo.closed_manifold:
+        topo.messages.insert(
+            0,
+            "extraction could not produce a closed manifold ("
+            + ", ".join(f"{r}: {c['steps']} steps removed {c['removed']}" for r, c in counts.items())
+            + "); the sample is probably undersampled or noisy here",
+        )
+    timings["topology"] = time.perf_counter() - t0
+    report("done", 1.0)
+    cands = replace(rec.candidates, theta=theta)
+    return replace(rec, candidates=cands, test=test, theta=theta, extraction=ext, manifold=manifold,
+                   topology=topo, timings=timings)
