@@ -1,0 +1,172 @@
+"""Base of the render adapters: one PolyData per part, updated in place.
+
+An adapter wraps one :class:`~crustview.scene.Layer`.  It creates its
+PolyData and actor once; later changes (projection, step, style) replace the
+points, cells or scalars of the *same* PolyData, never the actor.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pyvista as pv
+from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.vtkCommonCore import vtkPoints
+from vtkmodules.vtkCommonDataModel import vtkCellArray
+
+from ..scene.layers import Layer
+from ..scene.model import SceneModel
+
+_EMPTY = np.zeros((0, 1), dtype=np.int64)
+
+
+def cell_array(cells: np.ndarray | None) -> vtkCellArray:
+    """A vtkCellArray of fixed-size cells from an ``(m, w)`` integer array."""
+    ca = vtkCellArray()
+    if cells is None or len(cells) == 0:
+        return ca
+    cells = np.asarray(cells, dtype=np.int64)
+    m, w = cells.shape
+    offsets = np.arange(0, m * w + 1, w, dtype=np.int64)
+    ca.SetData(numpy_to_vtk(offsets, deep=True), numpy_to_vtk(np.ascontiguousarray(cells).ravel(), deep=True))
+    return ca
+
+
+def set_points(mesh: pv.PolyData, pts: np.ndarray) -> None:
+    """Replace the points of ``mesh`` (same object), shape ``(p, 3)``."""
+    pts = np.ascontiguousarray(pts, dtype=float).reshape(-1, 3)
+    vp = vtkPoints()
+    vp.SetData(numpy_to_vtk(pts, deep=True))
+    mesh.SetPoints(vp)
+    mesh.Modified()
+
+
+def set_cells(mesh: pv.PolyData, verts=None, lines=None, polys=None) -> None:
+    """Replace the vertex, line and polygon cells of ``mesh`` in place."""
+    mesh.SetVerts(cell_array(verts))
+    mesh.SetLines(cell_array(lines))
+    mesh.SetPolys(cell_array(polys))
+    mesh.Modified()
+
+
+def set_cell_scalars(mesh: pv.PolyData, values: np.ndarray, name: str = "values") -> None:
+    """Attach one scalar per cell (verts, lines, polys order)."""
+    arr = numpy_to_vtk(np.ascontiguousarray(values, dtype=float), deep=True)
+    arr.SetName(name)
+    mesh.GetCellData().AddArray(arr)
+    mesh.GetCellData().SetActiveScalars(name)
+    mesh.Modified()
+
+
+def set_point_scalars(mesh: pv.PolyData, values: np.ndarray, name: str = "values") -> None:
+    arr = numpy_to_vtk(np.ascontiguousarray(values, dtype=float), deep=True)
+    arr.SetName(name)
+    mesh.GetPointData().AddArray(arr)
+    mesh.GetPointData().SetActiveScalars(name)
+    mesh.Modified()
+
+
+class Part:
+    """One PolyData with its mapper and actor."""
+
+    def __init__(self, plotter, name: str, pickable: bool = False) -> None:
+        self.mesh = pv.PolyData()
+        self.mapper = pv.DataSetMapper(self.mesh)
+        self.mapper.scalar_visibility = False
+        self.mapper.SetResolveCoincidentTopologyToPolygonOffset()
+        self.actor = pv.Actor(mapper=self.mapper)
+        self.actor.SetPickable(pickable)
+        self.name = name
+        plotter.add_actor(self.actor, name=name, reset_camera=False, pickable=pickable, render=False)
+
+    @property
+    def n_cells(self) -> int:
+        return int(self.mesh.GetNumberOfCells())
+
+    def style(self, color, opacity: float, size: float, *, lines: bool = False, spheres: bool = False) -> None:
+        p = self.actor.prop
+        p.color = color
+        p.opacity = float(opacity)
+        p.point_size = float(size)
+        p.line_width = float(size if lines else max(1.0, size / 2))
+        p.render_points_as_spheres = spheres
+
+    def colormap(self, cmap: str, clim: tuple[float, float], cell: bool, n_colors: int = 256) -> None:
+        """Colour by the active scalars of the mesh."""
+        if getattr(self, "_lut", None) is None or self._cmap != (cmap, n_colors):
+            self._lut = pv.LookupTable(cmap=cmap, n_values=n_colors)
+            self._cmap = (cmap, n_colors)
+        self._lut.scalar_range = clim
+        if self.mapper.lookup_table is not self._lut:
+            self.mapper.lookup_table = self._lut
+        self.mapper.scalar_range = clim
+        if cell:
+            self.mapper.SetScalarModeToUseCellData()
+        else:
+            self.mapper.SetScalarModeToUsePointData()
+        self.mapper.scalar_visibility = True
+
+    def solid(self) -> None:
+        self.mapper.scalar_visibility = False
+
+
+class LayerAdapter:
+    """Draws one layer of a :class:`SceneModel` with pyvista.
+
+    Subclasses implement :meth:`rebuild` (new reconstruction),
+    :meth:`project` (projection changed) and optionally :meth:`step`
+    (position changed), :meth:`select` (selection changed) and :meth:`pick`.
+    """
+
+    #: Parts (PolyData + actor) the adapter creates, by suffix.
+    parts_spec: tuple[tuple[str, bool], ...] = (("", False),)
+    #: Which model events the adapter reacts to.
+    uses_step = False
+    uses_selection = False
+
+    def __init__(self, model: SceneModel, layer: Layer, plotter) -> None:
+        self.model = model
+        self.layer = layer
+        self.plotter = plotter
+        self.parts = [Part(plotter, f"{layer.name}{suffix}", pickable) for suffix, pickable in self.parts_spec]
+        self.xk = np.zeros((0, model.projection.k))  # ambient vertex coordinates
+        self.apply_visibility()
+
+    @property
+    def part(self) -> Part:
+        return self.parts[0]
+
+    # -- events ------------------------------------------------------------
+    def rebuild(self) -> None:
+        """A new reconstruction was set."""
+
+    def project(self) -> None:
+        """The projection changed: move the vertices, keep the cells."""
+        if len(self.xk) and self.xk.shape[1] == self.model.projection.k:
+            set_points(self.part.mesh, self.model.projection.project(self.xk))
+
+    def step(self) -> None:
+        """The step position changed."""
+
+    def select(self) -> None:
+        """The selection changed."""
+
+    def restyle(self) -> None:
+        """Apply the layer's colour, opacity and size."""
+        for p in self.parts:
+            p.style(self.layer.color, self.layer.opacity, self.layer.size)
+
+    def apply_visibility(self) -> None:
+        for p in self.parts:
+            p.actor.SetVisibility(bool(self.layer.visible))
+
+    def pick(self, part: Part, cell_id: int) -> tuple[str, object] | None:
+        """Map a picked cell to ``("sample", i)`` / ``("simplex", row)``."""
+        return None
+
+    def shown_cells(self) -> int:
+        """Number of cells drawn (all parts)."""
+        return sum(p.n_cells for p in self.parts)
+
+    def remove(self) -> None:
+        for p in self.parts:
+            self.plotter.remove_actor(p.actor, render=False)

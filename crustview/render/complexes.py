@@ -1,0 +1,261 @@
+"""Adapters of the simplicial layers: T_S, M_S at a step, removed, current step."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..scene import geometry as geo
+from ..scene.layers import STEP_COLORS
+from .base import LayerAdapter, set_cell_scalars, set_cells, set_points
+
+#: Colour map of the candidate angle.
+ANGLE_CMAP = "plasma"
+
+
+class SimplexDrawing:
+    """How a fixed table of d-simplices is drawn; subsets are cheap.
+
+    d = 1 gives lines, d = 2 triangles, d >= 3 the boundary triangles of each
+    simplex.  When ``shrink < 1`` (or d >= 3) every simplex gets its own copy
+    of its vertices, moved towards its centroid, so that neighbours separate.
+
+    Parameters
+    ----------
+    table : ndarray of shape (m, d + 1)
+        Simplices (indices into the samples).
+    d : int
+    shrink : float
+    """
+
+    def __init__(self, table: np.ndarray, d: int, shrink: float = 1.0) -> None:
+        self.table = np.asarray(table, dtype=np.int64).reshape(-1, d + 1)
+        self.d = d
+        self.shrink = float(shrink)
+        self.dup = self.shrink < 1.0 or d >= 3
+        if d == 1:
+            local = np.array([[0, 1]])
+        elif d == 2:
+            local = np.array([[0, 1, 2]])
+        else:
+            local = geo.simplex_triangles(d)
+        self.per = len(local)
+        self.width = local.shape[1]
+        m = len(self.table)
+        if self.dup:
+            self.cells_all = (np.arange(m) * (d + 1))[:, None, None] + local[None]
+        else:
+            self.cells_all = self.table[:, local]
+
+    @property
+    def lines(self) -> bool:
+        return self.d == 1
+
+    def points(self, proj: np.ndarray) -> np.ndarray:
+        """View-space vertices from the projected samples ``proj`` (n, 3)."""
+        if not self.dup:
+            return proj
+        if len(self.table) == 0:
+            return np.zeros((0, 3))
+        return geo.shrink_simplices(proj, self.table, self.shrink)
+
+    def cells(self, mask: np.ndarray | None = None) -> np.ndarray:
+        """Cells of the rows selected by ``mask`` (all when None)."""
+        c = self.cells_all if mask is None else self.cells_all[mask]
+        return c.reshape(-1, self.width)
+
+    def apply(self, mesh, mask: np.ndarray | None) -> None:
+        cells = self.cells(mask)
+        set_cells(mesh, lines=cells if self.lines else None, polys=None if self.lines else cells)
+
+
+class ComplexAdapter(LayerAdapter):
+    """A subset of a fixed table of simplices (subclasses choose which)."""
+
+    parts_spec = (("", True),)
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self.drawing: SimplexDrawing | None = None
+        self.rows = np.zeros(0, dtype=np.int64)
+        self.layer.events.shrink.connect(lambda *_: self._redraw())
+
+    def table(self) -> np.ndarray:
+        raise NotImplementedError
+
+    def mask(self) -> np.ndarray:
+        raise NotImplementedError
+
+    def rebuild(self) -> None:
+        if self.model.rec is None:
+            return
+        self._redraw()
+
+    def _redraw(self) -> None:
+        rec = self.model.rec
+        if rec is None:
+            return
+        self.drawing = SimplexDrawing(self.table(), rec.d, self.layer.shrink if rec.d >= 2 else 1.0)
+        self.project()
+        self.update_cells()
+
+    def project(self) -> None:
+        rec = self.model.rec
+        if rec is None or self.drawing is None:
+            return
+        set_points(self.part.mesh, self.drawing.points(self.model.projection.project(rec.points)))
+
+    def update_cells(self) -> None:
+        if self.drawing is None:
+            return
+        mask = self.mask()
+        self.rows = np.flatnonzero(mask)
+        self.drawing.apply(self.part.mesh, mask)
+        self.layer.count = len(self.rows)
+
+    def restyle(self) -> None:
+        lines = self.model.rec is not None and self.model.rec.d == 1
+        self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=lines)
+        self.part.actor.prop.show_edges = (not lines) and self.layer.opacity >= 0.99 and self.layer.size > 0
+        self.part.actor.prop.edge_color = "#5a4a32"
+
+    def row_of(self, cell_id: int) -> int:
+        assert self.drawing is not None
+        return int(self.rows[cell_id // self.drawing.per])
+
+
+class CandidatesAdapter(ComplexAdapter):
+    """T_S for the run panel's test and threshold, coloured by deciding angle."""
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self.model.candidates_changed.connect(self.update_cells)
+        self.layer.events.colorby.connect(lambda *_: self.update_cells())
+        self.scalar_title: str | None = None
+        self.clim = (0.0, 22.5)
+
+    def table(self):
+        return self.model.rec.candidates.faces
+
+    def mask(self):
+        return self.model.candidate_mask()
+
+    def update_cells(self, *_) -> None:
+        super().update_cells()
+        rec = self.model.rec
+        if rec is None or self.drawing is None:
+            return
+        if self.layer.colorby == "angle":
+            ang = np.degrees(rec.candidates.angles[self.model.test][self.rows])
+            set_cell_scalars(self.part.mesh, np.repeat(ang, self.drawing.per))
+            self.clim = (0.0, max(float(np.degrees(self.model.theta)), 1e-6))
+            self.scalar_title = f"{self.model.test} angle (deg)"
+            self.part.colormap(ANGLE_CMAP, self.clim, cell=True)
+        else:
+            self.scalar_title = None
+            self.part.solid()
+
+    def restyle(self) -> None:
+        super().restyle()
+        self.part.actor.prop.show_edges = False
+
+    def pick(self, part, cell_id):
+        return ("simplex", self.row_of(cell_id))
+
+
+class ManifoldAdapter(ComplexAdapter):
+    """M_S as it stands at the current step: ``extraction.alive(i)``."""
+
+    uses_step = True
+
+    def table(self):
+        return self.model.rec.extraction.simplices
+
+    def mask(self):
+        return self.model.rec.extraction.alive(self.model.player.position)
+
+    def step(self) -> None:
+        self.update_cells()
+
+    def pick(self, part, cell_id):
+        row = self.model.candidate_row(self.row_of(cell_id))
+        return None if row < 0 else ("simplex", row)
+
+
+class RemovedAdapter(ManifoldAdapter):
+    """Simplices removed by the steps up to the current position."""
+
+    def mask(self):
+        return ~self.model.rec.extraction.alive(self.model.player.position)
+
+    def restyle(self) -> None:
+        super().restyle()
+        self.part.actor.prop.show_edges = False
+
+
+class StepAdapter(LayerAdapter):
+    """The step just applied: tau, the kept pair and the removed simplices."""
+
+    parts_spec = (("", False), ("-tau", False))
+    uses_step = True
+
+    def rebuild(self) -> None:
+        self.step()
+
+    def step(self) -> None:
+        rec = self.model.rec
+        if rec is None:
+            return
+        s = self.model.player.current_step
+        ext = rec.extraction
+        kept = np.array(s.kept if s else (), dtype=np.int64)
+        removed = np.array(s.removed if s else (), dtype=np.int64)
+        ids = np.concatenate([kept, removed])
+        self.drawing = SimplexDrawing(ext.simplices[ids], rec.d, 0.92 if rec.d >= 2 else 1.0)
+        self.kind = np.concatenate([np.ones(len(kept)), 2 * np.ones(len(removed))])
+        self.tau = np.array(s.tau if s else (), dtype=np.int64)
+        self.project()
+        self.drawing.apply(self.part.mesh, None)
+        set_cell_scalars(self.part.mesh, np.repeat(self.kind, self.drawing.per))
+        self.part.mapper.lookup_table = _categorical([STEP_COLORS["kept"], STEP_COLORS["removed"]])
+        self.part.mapper.scalar_range = (1, 2)
+        self.part.mapper.SetScalarModeToUseCellData()
+        self.part.mapper.scalar_visibility = True
+        # tau: a vertex (d=1), an edge (d=2) or a (d-1)-simplex drawn by its edges
+        t = len(self.tau)
+        if t == 1:
+            set_cells(self.parts[1].mesh, verts=np.array([[0]]))
+        elif t >= 2:
+            pairs = np.array([(a, b) for a in range(t) for b in range(a + 1, t)])
+            set_cells(self.parts[1].mesh, verts=np.arange(t)[:, None], lines=pairs)
+        else:
+            set_cells(self.parts[1].mesh)
+        self.layer.count = 0 if s is None else 1
+
+    def project(self) -> None:
+        rec = self.model.rec
+        if rec is None or not hasattr(self, "drawing"):
+            return
+        proj = self.model.projection.project(rec.points)
+        set_points(self.part.mesh, self.drawing.points(proj))
+        set_points(self.parts[1].mesh, proj[self.tau] if len(self.tau) else np.zeros((0, 3)))
+
+    def restyle(self) -> None:
+        lines = self.model.rec is not None and self.model.rec.d == 1
+        self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=lines)
+        self.parts[1].style(STEP_COLORS["tau"], 1.0, self.layer.size * (2.0 if len(getattr(self, "tau", ())) == 1 else 1.0),
+                            lines=True, spheres=True)
+        for p, off in ((self.part, -2), (self.parts[1], -4)):
+            p.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(off, off)
+            p.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(off, off)
+
+
+def _categorical(colors: list[str]):
+    import pyvista as pv
+
+    lut = pv.LookupTable()
+    lut.SetNumberOfTableValues(len(colors))
+    for i, c in enumerate(colors):
+        rgb = pv.Color(c).float_rgb
+        lut.SetTableValue(i, rgb[0], rgb[1], rgb[2], 1.0)
+    lut.SetRange(1, len(colors))
+    return lut

@@ -1,0 +1,272 @@
+"""SceneView: wires a SceneModel to a pyvista plotter through the adapters."""
+
+from __future__ import annotations
+
+import numpy as np
+from vtkmodules.vtkRenderingCore import vtkCellPicker
+
+from ..scene import geometry as geo
+from ..scene.layers import STEP_COLORS
+from ..scene.model import SceneModel
+from .base import LayerAdapter
+from .complexes import CandidatesAdapter, ManifoldAdapter, RemovedAdapter, StepAdapter
+from .inspect import SelectionAdapter, VoronoiAdapter
+from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter
+
+#: Adapter of each layer (by layer name), in drawing order.
+ADAPTERS: dict[str, type[LayerAdapter]] = {
+    "truth": TruthAdapter,
+    "candidates": CandidatesAdapter,
+    "removed": RemovedAdapter,
+    "manifold": ManifoldAdapter,
+    "voronoi": VoronoiAdapter,
+    "normals": NormalsAdapter,
+    "poles": PolesAdapter,
+    "points": PointsAdapter,
+    "step": StepAdapter,
+    "selection": SelectionAdapter,
+}
+
+BACKGROUND = ("#ffffff", "#dde3ea")  # bottom, top
+
+
+class SceneView:
+    """Draws a :class:`SceneModel` into a pyvista plotter and keeps it current.
+
+    Parameters
+    ----------
+    model : SceneModel
+    plotter : pyvista.Plotter or pyvistaqt.QtInteractor
+    """
+
+    def __init__(self, model: SceneModel, plotter) -> None:
+        self.model = model
+        self.plotter = plotter
+        self.auto_render = True
+        plotter.set_background(BACKGROUND[0], top=BACKGROUND[1])
+        self.adapters: dict[str, LayerAdapter] = {}
+        for name, cls in ADAPTERS.items():
+            layer = model.layers[name]
+            a = cls(model, layer, plotter)
+            self.adapters[name] = a
+            layer.events.visible.connect(lambda *_, a=a: self._on_visible(a))
+            for field in ("color", "opacity", "size"):
+                getattr(layer.events, field).connect(lambda *_, a=a: self._on_style(a))
+            layer.events.colorby.connect(lambda *_: self._after_colour())
+            layer.events.mode.connect(lambda *_: self.render())
+            layer.events.shrink.connect(lambda *_: self.render())
+        self._bars: dict[str, object] = {}
+        self._built_for: int | None = None
+        self.basis_text = plotter.add_text("", position="lower_left", font_size=9, color="#333333", name="basis")
+        self.axes = plotter.add_axes(xlabel="X", ylabel="Y", zlabel="Z", line_width=2)
+        model.reconstruction_changed.connect(self.on_reconstruction)
+        model.projection.changed.connect(self.on_projection)
+        model.player.step_changed.connect(self.on_step)
+        model.selection.changed.connect(self.on_selection)
+        model.candidates_changed.connect(lambda *_: self._after_colour())
+
+    # -- helpers -------------------------------------------------------------
+    @property
+    def ready(self) -> bool:
+        """True once the adapters hold the model's current reconstruction."""
+        return self.model.rec is not None and self._built_for == id(self.model.rec)
+
+    def render(self) -> None:
+        if self.auto_render:
+            self.plotter.render()
+
+    def _on_visible(self, a: LayerAdapter) -> None:
+        a.apply_visibility()
+        self.update_overlays()
+        self.render()
+
+    def _on_style(self, a: LayerAdapter) -> None:
+        if self.ready:
+            a.restyle()
+        self.update_legend()
+        self.render()
+
+    def _after_colour(self) -> None:
+        self.update_overlays()
+        self.render()
+
+    # -- model events ------------------------------------------------------------
+    def on_reconstruction(self) -> None:
+        rec = self.model.rec
+        if rec is None:
+            return
+        self._built_for = id(rec)
+        for a in self.adapters.values():
+            a.rebuild()
+            a.restyle()
+            a.apply_visibility()
+        self.update_overlays()
+        self.update_basis_text()
+        self.reset_camera()
+        self.render()
+
+    def on_projection(self) -> None:
+        if not self.ready:
+            return
+        for a in self.adapters.values():
+            a.project()
+        self.update_basis_text()
+        self.render()
+
+    def on_step(self, *_) -> None:
+        if not self.ready:
+            return
+        for a in self.adapters.values():
+            if a.uses_step:
+                a.step()
+        self.update_legend()
+        self.render()
+
+    def on_selection(self) -> None:
+        if not self.ready:
+            return
+        for a in self.adapters.values():
+            if a.uses_selection:
+                a.select()
+        self.render()
+
+    # -- overlays ------------------------------------------------------------
+    def update_overlays(self) -> None:
+        self.update_bars()
+        self.update_legend()
+
+    def update_bars(self) -> None:
+        """One scalar bar per visible scalar colouring (points, candidates)."""
+        want = {}
+        for name in ("points", "candidates"):
+            a = self.adapters[name]
+            title = getattr(a, "scalar_title", None)
+            if self.model.layers[name].visible and title:
+                want[title] = a.part.mapper
+        for title in list(self._bars):
+            if title not in want or self._bars[title] is not want[title]:
+                self.plotter.remove_scalar_bar(title, render=False)
+                del self._bars[title]
+        for j, (title, mapper) in enumerate(want.items()):
+            if title not in self._bars:
+                self.plotter.add_scalar_bar(
+                    title=title, mapper=mapper, vertical=True, position_x=0.87, position_y=0.08 + 0.42 * j,
+                    height=0.36, width=0.07, n_labels=4, fmt="%.3g", color="#222222",
+                    title_font_size=12, label_font_size=11,
+                )
+                self._bars[title] = mapper
+
+    def legend_entries(self) -> list[tuple[str, str]]:
+        """(label, colour) of the visible solid-colour layers and the step highlight."""
+        out = []
+        layers = self.model.layers
+        for name in ("points", "manifold", "removed", "candidates", "normals", "poles", "voronoi", "truth"):
+            layer = layers[name]
+            a = self.adapters[name]
+            if not layer.visible or getattr(a, "scalar_title", None) or a.shown_cells() == 0:
+                continue
+            out.append((layer.title, layer.color))
+        if layers["step"].visible and self.model.player.current_step is not None:
+            out += [("τ (step face)", STEP_COLORS["tau"]), ("kept pair", STEP_COLORS["kept"]),
+                    ("removed now", STEP_COLORS["removed"])]
+        return out
+
+    def update_legend(self) -> None:
+        entries = self.legend_entries()
+        if getattr(self, "_legend_entries", None) == entries:
+            return
+        self._legend_entries = entries
+        self.plotter.remove_legend(render=False)
+        if entries:
+            self.plotter.add_legend(
+                labels=[[label, color] for label, color in entries], bcolor="#ffffff", border=True,
+                size=(0.2, min(0.04 * len(entries), 0.4)), loc="upper left", face="rectangle",
+                background_opacity=0.8,
+            )
+
+    def update_basis_text(self) -> None:
+        p = self.model.projection
+        if p.flat:
+            text = "2-D data shown flat: X = x1, Y = x2"
+        else:
+            lab = p.axis_labels()
+            text = f"view axes ({p.source}):  X = {lab[0]}   Y = {lab[1]}   Z = {lab[2]}"
+        self.basis_text.SetText(0, text)
+
+    # -- camera and picking ---------------------------------------------------
+    def reset_camera(self) -> None:
+        """Fit the camera to a sphere around the data (stable under rotations)."""
+        if self.model.rec is None:
+            return
+        r = self.model.radius
+        flat = self.model.projection.flat
+        if flat:
+            self.plotter.view_xy(render=False)
+            self.plotter.enable_parallel_projection()
+            bounds = (-r, r, -r, r, 0.0, 0.0)
+        else:
+            self.plotter.disable_parallel_projection()
+            cam = self.plotter.camera
+            cam.focal_point = (0.0, 0.0, 0.0)
+            cam.position = (1.6 * r, -2.2 * r, 1.4 * r)
+            cam.up = (0.0, 0.0, 1.0)
+            bounds = (-r, r, -r, r, -r, r)
+        self.plotter.reset_camera(bounds=bounds)
+        self.plotter.camera.zoom(1.15 if not flat else 1.0)
+
+    def frame_points(self, idx) -> None:
+        """Zoom the camera onto samples ``idx`` (keeps the view direction)."""
+        rec = self.model.rec
+        if rec is None or len(idx) == 0:
+            return
+        p = self.model.projection.project(rec.points[np.asarray(idx)])
+        lo, hi = p.min(axis=0), p.max(axis=0)
+        pad = max(float(np.max(hi - lo)), 4 * float(np.median(self.model.spacing)))
+        c = (lo + hi) / 2
+        bounds = np.ravel(np.stack([c - pad, c + pad], axis=1))
+        self.plotter.reset_camera(bounds=tuple(bounds))
+        self.render()
+
+    def frame_face(self, face) -> None:
+        """Frame a (d-1)-face with its incident simplices at the current step."""
+        rec = self.model.rec
+        if rec is None:
+            return
+        alive = rec.extraction.alive(self.model.player.position)
+        simp = rec.extraction.simplices[alive]
+        inc = simp[geo.simplices_at_face(simp, face)]
+        self.frame_points(np.unique(np.concatenate([np.asarray(face), inc.ravel()])))
+
+    def pick(self, x: float, y: float) -> tuple[str, object] | None:
+        """Element under display position ``(x, y)`` (VTK pixels, origin bottom-left).
+
+        Samples win over simplices: the points layer is tried first with a
+        small tolerance, then the simplicial layers.
+        """
+        if not self.ready:
+            return None
+        ren = self.plotter.renderer
+        for names, tol in ((("points",), 0.006), (("manifold", "candidates", "removed"), 0.0005)):
+            picker = vtkCellPicker()
+            picker.SetTolerance(tol)
+            picker.PickFromListOn()
+            owners = {}
+            for n in names:
+                if self.model.layers[n].visible:
+                    for part in self.adapters[n].parts:
+                        picker.AddPickList(part.actor)
+                        owners[id(part.actor)] = (self.adapters[n], part)
+            if not owners:
+                continue
+            if picker.Pick(x, y, 0, ren) and picker.GetCellId() >= 0:
+                actor = picker.GetActor()
+                key = next((k for k in owners if k == id(actor)), None)
+                if key is None:  # wrapped object identity differs: match by address
+                    key = next((k for k, (_, p) in owners.items() if p.actor.GetAddressAsString("") ==
+                                actor.GetAddressAsString("")), None)
+                if key is not None:
+                    adapter, part = owners[key]
+                    got = adapter.pick(part, picker.GetCellId())
+                    if got is not None:
+                        return got
+        return None

@@ -1,0 +1,118 @@
+"""Layer specs: what each layer shows and its style fields (evented)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from psygnal import evented
+
+#: Colourings the points layer offers.
+POINT_COLORINGS = ("none", "normal error", "pole distance", "local spacing")
+#: Which poles to show.
+POLE_MODES = ("selected", "all")
+
+#: Colours of the current-step highlight: tau, kept pair, removed simplices.
+STEP_COLORS = {"tau": "#ffb000", "kept": "#2ca02c", "removed": "#d62728"}
+#: Colour of the selection highlight.
+SELECTION_COLOR = "#ff00ff"
+
+
+@evented
+@dataclass
+class Layer:
+    """One named layer of the scene and its style.
+
+    Attributes
+    ----------
+    name : str
+        Unique key (``"points"``, ``"manifold"`` ...).
+    title : str
+        Label in the layer panel.
+    visible : bool
+    color : str
+        Hex colour (ignored while a scalar colouring is active).
+    opacity : float
+        0..1.
+    size : float
+        Point size / line width in pixels, or glyph scale for normal planes.
+    colorby : str
+        Active scalar colouring (``"none"`` for a solid colour).
+    colorings : tuple of str
+        Colourings this layer offers (empty: solid colour only).
+    mode : str
+        Layer-specific mode (poles: ``"selected"`` or ``"all"``).
+    shrink : float
+        Shrink factor of simplices towards their centroid (d >= 3 only).
+    count : int
+        Number of elements the layer holds at the current state.
+    tooltip : str
+    """
+
+    name: str
+    title: str
+    visible: bool = True
+    color: str = "#808080"
+    opacity: float = 1.0
+    size: float = 3.0
+    colorby: str = "none"
+    colorings: tuple[str, ...] = ()
+    mode: str = ""
+    shrink: float = 1.0
+    count: int = 0
+    tooltip: str = ""
+    extra: dict = field(default_factory=dict)
+
+
+def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
+    """The layers of a reconstruction of a d-manifold in R^k with n samples."""
+    simplex = {1: "edges", 2: "triangles"}.get(d, f"{d}-simplices (boundary triangles)")
+    layers = [
+        Layer(
+            "points", "Samples", True, "#1b2a49", 1.0, 7.0 if n < 3000 else 3.0,
+            colorings=POINT_COLORINGS,
+            tooltip="The sample points S (unique after merging duplicates).",
+        ),
+        Layer(
+            "poles", "Poles", True, "#8e44ad", 1.0, 9.0, mode="selected",
+            tooltip="The k-d Voronoi vertices Algorithm 1 chose for each sample, "
+            "joined to their sample; 'selected' shows only the selected sample's.",
+        ),
+        Layer(
+            "voronoi", "Voronoi cells", True, "#e67e22", 0.25, 2.0,
+            tooltip="In R^2 every sample's cell; in R^3 and up the selected sample's "
+            "cell, clipped to a box around the data.",
+        ),
+        Layer(
+            "normals", "Normal planes", n <= 3000, "#0e9aa7", 0.7, 1.0,
+            tooltip="Estimated normal plane AN_s of each sample: a segment (k-d = 1), "
+            "a disc (k-d = 2) or k-d short axes, scaled to the local spacing (size = scale).",
+        ),
+        Layer(
+            "candidates", "Candidates T_S", False, "#9e9e9e", 0.6, 2.0, colorby="angle",
+            colorings=("angle", "none"),
+            tooltip="Candidate d-simplices admitted by the run panel's test and angle, "
+            "coloured by the test's deciding angle (degrees).",
+        ),
+        Layer(
+            "manifold", "M_S at this step", True, "#e9b872", 1.0, 3.0, shrink=0.8 if d >= 3 else 1.0,
+            tooltip=f"The complex after the current number of extraction steps, drawn as {simplex}.",
+        ),
+        Layer(
+            "removed", "Removed so far", False, "#c0392b", 0.3, 2.0, shrink=0.8 if d >= 3 else 1.0,
+            tooltip="Candidate simplices removed by the steps up to the current one.",
+        ),
+        Layer(
+            "step", "Current step", True, STEP_COLORS["tau"], 1.0, 6.0,
+            tooltip="The step just applied: the face tau (amber), the kept pair (green) "
+            "and the simplices it removed (red).",
+        ),
+        Layer(
+            "selection", "Selection", True, "#ff00ff", 1.0, 6.0,
+            tooltip="The selected sample, simplex or (d-1)-face with its incident simplices.",
+        ),
+        Layer(
+            "truth", "Ground truth", False, "#5d6d7e", 0.25, 2.0,
+            tooltip="A dense sample of the true manifold (built-in samples only).",
+        ),
+    ]
+    return {layer.name: layer for layer in layers}

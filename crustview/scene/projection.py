@@ -1,0 +1,185 @@
+"""Linear projection of R^k to the 3-D view.
+
+Every layer keeps its data in R^k; drawing applies one ``k x 3`` matrix with
+orthonormal columns to all of them.  2-D data is shown flat (third column 0).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from psygnal import Signal
+
+
+def _orthonormal_columns(basis: np.ndarray, k: int) -> np.ndarray:
+    """Validate a ``(k, 3)`` basis and re-orthonormalise its non-zero columns."""
+    basis = np.asarray(basis, dtype=float)
+    if basis.shape != (k, 3):
+        raise ValueError(f"projection basis must have shape ({k}, 3), got {basis.shape}")
+    m = min(k, 3)
+    q, r = np.linalg.qr(basis[:, :m])
+    q = q * np.sign(np.where(np.diag(r) == 0, 1.0, np.diag(r)))  # keep orientation
+    out = np.zeros((k, 3))
+    out[:, :m] = q
+    return out
+
+
+def givens(k: int, i: int, j: int, angle: float) -> np.ndarray:
+    """Rotation of R^k by ``angle`` (radians) in the coordinate plane (x_i, x_j)."""
+    if not (0 <= i < k and 0 <= j < k and i != j):
+        raise ValueError(f"plane ({i}, {j}) is not a coordinate plane of R^{k}")
+    g = np.eye(k)
+    c, s = np.cos(angle), np.sin(angle)
+    g[i, i] = c
+    g[j, j] = c
+    g[i, j] = -s
+    g[j, i] = s
+    return g
+
+
+class Projection:
+    """A ``k x 3`` orthonormal basis, plus per-plane rotation angles.
+
+    The displayed basis is ``R @ base`` where ``base`` comes from a coordinate
+    choice, PCA or the grand tour, and ``R`` is the product of rotations in
+    the coordinate planes ``(i, j)`` by :attr:`angles` (sorted by plane).
+
+    Parameters
+    ----------
+    k : int
+        Ambient dimension (>= 2).
+
+    Examples
+    --------
+    >>> p = Projection(4)
+    >>> p.set_coordinates(0, 2, 3)
+    >>> p.project(np.eye(4))[:, 1]
+    array([0., 0., 1., 0.])
+    """
+
+    #: Emitted after every change of the basis.
+    changed = Signal()
+
+    def __init__(self, k: int = 3) -> None:
+        self._init(k)
+
+    def _init(self, k: int) -> None:
+        if k < 2:
+            raise ValueError(f"ambient dimension must be at least 2, got {k}")
+        self.k = int(k)
+        self.origin = np.zeros(self.k)
+        self._base = np.eye(self.k, 3)
+        self._angles: dict[tuple[int, int], float] = {}
+        self._basis = self._base.copy()
+        self.source = "coordinates (1, 2, 3)" if k >= 3 else "plane (1, 2)"
+
+    def reset(self, k: int, origin: np.ndarray | None = None) -> None:
+        """Start over in R^k: first three coordinates, given origin."""
+        self._init(k)
+        if origin is not None:
+            self.origin = np.asarray(origin, dtype=float).reshape(self.k)
+        self.changed.emit()
+
+    # -- reading ---------------------------------------------------------
+    @property
+    def basis(self) -> np.ndarray:
+        """The current ``(k, 3)`` basis (a copy)."""
+        return self._basis.copy()
+
+    @property
+    def angles(self) -> dict[tuple[int, int], float]:
+        """Rotation angle (radians) per coordinate plane ``(i, j)``, ``i < j``."""
+        return dict(self._angles)
+
+    @property
+    def flat(self) -> bool:
+        """True when the data is 2-D and shown in the plane z = 0."""
+        return self.k < 3
+
+    def project(self, x: np.ndarray) -> np.ndarray:
+        """Project points of shape ``(..., k)`` to ``(..., 3)`` view coordinates."""
+        x = np.asarray(x, dtype=float)
+        if x.shape[-1] != self.k:
+            raise ValueError(f"expected points with {self.k} coordinates, got shape {x.shape}")
+        return (x - self.origin) @ self._basis
+
+    def axis_labels(self, digits: int = 2, tol: float = 0.005) -> list[str]:
+        """Each view axis as a combination of the ambient coordinates.
+
+        Returns strings like ``"0.71 x1 + 0.71 x3"`` (coordinates 1-based).
+        """
+        labels = []
+        for c in range(3):
+            col = self._basis[:, c]
+            terms = []
+            for i in np.argsort(-np.abs(col), kind="stable"):
+                if abs(col[i]) < tol:
+                    continue
+                v = col[i]
+                if abs(abs(v) - 1) < tol:
+                    coef = "-" if v < 0 else ""
+                else:
+                    coef = f"{v:.{digits}f} "
+                terms.append(f"{coef}x{i + 1}")
+            labels.append(" + ".join(terms).replace("+ -", "- ") if terms else "0")
+        return labels
+
+    # -- changing --------------------------------------------------------
+    def set_origin(self, origin: np.ndarray) -> None:
+        """Point of R^k that is drawn at the view origin (usually the data centre)."""
+        origin = np.asarray(origin, dtype=float).reshape(-1)
+        if origin.shape != (self.k,):
+            raise ValueError(f"origin must have {self.k} coordinates, got {origin.shape}")
+        self.origin = origin
+        self.changed.emit()
+
+    def set_base(self, basis: np.ndarray, source: str = "custom") -> None:
+        """Replace the base basis and reset the plane rotations."""
+        self._base = _orthonormal_columns(basis, self.k)
+        self._angles = {}
+        self.source = source
+        self._update()
+
+    def set_coordinates(self, i: int, j: int, l: int | None = None) -> None:
+        """Show ambient coordinates ``i, j, l`` (0-based) as the view x, y, z."""
+        idx = [i, j] + ([] if l is None else [l])
+        if len(set(idx)) != len(idx) or not all(0 <= a < self.k for a in idx):
+            raise ValueError(f"need distinct coordinates in 0..{self.k - 1}, got {idx}")
+        b = np.zeros((self.k, 3))
+        for c, a in enumerate(idx[:3]):
+            b[a, c] = 1.0
+        self.set_base(b, "coordinates (" + ", ".join(str(a + 1) for a in idx) + ")")
+
+    def set_pca(self, points: np.ndarray) -> None:
+        """Principal axes of ``points`` (largest variance first)."""
+        x = np.asarray(points, dtype=float)
+        x = x - x.mean(axis=0)
+        _, _, vt = np.linalg.svd(x, full_matrices=False)
+        b = np.zeros((self.k, 3))
+        m = min(self.k, 3)
+        b[:, :m] = vt[:m].T
+        self.set_base(b, "PCA")
+
+    def set_angle(self, i: int, j: int, angle: float) -> None:
+        """Set the rotation angle (radians) in the coordinate plane ``(i, j)``."""
+        if i > j:
+            i, j, angle = j, i, -angle
+        givens(self.k, i, j, 0.0)  # validates the plane
+        self._angles[(i, j)] = float(angle)
+        self._update()
+
+    def rotate(self, i: int, j: int, angle: float) -> None:
+        """Rotate the current basis by ``angle`` more in the plane ``(i, j)``."""
+        key = (min(i, j), max(i, j))
+        sign = 1.0 if i < j else -1.0
+        self.set_angle(key[0], key[1], self._angles.get(key, 0.0) + sign * angle)
+
+    def _update(self) -> None:
+        r = np.eye(self.k)
+        for (i, j), a in sorted(self._angles.items()):
+            if a:
+                r = givens(self.k, i, j, a) @ r
+        b = r @ self._base
+        if self.k < 3:
+            b[:, self.k :] = 0.0
+        self._basis = b
+        self.changed.emit()

@@ -1,0 +1,43 @@
+"""What the user has picked: a sample, a simplex, or a (d-1)-face."""
+
+from __future__ import annotations
+
+from psygnal import Signal
+
+
+class Selection:
+    """Selection state shared by the view and the information panel.
+
+    At most one of each kind is selected.  ``simplex`` is a row of
+    ``Candidates.faces`` (every candidate d-face, whatever the test);
+    ``face`` is a sorted tuple of d sample indices.
+    """
+
+    #: Emitted after any change.
+    changed = Signal()
+
+    def __init__(self) -> None:
+        self.sample: int | None = None
+        self.simplex: int | None = None
+        self.face: tuple[int, ...] | None = None
+
+    def select_sample(self, i: int | None) -> None:
+        self.sample = None if i is None else int(i)
+        self.changed.emit()
+
+    def select_simplex(self, f: int | None) -> None:
+        self.simplex = None if f is None else int(f)
+        self.changed.emit()
+
+    def select_face(self, face: tuple[int, ...] | None) -> None:
+        self.face = None if face is None else tuple(sorted(int(v) for v in face))
+        self.changed.emit()
+
+    def clear(self) -> None:
+        self.sample = self.simplex = None
+        self.face = None
+        self.changed.emit()
+
+    @property
+    def empty(self) -> bool:
+        return self.sample is None and self.simplex is None and self.face is None
