@@ -30,25 +30,32 @@ passes when its dual cell meets the cocone of *every* vertex (as in Cocone).
 The score is ``cocone = max_s min_{y in cell} angle(y - s, AT_s)`` with
 ``sin^2 angle(x, AT_s) = |N_s^T x|^2 / |x|^2``.
 
-The minimum over the cell is computed exactly in codimension 1 and 2: the
-ratio is a Rayleigh quotient, so its minimum over the cone spanned from ``s``
-by a set of points is the smallest eigenvalue of a small symmetric matrix,
-attained inside the set's convex hull iff the eigenvector's barycentric
-coefficients share one sign.  We evaluate
+The minimum over the cell is computed exactly below :data:`SCORE_LIMIT`
+(45 deg), per (face, vertex s):
 
-* every cell vertex,
-* every simplex spanned by ``j`` cell vertices, ``2 <= j <= k - d`` (this
-  covers the boundary of the cell; in codimension >= 3 only when the cell has
-  at most :data:`MAX_SUBSET_VERTICES` vertices, otherwise pairs only),
-* the whole plane ``Pi``: the unconstrained minimiser is accepted when it lies
-  in the cell, checked as "no Delaunay vertex is closer to it than sigma's
-  vertices" with a k-d tree (a Voronoi cell *is* that set).  When the cell is
-  itself a simplex (always in codimension 1) barycentric signs are used.
+1. *Certificate of rejection.*  With ``x_i`` the cell vertices minus ``s``
+   and ``nu`` the mean of their unit normal components, if every
+   ``nu . N_s^T x_i / |x_i| >= sin(limit)`` then every point of the convex
+   cell satisfies the same inequality, so its angle is >= ``limit``; the
+   lower bound is recorded and the face is rejected for every threshold up to
+   ``limit`` (most faces of a dense sample end here).
+2. *Interior.*  The affine tangent plane ``s + AT_s`` (dimension d) and the
+   cell's plane ``Pi`` (dimension k-d) meet in one point ``y*``; if ``y*`` is
+   in the cell (no Delaunay vertex is closer to ``y*`` than sigma's vertices,
+   a k-d tree query: a Voronoi cell *is* that set) the minimum is 0.
+3. *Boundary.*  Otherwise the minimum lies on the cell's boundary.  The
+   ratio ``|N^T x|^2 / |x|^2`` is a Rayleigh quotient, so its minimum over the
+   cone spanned from ``s`` by a few points is the smallest eigenvalue of a
+   small symmetric matrix, attained inside their convex hull iff the
+   eigenvector's barycentric coefficients share one sign.  We evaluate every
+   cell vertex and every simplex spanned by ``j`` cell vertices,
+   ``2 <= j <= k - d`` (these cover the cell's boundary; when the cell itself
+   is a simplex -- always in codimension 1 -- the whole cell).  In
+   codimension >= 3 with cells of more than :data:`MAX_SUBSET_VERTICES`
+   vertices only pairs are used, which can only *over*-estimate the angle
+   (reject, never admit wrongly).
 
-A local minimum of a Rayleigh quotient on an affine chart is the global one,
-so "plane minimiser outside the cell" means the minimum lies on the boundary.
-In codimension >= 3 with large cells the boundary is sampled by vertex pairs
-only, which can only *over*-estimate the angle (reject, never admit wrongly).
+Exact in codimension 1 and 2.
 """
 
 from __future__ import annotations
@@ -61,6 +68,8 @@ from scipy.spatial import cKDTree
 
 #: Cells with more vertices skip the (k-d)-subset enumeration in codim >= 3.
 MAX_SUBSET_VERTICES = 12
+#: Cocone scores below this are exact; larger ones may be lower bounds.
+SCORE_LIMIT = np.pi / 4
 
 
 def enumerate_faces(simplices: np.ndarray, n_samples: int, d: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -168,6 +177,7 @@ def cocone_angles(
     cell_ptr: np.ndarray,
     cell_simplices: np.ndarray,
     *,
+    limit: float = SCORE_LIMIT,
     progress: Callable[[float], None] | None = None,
 ) -> np.ndarray:
     """Cocone score of every face (see module docstring).
@@ -181,6 +191,9 @@ def cocone_angles(
         Voronoi vertices.
     faces, cell_ptr, cell_simplices
         From :func:`enumerate_faces`.
+    limit : float
+        Scores below ``limit`` are exact; a score >= ``limit`` may be a lower
+        bound (the face is rejected for every threshold up to ``limit``).
 
     Returns
     -------
@@ -190,80 +203,99 @@ def cocone_angles(
     r = work.shape[1]
     m = normals.shape[2]
     nv_all = np.diff(cell_ptr)
-    out = np.full(f, np.pi / 2)
+    out = np.zeros(f)
     tree = cKDTree(work)
-    buckets = np.unique(nv_all)
+    tangents = np.linalg.qr(normals, mode="complete")[0][:, :, m:]  # (n, r, d)
+    sin_lim2 = np.sin(limit) ** 2
     done = 0
-    for nv in buckets:
+    for nv in np.unique(nv_all):
         sel = np.flatnonzero(nv_all == nv)
-        cells = centres[cell_simplices[cell_ptr[sel][:, None] + np.arange(nv)]]  # (F, nv, r)
-        fc = faces[sel]
-        p = work[fc]
-        whole_is_simplex = nv <= m + 1
-        if not whole_is_simplex:
-            u = _orthonormal(p[:, 1:] - p[:, :1])  # (F, r, d)
-            w_basis = _plane_complement(u, m)  # (F, r, m)
-        jmax = min(m, nv)
-        subsets = []
-        for j in range(2, jmax + 1):
-            if j > 2 and m >= 3 and nv > MAX_SUBSET_VERTICES:
-                break
-            subsets.append(np.array(list(itertools.combinations(range(nv), j))))
-        if whole_is_simplex and nv >= 2 and (nv > jmax):
-            subsets.append(np.arange(nv)[None, :])
-        worst = np.zeros(len(sel))
+        cells_all = centres[cell_simplices[cell_ptr[sel][:, None] + np.arange(nv)]]  # (F, nv, r)
+        subsets = _boundary_subsets(int(nv), m)
+        score = np.zeros(len(sel))  # sin^2, max over the vertices seen so far
+        active = np.arange(len(sel))
         for a in range(dp1):
-            s = p[:, a]
+            if len(active) == 0:
+                break
+            fc = faces[sel[active]]
+            cells = cells_all[active]
+            s = work[fc[:, a]]
             nrm = normals[fc[:, a]]
             x = cells - s[:, None, :]
             xn = np.einsum("fvr,frm->fvm", x, nrm)
-            val = (xn**2).sum(axis=2) / np.maximum((x**2).sum(axis=2), 1e-300)
-            best = val.min(axis=1)
-            for sub in subsets:
-                xs = x[:, sub]  # (F, S, j, r)
-                v2, ins = _cone_min(xs, nrm[:, None])
-                v2 = np.where(ins, v2, np.inf).min(axis=1)
-                best = np.minimum(best, v2)
-            if not whole_is_simplex:
-                best = np.minimum(best, _plane_min(x[:, 0], w_basis, nrm, s, p[:, 0], tree))
-            worst = np.maximum(worst, best)
-        out[sel] = np.arcsin(np.sqrt(np.clip(worst, 0.0, 1.0)))
+            xlen = np.maximum(np.linalg.norm(x, axis=2), 1e-300)
+            best = ((xn**2).sum(axis=2) / xlen**2).min(axis=1)
+            # (1) cheap certificate: every cell point leans to one normal side
+            unit = xn / xlen[..., None]
+            nu = unit.sum(axis=1)
+            nu /= np.maximum(np.linalg.norm(nu, axis=1, keepdims=True), 1e-300)
+            lean = np.einsum("fvm,fm->fv", unit, nu).min(axis=1)
+            certified = lean >= np.sqrt(sin_lim2)
+            todo = np.flatnonzero(~certified)
+            best = np.where(certified, lean**2, best)
+            if len(todo):
+                best[todo] = _exact_min(
+                    x[todo], nrm[todo], tangents[fc[todo, a]], work[fc[todo]], s[todo],
+                    best[todo], subsets, m, tree,
+                )
+            score[active] = np.maximum(score[active], best)
+            active = active[score[active] < sin_lim2]
+        out[sel] = np.arcsin(np.sqrt(np.clip(score, 0.0, 1.0)))
         done += len(sel)
         if progress is not None:
             progress(done / max(f, 1))
     return out
 
 
-def _plane_complement(u: np.ndarray, m: int) -> np.ndarray:
-    """Orthonormal basis of the complement of the columns of ``u`` (F, r, d) -> (F, r, m)."""
-    q, _ = np.linalg.qr(u, mode="complete")
-    return q[:, :, u.shape[2] : u.shape[2] + m]
+def _boundary_subsets(nv: int, m: int) -> list[np.ndarray]:
+    """Vertex subsets whose simplices cover the cell boundary (or the cell, if a simplex)."""
+    if nv <= m + 1:  # the cell is a simplex: test it whole
+        return [np.arange(nv)[None, :]] if nv >= 2 else []
+    out = []
+    for j in range(2, m + 1):
+        if j > 2 and nv > MAX_SUBSET_VERTICES:
+            break
+        out.append(np.array(list(itertools.combinations(range(nv), j))))
+    return out
 
 
-def _plane_min(
-    x0: np.ndarray,
-    w_basis: np.ndarray,
+def _exact_min(
+    x: np.ndarray,
     nrm: np.ndarray,
+    tan: np.ndarray,
+    fpts: np.ndarray,
     s: np.ndarray,
-    anchor: np.ndarray,
+    best: np.ndarray,
+    subsets: list[np.ndarray],
+    m: int,
     tree: cKDTree,
 ) -> np.ndarray:
-    """sin^2 of the plane-wide minimiser when it lies in the dual cell, else inf.
+    """Minimum of sin^2 angle(y - s, AT_s) over the dual cell for a batch of faces.
 
-    ``x0`` is one cell vertex minus ``s``; the plane is ``x0 + span(w_basis)``.
+    ``x``: cell vertices minus s (F, nv, r); ``best``: the vertex minimum.
     """
-    h = x0 - np.einsum("frm,fm->fr", w_basis, np.einsum("frm,fr->fm", w_basis, x0))
-    gens = np.concatenate([h[:, None, :], np.swapaxes(w_basis, 1, 2)], axis=1)  # (F, m+1, r)
-    q, _ = np.linalg.qr(np.swapaxes(gens, 1, 2))
-    b = np.swapaxes(nrm, 1, 2) @ q
-    w, v = np.linalg.eigh(np.swapaxes(b, 1, 2) @ b)
-    xv = np.einsum("frj,fj->fr", q, v[:, :, 0])
-    hn = np.linalg.norm(h, axis=1)
-    along = np.einsum("fr,fr->f", xv, h) / np.maximum(hn, 1e-300)
-    ok = np.abs(along) > 1e-9
-    scale = np.where(ok, hn / np.where(ok, along, 1.0), 0.0)
-    y = s + xv * scale[:, None]
-    radius = np.linalg.norm(y - anchor, axis=1)
-    dist, _ = tree.query(y)
-    inside = ok & (dist >= radius * (1 - 1e-9) - 1e-12)
-    return np.where(inside, np.clip(w[:, 0], 0.0, 1.0), np.inf)
+    nv = x.shape[1]
+    best = best.copy()
+    if nv > m + 1:
+        # the tangent plane at s meets the cell's plane in one point y*; if
+        # y* is in the cell the minimum is 0
+        u = _orthonormal(fpts[:, 1:] - fpts[:, :1])  # (F, r, d)
+        ut = np.swapaxes(u, 1, 2) @ tan  # (F, d, d)
+        rhs = np.einsum("frd,fr->fd", u, x[:, 0])
+        det = np.abs(np.linalg.det(ut))
+        ok = det > 1e-9
+        coef = np.linalg.solve(np.where(ok[:, None, None], ut, np.eye(ut.shape[1])), rhs[..., None])[..., 0]
+        xs = np.einsum("frd,fd->fr", tan, coef)
+        y = s + xs
+        radius = np.linalg.norm(xs, axis=1)
+        dist, _ = tree.query(y)
+        inside = ok & (dist >= radius * (1 - 1e-9) - 1e-12)
+        best[inside] = 0.0
+        rest = np.flatnonzero(~inside)
+    else:
+        rest = np.arange(len(x))
+    if len(rest):
+        for sub in subsets:
+            v2, ins = _cone_min(x[rest][:, sub], nrm[rest][:, None])
+            best[rest] = np.minimum(best[rest], np.where(ins, v2, np.inf).min(axis=1))
+    return best

@@ -9,6 +9,7 @@ from dataclasses import replace
 import numpy as np
 
 from . import candidates as cand
+from .candidates import SCORE_LIMIT
 from .delaunay import bounding_points, circumcenters, delaunay
 from .errors import Cancelled, InputError
 from .extraction import extract
@@ -32,8 +33,10 @@ def _validate_params(test: str, theta: float) -> float:
         theta = float(theta)
     except (TypeError, ValueError):
         raise InputError(f"theta must be an angle in radians; got {theta!r}") from None
-    if not 0 < theta < np.pi / 2:
-        raise InputError(f"theta must lie strictly between 0 and pi/2 radians (90 deg); got {theta!r}")
+    if not 0 < theta <= SCORE_LIMIT:
+        raise InputError(
+            f"theta must lie in (0, {np.degrees(SCORE_LIMIT):.0f} deg]; got {np.degrees(theta):.3g} deg"
+        )
     return theta
 
 
@@ -61,7 +64,8 @@ def reconstruct(
         *where* the dual Voronoi cell is and reconstructs the built-in
         manifolds; ``"literal"`` is the paper's orientation-only test.
     theta : float
-        Angle threshold of the candidate test, radians (paper: pi/8).
+        Angle threshold of the candidate test, radians (paper: pi/8), at most
+        pi/4 (cocone scores above pi/4 are only lower bounds).
     joggle : float
         Relative size (of the sample spacing) of the perturbation applied
         before Qhull; 0 disables it (slow and degenerate on cospherical data).
