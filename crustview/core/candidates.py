@@ -96,14 +96,15 @@ def enumerate_faces(simplices: np.ndarray, n_samples: int, d: int) -> tuple[np.n
         key = np.zeros(len(faces), dtype=np.int64)
         for c in range(d + 1):
             key = key * n_samples + faces[:, c]
-        uniq_key, first, inverse = np.unique(key, return_index=True, return_inverse=True)
-        uniq = faces[first]
+        order = np.argsort(key, kind="stable")
+        sk = key[order]
+        starts = np.flatnonzero(np.concatenate([[True], sk[1:] != sk[:-1]]))
     else:
-        uniq, inverse = np.unique(faces, axis=0, return_inverse=True)
-    inverse = inverse.ravel()
-    order = np.argsort(inverse, kind="stable")
-    counts = np.bincount(inverse, minlength=len(uniq))
-    ptr = np.concatenate([[0], np.cumsum(counts)])
+        order = np.lexsort(faces.T[::-1])
+        sf = faces[order]
+        starts = np.flatnonzero(np.concatenate([[True], (sf[1:] != sf[:-1]).any(axis=1)]))
+    uniq = faces[order[starts]]
+    ptr = np.concatenate([starts, [len(order)]])
     return uniq.astype(np.int64), ptr, owner[order]
 
 
@@ -131,9 +132,52 @@ def literal_angles(work: np.ndarray, normals: np.ndarray, faces: np.ndarray) -> 
     best = np.full(len(faces), np.pi / 2)
     for a in range(faces.shape[1]):
         nt_u = np.einsum("frm,frd->fmd", normals[faces[:, a]], u)
-        s = np.linalg.svd(nt_u, compute_uv=False)[:, 0]
+        s = np.sqrt(_largest_eig(nt_u))
         best = np.minimum(best, np.arcsin(np.clip(s, 0.0, 1.0)))
     return best
+
+
+def _largest_eig(mat: np.ndarray) -> np.ndarray:
+    """Largest eigenvalue of ``M^T M`` (= squared spectral norm) for a batch (..., a, b)."""
+    if mat.shape[-1] > mat.shape[-2]:
+        mat = np.swapaxes(mat, -1, -2)
+    g = np.swapaxes(mat, -1, -2) @ mat
+    if g.shape[-1] == 1:
+        return g[..., 0, 0]
+    if g.shape[-1] == 2:
+        a, b, c = g[..., 0, 0], g[..., 0, 1], g[..., 1, 1]
+        return 0.5 * (a + c) + np.sqrt(0.25 * (a - c) ** 2 + b**2)
+    return np.linalg.eigvalsh(g)[..., -1]
+
+
+def _cone_min_pair(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Closed form of :func:`_cone_min` for two generators, x: (..., 2, r)."""
+    x1, x2 = x[..., 0, :], x[..., 1, :]
+    l1 = np.linalg.norm(x1, axis=-1)
+    e1 = x1 / np.maximum(l1, 1e-300)[..., None]
+    p = np.einsum("...r,...r->...", x2, e1)
+    w = x2 - p[..., None] * e1
+    l2 = np.linalg.norm(w, axis=-1)
+    ok = (l1 > 1e-300) & (l2 > 1e-10 * np.maximum(np.linalg.norm(x2, axis=-1), 1e-300))
+    e2 = w / np.where(ok, l2, 1.0)[..., None]
+    b1 = np.einsum("...r,...rm->...m", e1, nrm)
+    b2 = np.einsum("...r,...rm->...m", e2, nrm)
+    a = np.einsum("...m,...m->...", b1, b1)
+    c = np.einsum("...m,...m->...", b2, b2)
+    b = np.einsum("...m,...m->...", b1, b2)
+    rad = np.sqrt((0.5 * (a - c)) ** 2 + b**2)
+    lam = 0.5 * (a + c) - rad
+    # eigenvector of [[a, b], [b, c]] for lam: (b, lam - a) or (lam - c, b)
+    first = np.abs(a - lam) >= np.abs(c - lam)
+    z1 = np.where(first, b, lam - c)
+    z2 = np.where(first, lam - a, b)
+    degenerate = (np.abs(z1) + np.abs(z2)) <= 1e-300
+    z1 = np.where(degenerate, 1.0, z1)  # isotropic: any direction is a minimiser
+    c2 = z2 / np.where(ok, l2, 1.0)
+    c1 = (z1 - c2 * p) / np.maximum(l1, 1e-300)
+    tol = 1e-9 * np.maximum(np.abs(c1), np.abs(c2))
+    inside = ok & (((c1 >= -tol) & (c2 >= -tol)) | ((c1 <= tol) & (c2 <= tol)))
+    return np.clip(lam, 0.0, 1.0), inside
 
 
 def _cone_min(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -153,6 +197,8 @@ def _cone_min(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     inside : ndarray of bool, shape (...)
         Whether the minimiser lies in the cone (all coefficients one sign).
     """
+    if x.shape[-2] == 2:
+        return _cone_min_pair(x, nrm)
     q, rr = np.linalg.qr(np.swapaxes(x, -1, -2))  # (..., r, j), (..., j, j)
     diag = np.abs(np.diagonal(rr, axis1=-2, axis2=-1))
     scale = np.linalg.norm(x, axis=-1).max(axis=-1)

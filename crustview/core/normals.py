@@ -66,12 +66,16 @@ def greedy_poles(
     pole_index = np.full((n_samples, n_poles), -1, dtype=np.int64)
     normals = np.zeros((n_samples, r, n_poles))
     has = np.diff(indptr) > 0
+    starts = indptr[:-1][has]
+    owner_rank = np.repeat(np.arange(has.sum()), np.diff(indptr)[has])
     for j in range(n_poles):
-        norm2 = (resid**2).sum(axis=1)
-        order = np.lexsort((-norm2, owner))
-        owners_sorted = owner[order]
-        _, first = np.unique(owners_sorted, return_index=True)
-        chosen = order[first]  # one entry per sample that has incidences
+        norm2 = np.einsum("er,er->e", resid, resid)
+        # entries are grouped by owner (CSR order): segment maxima, then the
+        # first entry attaining each maximum
+        segmax = np.maximum.reduceat(norm2, starts)
+        hit = np.flatnonzero(norm2 == segmax[owner_rank])
+        first = np.concatenate([[True], owner[hit][1:] != owner[hit][:-1]])
+        chosen = hit[first]  # one entry per sample that has incidences
         who = owner[chosen]
         u = resid[chosen]
         length = np.sqrt((u**2).sum(axis=1))
