@@ -117,6 +117,8 @@ class ComplexAdapter(LayerAdapter):
         self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=lines)
         self.part.actor.prop.show_edges = (not lines) and self.layer.opacity >= 0.99 and self.layer.size > 0
         self.part.actor.prop.edge_color = "#5a4a32"
+        # push surfaces slightly back so samples and highlights on them stay visible
+        self.part.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(2, 2)
 
     def row_of(self, cell_id: int) -> int:
         assert self.drawing is not None
@@ -243,7 +245,7 @@ class StepAdapter(LayerAdapter):
         lines = self.model.rec is not None and self.model.rec.d == 1
         self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=lines)
         self.parts[1].style(STEP_COLORS["tau"], 1.0, self.layer.size * (2.0 if len(getattr(self, "tau", ())) == 1 else 1.0),
-                            lines=True, spheres=True)
+                            lines=True, spheres=False)
         for p, off in ((self.part, -2), (self.parts[1], -4)):
             p.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(off, off)
             p.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(off, off)

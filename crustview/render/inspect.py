@@ -137,7 +137,7 @@ class SelectionAdapter(LayerAdapter):
             set_points(self.part.mesh, proj.project(self.xk) if len(self.xk) else np.zeros((0, 3)))
 
     def restyle(self) -> None:
-        self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=False, spheres=True)
+        self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=False, spheres=False)
         self.part.actor.prop.point_size = 2.2 * self.layer.size
         self.part.actor.prop.line_width = max(2.0, self.layer.size / 2)
         self.part.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(-6, -6)

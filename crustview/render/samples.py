@@ -47,7 +47,7 @@ class PointsAdapter(LayerAdapter):
         self.part.colormap(POINT_CMAPS.get(self.layer.colorby, "viridis"), self.clim, cell=False)
 
     def restyle(self) -> None:
-        self.part.style(self.layer.color, self.layer.opacity, self.layer.size, spheres=True)
+        self.part.style(self.layer.color, self.layer.opacity, self.layer.size, spheres=False)
 
     def pick(self, part, cell_id):
         return ("sample", int(cell_id))
@@ -101,7 +101,7 @@ class PolesAdapter(LayerAdapter):
 
     def restyle(self) -> None:
         self.part.style(self.layer.color, self.layer.opacity, max(1.0, self.layer.size / 3), lines=True)
-        self.parts[1].style(self.layer.color, self.layer.opacity, self.layer.size, spheres=True)
+        self.parts[1].style(self.layer.color, self.layer.opacity, self.layer.size, spheres=False)
 
 
 class NormalsAdapter(LayerAdapter):

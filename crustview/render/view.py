@@ -10,6 +10,7 @@ from ..scene.layers import STEP_COLORS
 from ..scene.model import SceneModel
 from .base import LayerAdapter
 from .complexes import CandidatesAdapter, ManifoldAdapter, RemovedAdapter, StepAdapter
+from .overlay import Legend
 from .inspect import SelectionAdapter, VoronoiAdapter
 from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter
 
@@ -56,6 +57,7 @@ class SceneView:
             layer.events.mode.connect(lambda *_: self.render())
             layer.events.shrink.connect(lambda *_: self.render())
         self._bars: dict[str, object] = {}
+        self.legend = Legend(plotter)
         self._built_for: int | None = None
         self.basis_text = plotter.add_text("", position="lower_left", font_size=9, color="#333333", name="basis")
         self.axes = plotter.add_axes(xlabel="X", ylabel="Y", zlabel="Z", line_width=2)
@@ -167,22 +169,12 @@ class SceneView:
                 continue
             out.append((layer.title, layer.color))
         if layers["step"].visible and self.model.player.current_step is not None:
-            out += [("τ (step face)", STEP_COLORS["tau"]), ("kept pair", STEP_COLORS["kept"]),
+            out += [("tau (face of the step)", STEP_COLORS["tau"]), ("kept pair", STEP_COLORS["kept"]),
                     ("removed now", STEP_COLORS["removed"])]
         return out
 
     def update_legend(self) -> None:
-        entries = self.legend_entries()
-        if getattr(self, "_legend_entries", None) == entries:
-            return
-        self._legend_entries = entries
-        self.plotter.remove_legend(render=False)
-        if entries:
-            self.plotter.add_legend(
-                labels=[[label, color] for label, color in entries], bcolor="#ffffff", border=True,
-                size=(0.2, min(0.04 * len(entries), 0.4)), loc="upper left", face="rectangle",
-                background_opacity=0.8,
-            )
+        self.legend.set(self.legend_entries())
 
     def update_basis_text(self) -> None:
         p = self.model.projection

@@ -79,7 +79,7 @@ class SceneModel:
             m = self.layers["manifold"]
             m.shrink = 0.8 if rec.d >= 3 else 1.0
             self.layers["removed"].shrink = m.shrink
-            self.layers["points"].size = 7.0 if rec.n < 2000 else (4.0 if rec.n < 10000 else 2.5)
+            self.layers["points"].size = 5.0 if rec.n < 2000 else (3.5 if rec.n < 10000 else 2.0)
             self.layers["normals"].visible = rec.n <= 3000
         self.player.set_extraction(rec.extraction, position)
         self.reconstruction_changed.emit()

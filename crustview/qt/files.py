@@ -1,0 +1,161 @@
+"""File menu behaviour of the main window: open, built-ins, recent, save, drop."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+from PySide6.QtCore import QSettings
+from PySide6.QtGui import QAction
+from PySide6.QtWidgets import QFileDialog, QMenu
+
+from ..core.errors import CrustviewError
+from ..scene.quantities import estimate_dimension
+from .dialogs import BuiltinDialog, ask_dimension
+
+MAX_RECENT = 8
+
+
+def _read_suffixes() -> tuple[str, ...]:
+    from .. import io
+
+    return tuple(io.READ_SUFFIXES)
+
+
+def _result_suffixes() -> tuple[str, ...]:
+    from .. import io
+
+    return tuple(io.RESULT_SUFFIXES)
+
+
+class FileActions:
+    """Mixin of :class:`~crustview.qt.window.MainWindow` (needs ``settings``,
+    ``model``, ``show_error``, ``start_job`` and ``statusBar``)."""
+
+    settings: QSettings
+    recent_menu: QMenu
+
+    # -- opening -----------------------------------------------------------------
+    def open_dialog(self) -> None:
+        pattern = " ".join(f"*{s}" for s in _read_suffixes())
+        path, _ = QFileDialog.getOpenFileName(self, "Open point file", self._last_dir(), f"Point files ({pattern});;All files (*)")
+        if path:
+            self.open_file(path)
+
+    def open_file(self, path: str | os.PathLike, d: int | None = None) -> bool:
+        """Read a point file and start its reconstruction.
+
+        When ``d`` is None the user is asked, with a local-PCA suggestion.
+        Returns False when the file could not be used (the error is shown and
+        the current result stays).
+        """
+        from .. import io
+
+        path = str(path)
+        try:
+            points = io.read_points(path)
+        except CrustviewError as err:
+            self.show_error(str(err))
+            return False
+        except Exception as err:  # noqa: BLE001 - reader bug: still one sentence
+            self.show_error(f"Cannot read '{path}' ({type(err).__name__}: {err}).")
+            return False
+        points = np.asarray(points, dtype=float)
+        k = points.shape[1]
+        if k < 2:
+            self.show_error(f"'{path}' holds points with {k} coordinate; at least 2 are needed.")
+            return False
+        self._add_recent(path)
+        self.settings.setValue("last_dir", str(Path(path).parent))
+        if d is None:
+            d = ask_dimension(self, k, estimate_dimension(points), Path(path).name)
+            if d is None:
+                self.statusBar().showMessage("Opening cancelled: no dimension given.", 5000)
+                return False
+        self.start_reconstruction(points, int(d), truth=None, source=Path(path).name)
+        return True
+
+    def open_builtin_dialog(self) -> None:
+        dlg = BuiltinDialog(self, current=getattr(self.model.truth, "manifold", None) and self.model.truth.manifold.name or "torus")
+        if dlg.exec():
+            name, n, seed = dlg.values()
+            self.load_builtin(name, n, seed)
+
+    # -- recent files -----------------------------------------------------------------
+    def recent_files(self) -> list[str]:
+        value = self.settings.value("recent", [])
+        if isinstance(value, str):
+            value = [value]
+        return [str(v) for v in (value or [])]
+
+    def _add_recent(self, path: str) -> None:
+        path = str(Path(path).resolve())
+        items = [p for p in self.recent_files() if p != path]
+        self.settings.setValue("recent", [path] + items[: MAX_RECENT - 1])
+        self._fill_recent()
+
+    def _fill_recent(self) -> None:
+        self.recent_menu.clear()
+        files = self.recent_files()
+        for p in files:
+            act = QAction(Path(p).name, self.recent_menu)
+            act.setToolTip(p)
+            act.setStatusTip(p)
+            act.triggered.connect(lambda _=False, p=p: self.open_file(p))
+            self.recent_menu.addAction(act)
+        self.recent_menu.setEnabled(bool(files))
+
+    def _last_dir(self) -> str:
+        return str(self.settings.value("last_dir", str(Path.home())))
+
+    # -- saving ---------------------------------------------------------------------
+    def save_result_dialog(self) -> None:
+        if self.model.rec is None:
+            self.show_error("There is no result to save yet.")
+            return
+        filters = ";;".join(f"{s[1:].upper()} (*{s})" for s in _result_suffixes())
+        path, _ = QFileDialog.getSaveFileName(self, "Save result", self._last_dir(), filters)
+        if path:
+            self.save_result(path)
+
+    def save_result(self, path: str) -> bool:
+        from .. import io
+
+        try:
+            io.write_result(path, self.model.rec)
+        except CrustviewError as err:
+            self.show_error(str(err))
+            return False
+        except OSError as err:
+            self.show_error(f"Cannot write '{path}': {err.strerror or err}.")
+            return False
+        self.statusBar().showMessage(f"Saved {path}", 5000)
+        return True
+
+    def save_screenshot_dialog(self) -> None:
+        path, _ = QFileDialog.getSaveFileName(self, "Save screenshot", self._last_dir(), "PNG image (*.png)")
+        if path:
+            self.save_screenshot(path)
+
+    def save_screenshot(self, path: str) -> bool:
+        if not path.lower().endswith(".png"):
+            path += ".png"
+        try:
+            self.plotter.screenshot(path)
+        except Exception as err:  # noqa: BLE001 - e.g. no OpenGL context
+            self.show_error(f"Cannot save the screenshot: {err}.")
+            return False
+        self.statusBar().showMessage(f"Saved {path}", 5000)
+        return True
+
+    # -- drag and drop -----------------------------------------------------------------
+    def dragEnterEvent(self, event) -> None:  # noqa: N802 - Qt API
+        if event.mimeData().hasUrls() and any(u.isLocalFile() for u in event.mimeData().urls()):
+            event.acceptProposedAction()
+
+    def dropEvent(self, event) -> None:  # noqa: N802
+        files = [u.toLocalFile() for u in event.mimeData().urls() if u.isLocalFile()]
+        if files:
+            event.acceptProposedAction()
+            self.open_file(files[0])

@@ -1,0 +1,165 @@
+"""Information panel: topology vs expectation, timings, selection, open faces."""
+
+from __future__ import annotations
+
+from PySide6.QtCore import Qt, QTimer, Signal
+from PySide6.QtWidgets import (
+    QGroupBox,
+    QLabel,
+    QListWidget,
+    QListWidgetItem,
+    QPushButton,
+    QTableWidget,
+    QTableWidgetItem,
+    QVBoxLayout,
+    QWidget,
+)
+
+from ..scene.describe import face_text, fmt_tuple, sample_text, simplex_text, topology_rows
+from ..scene.model import SceneModel
+
+#: At most this many open faces are listed.
+MAX_FACES = 300
+
+
+class InfoPanel(QWidget):
+    """Topology report, timings, the selection and the open (d-1)-faces.
+
+    Emits :attr:`face_clicked` with a face tuple (the window frames it).
+    """
+
+    face_clicked = Signal(object)
+
+    def __init__(self, model: SceneModel, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.model = model
+        lay = QVBoxLayout(self)
+        lay.setContentsMargins(6, 4, 6, 4)
+        box = QGroupBox("Topology of M_S", self)
+        bl = QVBoxLayout(box)
+        self.topology = QTableWidget(0, 3, box)
+        self.topology.setHorizontalHeaderLabels(["", "found", "expected"])
+        self.topology.verticalHeader().setVisible(False)
+        self.topology.verticalHeader().setDefaultSectionSize(19)
+        self.topology.horizontalHeader().setStretchLastSection(True)
+        self.topology.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
+        self.topology.setToolTip("The core's topology report; 'expected' is the true topology of a built-in sample")
+        bl.addWidget(self.topology)
+        self.messages = QLabel(box)
+        self.messages.setWordWrap(True)
+        bl.addWidget(self.messages)
+        self.timings = QLabel(box)
+        self.timings.setWordWrap(True)
+        self.timings.setToolTip("Seconds per stage of the reconstruction")
+        bl.addWidget(self.timings)
+        lay.addWidget(box, 3)
+        sel = QGroupBox("Selection", self)
+        sl = QVBoxLayout(sel)
+        self.selection = QLabel("Click a sample or a simplex in the view.", sel)
+        self.selection.setWordWrap(True)
+        self.selection.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        sl.addWidget(self.selection)
+        self.jump = QPushButton("Jump to removing step", sel)
+        self.jump.setToolTip("Go to the step of Algorithm 3 that removed the selected simplex")
+        self.jump.setEnabled(False)
+        self.jump.clicked.connect(self._jump)
+        sl.addWidget(self.jump)
+        lay.addWidget(sel, 2)
+        faces = QGroupBox("Open (d-1)-faces at this step", self)
+        fl = QVBoxLayout(faces)
+        self.faces_label = QLabel(faces)
+        fl.addWidget(self.faces_label)
+        self.faces = QListWidget(faces)
+        self.faces.setToolTip("Faces in one simplex (boundary) or more than two (non-manifold); click to frame one")
+        self.faces.itemClicked.connect(self._face_item)
+        self.faces.currentItemChanged.connect(lambda cur, _prev: self._face_item(cur))
+        fl.addWidget(self.faces)
+        lay.addWidget(faces, 3)
+        self._jump_to: int | None = None
+        self.refresh_timer = QTimer(self)
+        self.refresh_timer.setSingleShot(True)
+        self.refresh_timer.setInterval(120)
+        self.refresh_timer.timeout.connect(self.refresh_faces)
+        model.reconstruction_changed.connect(self.refresh_report)
+        model.player.step_changed.connect(lambda *_: (self.refresh_timer.start(), self.refresh_selection()))
+        model.selection.changed.connect(self.refresh_selection)
+        model.candidates_changed.connect(self.refresh_selection)
+
+    # -- report --------------------------------------------------------------
+    def refresh_report(self) -> None:
+        rec = self.model.rec
+        if rec is None:
+            return
+        truth = self.model.truth
+        expected = getattr(truth, "manifold", None)
+        rows = topology_rows(rec, expected)
+        self.topology.setRowCount(len(rows))
+        for r, (name, found, exp) in enumerate(rows):
+            for c, text in enumerate((name, found, exp)):
+                item = QTableWidgetItem(text)
+                if c == 1 and exp and found != exp:
+                    item.setForeground(Qt.GlobalColor.red)
+                self.topology.setItem(r, c, item)
+        self.topology.resizeColumnsToContents()
+        title = f"{self.model.source}: d = {rec.d} in R^{rec.k}, n = {rec.n}"
+        if expected is not None:
+            title += f" — expected: {expected.name}"
+        self.messages.setText(
+            "<b>" + title + "</b>" + "".join(f"<br>• {m}" for m in rec.topology.messages)
+        )
+        total = sum(rec.timings.values())
+        parts = ", ".join(f"{k} {v:.2f}" for k, v in rec.timings.items())
+        self.timings.setText(f"<small>timings (s): {parts}; total {total:.2f}</small>")
+        self.refresh_faces()
+        self.refresh_selection()
+
+    # -- selection -------------------------------------------------------------
+    def refresh_selection(self, *_) -> None:
+        sel = self.model.selection
+        if self.model.rec is None:
+            return
+        parts = []
+        self._jump_to = None
+        if sel.sample is not None:
+            parts.append(sample_text(self.model, sel.sample))
+        if sel.simplex is not None:
+            text, step = simplex_text(self.model, sel.simplex)
+            parts.append(text)
+            self._jump_to = step
+        if sel.face is not None:
+            parts.append(face_text(self.model, sel.face))
+        self.selection.setText("<br><br>".join(parts) if parts else "Click a sample or a simplex in the view.")
+        self.jump.setEnabled(self._jump_to is not None)
+        self.jump.setText(
+            f"Jump to removing step ({self._jump_to})" if self._jump_to is not None else "Jump to removing step"
+        )
+
+    def _jump(self) -> None:
+        if self._jump_to is not None:
+            self.model.player.set_step(self._jump_to)
+
+    # -- open faces -------------------------------------------------------------
+    def refresh_faces(self) -> None:
+        if self.model.rec is None:
+            return
+        faces, counts = self.model.open_faces()
+        self.faces.blockSignals(True)
+        self.faces.clear()
+        nonman = int((counts > 2).sum())
+        self.faces_label.setText(
+            f"{len(faces)} open faces: {nonman} non-manifold, {len(faces) - nonman} boundary"
+            + (f" (first {MAX_FACES} listed)" if len(faces) > MAX_FACES else "")
+        )
+        for f, c in zip(faces[:MAX_FACES], counts[:MAX_FACES]):
+            kind = "non-manifold" if c > 2 else "boundary"
+            item = QListWidgetItem(f"{fmt_tuple(f)}  — {c} simplices ({kind})")
+            item.setData(Qt.ItemDataRole.UserRole, tuple(int(v) for v in f))
+            self.faces.addItem(item)
+        self.faces.blockSignals(False)
+
+    def _face_item(self, item) -> None:
+        if item is None:
+            return
+        face = item.data(Qt.ItemDataRole.UserRole)
+        self.model.selection.select_face(face)
+        self.face_clicked.emit(face)

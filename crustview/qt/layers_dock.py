@@ -1,0 +1,134 @@
+"""Layer panel: visibility, colour, opacity, size and counts of every layer."""
+
+from __future__ import annotations
+
+from PySide6.QtCore import Qt
+from PySide6.QtGui import QColor
+from PySide6.QtWidgets import (
+    QCheckBox,
+    QColorDialog,
+    QComboBox,
+    QDoubleSpinBox,
+    QGridLayout,
+    QLabel,
+    QScrollArea,
+    QSlider,
+    QToolButton,
+    QWidget,
+)
+
+from ..scene.layers import POLE_MODES, Layer
+
+#: Order of the rows in the panel.
+ORDER = ("points", "manifold", "step", "removed", "candidates", "normals", "poles", "voronoi", "selection", "truth")
+
+
+def _swatch(button: QToolButton, color: str) -> None:
+    button.setStyleSheet(f"QToolButton {{ background: {color}; border: 1px solid #555; border-radius: 3px; }}")
+
+
+class LayerRow:
+    """The widgets of one layer, bound both ways to the :class:`Layer`."""
+
+    def __init__(self, layer: Layer, grid: QGridLayout, row: int, parent: QWidget) -> None:
+        self.layer = layer
+        self.visible = QCheckBox(layer.title, parent)
+        self.visible.setChecked(layer.visible)
+        self.visible.setToolTip(layer.tooltip)
+        self.visible.toggled.connect(lambda v: setattr(layer, "visible", bool(v)))
+        self.count = QLabel(parent)
+        self.count.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
+        self.count.setToolTip("Number of elements in the layer at the current step")
+        self.color = QToolButton(parent)
+        self.color.setFixedSize(22, 18)
+        self.color.setToolTip("Colour (used when no scalar colouring is active)")
+        self.color.clicked.connect(self._pick_color)
+        self.opacity = QSlider(Qt.Orientation.Horizontal, parent)
+        self.opacity.setRange(0, 100)
+        self.opacity.setFixedWidth(60)
+        self.opacity.setToolTip("Opacity")
+        self.opacity.valueChanged.connect(lambda v: setattr(layer, "opacity", v / 100.0))
+        self.size = QDoubleSpinBox(parent)
+        self.size.setRange(0.0, 40.0)
+        self.size.setSingleStep(0.5)
+        self.size.setDecimals(1)
+        self.size.setFixedWidth(58)
+        self.size.setToolTip("Point size / line width in pixels (normal planes: glyph scale)")
+        self.size.valueChanged.connect(lambda v: setattr(layer, "size", float(v)))
+        for col, w in enumerate((self.visible, self.count, self.color, self.opacity, self.size)):
+            grid.addWidget(w, row, col)
+        self.extra: QWidget | None = None
+        if layer.colorings:
+            combo = QComboBox(parent)
+            combo.addItems(list(layer.colorings))
+            combo.setToolTip("Scalar colouring of the layer (a legend bar appears in the view)")
+            combo.currentTextChanged.connect(lambda t: setattr(layer, "colorby", t))
+            combo.setFixedWidth(110)
+            self.extra = combo
+        elif layer.name == "poles":
+            combo = QComboBox(parent)
+            combo.addItems(list(POLE_MODES))
+            combo.setToolTip("Poles of the selected sample only, or of every sample")
+            combo.currentTextChanged.connect(lambda t: setattr(layer, "mode", t))
+            combo.setFixedWidth(90)
+            self.extra = combo
+        elif layer.name in ("manifold", "removed"):
+            spin = QDoubleSpinBox(parent)
+            spin.setRange(0.3, 1.0)
+            spin.setSingleStep(0.05)
+            spin.setFixedWidth(64)
+            spin.setToolTip("Shrink simplices towards their centroids (separates overlapping d-simplices, d >= 3)")
+            spin.valueChanged.connect(lambda v: setattr(layer, "shrink", float(v)))
+            self.extra = spin
+        if self.extra is not None:
+            grid.addWidget(self.extra, row, 5)
+        layer.events.connect(self.sync)
+        self.sync()
+
+    def _pick_color(self) -> None:
+        c = QColorDialog.getColor(QColor(self.layer.color), self.color, f"Colour of {self.layer.title}")
+        if c.isValid():
+            self.layer.color = c.name()
+
+    def sync(self, *_) -> None:
+        """Model -> widgets (without echoing back)."""
+        layer = self.layer
+        widgets = [self.visible, self.opacity, self.size] + ([self.extra] if self.extra else [])
+        for w in widgets:
+            w.blockSignals(True)
+        try:
+            self.visible.setChecked(layer.visible)
+            self.opacity.setValue(round(layer.opacity * 100))
+            self.size.setValue(layer.size)
+            _swatch(self.color, layer.color)
+            self.count.setText(f"{layer.count:,}")
+            if isinstance(self.extra, QComboBox):
+                value = layer.colorby if layer.colorings else layer.mode
+                i = self.extra.findText(value)
+                if i >= 0:
+                    self.extra.setCurrentIndex(i)
+            elif isinstance(self.extra, QDoubleSpinBox):
+                self.extra.setValue(layer.shrink)
+        finally:
+            for w in widgets:
+                w.blockSignals(False)
+
+
+class LayersPanel(QScrollArea):
+    """All layers of a model, one row each."""
+
+    def __init__(self, layers: dict[str, Layer], parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        body = QWidget(self)
+        grid = QGridLayout(body)
+        grid.setContentsMargins(6, 4, 6, 4)
+        grid.setHorizontalSpacing(6)
+        grid.setVerticalSpacing(2)
+        for col, text in enumerate(("layer", "count", "", "opacity", "size", "colouring / option")):
+            lab = QLabel(f"<small><i>{text}</i></small>", body)
+            grid.addWidget(lab, 0, col)
+        names = [n for n in ORDER if n in layers] + [n for n in layers if n not in ORDER]
+        self.rows = {n: LayerRow(layers[n], grid, r + 1, body) for r, n in enumerate(names)}
+        grid.setRowStretch(len(names) + 1, 1)
+        self.setWidget(body)
+        self.setWidgetResizable(True)

@@ -1,0 +1,151 @@
+"""Projection panel: coordinates, PCA, plane rotations and the grand tour."""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6.QtCore import Qt, QTimer
+from PySide6.QtWidgets import (
+    QComboBox,
+    QGridLayout,
+    QHBoxLayout,
+    QLabel,
+    QPushButton,
+    QSlider,
+    QVBoxLayout,
+    QWidget,
+)
+
+from ..scene.model import SceneModel
+
+#: At most this many plane sliders are shown (k <= 6 gets all of them).
+MAX_PLANES = 15
+
+
+class ProjectionPanel(QWidget):
+    """Choose the k x 3 projection basis; shows the current basis."""
+
+    def __init__(self, model: SceneModel, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.model = model
+        self.lay = QVBoxLayout(self)
+        self.lay.setContentsMargins(6, 4, 6, 4)
+        row = QHBoxLayout()
+        self.coords = [QComboBox(self) for _ in range(3)]
+        for axis, c in zip("XYZ", self.coords):
+            c.setToolTip(f"Ambient coordinate shown as the view's {axis} axis")
+            row.addWidget(QLabel(axis, self))
+            row.addWidget(c)
+        self.apply = QPushButton("Show", self)
+        self.apply.setToolTip("Project onto the three chosen coordinates")
+        row.addWidget(self.apply)
+        self.lay.addLayout(row)
+        row2 = QHBoxLayout()
+        self.pca = QPushButton("PCA", self)
+        self.pca.setToolTip("Project onto the three principal axes of the samples")
+        self.tour = QPushButton("▶ Grand tour", self)
+        self.tour.setCheckable(True)
+        self.tour.setToolTip("Move smoothly between random projections of R^k (click again to pause)")
+        self.tour_speed = QSlider(Qt.Orientation.Horizontal, self)
+        self.tour_speed.setRange(1, 30)
+        self.tour_speed.setValue(6)
+        self.tour_speed.setToolTip("Speed of the grand tour")
+        row2.addWidget(self.pca)
+        row2.addWidget(self.tour)
+        row2.addWidget(self.tour_speed)
+        self.lay.addLayout(row2)
+        self.planes = QGridLayout()
+        self.planes.setVerticalSpacing(0)
+        self.lay.addLayout(self.planes)
+        self.sliders: dict[tuple[int, int], QSlider] = {}
+        self.basis = QLabel(self)
+        self.basis.setWordWrap(True)
+        self.basis.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.basis.setToolTip("The current basis: each view axis as a combination of ambient coordinates")
+        self.lay.addWidget(self.basis)
+        self.lay.addStretch(1)
+        self.timer = QTimer(self)
+        self.timer.setInterval(40)
+        self.timer.timeout.connect(self._tick)
+        self.apply.clicked.connect(self._coordinates)
+        self.pca.clicked.connect(self._pca)
+        self.tour.toggled.connect(self._toggle_tour)
+        model.projection.changed.connect(self._show_basis)
+        model.reconstruction_changed.connect(self.rebuild)
+        model.tour.playing_changed.connect(self._tour_state)
+        self._k = 0
+        self.rebuild()
+
+    def rebuild(self) -> None:
+        """Re-create the controls for the current ambient dimension."""
+        k = self.model.projection.k
+        if k != self._k:
+            self._k = k
+            for j, c in enumerate(self.coords):
+                c.blockSignals(True)
+                c.clear()
+                c.addItems([f"x{i + 1}" for i in range(k)])
+                c.setCurrentIndex(min(j, k - 1))
+                c.setEnabled(k >= 3)
+                c.blockSignals(False)
+            self.coords[2].setVisible(k >= 3)
+            while self.planes.count():
+                w = self.planes.takeAt(0).widget()
+                if w is not None:
+                    w.deleteLater()
+            self.sliders = {}
+            planes = [(i, j) for i in range(k) for j in range(i + 1, k)][:MAX_PLANES]
+            if k >= 3:
+                for r, (i, j) in enumerate(planes):
+                    lab = QLabel(f"x{i + 1}–x{j + 1}", self)
+                    s = QSlider(Qt.Orientation.Horizontal, self)
+                    s.setRange(-180, 180)
+                    s.setToolTip(f"Rotate the projection in the coordinate plane (x{i + 1}, x{j + 1}), degrees")
+                    s.valueChanged.connect(lambda v, i=i, j=j: self.model.projection.set_angle(i, j, np.radians(v)))
+                    self.planes.addWidget(lab, r, 0)
+                    self.planes.addWidget(s, r, 1)
+                    self.sliders[(i, j)] = s
+        for w in (self.apply, self.pca, self.tour, self.tour_speed):
+            w.setEnabled(k >= 3)
+        self._show_basis()
+
+    def _coordinates(self) -> None:
+        idx = [c.currentIndex() for c in self.coords[: min(3, self._k)]]
+        if len(set(idx)) != len(idx):
+            self.basis.setText("<span style='color:#b00'>Choose three different coordinates.</span>")
+            return
+        self.model.tour.pause()
+        self.model.projection.set_coordinates(*idx)
+
+    def _pca(self) -> None:
+        if self.model.rec is not None:
+            self.model.tour.pause()
+            self.model.projection.set_pca(self.model.rec.points)
+
+    def _toggle_tour(self, on: bool) -> None:
+        self.model.tour.play() if on else self.model.tour.pause()
+
+    def _tour_state(self, playing: bool) -> None:
+        self.tour.blockSignals(True)
+        self.tour.setChecked(playing)
+        self.tour.setText("⏸ Pause tour" if playing else "▶ Grand tour")
+        self.tour.blockSignals(False)
+        self.timer.start() if playing else self.timer.stop()
+
+    def _tick(self) -> None:
+        self.model.tour.speed = self.tour_speed.value() / 15.0
+        self.model.tour.advance(self.timer.interval() / 1000.0)
+
+    def _show_basis(self) -> None:
+        p = self.model.projection
+        angles = p.angles
+        for key, s in self.sliders.items():
+            s.blockSignals(True)
+            s.setValue(int(round(np.degrees(angles.get(key, 0.0)))))
+            s.blockSignals(False)
+        if p.flat:
+            self.basis.setText("2-D data: shown flat in the plane z = 0.")
+            return
+        lab = p.axis_labels()
+        self.basis.setText(
+            f"<b>basis</b> ({p.source})<br>X = {lab[0]}<br>Y = {lab[1]}<br>Z = {lab[2]}"
+        )

@@ -1,0 +1,138 @@
+"""Run panel: d, candidate test, angle theta, Reconstruct, progress and Cancel."""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtWidgets import (
+    QComboBox,
+    QFormLayout,
+    QHBoxLayout,
+    QLabel,
+    QProgressBar,
+    QPushButton,
+    QSlider,
+    QSpinBox,
+    QVBoxLayout,
+    QWidget,
+)
+
+from ..core.candidates import SCORE_LIMIT
+from ..core.result import CANDIDATE_TESTS
+from ..scene.model import SceneModel
+
+#: Stage names of the core, in words.
+STAGES = {
+    "prepare": "preparing points",
+    "delaunay": "Delaunay triangulation (Qhull)",
+    "normals": "normal planes (Algorithm 1)",
+    "candidates": "candidate complex (Algorithm 2)",
+    "extraction": "manifold extraction (Algorithm 3)",
+    "topology": "topology report",
+}
+
+
+class RunPanel(QWidget):
+    """Parameters of a run and its progress.
+
+    Emits :attr:`reconstruct_requested` with ``(d, test, theta_radians)`` and
+    :attr:`cancel_requested`.  Moving the test or theta updates the candidates
+    layer of the model at once (the extraction is redone on Reconstruct).
+    """
+
+    reconstruct_requested = Signal(int, str, float)
+    cancel_requested = Signal()
+
+    def __init__(self, model: SceneModel, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.model = model
+        form = QFormLayout()
+        form.setContentsMargins(0, 0, 0, 0)
+        self.d = QSpinBox(self)
+        self.d.setRange(1, 9)
+        self.d.setValue(2)
+        self.d.setToolTip("Intrinsic dimension d of the manifold (1 = curve, 2 = surface, ...); 1 <= d < k")
+        form.addRow("dimension d", self.d)
+        self.test = QComboBox(self)
+        self.test.addItems(list(CANDIDATE_TESTS))
+        self.test.setToolTip(
+            "Candidate test of Algorithm 2: 'cocone' (dual cell meets the tangent cocone) or "
+            "'literal' (angle between dual cell and the estimated normal plane AN_s)"
+        )
+        form.addRow("candidate test", self.test)
+        row = QHBoxLayout()
+        self.theta = QSlider(Qt.Orientation.Horizontal, self)
+        self.theta.setRange(1, int(round(np.degrees(SCORE_LIMIT) * 2)))  # half degrees
+        self.theta.setValue(45)
+        self.theta.setToolTip("Angle threshold θ of the candidate test (paper: π/8 = 22.5°); "
+                              "the candidates layer follows at once, Reconstruct re-extracts")
+        self.theta_label = QLabel(self)
+        self.theta_label.setMinimumWidth(48)
+        row.addWidget(self.theta)
+        row.addWidget(self.theta_label)
+        form.addRow("angle θ", row)
+        lay = QVBoxLayout(self)
+        lay.setContentsMargins(6, 4, 6, 4)
+        lay.addLayout(form)
+        buttons = QHBoxLayout()
+        self.run = QPushButton("Reconstruct", self)
+        self.run.setToolTip("Run the reconstruction with these parameters (only Algorithm 3 again when "
+                            "just the test or θ changed)")
+        self.cancel = QPushButton("Cancel", self)
+        self.cancel.setEnabled(False)
+        self.cancel.setToolTip("Stop the running reconstruction; the previous result stays")
+        buttons.addWidget(self.run)
+        buttons.addWidget(self.cancel)
+        lay.addLayout(buttons)
+        self.progress = QProgressBar(self)
+        self.progress.setRange(0, 1000)
+        self.progress.setTextVisible(True)
+        self.progress.setFormat("idle")
+        self.progress.setValue(0)
+        lay.addWidget(self.progress)
+        self.run.clicked.connect(self._request)
+        self.cancel.clicked.connect(self.cancel_requested)
+        self.theta.valueChanged.connect(self._theta_moved)
+        self.test.currentTextChanged.connect(lambda t: model.set_candidate_display(test=t))
+        model.reconstruction_changed.connect(self.sync)
+        self._theta_moved(self.theta.value())
+
+    @property
+    def theta_radians(self) -> float:
+        return float(np.radians(self.theta.value() / 2.0))
+
+    def _theta_moved(self, v: int) -> None:
+        self.theta_label.setText(f"{v / 2:.1f}°")
+        self.model.set_candidate_display(theta=self.theta_radians)
+
+    def _request(self) -> None:
+        self.reconstruct_requested.emit(self.d.value(), self.test.currentText(), self.theta_radians)
+
+    def sync(self) -> None:
+        """Show the parameters of the model's reconstruction."""
+        rec = self.model.rec
+        if rec is None:
+            return
+        for w in (self.d, self.test, self.theta):
+            w.blockSignals(True)
+        self.d.setRange(1, max(1, rec.k - 1))
+        self.d.setValue(rec.d)
+        self.test.setCurrentText(rec.test)
+        self.theta.setValue(int(round(np.degrees(rec.theta) * 2)))
+        self.theta_label.setText(f"{np.degrees(rec.theta):.1f}°")
+        for w in (self.d, self.test, self.theta):
+            w.blockSignals(False)
+
+    def set_busy(self, busy: bool, label: str = "") -> None:
+        self.run.setEnabled(not busy)
+        self.cancel.setEnabled(busy)
+        if busy:
+            self.progress.setValue(0)
+            self.progress.setFormat(label or "starting…")
+
+    def show_progress(self, stage: str, fraction: float) -> None:
+        self.progress.setValue(int(1000 * max(0.0, min(1.0, fraction))))
+        self.progress.setFormat(f"{STAGES.get(stage, stage)} %p%")
+
+    def show_idle(self, text: str) -> None:
+        self.progress.setFormat(text)

@@ -1,0 +1,209 @@
+"""Steps panel: replay Algorithm 3 step by step, with a synchronised event log."""
+
+from __future__ import annotations
+
+from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, QTimer
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QComboBox,
+    QDoubleSpinBox,
+    QHBoxLayout,
+    QHeaderView,
+    QLabel,
+    QPushButton,
+    QSlider,
+    QStyle,
+    QTableView,
+    QToolButton,
+    QVBoxLayout,
+    QWidget,
+)
+
+from ..core.result import RULES
+from ..scene.describe import deg, fmt_tuple, step_words
+from ..scene.layers import STEP_COLORS
+from ..scene.model import SceneModel
+
+COLUMNS = ("#", "rule", "τ", "kept", "removed", "angle")
+
+
+class StepLog(QAbstractTableModel):
+    """Table model over ``extraction.steps`` (row r is step r + 1)."""
+
+    def __init__(self, model: SceneModel) -> None:
+        super().__init__()
+        self.model = model
+
+    def rowCount(self, parent=QModelIndex()) -> int:  # noqa: N802 - Qt API
+        return 0 if parent.isValid() else self.model.player.n_steps
+
+    def columnCount(self, parent=QModelIndex()) -> int:  # noqa: N802
+        return len(COLUMNS)
+
+    def headerData(self, section, orientation, role=Qt.ItemDataRole.DisplayRole):  # noqa: N802
+        if role == Qt.ItemDataRole.DisplayRole and orientation == Qt.Orientation.Horizontal:
+            return COLUMNS[section]
+        return None
+
+    def data(self, index, role=Qt.ItemDataRole.DisplayRole):
+        ext = self.model.player.extraction
+        if ext is None or not index.isValid():
+            return None
+        s = ext.steps[index.row()]
+        if role == Qt.ItemDataRole.DisplayRole:
+            return (
+                str(s.index + 1),
+                "prune" if s.rule == "prune-sharp" else "resolve",
+                fmt_tuple(s.tau),
+                fmt_tuple(s.kept) if s.kept else "",
+                fmt_tuple(s.removed) if len(s.removed) <= 4 else f"{len(s.removed)} simplices",
+                deg(s.angle),
+            )[index.column()]
+        if role == Qt.ItemDataRole.ToolTipRole:
+            return s.reason
+        return None
+
+    def reset(self) -> None:
+        self.beginResetModel()
+        self.endResetModel()
+
+
+class StepsPanel(QWidget):
+    """Controls of the :class:`~crustview.scene.StepPlayer` of a model."""
+
+    def __init__(self, model: SceneModel, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.model = model
+        player = model.player
+        lay = QVBoxLayout(self)
+        lay.setContentsMargins(6, 4, 6, 4)
+        row = QHBoxLayout()
+
+        style = self.style()
+        icon = QStyle.StandardPixmap
+
+        def button(sp, tip, slot):
+            b = QToolButton(self)
+            b.setIcon(style.standardIcon(sp))
+            b.setToolTip(tip)
+            b.clicked.connect(slot)
+            row.addWidget(b)
+            return b
+
+        self.first = button(icon.SP_MediaSkipBackward, "First: the candidate complex T_S (Home)", player.first)
+        self.prev = button(icon.SP_MediaSeekBackward, "Previous step (Left)", player.prev)
+        self.play = button(icon.SP_MediaPlay, "Play / pause (Space)", player.toggle)
+        self.next = button(icon.SP_MediaSeekForward, "Next step (Right)", player.next)
+        self.last = button(icon.SP_MediaSkipForward, "Last: the extracted M_S (End)", player.last)
+        self.speed = QDoubleSpinBox(self)
+        self.speed.setRange(0.5, 500)
+        self.speed.setValue(player.speed)
+        self.speed.setSuffix(" steps/s")
+        self.speed.setToolTip("Playback speed")
+        row.addWidget(self.speed)
+        self.counter = QLabel("step 0 / 0", self)
+        self.counter.setMinimumWidth(110)
+        self.counter.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
+        row.addWidget(self.counter)
+        lay.addLayout(row)
+        self.slider = QSlider(Qt.Orientation.Horizontal, self)
+        self.slider.setToolTip("Scrub through all steps of Algorithm 3")
+        lay.addWidget(self.slider)
+        row2 = QHBoxLayout()
+        self.rule = QComboBox(self)
+        self.rule.addItems(list(RULES))
+        self.rule.setToolTip("prune-sharp: line 2 of Algorithm 3; resolve-nonmanifold: lines 3-5")
+        self.to_rule = QPushButton("Run to next step of rule", self)
+        self.to_rule.setToolTip("Jump to just after the next step that applied the chosen rule")
+        self.to_rule.clicked.connect(self._run_to_rule)
+        row2.addWidget(self.to_rule)
+        row2.addWidget(self.rule, 1)
+        lay.addLayout(row2)
+        self.words = QLabel(self)
+        self.words.setWordWrap(True)
+        self.words.setMinimumHeight(64)
+        self.words.setAlignment(Qt.AlignmentFlag.AlignTop | Qt.AlignmentFlag.AlignLeft)
+        self.words.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.words.setStyleSheet("QLabel { background: #f7f7f2; border: 1px solid #ccc; padding: 4px; }")
+        lay.addWidget(self.words)
+        legend = QLabel(
+            f"<span style='color:{STEP_COLORS['tau']}'>■</span> τ &nbsp; "
+            f"<span style='color:{STEP_COLORS['kept']}'>■</span> kept pair &nbsp; "
+            f"<span style='color:{STEP_COLORS['removed']}'>■</span> removed by this step",
+            self,
+        )
+        lay.addWidget(legend)
+        self.log = StepLog(model)
+        self.table = QTableView(self)
+        self.table.setModel(self.log)
+        self.table.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
+        self.table.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
+        self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
+        self.table.verticalHeader().setVisible(False)
+        self.table.verticalHeader().setDefaultSectionSize(20)
+        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
+        self.table.horizontalHeader().setStretchLastSection(True)
+        self.table.setToolTip("Event log: every recorded step; selecting a row jumps there")
+        lay.addWidget(self.table, 1)
+        self.timer = QTimer(self)
+        self.timer.timeout.connect(self._tick)
+        self.slider.valueChanged.connect(player.set_step)
+        self.table.selectionModel().currentRowChanged.connect(self._row_selected)
+        self.speed.valueChanged.connect(self._speed)
+        player.step_changed.connect(self.sync)
+        player.extraction_changed.connect(self._extraction)
+        player.playing_changed.connect(self._playing)
+        self._extraction(player.n_steps)
+
+    def _extraction(self, n: int) -> None:
+        self.log.reset()
+        self.slider.blockSignals(True)
+        self.slider.setRange(0, n)
+        self.slider.blockSignals(False)
+        self.sync(self.model.player.position)
+
+    def _row_selected(self, current, _previous) -> None:
+        if current.isValid():
+            self.model.player.set_step(current.row() + 1)
+
+    def _run_to_rule(self) -> None:
+        rule = self.rule.currentText()
+        if not self.model.player.run_to_rule(rule):
+            self.words.setText(f"No further step of rule {rule} after step {self.model.player.position}.")
+
+    def _speed(self, v: float) -> None:
+        self.model.player.speed = v
+        self._playing(self.model.player.playing)
+
+    def _playing(self, playing: bool) -> None:
+        sp = QStyle.StandardPixmap.SP_MediaPause if playing else QStyle.StandardPixmap.SP_MediaPlay
+        self.play.setIcon(self.style().standardIcon(sp))
+        if playing:
+            sps = self.model.player.speed
+            self.timer.start(max(16, int(1000 / sps)))
+        else:
+            self.timer.stop()
+
+    def _tick(self) -> None:
+        # above ~60 steps/s advance several steps per tick
+        per_tick = max(1, round(self.model.player.speed * self.timer.interval() / 1000))
+        self.model.player.tick(per_tick)
+
+    def sync(self, i: int) -> None:
+        player = self.model.player
+        n = player.n_steps
+        self.slider.blockSignals(True)
+        self.slider.setValue(i)
+        self.slider.blockSignals(False)
+        self.counter.setText(f"step {i} / {n}")
+        self.words.setText(step_words(player.current_step, i, n) if player.extraction else "No reconstruction yet.")
+        sm = self.table.selectionModel()
+        sm.blockSignals(True)
+        if i > 0:
+            idx = self.log.index(i - 1, 0)
+            self.table.selectRow(i - 1)
+            sm.setCurrentIndex(idx, sm.SelectionFlag.NoUpdate)
+            self.table.scrollTo(idx, QAbstractItemView.ScrollHint.PositionAtCenter)
+        else:
+            self.table.clearSelection()
+        sm.blockSignals(False)

@@ -1,0 +1,274 @@
+"""The main window: 3-D view in the centre, docks around it."""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6.QtCore import QSettings, Qt
+from PySide6.QtGui import QAction, QKeySequence
+from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMessageBox, QWidget
+from pyvistaqt import QtInteractor
+
+from ..core import reconstruct, reextract
+from ..render import SceneView
+from ..scene.model import SceneModel
+from .files import FileActions
+from .info_dock import InfoPanel
+from .layers_dock import LayersPanel
+from .projection_dock import ProjectionPanel
+from .run_dock import RunPanel
+from .steps_dock import StepsPanel
+from .worker import Runner
+
+DEMO = "torus"
+
+
+class MainWindow(FileActions, QMainWindow):
+    """crustview's main window.
+
+    Parameters
+    ----------
+    settings : QSettings, optional
+        Where recent files are kept (tests pass a temporary one).
+    """
+
+    def __init__(self, settings: QSettings | None = None, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.settings = settings if settings is not None else QSettings("crustview", "crustview")
+        self.model = SceneModel()
+        self.setWindowTitle("crustview")
+        self.plotter = QtInteractor(self, auto_update=False, multi_samples=0)
+        self.setCentralWidget(self.plotter)
+        for key in ("q", "e", "v"):  # VTK/pyvista would quit or change style on these keys
+            self.plotter.clear_events_for_key(key)
+        self.view = SceneView(self.model, self.plotter)
+        self.points: np.ndarray | None = None
+        self.last_error: str | None = None
+        self.error_box: QMessageBox | None = None
+        self._pending: dict = {}
+
+        self.run_panel = RunPanel(self.model)
+        self.layers_panel = LayersPanel(self.model.layers)
+        self.projection_panel = ProjectionPanel(self.model)
+        self.steps_panel = StepsPanel(self.model)
+        self.info_panel = InfoPanel(self.model)
+        left, right = Qt.DockWidgetArea.LeftDockWidgetArea, Qt.DockWidgetArea.RightDockWidgetArea
+        self.docks = {
+            "run": self._dock("Run", self.run_panel, left),
+            "layers": self._dock("Layers", self.layers_panel, left),
+            "projection": self._dock("Projection", self.projection_panel, left),
+            "steps": self._dock("Steps of Algorithm 3", self.steps_panel, right),
+            "info": self._dock("Information", self.info_panel, right),
+        }
+        self.resizeDocks([self.docks["run"], self.docks["layers"], self.docks["projection"]], [150, 330, 260],
+                         Qt.Orientation.Vertical)
+        self.resizeDocks([self.docks["steps"], self.docks["info"]], [420, 420], Qt.Orientation.Vertical)
+        self.resizeDocks([self.docks["run"], self.docks["steps"]], [400, 400], Qt.Orientation.Horizontal)
+
+        self.runner = Runner(self)
+        self.runner.started.connect(lambda label: self.run_panel.set_busy(True, label))
+        self.runner.progress.connect(self.run_panel.show_progress)
+        self.runner.done.connect(self._job_done)
+        self.runner.failed.connect(self._job_failed)
+        self.runner.cancelled.connect(self._job_cancelled)
+        self.runner.finished.connect(lambda: self.run_panel.set_busy(False))
+        self.run_panel.reconstruct_requested.connect(self._reconstruct_requested)
+        self.run_panel.cancel_requested.connect(self.runner.cancel)
+        self.info_panel.face_clicked.connect(self.view.frame_face)
+        self.model.player.step_changed.connect(lambda *_: self._update_status())
+        self.model.reconstruction_changed.connect(self._update_status)
+
+        self._build_menus()
+        self.status_counts = QLabel(self)
+        self.statusBar().addPermanentWidget(self.status_counts)
+        self.statusBar().showMessage("Open a point file (File ▸ Open, or drop it here) or a built-in sample.")
+        self.setAcceptDrops(True)
+        self._press: tuple[int, int] | None = None
+        self.plotter.iren.add_observer("LeftButtonPressEvent", self._on_press)
+        self.plotter.iren.add_observer("LeftButtonReleaseEvent", self._on_release)
+
+    # -- construction helpers ---------------------------------------------------
+    def _dock(self, title: str, widget: QWidget, area) -> QDockWidget:
+        dock = QDockWidget(title, self)
+        dock.setObjectName(title)
+        dock.setWidget(widget)
+        dock.setFeatures(QDockWidget.DockWidgetFeature.DockWidgetMovable | QDockWidget.DockWidgetFeature.DockWidgetFloatable
+                         | QDockWidget.DockWidgetFeature.DockWidgetClosable)
+        self.addDockWidget(area, dock)
+        return dock
+
+    def _action(self, menu, text: str, slot, shortcut=None, tip: str = "") -> QAction:
+        act = QAction(text, self)
+        if shortcut is not None:
+            act.setShortcut(QKeySequence(shortcut))
+            act.setShortcutContext(Qt.ShortcutContext.WindowShortcut)
+        act.setToolTip(tip or text)
+        act.setStatusTip(tip or text)
+        act.triggered.connect(slot)
+        menu.addAction(act)
+        self.addAction(act)
+        return act
+
+    def _build_menus(self) -> None:
+        bar = self.menuBar()
+        f = bar.addMenu("&File")
+        self._action(f, "&Open…", self.open_dialog, QKeySequence.StandardKey.Open, "Open a point file")
+        self._action(f, "Open &built-in sample…", self.open_builtin_dialog, "Ctrl+B",
+                     "Sample a built-in manifold of known topology")
+        self.recent_menu = f.addMenu("Open &recent")
+        self._fill_recent()
+        f.addSeparator()
+        self._action(f, "&Save result…", self.save_result_dialog, QKeySequence.StandardKey.Save,
+                     "Write M_S and the recorded steps (npz) or the mesh (ply, obj, off, vtk, stl)")
+        self._action(f, "Save s&creenshot…", self.save_screenshot_dialog, "Ctrl+P", "Save the 3-D view as PNG")
+        f.addSeparator()
+        self._action(f, "&Quit", self.close, QKeySequence.StandardKey.Quit)
+        s = bar.addMenu("&Steps")
+        p = self.model.player
+        self._action(s, "Previous step", p.prev, Qt.Key.Key_Left)
+        self._action(s, "Next step", p.next, Qt.Key.Key_Right)
+        self._action(s, "Play / pause", p.toggle, Qt.Key.Key_Space)
+        self._action(s, "First (T_S)", p.first, Qt.Key.Key_Home)
+        self._action(s, "Last (M_S)", p.last, Qt.Key.Key_End)
+        v = bar.addMenu("&View")
+        self._action(v, "Reset camera", lambda: (self.view.reset_camera(), self.view.render()), "R")
+        self._action(v, "Clear selection", self.model.selection.clear, Qt.Key.Key_Escape)
+        v.addSeparator()
+        for dock in self.docks.values():
+            v.addAction(dock.toggleViewAction())
+
+    # -- running ----------------------------------------------------------------
+    def start_job(self, fn, label: str, **pending) -> bool:
+        """Run ``fn(progress, cancel)`` in the worker; ``pending`` is used when it ends."""
+        if self.runner.busy:
+            self.show_error("A reconstruction is already running; cancel it first.")
+            return False
+        self._pending = pending
+        self.statusBar().showMessage(label)
+        return self.runner.start(fn, label)
+
+    def start_reconstruction(self, points: np.ndarray, d: int, truth=None, source: str = "",
+                             test: str | None = None, theta: float | None = None) -> bool:
+        test = test or self.run_panel.test.currentText()
+        theta = self.run_panel.theta_radians if theta is None else theta
+
+        def job(progress, cancel):
+            return reconstruct(points, d, test=test, theta=theta, progress=progress, cancel=cancel)
+
+        return self.start_job(job, f"Reconstructing {source} (d = {d})…", points=points, truth=truth,
+                              source=source, keep_view=False)
+
+    def load_builtin(self, name: str, n: int | None = None, seed: int = 0) -> bool:
+        """Sample a built-in manifold and reconstruct it (both in the worker)."""
+        from ..core.sampling import get_manifold
+
+        try:
+            m = get_manifold(name)
+        except Exception as err:  # noqa: BLE001
+            self.show_error(str(err))
+            return False
+        n = n or m.default_n
+        test = self.run_panel.test.currentText()
+        theta = self.run_panel.theta_radians
+
+        def job(progress, cancel):
+            progress("prepare", 0.0)
+            sample = m.sample(n, seed=seed)
+            rec = reconstruct(sample.points, m.d, test=test, theta=theta, progress=progress, cancel=cancel)
+            return {"rec": rec, "truth": sample, "points": sample.points}
+
+        return self.start_job(job, f"Sampling and reconstructing {name} (n = {n})…", source=f"{name} (n = {n})",
+                              keep_view=False)
+
+    def load_demo(self) -> bool:
+        return self.load_builtin(DEMO)
+
+    def _reconstruct_requested(self, d: int, test: str, theta: float) -> None:
+        rec = self.model.rec
+        if self.points is None:
+            self.show_error("Open a point file or a built-in sample first.")
+            return
+        if rec is not None and rec.d == d:  # same points and d: only Algorithm 3 again
+            def job(progress, cancel):
+                return reextract(rec, test, theta, progress=progress, cancel=cancel)
+
+            self.start_job(job, f"Re-extracting with {test}, θ = {np.degrees(theta):.1f}°…", points=self.points,
+                           truth=self.model.truth, source=self.model.source, keep_view=True)
+        else:
+            self.start_reconstruction(self.points, d, truth=self.model.truth, source=self.model.source,
+                                      test=test, theta=theta)
+
+    def _job_done(self, result) -> None:
+        pending = self._pending
+        if isinstance(result, dict):
+            rec, truth, points = result["rec"], result["truth"], result["points"]
+        else:
+            rec, truth, points = result, pending.get("truth"), pending.get("points")
+        self.points = points
+        self.model.set_reconstruction(rec, truth=truth, source=pending.get("source", ""),
+                                      keep_view=bool(pending.get("keep_view")))
+        t = rec.topology
+        verdict = "closed manifold" if t.closed_manifold else "NOT a closed manifold"
+        self.run_panel.show_idle(f"done in {sum(rec.timings.values()):.2f} s — {verdict}")
+        self.statusBar().showMessage(
+            f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} extraction steps.", 15000
+        )
+        self.setWindowTitle(f"crustview — {self.model.source}: d = {rec.d} in R^{rec.k}")
+
+    def _job_failed(self, message: str) -> None:
+        self.run_panel.show_idle("failed — previous result kept")
+        self.show_error(message)
+
+    def _job_cancelled(self) -> None:
+        self.run_panel.show_idle("cancelled — previous result kept")
+        self.statusBar().showMessage("Cancelled; the previous result is still shown.", 10000)
+
+    def show_error(self, message: str) -> None:
+        """A clear, non-blocking message; the current result stays visible."""
+        self.last_error = message
+        self.statusBar().showMessage(message, 20000)
+        if self.error_box is not None:
+            self.error_box.close()
+        box = QMessageBox(QMessageBox.Icon.Warning, "crustview", message, QMessageBox.StandardButton.Ok, self)
+        box.setWindowModality(Qt.WindowModality.WindowModal)
+        box.open()
+        self.error_box = box
+
+    def _update_status(self) -> None:
+        rec = self.model.rec
+        if rec is None:
+            return
+        alive = int(rec.extraction.alive(self.model.player.position).sum())
+        self.status_counts.setText(
+            f"n = {rec.n} · candidates {len(rec.extraction.simplices):,} · M_S now {alive:,} · "
+            f"step {self.model.player.position}/{rec.extraction.n_steps}"
+        )
+
+    # -- picking ---------------------------------------------------------------------
+    def _on_press(self, *_) -> None:
+        self._press = tuple(self.plotter.iren.interactor.GetEventPosition())
+
+    def _on_release(self, *_) -> None:
+        pos = tuple(self.plotter.iren.interactor.GetEventPosition())
+        if self._press is None or abs(pos[0] - self._press[0]) + abs(pos[1] - self._press[1]) > 4:
+            return
+        self.pick_at(*pos)
+
+    def pick_at(self, x: int, y: int):
+        """Select what is under VTK display position ``(x, y)``; returns it."""
+        got = self.view.pick(x, y)
+        sel = self.model.selection
+        if got is None:
+            sel.clear()
+        elif got[0] == "sample":
+            sel.select_sample(got[1])
+        else:
+            sel.select_simplex(got[1])
+        return got
+
+    # -- closing ----------------------------------------------------------------------
+    def closeEvent(self, event) -> None:  # noqa: N802 - Qt API
+        self.model.player.pause()
+        self.model.tour.pause()
+        self.runner.shutdown()
+        self.plotter.close()
+        super().closeEvent(event)
