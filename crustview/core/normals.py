@@ -34,34 +34,72 @@ def greedy_poles(
     centres: np.ndarray,
     n_samples: int,
     n_poles: int,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Run Algorithm 1 for every sample.
 
     Parameters
     ----------
     work : ndarray of shape (n_all, r)
-        Delaunay vertices (samples first).
+        Delaunay vertices (samples first, then far bounding points).
     simplices : ndarray of shape (t, r + 1)
     centres : ndarray of shape (t, r)
         Voronoi vertices (circumcentres).
     n_samples : int
-        Only the first ``n_samples`` vertices are processed.
+        Only the first ``n_samples`` vertices are processed; larger indices
+        are bounding points.
     n_poles : int
         ``r - d`` (codimension inside the working space).
 
     Returns
     -------
     pole_index : ndarray of shape (n_samples, n_poles)
-        Chosen Voronoi vertices (rows of ``centres``), in greedy order.
+        Chosen Voronoi vertices in greedy order: rows of ``centres``, or
+        ``t + h`` for the h-th vertex at infinity (see below).
     normals : ndarray of shape (n_samples, r, n_poles)
         Orthonormal basis of AN_s in working coordinates.
+    infinite : ndarray of shape (h, r)
+        Drawable positions of the vertices at infinity.
+
+    Notes
+    -----
+    A sample on the convex hull has an unbounded cell; the paper's farthest
+    vertex is then the vertex at infinity in the direction of the cell's
+    recession cone.  The far bounding points truncate that cone; we represent
+    its direction by the mean unit direction from ``s`` to the truncated
+    vertices (those of simplices with a bounding point), give it a length
+    larger than any finite vertex so that the greedy loop picks it first (as
+    it would pick a vertex at infinity), and draw it at the mean distance of
+    the truncated vertices.  Using one truncated corner instead would tilt
+    the normal by up to the cone's angular radius.
     """
     r = work.shape[1]
+    t = len(centres)
     indptr, inc = vertex_simplices(simplices, len(work))
     indptr = indptr[: n_samples + 1]
     inc = inc[: indptr[-1]]
     owner = np.repeat(np.arange(n_samples), np.diff(indptr))
     vec = centres[inc] - work[owner]
+    # vertices at infinity of hull samples
+    far = (simplices[inc] >= n_samples).any(axis=1)
+    length = np.linalg.norm(vec, axis=1)
+    hull = np.unique(owner[far])
+    infinite = np.empty((0, r))
+    if len(hull):
+        unit = vec[far] / np.maximum(length[far], 1e-300)[:, None]
+        pos = np.searchsorted(hull, owner[far])
+        mean_dir = np.zeros((len(hull), r))
+        np.add.at(mean_dir, pos, unit)
+        mean_dir /= np.maximum(np.linalg.norm(mean_dir, axis=1, keepdims=True), 1e-300)
+        mean_len = np.bincount(pos, weights=length[far]) / np.bincount(pos)
+        max_len = np.zeros(n_samples)
+        np.maximum.at(max_len, owner, length)
+        infinite = work[hull] + mean_dir * mean_len[:, None]
+        owner = np.concatenate([owner, hull])
+        vec = np.vstack([vec, mean_dir * (2.0 * max_len[hull] + 1.0)[:, None]])
+        inc = np.concatenate([inc, t + np.arange(len(hull))])
+        order = np.argsort(owner, kind="stable")
+        owner, vec, inc = owner[order], vec[order], inc[order]
+        indptr = np.concatenate([[0], np.cumsum(np.bincount(owner, minlength=n_samples))])
     resid = vec.copy()
     pole_index = np.full((n_samples, n_poles), -1, dtype=np.int64)
     normals = np.zeros((n_samples, r, n_poles))
@@ -93,7 +131,7 @@ def greedy_poles(
     if not has.all():
         missing = np.flatnonzero(~has)
         normals[missing] = np.eye(r)[:, :n_poles]
-    return pole_index, normals
+    return pole_index, normals, infinite
 
 
 def _complement_direction(basis: np.ndarray) -> np.ndarray:

@@ -108,7 +108,7 @@ def reconstruct(
 
     t0 = time.perf_counter()
     report("normals", 0.0)
-    pole_w, normals_w = greedy_poles(work_all, simplices, centres, n, r - d)
+    pole_w, normals_w, infinite = greedy_poles(work_all, simplices, centres, n, r - d)
     # lift: in-subspace normals plus the complement of the affine hull
     normals = prep.lift_vectors(np.swapaxes(normals_w, 1, 2))  # (n, r-d, k)
     if r < k:
@@ -144,7 +144,7 @@ def reconstruct(
         subspace_dim=r,
         bounding_points=prep.lift(bounds),
         delaunay_simplices=simplices,
-        voronoi_vertices=prep.lift(centres),
+        voronoi_vertices=prep.lift(np.vstack([centres, infinite])),
         pole_index=pole_w,
         normals=normals,
         tangents=tangents,

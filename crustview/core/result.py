@@ -226,10 +226,15 @@ class Reconstruction:
         Far points added so that every Voronoi cell of a sample is bounded.
     delaunay_simplices : ndarray of shape (t, r + 1)
         Delaunay simplices (r = subspace_dim) over ``delaunay_points``.
-    voronoi_vertices : ndarray of shape (t, k)
-        Circumcentre of each Delaunay simplex.
+    voronoi_vertices : ndarray of shape (t + h, k)
+        Circumcentre of each Delaunay simplex, followed by one drawable
+        representative of the vertex at infinity of each of the h samples on
+        the convex hull (their cells are unbounded; see ``core.normals``).
     pole_index : ndarray of shape (n, k - d)
         Rows of ``voronoi_vertices`` chosen by Algorithm 1, in greedy order.
+        When the samples span a lower-dimensional affine subspace the last
+        ``k - subspace_dim`` entries are -1: those normal directions are the
+        subspace's orthogonal complement (no finite pole).
     normals : ndarray of shape (n, k, k - d)
         Orthonormal basis (columns) of AN_s.
     tangents : ndarray of shape (n, k, d)

@@ -1,0 +1,95 @@
+"""Input preparation: validation, merging, subspaces, normalisation."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from crustview.core import InputError, reconstruct
+from crustview.core.prepare import prepare_points
+
+
+def circle(n, k=2, offset=0.0):
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    p = np.zeros((n, k))
+    p[:, 0], p[:, 1] = np.cos(t), np.sin(t)
+    return p + offset
+
+
+@pytest.mark.parametrize(
+    "points, d, match",
+    [
+        (np.array([[0.0, 0.0], [1.0, np.nan], [2, 2], [3, 1], [0, 3]]), 1, "NaN"),
+        (np.array([[0.0, 0.0], [1.0, np.inf], [2, 2], [3, 1], [0, 3]]), 1, "NaN or infinity"),
+        (np.zeros((3, 2)), 1, "at least k \\+ 2 = 4"),
+        (circle(20), 0, "between 1 and k-1"),
+        (circle(20), 2, "between 1 and k-1"),
+        (circle(20)[:, :1], 1, "at least 2 coordinates"),
+        (np.ones(5), 1, "2-D"),
+        (np.zeros((10, 3)), 1, "coincide"),
+        (np.c_[np.linspace(0, 1, 20), np.linspace(0, 2, 20), np.zeros(20)], 1, "1-dimensional affine subspace"),
+        ([["a", "b"]], 1, "numeric"),
+    ],
+)
+def test_bad_input_gives_clear_error(points, d, match):
+    with pytest.raises(InputError, match=match):
+        reconstruct(points, d)
+
+
+def test_d_must_be_integer():
+    with pytest.raises(InputError, match="integer"):
+        reconstruct(circle(20), 1.5)
+
+
+def test_duplicates_and_near_duplicates_are_merged_with_a_map_back():
+    base = circle(40)
+    rng = np.random.default_rng(0)
+    spacing = 2 * np.sin(np.pi / 40)
+    extra = base[[3, 7, 7]] + rng.normal(scale=1e-7 * spacing, size=(3, 2))
+    pts = np.vstack([base, extra, base[[0]]])
+    prep = prepare_points(pts, 1)
+    assert len(prep.points) == 40
+    assert np.array_equal(prep.input_index[:40], np.arange(40))
+    assert list(prep.input_index[40:]) == [3, 7, 7, 0]
+    # a point at a tenth of the spacing is a real sample, not a duplicate
+    pts2 = np.vstack([base, base[[5]] + [0.1 * spacing, 0]])
+    assert len(prepare_points(pts2, 1).points) == 41
+    rec = reconstruct(pts, 1)
+    assert rec.topology.closed_manifold and rec.topology.betti == (1, 1)
+    assert rec.input_points.shape == (44, 2)
+
+
+def test_large_offset_and_scale_do_not_matter():
+    p = circle(50) * 1e-3 + 1e6
+    rec = reconstruct(p, 1)
+    assert rec.topology.closed_manifold and rec.topology.betti == (1, 1)
+    assert np.allclose(rec.points, p[rec.point_input])
+
+
+def test_lower_dimensional_input_is_reconstructed_in_its_affine_hull():
+    # an ellipse in a tilted plane of R^3 (codimension 2, but flat)
+    e = circle(60, k=2) * [1.0, 0.6]
+    rot, _ = np.linalg.qr(np.random.default_rng(1).normal(size=(3, 3)))
+    p = np.c_[e, np.zeros(60)] @ rot.T + [5.0, -2.0, 1.0]
+    rec = reconstruct(p, 1)
+    assert rec.subspace_dim == 2
+    assert rec.topology.closed_manifold and rec.topology.betti == (1, 1)
+    plane_normal = rot[:, 2]
+    # the plane's normal direction is part of every AN_s
+    proj = np.einsum("nkc,k->nc", rec.normals, plane_normal)
+    assert np.allclose(np.linalg.norm(proj, axis=1), 1.0, atol=1e-8)
+    assert rec.normals.shape == (60, 3, 2) and rec.tangents.shape == (60, 3, 1)
+    # bounding points and Voronoi vertices are lifted into the plane
+    off = (rec.voronoi_vertices - p.mean(axis=0)) @ plane_normal
+    assert np.abs(off).max() < 1e-6
+
+
+def test_core_imports_no_gui_library():
+    code = (
+        "import sys, crustview.core, crustview.core.sampling;"
+        "bad=[m for m in sys.modules if m.split('.')[0] in ('PySide6','pyvista','vtk','vtkmodules','pyvistaqt','shiboken6')];"
+        "print(','.join(bad))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "", out.stdout

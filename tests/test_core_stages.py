@@ -1,0 +1,168 @@
+"""Algorithms 1 and 2 on cases checkable by hand or by brute force."""
+
+import numpy as np
+import pytest
+
+from crustview.core import candidates as cand
+from crustview.core.delaunay import bounding_points, circumcenters, delaunay
+from crustview.core.normals import complete_bases, greedy_poles
+
+
+def test_circumcentres_are_equidistant_from_simplex_vertices():
+    rng = np.random.default_rng(0)
+    pts = rng.normal(size=(60, 4))
+    simp = delaunay(pts, bounding_points(4))
+    allp = np.vstack([pts, bounding_points(4)])
+    c = circumcenters(allp, simp)
+    dist = np.linalg.norm(allp[simp] - c[:, None, :], axis=2)
+    assert np.allclose(dist, dist[:, :1], rtol=1e-7)
+
+
+def test_bounding_points_enclose_the_data_so_sample_cells_are_bounded():
+    rng = np.random.default_rng(1)
+    pts = rng.uniform(-1, 1, size=(80, 3))
+    pts /= np.maximum(1, np.linalg.norm(pts, axis=1, keepdims=True))
+    b = bounding_points(3)
+    simp = delaunay(pts, b)
+    # hull of all points consists of bounding points only: every facet on the
+    # hull (a simplex with a neighbour missing) contains no sample
+    from scipy.spatial import Delaunay
+
+    tri = Delaunay(np.vstack([pts, b]))
+    hull_vertices = np.unique(tri.convex_hull)
+    assert hull_vertices.min() >= len(pts)
+    assert len(simp) > 0
+
+
+def test_greedy_poles_by_hand():
+    # one sample at the origin whose cell has the Voronoi vertices below;
+    # first pole: farthest (3,0,0); second: longest projection orthogonal to
+    # x among (0,2,0) [2], (1,1,0) [1], (0,0,1) [1], (2,0,.5) [.5] -> (0,2,0).
+    work = np.zeros((1, 3))
+    centres = np.array([[0, 0, 1.0], [1, 1, 0], [3, 0, 0], [0, 2, 0], [2, 0, 0.5]])
+    simplices = np.zeros((5, 4), dtype=np.int64)  # every simplex contains sample 0
+    pole, normals, _ = greedy_poles(work, simplices, centres, 1, 2)
+    assert list(pole[0]) == [2, 3]
+    assert np.allclose(np.abs(normals[0]), [[1, 0], [0, 1], [0, 0]])
+    nrm, tan = complete_bases(normals)
+    assert np.allclose(np.abs(tan[0, :, 0]), [0, 0, 1])
+
+
+def test_normals_of_a_sphere_are_radial():
+    rng = np.random.default_rng(2)
+    x = rng.normal(size=(800, 3))
+    x /= np.linalg.norm(x, axis=1, keepdims=True)
+    from crustview.core import reconstruct
+
+    rec = reconstruct(x, 2)
+    cosang = np.abs(np.einsum("nk,nk->n", rec.normals[:, :, 0], x))
+    err = np.degrees(np.arccos(np.clip(cosang, 0, 1)))
+    # hull samples use the direction at infinity, not a truncated corner
+    assert np.median(err) < 4 and err.max() < 12
+
+
+def test_literal_angle_of_a_tilted_triangle():
+    # triangle tilted by 30 deg about the x axis; AT_s of each vertex is the xy plane
+    c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
+    work = np.array([[0, 0, 0], [1, 0, 0], [0, c, s]], dtype=float)
+    normals = np.tile(np.array([[0.0], [0.0], [1.0]]), (3, 1, 1))
+    ang = cand.literal_angles(work, normals, np.array([[0, 1, 2]]))
+    assert np.degrees(ang[0]) == pytest.approx(30.0)
+
+
+def brute_force_min(x, nrm, rng, samples=20000):
+    """Smallest sin^2 angle to AT over random convex combinations of the rows of x."""
+    w = rng.dirichlet(np.full(len(x), 0.3), size=samples)
+    pts = np.vstack([w @ x, x])
+    for i in range(len(x)):
+        for j in range(i + 1, len(x)):
+            t = np.linspace(0, 1, 2001)[:, None]
+            pts = np.vstack([pts, (1 - t) * x[i] + t * x[j]])
+    val = ((pts @ nrm) ** 2).sum(axis=1) / (pts**2).sum(axis=1)
+    return val.min()
+
+
+@pytest.mark.parametrize("r, m", [(3, 1), (4, 2), (4, 1), (5, 2)])
+def test_cone_minimum_matches_brute_force_on_simplices(r, m):
+    rng = np.random.default_rng(r * 10 + m)
+    for _ in range(25):
+        j = m + 1
+        x = rng.normal(size=(j, r)) + rng.normal(size=r) * 2
+        nrm = np.linalg.qr(rng.normal(size=(r, m)))[0]
+        v, inside = cand._cone_min(x[None], nrm[None])
+        vals = ((x @ nrm) ** 2).sum(axis=1) / (x**2).sum(axis=1)
+        exact = min(vals.min(), v[0] if inside[0] else np.inf)
+        for sub in range(2, j):
+            import itertools
+
+            for c in itertools.combinations(range(j), sub):
+                vv, ii = cand._cone_min(x[list(c)][None], nrm[None])
+                if ii[0]:
+                    exact = min(exact, vv[0])
+        bf = brute_force_min(x, nrm, rng)
+        assert exact <= bf + 1e-9
+        assert bf - exact < 2e-3
+
+
+def polygon_min(cell, s, nrm, n_grid=120, rounds=4):
+    """Smallest sin^2 angle to AT_s over a planar convex cell, by grid search.
+
+    Grids over the cell's bounding box, then zooms in around the best point.
+    """
+    from scipy.spatial import Delaunay
+
+    centre = cell.mean(axis=0)
+    _, _, vt = np.linalg.svd(cell - centre)
+    uv = (cell - centre) @ vt[:2].T
+    tri = Delaunay(uv)
+
+    def value(q):
+        x = centre + q @ vt[:2] - s
+        return ((x @ nrm) ** 2).sum(axis=1) / (x**2).sum(axis=1)
+
+    t = np.linspace(0, 1, 400)[:, None]
+    edges = np.vstack([(1 - t) * uv[i] + t * uv[j] for i in range(len(uv)) for j in range(i + 1, len(uv))])
+    best_q = edges[np.argmin(value(edges))]
+    best = value(edges).min()
+    lo, hi = uv.min(axis=0), uv.max(axis=0)
+    for _ in range(rounds):
+        g = np.stack(np.meshgrid(*[np.linspace(lo[i], hi[i], n_grid) for i in range(2)]), -1).reshape(-1, 2)
+        g = g[tri.find_simplex(g) >= 0]
+        if len(g) == 0:
+            break
+        val = value(g)
+        if val.min() < best:
+            best, best_q = val.min(), g[np.argmin(val)]
+        half = (hi - lo) / n_grid * 4
+        lo, hi = best_q - half, best_q + half
+    return best
+
+
+def test_cocone_score_matches_brute_force_on_real_cells():
+    """Codimension 2 (a surface in R^4): exact minimum over polygonal cells."""
+    rng = np.random.default_rng(5)
+    u, v = rng.uniform(0, 2 * np.pi, (2, 300))
+    pts = np.c_[np.cos(u), np.sin(u), np.cos(v), np.sin(v)] / np.sqrt(2)
+    pts += rng.normal(scale=1e-3, size=pts.shape)
+    b = bounding_points(4)
+    simp = delaunay(pts, b)
+    allp = np.vstack([pts, b])
+    cc = circumcenters(allp, simp)
+    poles, nrm, _ = greedy_poles(allp, simp, cc, len(pts), 2)
+    faces, ptr, cs = cand.enumerate_faces(simp, len(pts), 2)
+    score = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs)
+    # a mix of admitted and rejected faces
+    pick = np.concatenate([rng.choice(np.flatnonzero(score < np.pi / 8), 25, replace=False),
+                           rng.choice(np.flatnonzero(score >= np.pi / 8), 25, replace=False)])
+    exact = 0
+    for fi in pick:
+        cell = cc[cs[ptr[fi] : ptr[fi + 1]]]
+        worst = max(polygon_min(cell, allp[a], nrm[a]) for a in faces[fi])
+        bf = np.arcsin(np.sqrt(worst))
+        if bf < cand.SCORE_LIMIT - 0.02:
+            exact += 1
+            assert score[fi] <= bf + 1e-6  # never above the true minimum
+            assert bf - score[fi] < 0.01  # and the grid gets close to it
+        else:  # rejected for every threshold up to the limit
+            assert score[fi] >= cand.SCORE_LIMIT - 0.02
+    assert exact >= 25
