@@ -29,9 +29,9 @@ ordinary dihedral angle.
   and the faces they touch are re-examined ("recursively").
 * **Non-manifold face (lines 3-5).**  "Meet at an angle smaller than pi/2" is
   the deviation from flat, ``pi - phi < pi/2``.  Among the eligible pairs we
-  keep the one whose removals create the fewest new boundary faces, then the
-  flattest (largest ``phi``), then the smallest ids, so the run is
-  deterministic.  Faces are processed most-confident first: largest best
+  keep the one whose removal of the others starts the smallest prune cascade
+  (simulated, capped at :data:`CASCADE_LIMIT` simplices), then the flattest
+  (largest ``phi``), then the smallest ids, so the run is deterministic.  Faces are processed most-confident first: largest best
   ``phi`` first (rule ``resolve-nonmanifold``).
 
 The loop stops when no rule applies.  Then every (d-1)-face has 0 or 2
@@ -51,6 +51,8 @@ import numpy as np
 from .result import RULE_PRUNE, RULE_RESOLVE, Extraction, Step
 
 HALF_PI = np.pi / 2
+#: Largest prune cascade simulated when choosing a pair (see _choose_pair).
+CASCADE_LIMIT = 64
 
 
 def facet_structure(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -294,8 +296,35 @@ def extract(
     return Extraction(ex.simplices, ex.steps, removed_at, stopped)
 
 
+def _cascade_loss(ex: _Extractor, drop: list[int], limit: int) -> int:
+    """Simplices removed by dropping ``drop`` plus the prune cascade it starts (capped)."""
+    gone = set(drop)
+    queue = deque()
+    for s in drop:
+        queue.extend(int(h) for h in ex.facet_of[s])
+    while queue and len(gone) < limit:
+        h = queue.popleft()
+        simp = [s for s in ex.alive_at(h) if s not in gone]
+        if not simp:
+            continue
+        if len(simp) > 1:
+            ang = ex.pair_angles(h, simp)
+            if ang[np.triu_indices(len(simp), 1)].max() >= HALF_PI:
+                continue
+        for s in simp:
+            gone.add(s)
+            queue.extend(int(g) for g in ex.facet_of[s] if g != h)
+    return len(gone)
+
+
 def _choose_pair(ex: _Extractor, g: int, simp: list[int], ang: np.ndarray) -> tuple[int, int] | None:
-    """Eligible pair (phi > pi/2) creating fewest new boundary faces, then flattest."""
+    """Eligible pair (phi > pi/2) whose removals cascade least, then the flattest.
+
+    The paper allows any pair meeting within pi/2 of flat.  A bad choice
+    leaves boundary faces whose prune cascade can eat a correct sheet, so
+    each choice's cascade is simulated (up to :data:`CASCADE_LIMIT`
+    simplices) and the one destroying least wins; ties go to the flattest.
+    """
     best = None
     best_key = None
     m = len(simp)
@@ -303,17 +332,8 @@ def _choose_pair(ex: _Extractor, g: int, simp: list[int], ang: np.ndarray) -> tu
         for j in range(i + 1, m):
             if not ang[i, j] > HALF_PI:
                 continue
-            new_boundary = 0
             drop = [s for t, s in enumerate(simp) if t not in (i, j)]
-            lost: dict[int, int] = {}
-            for s in drop:
-                for h in ex.facet_of[s]:
-                    if h != g:
-                        lost[int(h)] = lost.get(int(h), 0) + 1
-            for h, k in lost.items():
-                if ex.count[h] - k == 1:
-                    new_boundary += 1
-            key = (new_boundary, -ang[i, j], simp[i], simp[j])
+            key = (_cascade_loss(ex, drop, CASCADE_LIMIT), -ang[i, j], simp[i], simp[j])
             if best_key is None or key < best_key:
                 best_key, best = key, (i, j)
     return best
