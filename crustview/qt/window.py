@@ -3,9 +3,19 @@
 from __future__ import annotations
 
 import numpy as np
-from PySide6.QtCore import QSettings, Qt
+from PySide6.QtCore import QEvent, QObject, QSettings, Qt
 from PySide6.QtGui import QAction, QKeySequence
-from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QMessageBox, QWidget
+from PySide6.QtWidgets import (
+    QAbstractSpinBox,
+    QApplication,
+    QComboBox,
+    QDockWidget,
+    QLabel,
+    QLineEdit,
+    QMainWindow,
+    QMessageBox,
+    QWidget,
+)
 from pyvistaqt import QtInteractor
 
 from ..core import reconstruct, reextract
@@ -85,6 +95,30 @@ class MainWindow(FileActions, QMainWindow):
         self._press: tuple[int, int] | None = None
         self.plotter.iren.add_observer("LeftButtonPressEvent", self._on_press)
         self.plotter.iren.add_observer("LeftButtonReleaseEvent", self._on_release)
+        self._step_keys = {
+            Qt.Key.Key_Left: self.model.player.prev,
+            Qt.Key.Key_Right: self.model.player.next,
+            Qt.Key.Key_Space: self.model.player.toggle,
+            Qt.Key.Key_Home: self.model.player.first,
+            Qt.Key.Key_End: self.model.player.last,
+        }
+        QApplication.instance().installEventFilter(self)
+
+    def eventFilter(self, obj: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt API
+        """Stepping keys reach the player even when the window is not active.
+
+        The menu actions carry the same shortcuts; Qt only honours those in
+        the active window, so key presses that arrive here (no shortcut
+        matched) are handled too, except in text and number fields.
+        """
+        if event.type() == QEvent.Type.KeyPress and isinstance(obj, QWidget) and obj.window() is self:
+            fn = self._step_keys.get(event.key())
+            if fn is not None and event.modifiers() == Qt.KeyboardModifier.NoModifier and not isinstance(
+                obj, (QLineEdit, QAbstractSpinBox, QComboBox)
+            ):
+                fn()
+                return True
+        return False
 
     # -- construction helpers ---------------------------------------------------
     def _dock(self, title: str, widget: QWidget, area) -> QDockWidget:
@@ -267,6 +301,9 @@ class MainWindow(FileActions, QMainWindow):
 
     # -- closing ----------------------------------------------------------------------
     def closeEvent(self, event) -> None:  # noqa: N802 - Qt API
+        app = QApplication.instance()
+        if app is not None:
+            app.removeEventFilter(self)
         self.model.player.pause()
         self.model.tour.pause()
         self.runner.shutdown()

@@ -1,0 +1,216 @@
+"""The real main window under Xvfb, driven with qtbot."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pytestqt")
+from PySide6.QtCore import Qt  # noqa: E402
+
+
+def load(qtbot, win, name="torus", n=None, timeout=60_000):
+    assert win.load_builtin(name, n)
+    qtbot.waitUntil(lambda: not win.runner.busy, timeout=timeout)
+    assert win.model.rec is not None, win.last_error
+    qtbot.wait(50)
+    return win.model.rec
+
+
+def shot(win):
+    win.view.render()
+    return win.plotter.screenshot(return_img=True)
+
+
+def differs(a, b, min_pixels=30):
+    return int((np.abs(a.astype(int) - b.astype(int)).sum(axis=2) > 30).sum()) >= min_pixels
+
+
+def front_sample(win):
+    """The sample nearest to the camera (surely visible)."""
+    rec = win.model.rec
+    cam = np.array(win.plotter.camera.position)
+    p = win.model.projection.project(rec.points)
+    return int(np.argmin(np.linalg.norm(p - cam, axis=1)))
+
+
+def display_xy(win, xyz):
+    ren = win.plotter.renderer
+    ren.SetWorldPoint(*xyz, 1.0)
+    ren.WorldToDisplay()
+    x, y, _ = ren.GetDisplayPoint()
+    return x, y
+
+
+def test_loading_a_builtin_sample(qtbot, window):
+    rec = load(qtbot, window)
+    m = window.model
+    assert m.truth is not None and m.source.startswith("torus")
+    assert m.layers["points"].count == rec.n
+    assert m.layers["manifold"].count == len(rec.extraction.simplices)  # step 0: all of T_S
+    assert window.steps_panel.log.rowCount() == rec.extraction.n_steps
+    assert window.steps_panel.slider.maximum() == rec.extraction.n_steps
+    table = window.info_panel.topology
+    found = {table.item(r, 0).text(): table.item(r, 1).text() for r in range(table.rowCount())}
+    assert found["Betti numbers (Z/2)"] == ", ".join(map(str, rec.topology.betti))
+    assert "torus" in window.windowTitle()
+    assert window.run_panel.d.value() == 2
+
+
+def test_keyboard_and_slider_stepping_follow_alive(qtbot, window):
+    rec = load(qtbot, window)
+    ext = rec.extraction
+    manifold = window.view.adapters["manifold"].part
+    window.activateWindow()
+    qtbot.waitActive(window)
+    window.plotter.setFocus()
+    for key, want in ((Qt.Key.Key_Right, 1), (Qt.Key.Key_Right, 2), (Qt.Key.Key_Left, 1),
+                      (Qt.Key.Key_End, ext.n_steps), (Qt.Key.Key_Home, 0)):
+        qtbot.keyClick(window.plotter, key)
+        assert window.model.player.position == want
+        assert manifold.n_cells == int(ext.alive(want).sum())
+    window.steps_panel.slider.setValue(ext.n_steps // 2)
+    assert manifold.n_cells == int(ext.alive(ext.n_steps // 2).sum())
+    assert window.steps_panel.counter.text() == f"step {ext.n_steps // 2} / {ext.n_steps}"
+    # selecting a row of the event log jumps there
+    window.steps_panel.table.selectRow(4)
+    assert window.model.player.position == 5
+    assert manifold.n_cells == int(ext.alive(5).sum())
+    # play runs to the end
+    window.steps_panel.speed.setValue(500)
+    qtbot.keyClick(window.plotter, Qt.Key.Key_Space)
+    qtbot.waitUntil(lambda: not window.model.player.playing, timeout=20_000)
+    assert window.model.player.position == ext.n_steps
+    assert manifold.n_cells == len(rec.manifold)
+
+
+@pytest.mark.gl
+def test_toggling_each_layer_changes_pixels(qtbot, window):
+    rec = load(qtbot, window)
+    m = window.model
+    ext = rec.extraction
+    # a state in which every layer has something to show
+    i = next(s.index + 1 for s in ext.steps if s.removed)
+    m.player.set_step(max(i, ext.n_steps // 3))
+    m.selection.select_sample(front_sample(window))
+    m.layers["poles"].mode = "all"
+    for name, layer in m.layers.items():
+        layer.visible = True
+    m.layers["candidates"].opacity = 1.0
+    qtbot.wait(50)
+    for name in m.layers:
+        if name == "step" and not (ext.steps[m.player.position - 1].removed or ext.steps[m.player.position - 1].kept):
+            continue
+        on = shot(window)
+        m.layers[name].visible = False
+        off = shot(window)
+        m.layers[name].visible = True
+        assert differs(on, off), f"hiding layer {name!r} did not change the picture"
+
+
+@pytest.mark.gl
+def test_projection_changes_picture_not_data(qtbot, window):
+    rec = load(qtbot, window, "clifford-torus")
+    points = rec.points.copy()
+    n_cells = window.view.adapters["manifold"].part.n_cells
+    before = shot(window)
+    window.projection_panel.sliders[(0, 3)].setValue(60)
+    after = shot(window)
+    assert differs(before, after, 500)
+    window.projection_panel.pca.click()
+    pca = shot(window)
+    assert differs(after, pca, 500)
+    assert window.model.rec is rec and np.array_equal(rec.points, points)
+    assert window.view.adapters["manifold"].part.n_cells == n_cells
+    assert "x4" in window.projection_panel.basis.text()
+    # grand tour animates and pauses
+    window.projection_panel.tour.click()
+    b0 = window.model.projection.basis
+    qtbot.wait(300)
+    window.projection_panel.tour.click()
+    assert not window.model.tour.playing
+    assert not np.allclose(b0, window.model.projection.basis)
+
+
+def test_bad_file_shows_error_and_keeps_previous_result(qtbot, window, tmp_path):
+    rec = load(qtbot, window)
+    window.model.player.set_step(3)
+    bad = tmp_path / "bad.xyz"
+    bad.write_text("1 2 3\n4 five 6\n")
+    assert not window.open_file(bad, d=2)
+    assert "bad.xyz" in window.last_error
+    assert window.error_box is not None and window.error_box.isVisible()
+    assert window.model.rec is rec and window.model.player.position == 3
+    window.error_box.close()
+    # a d the core rejects: reported from the worker, previous result kept
+    good = tmp_path / "pts.xyz"
+    np.savetxt(good, rec.points[:200])
+    window.last_error = None
+    assert window.open_file(good, d=7)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=30_000)
+    assert window.last_error and "Traceback" not in window.last_error
+    assert window.model.rec is rec
+    assert str(good.resolve()) in window.recent_files()
+
+
+def test_cancel_stops_a_long_run(qtbot, window):
+    rec = load(qtbot, window)
+    stages = []
+    window.runner.progress.connect(lambda s, f: stages.append(s))
+    assert window.load_builtin("trefoil", 2500)  # near-quadratic Delaunay: a long run
+    qtbot.waitUntil(lambda: "candidates" in stages or "normals" in stages, timeout=60_000)
+    assert window.runner.busy and window.run_panel.cancel.isEnabled()
+    with qtbot.waitSignal(window.runner.cancelled, timeout=15_000):
+        window.run_panel.cancel.click()
+    assert not window.runner.busy
+    assert window.model.rec is rec
+    assert "cancelled" in window.run_panel.progress.format()
+    assert window.run_panel.run.isEnabled()
+
+
+@pytest.mark.gl
+def test_clicking_selects_a_sample_and_info_follows(qtbot, window):
+    rec = load(qtbot, window)
+    i = front_sample(window)
+    x, y = display_xy(window, window.model.projection.project(rec.points[i]))
+    got = window.pick_at(int(round(x)), int(round(y)))
+    assert got is not None and got[0] == "sample"
+    j = got[1]
+    assert np.linalg.norm(rec.points[j] - rec.points[i]) < 3 * window.model.spacing[i]
+    assert f"Sample {j}" in window.info_panel.selection.text()
+    assert window.view.adapters["voronoi"].part.n_cells > 0
+
+
+def test_jump_to_removing_step_and_open_faces(qtbot, window):
+    rec = load(qtbot, window)
+    ext = rec.extraction
+    e = int(np.flatnonzero(ext.removed_at < ext.n_steps)[-1])
+    row = window.model.candidate_row(e)
+    window.model.selection.select_simplex(row)
+    assert window.info_panel.jump.isEnabled()
+    window.info_panel.jump.click()
+    assert window.model.player.position == ext.removed_at[e] + 1
+    assert e in ext.steps[window.model.player.position - 1].removed
+    window.model.player.first()
+    window.info_panel.refresh_faces()
+    faces = window.info_panel.faces
+    assert faces.count() > 0
+    cam = window.plotter.camera.position
+    faces.setCurrentRow(0)
+    face = faces.item(0).data(Qt.ItemDataRole.UserRole)
+    assert window.model.selection.face == tuple(sorted(face))
+    assert window.plotter.camera.position != cam  # framed
+    assert window.view.adapters["selection"].part.n_cells > 0
+
+
+def test_reextract_with_another_theta_and_save(qtbot, window, tmp_path):
+    rec = load(qtbot, window)
+    window.run_panel.theta.setValue(30)  # 15 degrees
+    assert window.view.adapters["candidates"].part.n_cells == int(rec.candidates.mask(rec.test, np.radians(15)).sum())
+    window.run_panel.run.click()
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=30_000)
+    new = window.model.rec
+    assert new is not rec and np.isclose(new.theta, np.radians(15))
+    assert window.model.player.n_steps == new.extraction.n_steps
+    out = tmp_path / "result.npz"
+    assert window.save_result(str(out)) and out.exists()
+    png = tmp_path / "view.png"
+    assert window.save_screenshot(str(png)) and png.stat().st_size > 1000
