@@ -27,6 +27,7 @@ def test_manifold_cells_follow_alive_exactly(scene):
     removed = view.adapters["removed"]
     mesh_before = adapter.part.mesh
     actor_before = adapter.part.actor
+    model.layers["removed"].visible = True
     positions = [0, 1, 2, 3, ext.n_steps // 2, ext.n_steps, 2, 0]
     for i in positions:
         model.player.set_step(i)
@@ -35,6 +36,19 @@ def test_manifold_cells_follow_alive_exactly(scene):
         assert model.layers["manifold"].count == int(ext.alive(i).sum())
     # updated in place: same PolyData and actor throughout
     assert adapter.part.mesh is mesh_before and adapter.part.actor is actor_before
+
+
+def test_hidden_layers_catch_up_when_shown(scene):
+    model, view, _ = scene
+    ext = model.rec.extraction
+    removed = view.adapters["removed"]
+    assert not model.layers["removed"].visible
+    model.player.set_step(ext.n_steps // 2)
+    model.projection.set_angle(0, 1, 0.4)
+    model.layers["removed"].visible = True
+    assert removed.part.n_cells == int((~ext.alive(ext.n_steps // 2)).sum())
+    pts = removed.drawing.points(model.projection.project(model.rec.points))
+    assert np.allclose(np.array(removed.part.mesh.points), pts)
 
 
 def test_step_highlight_matches_the_recorded_step(scene):

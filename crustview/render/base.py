@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 import pyvista as pv
+from pyvista.plotting.mapper import _BaseDataSetMapper
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray
+from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLPolyDataMapper
 
 from ..scene.layers import Layer
 from ..scene.model import SceneModel
@@ -65,12 +67,24 @@ def set_point_scalars(mesh: pv.PolyData, values: np.ndarray, name: str = "values
     mesh.Modified()
 
 
+class PolyDataMapper(_BaseDataSetMapper, vtkOpenGLPolyDataMapper):
+    """pyvista's mapper conveniences on a plain poly-data mapper.
+
+    ``pyvista.DataSetMapper`` wraps vtkDataSetMapper, which runs a surface
+    filter (a full copy) every time the PolyData changes; our layers are
+    PolyData already, so the copy is pure cost on every step.
+    """
+
+    def __init__(self, dataset: pv.PolyData) -> None:
+        super().__init__(dataset=dataset)
+
+
 class Part:
     """One PolyData with its mapper and actor."""
 
     def __init__(self, plotter, name: str, pickable: bool = False) -> None:
         self.mesh = pv.PolyData()
-        self.mapper = pv.DataSetMapper(self.mesh)
+        self.mapper = PolyDataMapper(self.mesh)
         self.mapper.scalar_visibility = False
         self.mapper.SetResolveCoincidentTopologyToPolygonOffset()
         self.actor = pv.Actor(mapper=self.mapper)

@@ -8,6 +8,9 @@ from ..scene import geometry as geo
 from ..scene.layers import STEP_COLORS
 from .base import LayerAdapter, set_cell_scalars, set_cells, set_points
 
+#: Above this many triangles, M_S is drawn without edges (they cost a render pass).
+EDGE_LIMIT = 20_000
+
 #: Colour map of the candidate angle.
 ANGLE_CMAP = "plasma"
 
@@ -115,7 +118,9 @@ class ComplexAdapter(LayerAdapter):
     def restyle(self) -> None:
         lines = self.model.rec is not None and self.model.rec.d == 1
         self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=lines)
-        self.part.actor.prop.show_edges = (not lines) and self.layer.opacity >= 0.99 and self.layer.size > 0
+        self.part.actor.prop.show_edges = (
+            (not lines) and self.layer.opacity >= 0.99 and self.layer.size > 0 and self.part.n_cells <= EDGE_LIMIT
+        )
         self.part.actor.prop.edge_color = "#5a4a32"
         # push surfaces slightly back so samples and highlights on them stay visible
         self.part.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(2, 2)

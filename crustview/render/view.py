@@ -57,6 +57,7 @@ class SceneView:
             layer.events.mode.connect(lambda *_: self.render())
             layer.events.shrink.connect(lambda *_: self.render())
         self._bars: dict[str, object] = {}
+        self._stale: set[LayerAdapter] = set()
         self.legend = Legend(plotter)
         self._built_for: int | None = None
         self.basis_text = plotter.add_text("", position="lower_left", font_size=9, color="#333333", name="basis")
@@ -78,6 +79,11 @@ class SceneView:
             self.plotter.render()
 
     def _on_visible(self, a: LayerAdapter) -> None:
+        if a.layer.visible and a in self._stale and self.ready:
+            # hidden layers skip updates; catch up once when shown again
+            self._stale.discard(a)
+            a.rebuild()
+            a.restyle()
         a.apply_visibility()
         self.update_overlays()
         self.render()
@@ -92,12 +98,21 @@ class SceneView:
         self.update_overlays()
         self.render()
 
+    def _live(self):
+        """Adapters of visible layers; the hidden ones are marked stale."""
+        for a in self.adapters.values():
+            if a.layer.visible:
+                yield a
+            else:
+                self._stale.add(a)
+
     # -- model events ------------------------------------------------------------
     def on_reconstruction(self) -> None:
         rec = self.model.rec
         if rec is None:
             return
         self._built_for = id(rec)
+        self._stale.clear()
         for a in self.adapters.values():
             a.rebuild()
             a.restyle()
@@ -110,7 +125,7 @@ class SceneView:
     def on_projection(self) -> None:
         if not self.ready:
             return
-        for a in self.adapters.values():
+        for a in self._live():
             a.project()
         self.update_basis_text()
         self.render()
@@ -118,7 +133,7 @@ class SceneView:
     def on_step(self, *_) -> None:
         if not self.ready:
             return
-        for a in self.adapters.values():
+        for a in self._live():
             if a.uses_step:
                 a.step()
         self.update_legend()
@@ -127,7 +142,7 @@ class SceneView:
     def on_selection(self) -> None:
         if not self.ready:
             return
-        for a in self.adapters.values():
+        for a in self._live():
             if a.uses_selection:
                 a.select()
         self.render()
