@@ -1,0 +1,243 @@
+"""Command line: ``crustview [view|reconstruct|sample|list] ...``.
+
+Without a sub-command the viewer starts with its demo.  Errors are reported
+as one line ``crustview: error: <message>`` on stderr: exit status 2 for bad
+input or usage, 1 for an unexpected failure.  Only ``crustview`` and
+``crustview view`` import Qt, and only when they run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+from crustview import __version__
+from crustview.core.errors import CrustviewError
+
+PROG = "crustview"
+
+
+class _UsageError(Exception):
+    """Raised instead of argparse printing the usage and exiting."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # type: ignore[override]
+        raise _UsageError(f"{message} (see '{self.prog} --help')")
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value}")
+    return value
+
+
+def _nonnegative_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value) or value < 0:
+        raise argparse.ArgumentTypeError(f"expected a finite number >= 0, got {text}")
+    return value
+
+
+def _angle_degrees(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an angle in degrees, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite angle in degrees, got {text}")
+    return value  # the core checks the range (and says so in degrees)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser (sub-commands view, reconstruct, sample, list)."""
+    parser = _Parser(
+        prog=PROG,
+        description="Reconstruct a closed d-manifold in R^k from a point sample "
+        "(generalized crust) and view every stage.  Run without arguments to "
+        "start the viewer.",
+    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    p = sub.add_parser("view", help="open a point file in the viewer")
+    p.add_argument("file", type=Path, help="point file (.npy .npz .csv .txt .xyz .ply ...)")
+    p.add_argument("-d", type=_positive_int, default=None, help="intrinsic dimension")
+
+    p = sub.add_parser("reconstruct", help="reconstruct a manifold and write the result")
+    p.add_argument("input", type=Path, help="point file")
+    p.add_argument("-d", type=_positive_int, required=True, help="intrinsic dimension")
+    p.add_argument("-o", "--output", type=Path, required=True,
+                   help="result file: .npz, or .ply .obj .off .vtk .stl for d <= 2, k <= 3")
+    p.add_argument("--report", type=Path, default=None, help="also write a JSON report")
+    p.add_argument("--test", choices=("cocone", "literal"), default="cocone",
+                   help="candidate test of Algorithm 2 (default: cocone)")
+    p.add_argument("--theta", type=_angle_degrees, default=22.5,
+                   help="angle threshold in degrees (default: 22.5 = pi/8)")
+
+    p = sub.add_parser("sample", help="sample a built-in manifold to a point file")
+    p.add_argument("name", help="manifold name (see 'crustview list')")
+    p.add_argument("-n", type=_positive_int, default=None,
+                   help="number of points (default: the manifold's default)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
+    p.add_argument("--noise", type=_nonnegative_float, default=0.0,
+                   help="Gaussian noise in units of the point spacing (default: 0)")
+    p.add_argument("--density", choices=("uniform", "nonuniform"), default="uniform")
+    p.add_argument("--method", choices=("even", "random"), default="even",
+                   help="even spacing (default) or i.i.d. points")
+    p.add_argument("-o", "--output", type=Path, required=True,
+                   help="point file (.npy .npz .csv .txt .xyz .ply .vtk)")
+
+    sub.add_parser("list", help="list the built-in manifolds")
+    return parser
+
+
+def _run_app(*args: object) -> int:
+    try:
+        from crustview.qt.app import run_app
+    except ImportError as err:
+        print(f"{PROG}: error: the viewer cannot start ({_one_line(err)})", file=sys.stderr)
+        return 1
+    return int(run_app(*args) or 0)
+
+
+def _summary(rec, seconds: float, output: Path) -> str:
+    top = rec.topology
+    word = {1: "curve", 2: "surface"}.get(rec.d, f"{rec.d}-manifold")
+    merged = len(rec.input_points) - rec.n
+    dup = f" ({merged} duplicates merged)" if merged else ""
+    closed = "a closed manifold" if top.closed_manifold else "NOT a closed manifold"
+    parts = [
+        f"Reconstructed a {word} in R^{rec.k} from {rec.n} points{dup}: "
+        f"{top.n_simplices} {rec.d}-simplices, {closed}",
+        f"Betti numbers (Z/2) {tuple(int(b) for b in top.betti)}, Euler characteristic {top.euler}",
+    ]
+    if top.orientable is not None:
+        parts.append("orientable" if top.orientable else "non-orientable")
+    if not top.closed_manifold:
+        parts.append(
+            f"{top.boundary_faces} boundary and {top.nonmanifold_faces} non-manifold faces, "
+            f"{top.unused_samples} unused samples"
+        )
+    text = "; ".join(parts) + f"; {seconds:.2f} s; wrote {output}."
+    if top.messages:
+        text += " Note: " + "; ".join(str(m).rstrip(".") for m in top.messages) + "."
+    return text
+
+
+def _cmd_reconstruct(args: argparse.Namespace) -> int:
+    from crustview.core import reconstruct
+    from crustview.io import read_points, write_report, write_result
+
+    points = read_points(args.input)
+    start = time.perf_counter()
+    rec = reconstruct(points, args.d, test=args.test, theta=math.radians(args.theta))
+    seconds = time.perf_counter() - start
+    write_result(args.output, rec)
+    if args.report is not None:
+        write_report(args.report, rec)
+    print(_summary(rec, seconds, args.output))
+    return 0
+
+
+def _cmd_sample(args: argparse.Namespace) -> int:
+    from crustview.core.sampling import get_manifold
+    from crustview.io import write_points
+
+    manifold = get_manifold(args.name)
+    n = manifold.default_n if args.n is None else args.n
+    sample = manifold.sample(
+        n, seed=args.seed, noise=args.noise, density=args.density, method=args.method
+    )
+    write_points(args.output, sample.points)
+    print(
+        f"Wrote {n} points of {manifold.name} (d={manifold.d}, k={manifold.k}) to {args.output}; "
+        f"reconstruct with: crustview reconstruct {args.output} -d {manifold.d} -o OUTPUT"
+    )
+    return 0
+
+
+def _cmd_list() -> int:
+    from crustview.core.sampling import MANIFOLDS
+
+    print(f"{'name':<15} {'k':>2} {'d':>2}  {'betti (Z/2)':<13} {'euler':>5}  "
+          f"{'orient.':<7} {'cosph.':<6} {'n':>5}  description")  # fmt: skip
+    for m in MANIFOLDS.values():
+        betti = "(" + ",".join(str(b) for b in m.betti) + ")"
+        print(
+            f"{m.name:<15} {m.k:>2} {m.d:>2}  {betti:<13} {m.euler:>5}  "
+            f"{'yes' if m.orientable else 'no':<7} {'yes' if m.cospherical else 'no':<6} "
+            f"{m.default_n:>5}  {m.description}"
+        )
+    return 0
+
+
+def _dispatch(argv: Sequence[str]) -> int:
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as stop:  # --help and --version
+        return int(stop.code or 0)
+    if args.command is None:
+        return _run_app()
+    if args.command == "view":
+        from crustview.io import read_points
+
+        read_points(args.file)  # report a bad file here, before a window opens
+        return _run_app(str(args.file), args.d)
+    if args.command == "reconstruct":
+        return _cmd_reconstruct(args)
+    if args.command == "sample":
+        return _cmd_sample(args)
+    return _cmd_list()
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        Arguments without the program name; default ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        Exit status: 0 success, 2 bad input or usage, 1 unexpected failure,
+        130 interrupted.
+    """
+    argv = sys.argv[1:] if argv is None else list(argv)
+    try:
+        return _dispatch(argv)
+    except (_UsageError, CrustviewError) as err:
+        print(f"{PROG}: error: {_one_line(err)}", file=sys.stderr)
+        return 2
+    except OSError as err:
+        name = f" '{err.filename}'" if err.filename else ""
+        print(f"{PROG}: error:{name} {_one_line(err.strerror or err)}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"{PROG}: error: interrupted", file=sys.stderr)
+        return 130
+    except Exception as err:  # noqa: BLE001 - one line, never a traceback
+        print(f"{PROG}: error: unexpected {type(err).__name__}: {_one_line(err)}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,421 @@
+"""Read point sets and write reconstructions, chosen by file suffix.
+
+Every failure is reported as one :class:`~crustview.core.errors.InputError`
+whose message is a single sentence naming the file, so the command line and
+the viewer can show it as is.
+
+Supported suffixes
+------------------
+read_points
+    ``.npy`` (2-D array), ``.npz`` (key ``points``), ``.csv .txt .xyz``
+    (comma or whitespace separated, ``#`` comments, optional header line),
+    ``.ply .obj .off .vtk .vtu .stl`` (vertices only, through meshio).
+write_points
+    ``.npy .npz .csv .txt .xyz .ply .vtk``.
+write_result
+    ``.npz`` for every d and k; ``.ply .obj .off .vtk .stl`` meshes when
+    d <= 2 and k <= 3 (``.off`` and ``.stl`` hold triangles only).
+write_report
+    ``.json``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+from contextlib import redirect_stderr, redirect_stdout
+from io import StringIO
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from crustview.core.errors import InputError
+
+if TYPE_CHECKING:
+    from crustview.core.result import Reconstruction
+
+TEXT_SUFFIXES = (".csv", ".txt", ".xyz")
+MESH_SUFFIXES = (".ply", ".obj", ".off", ".vtk", ".vtu", ".stl")
+READ_SUFFIXES = (".npy", ".npz", *TEXT_SUFFIXES, *MESH_SUFFIXES)
+POINT_WRITE_SUFFIXES = (".npy", ".npz", *TEXT_SUFFIXES, ".ply", ".vtk")
+RESULT_MESH_SUFFIXES = (".ply", ".obj", ".off", ".vtk", ".stl")
+RESULT_SUFFIXES = (".npz", *RESULT_MESH_SUFFIXES)
+
+_SPLIT = re.compile(r"[,;\s]+")
+
+
+def _reason(err: BaseException) -> str:
+    """A short one-line rendering of an exception."""
+    text = " ".join(str(err).split()) or type(err).__name__
+    if isinstance(err, OSError) and err.strerror:
+        text = err.strerror
+    text = text.rstrip(".")
+    return text if len(text) <= 160 else text[:157] + "..."
+
+
+def _suffix(path: Path, allowed: tuple[str, ...], action: str) -> str:
+    suffix = path.suffix.lower()
+    if suffix not in allowed:
+        shown = suffix or "no suffix"
+        raise InputError(
+            f"Cannot {action} '{path}': unsupported file type ({shown}); "
+            f"use one of {' '.join(allowed)}."
+        )
+    return suffix
+
+
+# ---------------------------------------------------------------- reading
+def read_points(path: str | os.PathLike) -> np.ndarray:
+    """Read a point set.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The suffix chooses the format (see the module docstring).  Mesh
+        formats store 3-D points; a third column that is identically zero is
+        dropped so planar data written by :func:`write_points` reads back as 2-D.
+
+    Returns
+    -------
+    points : ndarray of shape (n, k), float64
+        At least one row and ``k >= 2`` columns, all finite.
+
+    Raises
+    ------
+    InputError
+        For any problem (missing or unreadable file, unknown suffix, empty
+        or malformed content, wrong shape, NaN or infinite values).
+    """
+    path = Path(path)
+    suffix = _suffix(path, READ_SUFFIXES, "read points from")
+    if not path.exists():
+        raise InputError(f"Cannot read '{path}': the file does not exist.")
+    if not path.is_file():
+        raise InputError(f"Cannot read '{path}': it is not a regular file.")
+    if suffix == ".npy":
+        data = _read_npy(path)
+    elif suffix == ".npz":
+        data = _read_npz(path)
+    elif suffix in TEXT_SUFFIXES:
+        data = _read_text(path)
+    else:
+        data = _read_mesh(path)
+    return _check_points(data, path)
+
+
+def _read_npy(path: Path) -> Any:
+    try:
+        with open(path, "rb") as fh:  # our handle: closed even when numpy fails
+            return np.load(fh, allow_pickle=False)
+    except Exception as err:  # noqa: BLE001 - any failure becomes one InputError
+        raise InputError(f"Cannot read '{path}' as a NumPy .npy file ({_reason(err)}).") from None
+
+
+def _read_npz(path: Path) -> Any:
+    try:
+        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as archive:
+            keys = list(archive.keys())
+            if "points" not in keys:
+                raise InputError(
+                    f"Cannot read '{path}': the archive has no 'points' array "
+                    f"(it holds {', '.join(keys) or 'nothing'})."
+                )
+            return archive["points"]
+    except InputError:
+        raise
+    except Exception as err:  # noqa: BLE001
+        raise InputError(f"Cannot read '{path}' as a NumPy .npz archive ({_reason(err)}).") from None
+
+
+def _read_text(path: Path) -> np.ndarray:
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise InputError(f"Cannot read '{path}': it is not a UTF-8 text file.") from None
+    except OSError as err:
+        raise InputError(f"Cannot read '{path}': {_reason(err)}.") from None
+    rows: list[list[float]] = []
+    first_data_line = True
+    for lineno, line in enumerate(text.splitlines(), start=1):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        tokens = [t for t in _SPLIT.split(line) if t]
+        values = []
+        for tok in tokens:
+            try:
+                values.append(float(tok))
+            except ValueError:
+                values.append(None)
+        if first_data_line and all(v is None for v in values):
+            first_data_line = False  # a header such as "x,y,z"
+            continue
+        first_data_line = False
+        if any(v is None for v in values):
+            bad = tokens[values.index(None)]
+            raise InputError(f"Cannot read '{path}': line {lineno} has the non-number {bad!r}.")
+        if rows and len(values) != len(rows[0]):
+            raise InputError(
+                f"Cannot read '{path}': line {lineno} has {len(values)} values "
+                f"but earlier lines have {len(rows[0])}."
+            )
+        rows.append(values)
+    if not rows:
+        raise InputError(f"Cannot read '{path}': the file contains no points.")
+    return np.array(rows, dtype=float)
+
+
+def _read_mesh(path: Path) -> np.ndarray:
+    import meshio  # deferred: only mesh formats need it
+
+    # meshio prints its complaints and calls sys.exit() when a file does not
+    # parse; keep the terminal clean and turn every outcome into one sentence.
+    chatter = StringIO()
+    try:
+        with redirect_stdout(chatter), redirect_stderr(chatter), np.errstate(all="ignore"):
+            mesh = meshio.read(path)
+    except (Exception, SystemExit) as err:  # noqa: BLE001
+        said = " ".join(chatter.getvalue().split("Error:")[0].split()[:12]).rstrip(".")
+        reason = _reason(err) if not isinstance(err, SystemExit) else (said or "malformed file")
+        raise InputError(
+            f"Cannot read '{path}' as a {path.suffix.lower()} mesh ({reason})."
+        ) from None
+    points = np.asarray(mesh.points)
+    if points.ndim == 2 and points.shape[1] == 3 and len(points) and not points[:, 2].any():
+        points = points[:, :2]
+    return points
+
+
+def _check_points(data: Any, path: Path) -> np.ndarray:
+    arr = np.asarray(data)
+    if arr.dtype.kind not in "iuf":
+        raise InputError(f"Cannot use '{path}': it holds {arr.dtype} values, not numbers.")
+    if arr.ndim != 2:
+        raise InputError(
+            f"Cannot use '{path}': expected a 2-D array of shape (n, k), got shape {arr.shape}."
+        )
+    n, k = arr.shape
+    if n == 0:
+        raise InputError(f"Cannot use '{path}': it contains no points.")
+    if k < 2:
+        raise InputError(
+            f"Cannot use '{path}': points need at least 2 coordinates, the file has {k} column."
+        )
+    arr = arr.astype(np.float64)
+    bad = ~np.isfinite(arr).all(axis=1)
+    if bad.any():
+        raise InputError(
+            f"Cannot use '{path}': {int(bad.sum())} point(s) have NaN or infinite "
+            f"coordinates (first at row {int(np.flatnonzero(bad)[0])})."
+        )
+    return arr
+
+
+# ---------------------------------------------------------------- writing
+def _pad3(points: np.ndarray, path: Path, what: str) -> np.ndarray:
+    points = np.asarray(points, dtype=np.float64)
+    k = points.shape[1]
+    if k > 3:
+        raise InputError(
+            f"Cannot write '{path}': {what} files hold points in at most 3 dimensions, "
+            f"these have {k}; use .npz instead."
+        )
+    if k < 3:
+        points = np.column_stack([points, np.zeros((len(points), 3 - k))])
+    return points
+
+
+def _write_mesh(path: Path, points: np.ndarray, cell_type: str | None, cells: np.ndarray) -> None:
+    import meshio
+
+    try:
+        if path.suffix.lower() == ".obj":
+            _write_obj(path, points, cell_type, cells)
+            return
+        blocks = []
+        if cell_type is not None and len(cells):
+            blocks = [(cell_type, np.asarray(cells, dtype=np.int32))]
+        elif path.suffix.lower() == ".vtk":  # legacy VTK without cells does not read back
+            blocks = [("vertex", np.arange(len(points), dtype=np.int32)[:, None])]
+        mesh = meshio.Mesh(points, blocks)
+        if path.suffix.lower() == ".ply":
+            meshio.write(path, mesh, file_format="ply", binary=True)
+        else:
+            meshio.write(path, mesh)
+    except InputError:
+        raise
+    except Exception as err:  # noqa: BLE001
+        raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
+
+
+def _write_obj(path: Path, points: np.ndarray, cell_type: str | None, cells: np.ndarray) -> None:
+    """Wavefront OBJ with ``f`` (triangles) or ``l`` (segments) records, 1-based."""
+    tag = "l" if cell_type == "line" else "f"
+    with open(path, "w", encoding="ascii") as fh:
+        fh.write("# crustview\n")
+        np.savetxt(fh, points, fmt="v %.17g %.17g %.17g")
+        if cell_type is not None and len(cells):
+            width = cells.shape[1]
+            np.savetxt(fh, np.asarray(cells) + 1, fmt=f"{tag}" + " %d" * width)
+
+
+def write_points(path: str | os.PathLike, points: np.ndarray) -> None:
+    """Write a point set.
+
+    Parameters
+    ----------
+    path : str or path-like
+        ``.npy``, ``.npz`` (key ``points``), ``.csv`` (comma separated),
+        ``.txt``/``.xyz`` (space separated), ``.ply``/``.vtk`` (k <= 3,
+        padded with zeros to 3-D).
+    points : ndarray of shape (n, k)
+
+    Raises
+    ------
+    InputError
+        For an unsupported suffix, a bad array or a failed write.
+    """
+    path = Path(path)
+    suffix = _suffix(path, POINT_WRITE_SUFFIXES, "write points to")
+    points = np.asarray(points, dtype=np.float64)
+    if points.ndim != 2:
+        raise InputError(
+            f"Cannot write '{path}': points must have shape (n, k), got {points.shape}."
+        )
+    if suffix in (".ply", ".vtk"):
+        _write_mesh(path, _pad3(points, path, suffix), None, np.empty((0, 1), int))
+        return
+    try:
+        if suffix == ".npy":
+            np.save(path, points)
+        elif suffix == ".npz":
+            np.savez_compressed(path, points=points)
+        else:
+            delimiter = "," if suffix == ".csv" else " "
+            header = f"crustview points: {points.shape[0]} rows, {points.shape[1]} coordinates"
+            np.savetxt(path, points, fmt="%.17g", delimiter=delimiter, header=header)
+    except OSError as err:
+        raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
+
+
+def write_result(path: str | os.PathLike, rec: Reconstruction) -> None:
+    """Write a reconstruction.
+
+    ``.npz`` holds, all indexed by *input* rows:
+
+    ``points`` (n_in, k)
+        The input points, in input order.
+    ``simplices`` (m, d + 1)
+        M_S.
+    ``candidates`` (c, d + 1)
+        T_S, the faces admitted by ``rec.test`` at ``rec.theta``.
+    ``normals`` (n_in, k, k - d), ``tangents`` (n_in, k, d)
+        Estimated orthonormal bases at each input row.
+    ``d``, ``k``, ``test``, ``theta``
+        Scalars (``theta`` in radians).
+
+    Mesh suffixes write the input points (padded to 3-D) and M_S as
+    triangles (d = 2) or line segments (d = 1); they need d <= 2 and k <= 3,
+    and ``.off``/``.stl`` hold triangles only.
+
+    Parameters
+    ----------
+    path : str or path-like
+    rec : Reconstruction
+
+    Raises
+    ------
+    InputError
+        For an unsupported suffix or dimension combination, or a failed write.
+    """
+    path = Path(path)
+    suffix = _suffix(path, RESULT_SUFFIXES, "write a reconstruction to")
+    simplices = np.asarray(rec.point_input)[np.asarray(rec.manifold, dtype=np.intp)]
+    simplices = simplices.reshape(-1, rec.d + 1)
+    if suffix == ".npz":
+        faces = rec.candidates.select(rec.test, rec.theta)
+        candidates = np.asarray(rec.point_input)[np.asarray(faces, dtype=np.intp)]
+        try:
+            np.savez_compressed(
+                path,
+                points=np.asarray(rec.input_points, dtype=np.float64),
+                simplices=simplices,
+                candidates=candidates.reshape(-1, rec.d + 1),
+                normals=np.asarray(rec.normals)[rec.input_index],
+                tangents=np.asarray(rec.tangents)[rec.input_index],
+                d=np.int64(rec.d),
+                k=np.int64(rec.k),
+                test=np.str_(rec.test),
+                theta=np.float64(rec.theta),
+            )
+        except OSError as err:
+            raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
+        return
+    if rec.d > 2:
+        raise InputError(
+            f"Cannot write '{path}': mesh files hold curves and surfaces only, "
+            f"this reconstruction is {rec.d}-dimensional; use .npz instead."
+        )
+    if rec.d == 1 and suffix in (".off", ".stl"):
+        raise InputError(
+            f"Cannot write '{path}': {suffix} files hold triangles only and this "
+            "reconstruction is a curve; use .ply, .obj, .vtk or .npz instead."
+        )
+    points = _pad3(rec.input_points, path, suffix)
+    _write_mesh(path, points, "triangle" if rec.d == 2 else "line", simplices)
+
+
+def _jsonable(obj: Any) -> Any:
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple, np.ndarray)):
+        return [_jsonable(v) for v in obj]
+    return obj
+
+
+def report_dict(rec: Reconstruction) -> dict[str, Any]:
+    """The content of :func:`write_report` as plain Python objects."""
+    return _jsonable(
+        {
+            "d": rec.d,
+            "k": rec.k,
+            "n": rec.n,
+            "n_input": len(rec.input_points),
+            "test": rec.test,
+            "theta": rec.theta,
+            "theta_degrees": math.degrees(rec.theta),
+            "n_candidates": int(rec.candidates.mask(rec.test, rec.theta).sum()),
+            "stopped": rec.extraction.stopped,
+            "topology": rec.topology.as_dict(),
+            "rules": rec.extraction.counts_by_rule(),
+            "timings": dict(rec.timings),
+        }
+    )
+
+
+def write_report(path: str | os.PathLike, rec: Reconstruction) -> None:
+    """Write a JSON summary of a reconstruction.
+
+    Keys: ``d k n n_input test theta theta_degrees n_candidates stopped``,
+    ``topology`` (:meth:`TopologyReport.as_dict`), ``rules``
+    (:meth:`Extraction.counts_by_rule`) and ``timings`` (seconds per stage).
+
+    Raises
+    ------
+    InputError
+        When the file cannot be written.
+    """
+    path = Path(path)
+    try:
+        with open(path, "w", encoding="utf-8") as fh:
+            json.dump(report_dict(rec), fh, indent=2)
+            fh.write("\n")
+    except OSError as err:
+        raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None

@@ -1,0 +1,231 @@
+"""The command line, run as ``python -m crustview`` in subprocesses."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import meshio
+import numpy as np
+import pytest
+
+from crustview.core.sampling import MANIFOLDS
+
+
+def run(*args, cwd=None):
+    return subprocess.run(
+        [sys.executable, "-m", "crustview", *map(str, args)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=cwd,
+    )
+
+
+def assert_one_line_error(proc, *fragments, code=2):
+    assert proc.returncode == code, proc.stderr
+    lines = proc.stderr.splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("crustview: error: ")
+    assert "Traceback" not in proc.stderr and proc.stdout == ""
+    for frag in fragments:
+        assert frag in lines[0]
+
+
+# ---------------------------------------------------------------- bad input
+@pytest.fixture(scope="module")
+def bad_files(tmp_path_factory):
+    d = tmp_path_factory.mktemp("bad")
+    (d / "dir.csv").mkdir()  # exists but cannot be read as a file
+    (d / "corrupt.npy").write_bytes(b"\x93NUMPY this is not an array")
+    (d / "latin1.csv").write_bytes(b"1,2,3\n\xe9,2,3\n")
+    (d / "empty.csv").write_text("")
+    (d / "garbage.txt").write_text("Lorem ipsum dolor\nsit amet\n")
+    (d / "garbage.ply").write_text("Lorem ipsum dolor\n")
+    (d / "ragged.csv").write_text("1,2,3\n4,5\n")
+    (d / "onecol.txt").write_text("1\n2\n3\n4\n5\n")
+    np.save(d / "vector.npy", np.arange(12.0))
+    (d / "nan.csv").write_text("0,0,1\n1,0,nan\n0,1,0\n1,1,1\n2,2,2\n")
+    (d / "few.txt").write_text("0 0 0\n1 0 0\n0 1 0\n")
+    np.save(d / "plane.npy", get_points("circle", 40))
+    return d
+
+
+def get_points(name, n):
+    return MANIFOLDS[name].sample(n, seed=0).points
+
+
+# Every kind of bad input once through a real process (exit status, stderr) ...
+@pytest.mark.parametrize(
+    ("file", "d", "fragments"),
+    [
+        ("missing.csv", 1, ["missing.csv", "does not exist"]),
+        ("dir.csv", 1, ["dir.csv"]),  # unreadable
+        ("empty.csv", 1, ["empty.csv", "no points"]),
+        ("garbage.txt", 1, ["garbage.txt"]),
+        ("garbage.ply", 1, ["garbage.ply"]),  # meshio prints and calls sys.exit()
+        ("vector.npy", 1, ["vector.npy", "2-D"]),  # wrong shape
+        ("nan.csv", 1, ["nan.csv", "NaN"]),
+        ("plane.npy", 2, ["d"]),  # d out of range: d = k
+        ("few.txt", 2, ["points"]),  # fewer than k + 2 samples
+    ],
+)
+def test_reconstruct_bad_input_is_one_line(bad_files, tmp_path, file, d, fragments):
+    proc = run("reconstruct", bad_files / file, "-d", d, "-o", tmp_path / "out.npz")
+    assert_one_line_error(proc, *fragments)
+    assert not (tmp_path / "out.npz").exists()
+
+
+# ... and the other cases in-process through the same main(), which is faster.
+def run_main(capsys, *args):
+    from crustview.__main__ import main
+
+    code = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return subprocess.CompletedProcess(args, code, out, err)
+
+
+@pytest.mark.parametrize(
+    ("file", "d", "fragments"),
+    [
+        ("corrupt.npy", 1, ["corrupt.npy"]),
+        ("latin1.csv", 1, ["latin1.csv", "UTF-8"]),
+        ("ragged.csv", 1, ["ragged.csv", "line 2"]),
+        ("onecol.txt", 1, ["onecol.txt", "coordinates"]),
+        ("plane.npy", 7, ["d"]),  # d > k
+        ("plane.npy", 0, ["-d"]),  # rejected by the parser
+        ("plane.npy", "x", ["-d"]),
+    ],
+)
+def test_more_bad_input_is_one_line(capsys, bad_files, tmp_path, file, d, fragments):
+    proc = run_main(capsys, "reconstruct", bad_files / file, "-d", d, "-o", tmp_path / "out.npz")
+    assert_one_line_error(proc, *fragments)
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (["frobnicate"], ["frobnicate"]),
+        (["reconstruct", "x.csv", "-o", "y.npz"], ["-d"]),
+        (["reconstruct", "PLANE", "-d", "1"], ["-o"]),
+        (["reconstruct", "PLANE", "-d", "1", "-o", "OUT/r.npz", "--theta", "95"], ["theta", "95"]),
+        (["reconstruct", "PLANE", "-d", "1", "-o", "OUT/r.npz", "--test", "magic"], ["magic"]),
+        (["reconstruct", "PLANE", "-d", "1", "-o", "OUT/r.xyz"], ["r.xyz", "unsupported"]),
+        (["reconstruct", "PLANE", "-d", "1", "-o", "OUT/r.stl"], ["triangles only"]),
+        (["reconstruct", "PLANE", "-d", "1", "-o", "OUT/nodir/r.npz"], ["nodir"]),
+        (["sample", "doughnut", "-o", "OUT/s.csv"], ["doughnut", "torus"]),
+        (["sample", "torus", "-n", "-5", "-o", "OUT/s.csv"], ["-n"]),
+        (["sample", "torus", "--noise", "-1", "-o", "OUT/s.csv"], ["--noise"]),
+        (["sample", "torus", "-n", "50", "-o", "OUT/s.obj"], ["s.obj"]),
+        (["view", "OUT/missing.npy"], ["missing.npy", "does not exist"]),
+    ],
+)
+def test_usage_errors_are_one_line(capsys, bad_files, tmp_path, args, fragments):
+    args = [a.replace("PLANE", str(bad_files / "plane.npy")).replace("OUT", str(tmp_path)) for a in args]
+    assert_one_line_error(run_main(capsys, *args), *fragments)
+
+
+def test_usage_error_from_a_real_process():
+    assert_one_line_error(run("reconstruct", "--theta", "abc"), "--theta")
+
+
+# ---------------------------------------------------------------- success
+def test_sample_then_reconstruct_a_circle(tmp_path):
+    pts = tmp_path / "circle.csv"
+    proc = run("sample", "circle", "-n", 100, "--seed", 3, "-o", pts)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == "" and "circle" in proc.stdout
+    np.testing.assert_allclose(
+        np.loadtxt(pts, delimiter=","), MANIFOLDS["circle"].sample(100, seed=3).points, rtol=1e-15
+    )
+    out, report = tmp_path / "circle.npz", tmp_path / "circle.json"
+    proc = run("reconstruct", pts, "-d", 1, "-o", out, "--report", report)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == ""
+    summary = proc.stdout.strip()
+    assert "\n" not in summary and "100 points" in summary and "(1, 1)" in summary
+    with np.load(out) as z:
+        assert z["points"].shape == (100, 2) and z["simplices"].shape == (100, 2)
+        assert int(z["d"]) == 1 and int(z["k"]) == 2 and str(z["test"]) == "cocone"
+        assert float(z["theta"]) == pytest.approx(np.pi / 8)
+    data = json.loads(report.read_text())
+    assert data["topology"]["betti"] == [1, 1] and data["topology"]["closed_manifold"]
+    assert data["n"] == 100 and data["theta_degrees"] == pytest.approx(22.5)
+
+
+@pytest.fixture(scope="module")
+def torus_file(tmp_path_factory):
+    path = tmp_path_factory.mktemp("torus") / "torus.npy"
+    proc = run("sample", "torus", "-n", 1500, "-o", path)
+    assert proc.returncode == 0, proc.stderr
+    return path
+
+
+def test_reconstruct_torus_npz(torus_file, tmp_path):
+    out = tmp_path / "torus.npz"
+    proc = run("reconstruct", torus_file, "-d", 2, "-o", out, "--test", "cocone", "--theta", 22.5)
+    assert proc.returncode == 0, proc.stderr
+    assert "closed manifold" in proc.stdout and "(1, 2, 1)" in proc.stdout
+    points = np.load(torus_file)
+    with np.load(out) as z:
+        np.testing.assert_array_equal(z["points"], points)
+        simp, normals, tangents = z["simplices"], z["normals"], z["tangents"]
+    assert simp.shape == (3000, 3)  # closed torus: chi = V - E + F = 0 with E = 3F/2
+    assert simp.min() >= 0 and simp.max() < len(points)
+    assert np.unique(simp).size == len(points)  # every sample is a vertex
+    assert normals.shape == (1500, 3, 1) and tangents.shape == (1500, 3, 2)
+    np.testing.assert_allclose(np.linalg.norm(normals[:, :, 0], axis=1), 1, atol=1e-9)
+    # the estimated normals are close to the true ones
+    true_tangents = MANIFOLDS["torus"].sample(1500, seed=0).tangents
+    assert np.median(np.linalg.norm(np.einsum("nk,nkd->nd", normals[:, :, 0], true_tangents), axis=1)) < 0.1
+
+
+@pytest.mark.parametrize("suffix", [".ply", ".obj", ".off", ".vtk", ".stl"])
+def test_reconstruct_torus_meshes(capsys, torus_file, tmp_path, suffix):
+    out = tmp_path / f"torus{suffix}"
+    args = ("reconstruct", torus_file, "-d", 2, "-o", out)
+    proc = run(*args) if suffix == ".ply" else run_main(capsys, *args)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == ""
+    with np.errstate(over="ignore"):  # meshio's STL sniffing overflows a uint32
+        mesh = meshio.read(out)
+    assert len(mesh.get_cells_type("triangle")) == 3000
+    if suffix != ".stl":
+        assert len(mesh.points) == 1500
+
+
+def test_reconstruct_curve_as_ply_lines(tmp_path):
+    pts = tmp_path / "trefoil.txt"
+    assert run("sample", "trefoil", "-n", 120, "-o", pts).returncode == 0
+    proc = run("reconstruct", pts, "-d", 1, "-o", tmp_path / "t.ply")
+    assert proc.returncode == 0, proc.stderr
+    assert len(meshio.read(tmp_path / "t.ply").get_cells_type("line")) == 120
+
+
+def test_list_prints_every_manifold():
+    proc = run("list")
+    assert proc.returncode == 0 and proc.stderr == ""
+    lines = proc.stdout.splitlines()
+    assert len(lines) == 1 + len(MANIFOLDS)
+    for m, line in zip(MANIFOLDS.values(), lines[1:]):
+        assert line.split()[:3] == [m.name, str(m.k), str(m.d)]
+        assert "(" + ",".join(map(str, m.betti)) + ")" in line
+
+
+def test_help_exits_zero():
+    proc = run("reconstruct", "--help")
+    assert proc.returncode == 0 and "--theta" in proc.stdout and proc.stderr == ""
+
+
+def test_cli_without_gui_never_imports_qt_or_vtk(tmp_path):
+    code = (
+        "import sys; from crustview.__main__ import main\n"
+        f"assert main(['sample', 'circle', '-n', '50', '-o', r'{tmp_path / 'c.ply'}']) == 0\n"
+        f"assert main(['reconstruct', r'{tmp_path / 'c.ply'}', '-d', '1', '-o', r'{tmp_path / 'c.vtk'}']) == 0\n"
+        "assert main(['list']) == 0\n"
+        "bad = sorted(m for m in sys.modules if m.split('.')[0] in ('PySide6', 'pyvista', 'vtkmodules', 'vtk'))\n"
+        "assert not bad, bad\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr

@@ -1,0 +1,263 @@
+"""Reading point sets and writing reconstructions (crustview.io)."""
+
+from __future__ import annotations
+
+import json
+
+import meshio
+import numpy as np
+import pytest
+
+from crustview.core import reconstruct
+from crustview.core.errors import InputError
+from crustview.core.sampling import get_manifold
+from crustview.io import read_points, report_dict, write_points, write_report, write_result
+
+
+# ---------------------------------------------------------------- fixtures: real runs
+@pytest.fixture(scope="module")
+def circle_rec():
+    """A curve in R^2 with duplicated input rows (rows 100..109 repeat rows 0..9)."""
+    pts = get_manifold("circle").sample(100, seed=0).points
+    return reconstruct(np.vstack([pts, pts[:10]]), 1)
+
+
+@pytest.fixture(scope="module")
+def sphere_rec():
+    return reconstruct(get_manifold("sphere").sample(400, seed=0).points, 2)
+
+
+@pytest.fixture(scope="module")
+def trefoil_rec():
+    return reconstruct(get_manifold("trefoil").sample(120, seed=0).points, 1)
+
+
+def _meshio_read(path):
+    with np.errstate(over="ignore"):  # meshio's STL sniffing overflows a uint32 (harmless)
+        return meshio.read(path)
+
+
+def _rows(a):
+    return {tuple(sorted(r)) for r in np.asarray(a).tolist()}
+
+
+# ---------------------------------------------------------------- read_points
+@pytest.mark.parametrize("suffix", [".npy", ".npz", ".csv", ".txt", ".xyz", ".ply", ".vtk"])
+@pytest.mark.parametrize("k", [2, 3, 4])
+def test_points_round_trip(tmp_path, suffix, k):
+    pts = np.random.default_rng(k).normal(size=(37, k))
+    path = tmp_path / f"p{suffix}"
+    if suffix in (".ply", ".vtk") and k > 3:
+        with pytest.raises(InputError, match="at most 3"):
+            write_points(path, pts)
+        return
+    write_points(path, pts)
+    back = read_points(path)
+    assert back.dtype == np.float64 and back.shape == pts.shape
+    np.testing.assert_array_equal(back, pts)  # %.17g text and float64 meshes are exact
+
+
+def test_text_formats_comments_header_and_separators(tmp_path):
+    f = tmp_path / "a.csv"
+    f.write_text("# exported\nx, y, z\n\n1, 2, 3\n# mid comment\n4,5,6\n  7\t8  9  \n1e-3;2.5;-3\n")
+    np.testing.assert_array_equal(
+        read_points(f), [[1, 2, 3], [4, 5, 6], [7, 8, 9], [1e-3, 2.5, -3]]
+    )
+
+
+@pytest.mark.parametrize("suffix", [".obj", ".off", ".stl", ".vtu"])
+def test_mesh_formats_give_their_vertices(tmp_path, suffix):
+    pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.5]], dtype=float)
+    tris = np.array([[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]])
+    path = tmp_path / f"m{suffix}"
+    meshio.write(path, meshio.Mesh(pts, [("triangle", tris)]))
+    back = read_points(path)
+    assert back.shape[1] == 3
+    assert _rows(np.round(back, 6)) == _rows(pts)
+
+
+def _expect_error(path, *fragments):
+    with pytest.raises(InputError) as info:
+        read_points(path)
+    msg = str(info.value)
+    assert "\n" not in msg and str(path) in msg
+    for frag in fragments:
+        assert frag in msg
+    return msg
+
+
+def test_read_errors_name_the_file(tmp_path):
+    _expect_error(tmp_path / "missing.csv", "does not exist")
+    (tmp_path / "dir.csv").mkdir()
+    _expect_error(tmp_path / "dir.csv", "not a regular file")
+    (tmp_path / "p.dat").write_text("1 2\n")
+    _expect_error(tmp_path / "p.dat", "unsupported", ".csv")
+    (tmp_path / "noext").write_text("1 2\n")
+    _expect_error(tmp_path / "noext", "no suffix")
+
+
+@pytest.mark.parametrize(
+    ("name", "content", "fragment"),
+    [
+        ("empty.csv", "", "no points"),
+        ("comments.txt", "# only\n# comments\n", "no points"),
+        ("garbage.csv", "hello world\nthis is not, a point file\n", "non-number"),
+        ("mixed.txt", "1 2 3\n4 five 6\n", "line 2"),
+        ("ragged.xyz", "1 2 3\n4 5 6\n7 8\n", "line 3 has 2 values"),
+        ("onecol.txt", "1\n2\n3\n", "at least 2 coordinates"),
+        ("nan.csv", "1,2\nnan,3\n4,5\n", "NaN or infinite"),
+        ("inf.csv", "1,2\n3,inf\n", "NaN or infinite"),
+    ],
+)
+def test_bad_text_files(tmp_path, name, content, fragment):
+    path = tmp_path / name
+    path.write_text(content)
+    _expect_error(path, fragment)
+
+
+def test_bad_binary_files(tmp_path):
+    np.save(tmp_path / "flat.npy", np.arange(6.0))
+    _expect_error(tmp_path / "flat.npy", "2-D", "(6,)")
+    np.save(tmp_path / "cube.npy", np.zeros((2, 2, 2)))
+    _expect_error(tmp_path / "cube.npy", "2-D")
+    np.save(tmp_path / "none.npy", np.zeros((0, 3)))
+    _expect_error(tmp_path / "none.npy", "no points")
+    np.save(tmp_path / "inf.npy", np.array([[0.0, 1.0], [np.inf, 2.0]]))
+    _expect_error(tmp_path / "inf.npy", "row 1")
+    np.save(tmp_path / "words.npy", np.array([["a", "b"], ["c", "d"]]))
+    _expect_error(tmp_path / "words.npy", "not numbers")
+    np.save(tmp_path / "objects.npy", np.array([[1, None]], dtype=object), allow_pickle=True)
+    _expect_error(tmp_path / "objects.npy", ".npy")
+    (tmp_path / "corrupt.npy").write_bytes(b"\x93NUMPY garbage" * 3)
+    _expect_error(tmp_path / "corrupt.npy", ".npy")
+    np.savez(tmp_path / "other.npz", xyz=np.zeros((3, 3)))
+    _expect_error(tmp_path / "other.npz", "'points'", "xyz")
+    (tmp_path / "corrupt.npz").write_bytes(b"PK\x03\x04 not a zip")
+    _expect_error(tmp_path / "corrupt.npz", ".npz")
+    (tmp_path / "latin.csv").write_bytes(b"1,2\n\xff\xfe,3\n")
+    _expect_error(tmp_path / "latin.csv", "UTF-8")
+    (tmp_path / "bad.ply").write_text("this is not a ply file\n")
+    _expect_error(tmp_path / "bad.ply", ".ply mesh")
+    (tmp_path / "bad.off").write_text("OFF\n3 1 0\n0 0 0\n")
+    _expect_error(tmp_path / "bad.off")
+
+
+def test_write_points_errors(tmp_path):
+    with pytest.raises(InputError, match="does-not-exist"):
+        write_points(tmp_path / "does-not-exist" / "p.csv", np.zeros((3, 2)))
+    with pytest.raises(InputError, match=r"shape \(n, k\)"):
+        write_points(tmp_path / "p.csv", np.zeros(3))
+    with pytest.raises(InputError, match="unsupported"):
+        write_points(tmp_path / "p.obj", np.zeros((3, 3)))
+
+
+# ---------------------------------------------------------------- write_result: npz
+def _check_npz(path, rec):
+    with np.load(path, allow_pickle=False) as z:
+        data = {key: z[key] for key in z.files}
+    assert set(data) == {"points", "simplices", "candidates", "normals", "tangents",
+                         "d", "k", "test", "theta"}  # fmt: skip
+    n_in, k, d = len(rec.input_points), rec.k, rec.d
+    np.testing.assert_array_equal(data["points"], rec.input_points)
+    assert int(data["d"]) == d and int(data["k"]) == k
+    assert str(data["test"]) == rec.test and float(data["theta"]) == rec.theta
+    simp, cand = data["simplices"], data["candidates"]
+    assert simp.shape == (len(rec.manifold), d + 1) and cand.shape[1] == d + 1
+    assert simp.min() >= 0 and simp.max() < n_in
+    # every simplex maps back to the same unique points, and M_S is part of T_S
+    assert _rows(rec.input_index[simp]) == _rows(rec.manifold)
+    assert _rows(simp) <= _rows(cand)
+    normals, tangents = data["normals"], data["tangents"]
+    assert normals.shape == (n_in, k, k - d) and tangents.shape == (n_in, k, d)
+    eye = np.einsum("nki,nkj->nij", normals, normals)
+    assert np.abs(eye - np.eye(k - d)).max() < 1e-9
+    assert np.abs(np.einsum("nki,nkj->nij", normals, tangents)).max() < 1e-9
+    return data
+
+
+def test_npz_result_of_a_surface(tmp_path, sphere_rec):
+    write_result(tmp_path / "r.npz", sphere_rec)
+    data = _check_npz(tmp_path / "r.npz", sphere_rec)
+    assert len(data["simplices"]) == sphere_rec.topology.n_simplices
+
+
+def test_npz_result_maps_duplicates_to_input_rows(tmp_path, circle_rec):
+    assert len(circle_rec.input_points) == 110 and circle_rec.n == 100
+    write_result(tmp_path / "c.npz", circle_rec)
+    data = _check_npz(tmp_path / "c.npz", circle_rec)
+    np.testing.assert_array_equal(data["normals"][100:], data["normals"][:10])
+    assert data["simplices"].max() < 100  # first input row of each sample
+
+
+def test_npz_result_in_r4(tmp_path):
+    rec = reconstruct(get_manifold("s3").sample(300, seed=0).points, 3)
+    write_result(tmp_path / "s3.npz", rec)
+    _check_npz(tmp_path / "s3.npz", rec)
+    with pytest.raises(InputError, match="3-dimensional"):
+        write_result(tmp_path / "s3.ply", rec)
+
+
+# ---------------------------------------------------------------- write_result: meshes
+@pytest.mark.parametrize("suffix", [".ply", ".obj", ".off", ".vtk", ".stl"])
+def test_surface_meshes_read_back(tmp_path, sphere_rec, suffix):
+    path = tmp_path / f"s{suffix}"
+    write_result(path, sphere_rec)
+    mesh = _meshio_read(path)
+    tris = mesh.get_cells_type("triangle")
+    assert len(tris) == len(sphere_rec.manifold) > 0
+    if suffix == ".stl":  # STL stores coordinates per triangle, not indices
+        corners = np.sort(mesh.points[tris].reshape(-1, 3), axis=0)
+        expected = np.sort(sphere_rec.input_points[sphere_rec.manifold].reshape(-1, 3), axis=0)
+        np.testing.assert_allclose(corners, expected, atol=1e-6)
+    else:
+        assert len(mesh.points) == len(sphere_rec.input_points)
+        np.testing.assert_allclose(mesh.points, sphere_rec.input_points, atol=1e-6)
+        assert _rows(tris) == _rows(sphere_rec.point_input[sphere_rec.manifold])
+
+
+@pytest.mark.parametrize("suffix", [".ply", ".vtk", ".obj"])
+def test_curve_meshes_read_back(tmp_path, circle_rec, trefoil_rec, suffix):
+    for rec in (circle_rec, trefoil_rec):
+        path = tmp_path / f"c{suffix}"
+        write_result(path, rec)
+        expected = _rows(rec.point_input[rec.manifold])
+        if suffix == ".obj":  # meshio's OBJ reader ignores 'l' records: parse them here
+            lines = [ln.split() for ln in path.read_text().splitlines()]
+            verts = np.array([ln[1:] for ln in lines if ln[0] == "v"], dtype=float)
+            segs = np.array([ln[1:] for ln in lines if ln[0] == "l"], dtype=int) - 1
+        else:
+            mesh = _meshio_read(path)
+            verts, segs = mesh.points, mesh.get_cells_type("line")
+        assert len(segs) == len(rec.manifold) > 0 and _rows(segs) == expected
+        assert verts.shape == (len(rec.input_points), 3)
+        np.testing.assert_allclose(verts[:, : rec.k], rec.input_points, atol=1e-6)
+
+
+def test_unsupported_result_combinations(tmp_path, circle_rec):
+    for suffix in (".off", ".stl"):
+        with pytest.raises(InputError, match="triangles only"):
+            write_result(tmp_path / f"c{suffix}", circle_rec)
+    with pytest.raises(InputError, match="unsupported"):
+        write_result(tmp_path / "c.csv", circle_rec)
+    rec4 = reconstruct(get_manifold("circle-r4").sample(60, seed=0).points, 1)
+    with pytest.raises(InputError, match="at most 3 dimensions"):
+        write_result(tmp_path / "c4.vtk", rec4)
+    with pytest.raises(InputError, match="Cannot write"):
+        write_result(tmp_path / "no-dir" / "c.npz", circle_rec)
+
+
+# ---------------------------------------------------------------- write_report
+def test_report(tmp_path, sphere_rec):
+    path = tmp_path / "r.json"
+    write_report(path, sphere_rec)
+    data = json.loads(path.read_text())
+    assert data == report_dict(sphere_rec)
+    assert (data["d"], data["k"], data["n"]) == (2, 3, sphere_rec.n)
+    assert data["test"] == sphere_rec.test
+    assert data["theta_degrees"] == pytest.approx(np.degrees(sphere_rec.theta))
+    assert data["topology"]["betti"] == list(sphere_rec.topology.betti)
+    assert data["topology"]["closed_manifold"] == sphere_rec.topology.closed_manifold
+    assert data["rules"] == sphere_rec.extraction.counts_by_rule()
+    assert set(data["timings"]) == set(sphere_rec.timings)
+    with pytest.raises(InputError):
+        write_report(tmp_path / "missing" / "r.json", sphere_rec)
