@@ -14,6 +14,7 @@ from PySide6.QtWidgets import (
     QLineEdit,
     QMainWindow,
     QMessageBox,
+    QScrollArea,
     QWidget,
 )
 from pyvistaqt import QtInteractor
@@ -30,6 +31,14 @@ from .steps_dock import StepsPanel
 from .worker import Runner
 
 DEMO = "torus"
+
+
+def _scrolled(widget: QWidget) -> QScrollArea:
+    area = QScrollArea()
+    area.setWidget(widget)
+    area.setWidgetResizable(True)
+    area.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+    return area
 
 
 class MainWindow(FileActions, QMainWindow):
@@ -67,11 +76,11 @@ class MainWindow(FileActions, QMainWindow):
             "layers": self._dock("Layers", self.layers_panel, left),
             "projection": self._dock("Projection", self.projection_panel, left),
             "steps": self._dock("Steps of Algorithm 3", self.steps_panel, right),
-            "info": self._dock("Information", self.info_panel, right),
+            "info": self._dock("Information", _scrolled(self.info_panel), right),
         }
         self.resizeDocks([self.docks["run"], self.docks["layers"], self.docks["projection"]], [150, 330, 260],
                          Qt.Orientation.Vertical)
-        self.resizeDocks([self.docks["steps"], self.docks["info"]], [420, 420], Qt.Orientation.Vertical)
+        self.resizeDocks([self.docks["steps"], self.docks["info"]], [440, 560], Qt.Orientation.Vertical)
         self.resizeDocks([self.docks["run"], self.docks["steps"]], [400, 400], Qt.Orientation.Horizontal)
 
         self.runner = Runner(self)

@@ -115,7 +115,7 @@ class NormalsAdapter(LayerAdapter):
         rec = self.model.rec
         if rec is None:
             return
-        scale = 0.6 * self.layer.size * self.model.spacing
+        scale = 0.45 * self.layer.size * self.model.spacing
         verts, lines, polys = geo.normal_glyphs(rec.points, rec.normals, scale)
         self.xk = verts
         self.project()

@@ -80,7 +80,8 @@ class SceneModel:
             m.shrink = 0.8 if rec.d >= 3 else 1.0
             self.layers["removed"].shrink = m.shrink
             self.layers["points"].size = 5.0 if rec.n < 2000 else (3.5 if rec.n < 10000 else 2.0)
-            self.layers["normals"].visible = rec.n <= 3000
+            # segments read well; discs and axis frames clutter, so start those hidden
+            self.layers["normals"].visible = rec.n <= 3000 and rec.k - rec.d == 1
         self.player.set_extraction(rec.extraction, position)
         self.reconstruction_changed.emit()
         self.selection.changed.emit()
