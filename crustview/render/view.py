@@ -217,9 +217,11 @@ class SceneView:
             cam.focal_point = (0.0, 0.0, 0.0)
             cam.position = (1.6 * r, -2.2 * r, 1.4 * r)
             cam.up = (0.0, 0.0, 1.0)
-            bounds = (-r, r, -r, r, -r, r)
+            p = self.model.projection.project(self.model.rec.points)
+            lo, hi = p.min(axis=0), p.max(axis=0)
+            bounds = tuple(np.ravel(np.stack([lo, hi], axis=1)))
         self.plotter.reset_camera(bounds=bounds)
-        self.plotter.camera.zoom(1.15 if not flat else 1.0)
+        self.plotter.camera.zoom(1.1 if not flat else 1.0)
 
     def frame_points(self, idx) -> None:
         """Zoom the camera onto samples ``idx`` (keeps the view direction)."""

@@ -79,7 +79,9 @@ class SceneModel:
             m = self.layers["manifold"]
             m.shrink = 0.8 if rec.d >= 3 else 1.0
             self.layers["removed"].shrink = m.shrink
-            self.layers["points"].size = 5.0 if rec.n < 2000 else (3.5 if rec.n < 10000 else 2.0)
+            self.layers["points"].size = 5.0 if rec.n < 2000 else (3.5 if rec.n < 10000 else 1.5)
+            # tens of thousands of samples hide the surface: start with them off
+            self.layers["points"].visible = rec.n <= 10000
             # segments read well; discs and axis frames clutter, so start those hidden
             self.layers["normals"].visible = rec.n <= 3000 and rec.k - rec.d == 1
         self.player.set_extraction(rec.extraction, position)
