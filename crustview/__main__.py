@@ -17,6 +17,7 @@ from pathlib import Path
 
 from crustview import __version__
 from crustview.core.errors import CrustviewError
+from crustview.core.result import CANDIDATE_TESTS
 
 PROG = "crustview"
 
@@ -81,7 +82,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", type=Path, required=True,
                    help="result file: .npz, or .ply .obj .off .vtk .stl for d <= 2, k <= 3")
     p.add_argument("--report", type=Path, default=None, help="also write a JSON report")
-    p.add_argument("--test", choices=("cocone", "literal"), default="cocone",
+    p.add_argument("--test", choices=CANDIDATE_TESTS, default="cocone",
                    help="candidate test of Algorithm 2 (default: cocone)")
     p.add_argument("--theta", type=_angle_degrees, default=22.5,
                    help="angle threshold in degrees (default: 22.5 = pi/8)")

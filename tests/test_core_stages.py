@@ -150,19 +150,22 @@ def test_cocone_score_matches_brute_force_on_real_cells():
     cc = circumcenters(allp, simp)
     poles, nrm, _ = greedy_poles(allp, simp, cc, len(pts), 2)
     faces, ptr, cs = cand.enumerate_faces(simp, len(pts), 2)
-    score = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs)
-    # a mix of admitted and rejected faces
-    pick = np.concatenate([rng.choice(np.flatnonzero(score < np.pi / 8), 25, replace=False),
-                           rng.choice(np.flatnonzero(score >= np.pi / 8), 25, replace=False)])
+    per_vertex = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs)
+    assert per_vertex.shape == faces.shape
+    score = per_vertex.max(axis=1)
+    # a mix of admitted and rejected faces, each checked at every vertex
+    pick = np.concatenate([rng.choice(np.flatnonzero(score < np.pi / 8), 15, replace=False),
+                           rng.choice(np.flatnonzero(score >= np.pi / 8), 15, replace=False)])
     exact = 0
     for fi in pick:
         cell = cc[cs[ptr[fi] : ptr[fi + 1]]]
-        worst = max(polygon_min(cell, allp[a], nrm[a]) for a in faces[fi])
-        bf = np.arcsin(np.sqrt(worst))
-        if bf < cand.SCORE_LIMIT - 0.02:
-            exact += 1
-            assert score[fi] <= bf + 1e-6  # never above the true minimum
-            assert bf - score[fi] < 0.01  # and the grid gets close to it
-        else:  # rejected for every threshold up to the limit
-            assert score[fi] >= cand.SCORE_LIMIT - 0.02
-    assert exact >= 25
+        for a, vertex in enumerate(faces[fi]):
+            bf = np.arcsin(np.sqrt(polygon_min(cell, allp[vertex], nrm[vertex])))
+            got = per_vertex[fi, a]
+            if bf < cand.SCORE_LIMIT - 0.02:
+                exact += 1
+                assert got <= bf + 1e-6  # never above the true minimum
+                assert bf - got < 0.01  # and the grid gets close to it
+            else:  # rejected for every threshold up to the limit
+                assert got >= cand.SCORE_LIMIT - 0.02
+    assert exact >= 45

@@ -23,12 +23,19 @@ the Voronoi cells of ``sigma``'s vertices, so ``literal = min_s angle``.  The
 test looks at *orientation only*: a face far from the manifold that happens
 to be parallel to it passes.
 
-Cocone test (Amenta-Choi-Dey-Leekha, generalised)
--------------------------------------------------
-The cocone of ``s`` is ``{y : angle(y - s, AT_s) <= theta}``.  ``sigma``
-passes when its dual cell meets the cocone of *every* vertex (as in Cocone).
-The score is ``cocone = max_s min_{y in cell} angle(y - s, AT_s)`` with
-``sin^2 angle(x, AT_s) = |N_s^T x|^2 / |x|^2``.
+Cocone tests (Amenta-Choi-Dey-Leekha, generalised)
+--------------------------------------------------
+The cocone of ``s`` is ``{y : angle(y - s, AT_s) <= theta}``: the points seen
+from ``s`` within ``theta`` of the tangent plane.  Unlike the literal test it
+looks at *where* the dual cell is, not only at its orientation.  With
+``c(sigma, s) = min_{y in cell} angle(y - s, AT_s)``
+(``sin^2 angle(x, AT_s) = |N_s^T x|^2 / |x|^2``):
+
+* ``cocone = min_s c(sigma, s)``: the cell meets the cocone of *some* vertex,
+  the paper's quantifier ("for some sample point for an adjacent cell").
+  This is the default: on real scans (spot.xyz) requiring every vertex
+  leaves holes in T_S, and Algorithm 3's pruning then eats the whole surface.
+* ``cocone-all = max_s c(sigma, s)``: every vertex, as in Cocone.
 
 The minimum over the cell is computed exactly below :data:`SCORE_LIMIT`
 (45 deg), per (face, vertex s):
@@ -226,7 +233,7 @@ def cocone_angles(
     limit: float = SCORE_LIMIT,
     progress: Callable[[float], None] | None = None,
 ) -> np.ndarray:
-    """Cocone score of every face (see module docstring).
+    """Cocone angle of every (face, vertex) pair (see module docstring).
 
     Parameters
     ----------
@@ -238,33 +245,31 @@ def cocone_angles(
     faces, cell_ptr, cell_simplices
         From :func:`enumerate_faces`.
     limit : float
-        Scores below ``limit`` are exact; a score >= ``limit`` may be a lower
-        bound (the face is rejected for every threshold up to ``limit``).
+        Angles below ``limit`` are exact; an angle >= ``limit`` may be a lower
+        bound (the pair fails every threshold up to ``limit``).
 
     Returns
     -------
-    ndarray of shape (f,), radians in [0, pi/2].
+    ndarray of shape (f, d + 1), radians in [0, pi/2]
+        ``[i, a]``: smallest angle between ``y - s`` and AT_s over the dual
+        cell of face ``i``, with ``s`` its ``a``-th vertex.  The "cocone"
+        test takes the minimum over ``a`` (some vertex, the paper's
+        quantifier), "cocone-all" the maximum (every vertex, as Cocone).
     """
     f, dp1 = faces.shape
-    r = work.shape[1]
     m = normals.shape[2]
     nv_all = np.diff(cell_ptr)
-    out = np.zeros(f)
+    out = np.zeros((f, dp1))
     tree = cKDTree(work)
     tangents = np.linalg.qr(normals, mode="complete")[0][:, :, m:]  # (n, r, d)
-    sin_lim2 = np.sin(limit) ** 2
+    sin_lim = np.sin(limit)
     done = 0
     for nv in np.unique(nv_all):
         sel = np.flatnonzero(nv_all == nv)
-        cells_all = centres[cell_simplices[cell_ptr[sel][:, None] + np.arange(nv)]]  # (F, nv, r)
+        cells = centres[cell_simplices[cell_ptr[sel][:, None] + np.arange(nv)]]  # (F, nv, r)
         subsets = _boundary_subsets(int(nv), m)
-        score = np.zeros(len(sel))  # sin^2, max over the vertices seen so far
-        active = np.arange(len(sel))
+        fc = faces[sel]
         for a in range(dp1):
-            if len(active) == 0:
-                break
-            fc = faces[sel[active]]
-            cells = cells_all[active]
             s = work[fc[:, a]]
             nrm = normals[fc[:, a]]
             x = cells - s[:, None, :]
@@ -276,7 +281,7 @@ def cocone_angles(
             nu = unit.sum(axis=1)
             nu /= np.maximum(np.linalg.norm(nu, axis=1, keepdims=True), 1e-300)
             lean = np.einsum("fvm,fm->fv", unit, nu).min(axis=1)
-            certified = lean >= np.sqrt(sin_lim2)
+            certified = lean >= sin_lim
             todo = np.flatnonzero(~certified)
             best = np.where(certified, lean**2, best)
             if len(todo):
@@ -284,9 +289,7 @@ def cocone_angles(
                     x[todo], nrm[todo], tangents[fc[todo, a]], work[fc[todo]], s[todo],
                     best[todo], subsets, m, tree,
                 )
-            score[active] = np.maximum(score[active], best)
-            active = active[score[active] < sin_lim2]
-        out[sel] = np.arcsin(np.sqrt(np.clip(score, 0.0, 1.0)))
+            out[sel, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
         done += len(sel)
         if progress is not None:
             progress(done / max(f, 1))

@@ -58,11 +58,12 @@ def reconstruct(
         The samples.  Duplicates are merged (see :mod:`.prepare`).
     d : int
         Intrinsic dimension, ``1 <= d <= k - 1``.
-    test : {"cocone", "literal"}
-        Candidate test used for extraction.  Both are always computed and
+    test : {"cocone", "cocone-all", "literal"}
+        Candidate test used for extraction.  All are always computed and
         stored in ``result.candidates``.  ``"cocone"`` (default) also looks at
-        *where* the dual Voronoi cell is and reconstructs the built-in
-        manifolds; ``"literal"`` is the paper's orientation-only test.
+        *where* the dual Voronoi cell is (some vertex's cocone);
+        ``"cocone-all"`` requires every vertex's cocone (Cocone's rule);
+        ``"literal"`` is the paper's orientation-only test.
     theta : float
         Angle threshold of the candidate test, radians (paper: pi/8), at most
         pi/4 (cocone scores above pi/4 are only lower bounds).
@@ -128,7 +129,12 @@ def reconstruct(
         work_all, normals_w, centres, faces, cptr, csimp,
         progress=lambda f: (report("candidates", f), _check(cancel)),
     )
-    candidates = Candidates(faces=faces, angles={"cocone": coc, "literal": lit}, theta=theta)
+    candidates = Candidates(
+        faces=faces,
+        angles={"cocone": coc.min(axis=1), "cocone-all": coc.max(axis=1), "literal": lit},
+        theta=theta,
+        vertex_angles=coc,
+    )
     timings["candidates"] = time.perf_counter() - t0
     _check(cancel)
 

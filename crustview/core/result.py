@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 #: Names of the two candidate tests of Algorithm 2.
-CANDIDATE_TESTS = ("cocone", "literal")
+CANDIDATE_TESTS = ("cocone", "cocone-all", "literal")
 
 #: Names of the rules of Algorithm 3 that appear in :class:`Step` records.
 RULE_PRUNE = "prune-sharp"
@@ -124,16 +124,21 @@ class Candidates:
     angles : dict of str to ndarray of shape (f,)
         The deciding angle of each test, radians.  ``"literal"``: the smallest
         over the face's vertices s of the angle between the dual Voronoi
-        (k-d)-cell and AN_s.  ``"cocone"``: the largest over the vertices s of
-        the smallest angle between ``y - s`` and AT_s over points y of the
-        dual cell.  A face is admitted by a test when its angle < ``theta``.
+        (k-d)-cell and AN_s.  ``"cocone"`` / ``"cocone-all"``: the smallest /
+        largest over the vertices s of the smallest angle between ``y - s``
+        and AT_s over points y of the dual cell (``vertex_angles`` holds the
+        per-vertex values).  A face is admitted by a test when its angle <
+        ``theta``.
     theta : float
         Threshold used for :attr:`mask`.
+    vertex_angles : ndarray of shape (f, d + 1), optional
+        Cocone angle of each face at each of its vertices.
     """
 
     faces: np.ndarray
     angles: dict[str, np.ndarray]
     theta: float
+    vertex_angles: np.ndarray | None = None
 
     def mask(self, test: str, theta: float | None = None) -> np.ndarray:
         """Faces admitted by ``test`` at threshold ``theta`` (default: own)."""
