@@ -202,6 +202,12 @@ def reextract(
             + ", ".join(f"{r}: {c['steps']} steps removed {c['removed']}" for r, c in counts.items())
             + "): the sample is probably too sparse (undersampled) for this test and angle",
         )
+    elif topo.closed_manifold and topo.unused_samples:
+        topo.messages.insert(
+            0,
+            f"M_S is a closed manifold but {topo.unused_samples} samples are not its vertices, which "
+            "the paper requires: the sample is probably undersampled, so the topology may be wrong",
+        )
     elif not topo.closed_manifold:
         topo.messages.insert(
             0,

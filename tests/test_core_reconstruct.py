@@ -1,0 +1,141 @@
+"""End-to-end reconstruction of manifolds of known topology, in codimension 1 to 3."""
+
+import threading
+
+import numpy as np
+import pytest
+
+from crustview.core import Cancelled, InputError, reconstruct, reextract
+from crustview.core.sampling import get_manifold
+
+
+def assert_correct(rec, m):
+    top = rec.topology
+    assert top.closed_manifold, top.messages
+    assert top.unused_samples == 0  # the paper: every sample is a vertex
+    assert top.betti == m.betti
+    assert top.euler == m.euler
+    assert top.orientable == m.orientable
+    assert rec.extraction.stopped == "closed"
+
+
+# (name, n, options): cospherical and not, codimension 1 (circle, sphere,
+# torus ...), 2 (curves in R^3, surfaces in R^4) and 3 (a curve in R^4)
+CASES = [
+    ("circle", 120, {}),
+    ("ellipse", 150, {"density": "nonuniform"}),
+    ("trefoil", 200, {}),
+    ("hopf-link", 160, {}),
+    ("sphere", 800, {}),
+    ("ellipsoid", 1000, {"density": "nonuniform"}),
+    ("torus", 1500, {}),
+    ("torus", 1500, {"noise": 0.02}),
+    ("clifford-torus", 1200, {}),
+    ("flat-klein", 1500, {}),
+    ("sphere-r4", 1000, {}),
+    ("s3", 1500, {}),
+    ("circle-r4", 150, {}),
+]
+
+
+@pytest.mark.parametrize("name, n, opts", CASES, ids=[f"{c[0]}-{c[1]}-{'-'.join(c[2])}" for c in CASES])
+def test_builtin_manifold_is_reconstructed(name, n, opts):
+    m = get_manifold(name)
+    sample = m.sample(n, seed=1, **opts)
+    rec = reconstruct(sample.points, m.d)
+    assert_correct(rec, m)
+    assert rec.manifold.shape[1] == m.d + 1
+    # M_S is a subcomplex of T_S
+    cand = {tuple(f) for f in rec.candidates.select("cocone")}
+    assert all(tuple(f) in cand for f in np.sort(rec.manifold, axis=1))
+
+
+def test_normals_approximate_the_true_normal_planes():
+    m = get_manifold("clifford-torus")
+    s = m.sample(1200, seed=2)
+    rec = reconstruct(s.points, 2)
+    # sine of the largest principal angle between AT_s and the true tangent
+    sines = np.linalg.norm(np.einsum("nkd,nkc->ndc", s.tangents, rec.normals), ord=2, axis=(1, 2))
+    assert np.median(sines) < 0.1 and np.percentile(sines, 95) < 0.25
+
+
+def torus_distance(p):
+    rho = np.hypot(p[:, 0], p[:, 1])
+    return np.abs(np.hypot(rho - 1.0, p[:, 2]) - 0.45)
+
+
+def test_literal_test_admits_far_parallel_faces_and_cocone_does_not():
+    m = get_manifold("torus")
+    rec = reconstruct(m.sample(1500, seed=0).points, 2)
+    far = {}
+    for test in ("cocone", "cocone-all", "literal"):
+        faces = rec.candidates.select(test)
+        far[test] = (torus_distance(rec.points[faces].mean(axis=1)) > 0.5 * rec.spacing).sum()
+    n_lit, n_coc = rec.candidates.mask("literal").sum(), rec.candidates.mask("cocone").sum()
+    assert n_lit > 2.5 * n_coc
+    assert far["cocone"] == 0 and far["cocone-all"] == 0
+    assert far["literal"] > 100
+    # a torus has exactly 2n triangles; the cocone set is close to that
+    assert n_coc < 1.15 * 2 * rec.n
+    # the literal set leads Algorithm 3 astray on this sample
+    lit = reextract(rec, "literal", np.pi / 8)
+    assert not (lit.topology.closed_manifold and lit.topology.betti == m.betti and lit.topology.unused_samples == 0)
+
+
+def test_literal_test_is_fine_on_a_plane_curve():
+    m = get_manifold("ellipse")
+    rec = reconstruct(m.sample(150, seed=0).points, 1, test="literal")
+    assert_correct(rec, m)
+    assert rec.test == "literal"
+
+
+def test_reextract_changes_only_algorithm_3():
+    m = get_manifold("torus")
+    rec = reconstruct(m.sample(1000, seed=3).points, 2)
+    wider = reextract(rec, "cocone", np.radians(30))
+    assert wider.candidates.faces is rec.candidates.faces
+    assert wider.candidates.mask("cocone").sum() >= rec.candidates.mask("cocone").sum()
+    assert len(wider.extraction.simplices) == wider.candidates.mask("cocone").sum()
+    assert wider.theta == pytest.approx(np.radians(30)) and rec.theta == pytest.approx(np.pi / 8)
+    with pytest.raises(InputError, match="theta"):
+        reextract(rec, "cocone", np.radians(60))
+    with pytest.raises(InputError, match="unknown candidate test"):
+        reextract(rec, "bogus", 0.3)
+
+
+def test_undersampled_input_is_reported_not_silently_empty():
+    m = get_manifold("torus")
+    rec = reconstruct(m.sample(20, seed=0).points, 2)
+    assert not rec.topology.closed_manifold and rec.extraction.stopped == "empty"
+    assert "undersampled" in rec.topology.messages[0]
+    counts = rec.extraction.counts_by_rule()
+    assert sum(c["removed"] for c in counts.values()) == len(rec.extraction.simplices) > 0
+    # 30 samples: a closed surface comes out, but not through every sample
+    rec = reconstruct(m.sample(30, seed=0).points, 2)
+    assert rec.topology.closed_manifold and rec.topology.unused_samples > 0
+    assert "not its vertices" in rec.topology.messages[0]
+
+
+def test_progress_reports_every_stage_in_order():
+    seen = []
+    m = get_manifold("sphere")
+    reconstruct(m.sample(300, seed=0).points, 2, progress=lambda stage, f: seen.append(stage))
+    order = [s for i, s in enumerate(seen) if i == 0 or seen[i - 1] != s]
+    assert order == ["prepare", "delaunay", "normals", "candidates", "extraction", "topology", "done"]
+
+
+def test_cancel_stops_the_run():
+    m = get_manifold("clifford-torus")
+    pts = m.sample(800, seed=0).points
+    ev = threading.Event()
+    ev.set()
+    with pytest.raises(Cancelled):
+        reconstruct(pts, 2, cancel=ev)
+    ev2 = threading.Event()
+
+    def progress(stage, frac):
+        if stage == "candidates":
+            ev2.set()
+
+    with pytest.raises(Cancelled):
+        reconstruct(pts, 2, progress=progress, cancel=ev2)
