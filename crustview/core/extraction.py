@@ -48,6 +48,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from .rows import unique_rows
 from .result import RULE_PRUNE, RULE_RESOLVE, Extraction, Step
 
 HALF_PI = np.pi / 2
@@ -71,8 +72,7 @@ def facet_structure(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.n
     srt = np.sort(simplices, axis=1)
     parts = [np.delete(srt, a, axis=1) for a in range(dp1)]
     allf = np.stack(parts, axis=1).reshape(-1, dp1 - 1)
-    facets, inverse = np.unique(allf, axis=0, return_inverse=True)
-    inverse = inverse.ravel()
+    facets, inverse = unique_rows(allf)
     facet_of = inverse.reshape(c, dp1)
     order = np.argsort(inverse, kind="stable")
     counts = np.bincount(inverse, minlength=len(facets))
@@ -106,10 +106,18 @@ def opposite_vectors(points: np.ndarray, simplices: np.ndarray) -> np.ndarray:
     return out
 
 
+def _max_pair(ang: np.ndarray) -> float:
+    """Largest off-diagonal entry of a symmetric angle matrix."""
+    a = ang.copy()
+    np.fill_diagonal(a, -1.0)
+    return float(a.max())
+
+
 class _Extractor:
     """Mutable state of one run; see :func:`extract`."""
 
-    def __init__(self, points: np.ndarray, simplices: np.ndarray) -> None:
+    def __init__(self, points: np.ndarray, simplices: np.ndarray, prune_boundary: bool = True) -> None:
+        self.prune_boundary = prune_boundary
         self.simplices = np.sort(np.asarray(simplices, dtype=np.int64), axis=1)
         c = len(self.simplices)
         self.facets, self.facet_of, self.ptr, self.inc = facet_structure(self.simplices)
@@ -137,9 +145,8 @@ class _Extractor:
         if len(simp) == 0:
             return False, float("nan"), simp
         if len(simp) == 1:
-            return True, float("nan"), simp
-        ang = self.pair_angles(g, simp)
-        best = float(ang[np.triu_indices(len(simp), 1)].max())
+            return self.prune_boundary, float("nan"), simp
+        best = _max_pair(self.pair_angles(g, simp))
         return best < HALF_PI, best, simp
 
     # -- mutation ---------------------------------------------------------
@@ -162,7 +169,7 @@ class _Extractor:
 def _initial_sharp(ex: _Extractor) -> list[int]:
     """Facets sharp in the full complex, vectorised for the common 1- and 2-simplex cases."""
     cnt = ex.count
-    sharp = cnt == 1
+    sharp = (cnt == 1) if ex.prune_boundary else np.zeros(len(cnt), dtype=bool)
     two = np.flatnonzero(cnt == 2)
     if len(two):
         s0 = ex.inc[ex.ptr[two]]
@@ -179,6 +186,7 @@ def extract(
     points: np.ndarray,
     simplices: np.ndarray,
     *,
+    prune_boundary: bool = True,
     cancel: object | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> Extraction:
@@ -189,6 +197,11 @@ def extract(
     points : ndarray of shape (n, k)
     simplices : ndarray of shape (c, d + 1)
         The candidate complex T_S.
+    prune_boundary : bool
+        True (the paper): a (d-1)-face with a single d-simplex is sharp and
+        pruned.  False keeps such boundary faces; only for inspecting samples
+        that are not closed (scans with holes): the result then cannot be a
+        closed manifold, and the report says so.
     cancel : object with ``is_set()``, optional
         Checked every 256 steps; raises :class:`~crustview.core.errors.Cancelled`.
     progress : callable, optional
@@ -204,7 +217,7 @@ def extract(
     d1 = simplices.shape[1] if simplices.ndim == 2 else 1
     if len(simplices) == 0:
         return Extraction(np.empty((0, d1), np.int64), [], np.zeros(0, np.int64), "empty")
-    ex = _Extractor(points, simplices)
+    ex = _Extractor(points, simplices, prune_boundary)
     prune = deque(_initial_sharp(ex))
     queued = set(prune)
     heap = []
@@ -244,7 +257,7 @@ def extract(
                 continue
             simp = ex.alive_at(g)
             ang = ex.pair_angles(g, simp)
-            best = float(ang[np.triu_indices(len(simp), 1)].max())
+            best = _max_pair(ang)
             if -key > best + 1e-12:  # stale priority: re-queue with the true one
                 heapq.heappush(heap, (-best, g))
                 continue
@@ -291,7 +304,9 @@ def extract(
         stopped = "empty"
     elif (ex.count[ex.count > 0] == 2).all():
         stopped = "closed"
-    else:  # pragma: no cover - the loop only ends with counts in {0, 2}
+    elif not prune_boundary:
+        stopped = "open"  # boundary faces were kept on request
+    else:  # pragma: no cover - with pruning the loop only ends with counts in {0, 2}
         stopped = "stuck"
     return Extraction(ex.simplices, ex.steps, removed_at, stopped)
 
@@ -305,11 +320,10 @@ def _cascade_loss(ex: _Extractor, drop: list[int], limit: int) -> int:
     while queue and len(gone) < limit:
         h = queue.popleft()
         simp = [s for s in ex.alive_at(h) if s not in gone]
-        if not simp:
+        if not simp or (len(simp) == 1 and not ex.prune_boundary):
             continue
         if len(simp) > 1:
-            ang = ex.pair_angles(h, simp)
-            if ang[np.triu_indices(len(simp), 1)].max() >= HALF_PI:
+            if _max_pair(ex.pair_angles(h, simp)) >= HALF_PI:
                 continue
         for s in simp:
             gone.add(s)

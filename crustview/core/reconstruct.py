@@ -47,6 +47,7 @@ def reconstruct(
     test: str = "cocone",
     theta: float = np.pi / 8,
     joggle: float = DEFAULT_JOGGLE,
+    prune_boundary: bool = True,
     progress: ProgressFn | None = None,
     cancel: object | None = None,
 ) -> Reconstruction:
@@ -67,6 +68,10 @@ def reconstruct(
     theta : float
         Angle threshold of the candidate test, radians (paper: pi/8), at most
         pi/4 (cocone scores above pi/4 are only lower bounds).
+    prune_boundary : bool
+        Algorithm 3 prunes faces with a single simplex (the paper).  False
+        keeps them, for looking at samples with holes (scans); the result is
+        then not closed and the report says so.
     joggle : float
         Relative size (of the sample spacing) of the perturbation applied
         before Qhull; 0 disables it (slow and degenerate on cospherical data).
@@ -161,8 +166,9 @@ def reconstruct(
         manifold=np.empty((0, d + 1), np.int64),
         topology=None,  # type: ignore[arg-type]
         timings=timings,
+        prune_boundary=prune_boundary,
     )
-    return reextract(rec, test, theta, progress=progress, cancel=cancel)
+    return reextract(rec, test, theta, prune_boundary=prune_boundary, progress=progress, cancel=cancel)
 
 
 def reextract(
@@ -170,12 +176,14 @@ def reextract(
     test: str,
     theta: float,
     *,
+    prune_boundary: bool | None = None,
     progress: ProgressFn | None = None,
     cancel: object | None = None,
 ) -> Reconstruction:
     """Re-run Algorithm 3 and the topology report for another test or threshold.
 
-    Nothing before Algorithm 3 is recomputed: both tests' angles are stored.
+    Nothing before Algorithm 3 is recomputed: every test's angles are stored.
+    ``prune_boundary=None`` keeps the setting of ``rec``.
 
     Returns
     -------
@@ -188,7 +196,10 @@ def reextract(
     t0 = time.perf_counter()
     report("extraction", 0.0)
     tset = rec.candidates.select(test, theta)
-    ext = extract(rec.points, tset, cancel=cancel, progress=lambda f: report("extraction", f))
+    if prune_boundary is None:
+        prune_boundary = rec.prune_boundary
+    ext = extract(rec.points, tset, prune_boundary=prune_boundary, cancel=cancel,
+                  progress=lambda f: report("extraction", f))
     manifold = ext.complex_at(ext.n_steps)
     timings["extraction"] = time.perf_counter() - t0
     t0 = time.perf_counter()
@@ -213,10 +224,11 @@ def reextract(
             0,
             "extraction could not produce a closed manifold ("
             + ", ".join(f"{r}: {c['steps']} steps removed {c['removed']}" for r, c in counts.items())
-            + "); the sample is probably undersampled or noisy here",
+            + "); the sample is probably undersampled or noisy here"
+            + ("" if prune_boundary else ", and boundary faces were kept on request (prune_boundary off)"),
         )
     timings["topology"] = time.perf_counter() - t0
     report("done", 1.0)
     cands = replace(rec.candidates, theta=theta)
     return replace(rec, candidates=cands, test=test, theta=theta, extraction=ext, manifold=manifold,
-                   topology=topo, timings=timings)
+                   topology=topo, timings=timings, prune_boundary=prune_boundary)

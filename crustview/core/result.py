@@ -82,8 +82,9 @@ class Extraction:
         removed).  The complex after ``i`` steps is
         ``simplices[removed_at >= i]``, so scrubbing costs one comparison.
     stopped : str
-        Why the loop ended: ``"closed"``, ``"empty"`` or ``"stuck"``
-        (no rule applies but the complex is not a closed manifold).
+        Why the loop ended: ``"closed"`` (every (d-1)-face in 0 or 2
+        simplices), ``"empty"``, or ``"open"`` (boundary faces kept because
+        ``prune_boundary`` was off).
     """
 
     simplices: np.ndarray
@@ -254,6 +255,8 @@ class Reconstruction:
     topology : TopologyReport
     timings : dict of str to float
         Seconds per stage.
+    prune_boundary : bool
+        Whether Algorithm 3 pruned boundary faces (the paper; default).
     """
 
     d: int
@@ -278,6 +281,7 @@ class Reconstruction:
     manifold: np.ndarray
     topology: TopologyReport
     timings: dict[str, float]
+    prune_boundary: bool = True
 
     @property
     def n(self) -> int:

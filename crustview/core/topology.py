@@ -25,6 +25,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from .result import TopologyReport
+from .rows import unique_rows
 
 
 def all_faces(simplices: np.ndarray) -> list[np.ndarray]:
@@ -35,7 +36,7 @@ def all_faces(simplices: np.ndarray) -> list[np.ndarray]:
     for j in range(dp1):
         combos = np.array(list(itertools.combinations(range(dp1), j + 1)))
         f = srt[:, combos].reshape(-1, j + 1)
-        out.append(np.unique(f, axis=0))
+        out.append(unique_rows(f)[0])
     return out
 
 
@@ -92,16 +93,15 @@ def _facet_pairs(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndar
     srt = np.sort(simplices, axis=1)
     dp1 = srt.shape[1]
     allf = np.stack([np.delete(srt, a, axis=1) for a in range(dp1)], axis=1).reshape(-1, dp1 - 1)
-    facets, inv = np.unique(allf, axis=0, return_inverse=True)
-    inv = inv.ravel()
+    facets, inv = unique_rows(allf)
     return facets, inv, np.bincount(inv, minlength=len(facets))
 
 
-def orientable(simplices: np.ndarray) -> bool:
+def orientable(simplices: np.ndarray, pairs: tuple | None = None) -> bool:
     """Whether a closed pseudo-manifold admits a consistent orientation."""
     srt = np.sort(simplices, axis=1)
     c, dp1 = srt.shape
-    _, inv, counts = _facet_pairs(srt)
+    _, inv, counts = pairs if pairs is not None else _facet_pairs(srt)
     owner = np.repeat(np.arange(c), dp1)
     pos = np.tile(np.arange(dp1), c)
     order = np.argsort(inv, kind="stable")
@@ -123,7 +123,7 @@ def orientable(simplices: np.ndarray) -> bool:
     return bool((labels[0::2] != labels[1::2]).all())
 
 
-def singular_vertices(simplices: np.ndarray, faces: list[np.ndarray]) -> np.ndarray:
+def singular_vertices(simplices: np.ndarray, faces: list[np.ndarray], pairs: tuple | None = None) -> np.ndarray:
     """Vertices whose link is not a (d-1)-sphere (see module docstring)."""
     srt = np.sort(simplices, axis=1)
     c, dp1 = srt.shape
@@ -141,7 +141,7 @@ def singular_vertices(simplices: np.ndarray, faces: list[np.ndarray]) -> np.ndar
     want = 1 + (-1) ** (d - 1)
     bad = chi[verts] != want
     # link connectivity through shared facets
-    facets, inv, counts = _facet_pairs(srt)
+    facets, inv, counts = pairs if pairs is not None else _facet_pairs(srt)
     owner = np.repeat(np.arange(c), dp1)
     order = np.argsort(inv, kind="stable")
     own_s = owner[order]
@@ -156,7 +156,7 @@ def singular_vertices(simplices: np.ndarray, faces: list[np.ndarray]) -> np.ndar
         edges.append(np.stack([s1 * dp1 + p1, s2 * dp1 + p2], axis=1))
     _, labels = graph_components(c * dp1, np.concatenate(edges))
     node_vertex = srt.ravel()
-    pairs = np.unique(np.stack([node_vertex, labels], axis=1), axis=0)
+    pairs = unique_rows(np.stack([node_vertex, labels], axis=1))[0]
     ncomp = np.bincount(pairs[:, 0], minlength=n)
     bad |= ncomp[verts] != 1
     return verts[bad]
@@ -169,11 +169,12 @@ def analyse(simplices: np.ndarray, n_samples: int, d: int) -> TopologyReport:
         return TopologyReport(0, False, 0, 0, 0, n_samples, tuple([0] * (d + 1)), 0, None, 0,
                               ["the complex is empty"])
     faces = all_faces(simplices)
-    _, _, counts = _facet_pairs(simplices)
+    pairs = _facet_pairs(simplices)
+    _, _, counts = pairs
     boundary = int((counts == 1).sum())
     nonman = int((counts > 2).sum())
     pseudo = boundary == 0 and nonman == 0
-    sing = singular_vertices(simplices, faces) if pseudo else np.empty(0, np.int64)
+    sing = singular_vertices(simplices, faces, pairs) if pseudo else np.empty(0, np.int64)
     nverts = len(faces[0])
     euler = int(sum((-1) ** j * len(f) for j, f in enumerate(faces)))
     # ranks of boundary maps r[j] = rank(d_j: C_j -> C_{j-1}), r[0] = 0
@@ -184,7 +185,7 @@ def analyse(simplices: np.ndarray, n_samples: int, d: int) -> TopologyReport:
     ranks[1] = nverts - comps
     dual_comps = None
     if pseudo:
-        _, inv, cnt = _facet_pairs(simplices)
+        _, inv, cnt = pairs
         order = np.argsort(inv, kind="stable")
         owner = np.repeat(np.arange(len(simplices)), d + 1)[order]
         st = np.concatenate([[0], np.cumsum(cnt)[:-1]])
@@ -196,7 +197,7 @@ def analyse(simplices: np.ndarray, n_samples: int, d: int) -> TopologyReport:
             ranks[j] = boundary_rank_gf2(faces[j], faces[j - 1])
     betti = tuple(len(faces[j]) - ranks[j] - ranks[j + 1] for j in range(d + 1))
     closed = pseudo and len(sing) == 0
-    orient = orientable(simplices) if pseudo else None
+    orient = orientable(simplices, pairs) if pseudo else None
     unused = n_samples - nverts
     msgs = []
     if boundary:

@@ -1,0 +1,46 @@
+"""Fast unique rows of small integer arrays (simplex vertex lists)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def row_keys(rows: np.ndarray, base: int) -> np.ndarray | None:
+    """Encode each row as one int64 (``None`` when ``base ** width`` overflows)."""
+    width = rows.shape[1]
+    if float(base) ** width >= 2**62:
+        return None
+    key = np.zeros(len(rows), dtype=np.int64)
+    for c in range(width):
+        key = key * base + rows[:, c]
+    return key
+
+
+def unique_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Sorted unique rows and the inverse map, like ``np.unique(axis=0)`` but faster.
+
+    Parameters
+    ----------
+    rows : ndarray of shape (m, w), non-negative integers
+
+    Returns
+    -------
+    uniq : ndarray of shape (u, w)
+        Lexicographically sorted.
+    inverse : ndarray of shape (m,)
+        ``uniq[inverse] == rows``.
+    """
+    rows = np.asarray(rows, dtype=np.int64)
+    if len(rows) == 0:
+        return rows.reshape(0, rows.shape[1]), np.zeros(0, dtype=np.int64)
+    key = row_keys(rows, int(rows.max()) + 1)
+    if key is None:
+        uniq, inverse = np.unique(rows, axis=0, return_inverse=True)
+        return uniq, inverse.ravel()
+    order = np.argsort(key, kind="stable")
+    sk = key[order]
+    new = np.concatenate([[True], sk[1:] != sk[:-1]])
+    group = np.cumsum(new) - 1
+    inverse = np.empty(len(rows), dtype=np.int64)
+    inverse[order] = group
+    return rows[order[new]], inverse
