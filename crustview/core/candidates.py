@@ -116,9 +116,22 @@ def enumerate_faces(simplices: np.ndarray, n_samples: int, d: int) -> tuple[np.n
 
 
 def _orthonormal(vectors: np.ndarray) -> np.ndarray:
-    """Orthonormal basis (columns) of the span of the rows, batched: (..., j, r) -> (..., r, j)."""
-    q, _ = np.linalg.qr(np.swapaxes(vectors, -1, -2))
-    return q
+    """Orthonormal basis (columns) of the span of the rows, batched: (..., j, r) -> (..., r, j).
+
+    Gram-Schmidt in closed form for one or two rows (the common cases),
+    QR otherwise.
+    """
+    j = vectors.shape[-2]
+    if j > 2:
+        return np.linalg.qr(np.swapaxes(vectors, -1, -2))[0]
+    e1 = vectors[..., 0, :]
+    e1 = e1 / np.maximum(np.sqrt(np.einsum("...r,...r->...", e1, e1)), 1e-300)[..., None]
+    if j == 1:
+        return e1[..., :, None]
+    w = vectors[..., 1, :]
+    w = w - np.einsum("...r,...r->...", w, e1)[..., None] * e1
+    e2 = w / np.maximum(np.sqrt(np.einsum("...r,...r->...", w, w)), 1e-300)[..., None]
+    return np.stack([e1, e2], axis=-1)
 
 
 def literal_angles(work: np.ndarray, normals: np.ndarray, faces: np.ndarray) -> np.ndarray:
