@@ -86,6 +86,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="candidate test of Algorithm 2 (default: cocone)")
     p.add_argument("--theta", type=_angle_degrees, default=22.5,
                    help="angle threshold in degrees (default: 22.5 = pi/8)")
+    p.add_argument("--keep-boundary", action="store_true",
+                   help="do not prune (d-1)-faces with a single d-simplex (the paper prunes them); "
+                        "for looking at scans with holes, which cannot give a closed manifold")
 
     p = sub.add_parser("sample", help="sample a built-in manifold to a point file")
     p.add_argument("name", help="manifold name (see 'crustview list')")
@@ -143,7 +146,8 @@ def _cmd_reconstruct(args: argparse.Namespace) -> int:
 
     points = read_points(args.input)
     start = time.perf_counter()
-    rec = reconstruct(points, args.d, test=args.test, theta=math.radians(args.theta))
+    rec = reconstruct(points, args.d, test=args.test, theta=math.radians(args.theta),
+                      prune_boundary=not args.keep_boundary)
     seconds = time.perf_counter() - start
     write_result(args.output, rec)
     if args.report is not None:

@@ -229,3 +229,19 @@ def test_cli_without_gui_never_imports_qt_or_vtk(tmp_path):
     )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
+
+
+def test_keep_boundary_on_a_torus_with_a_hole(capsys, tmp_path):
+    pts = MANIFOLDS["torus"].sample(1500, seed=0).points
+    holed = pts[pts[:, 0] <= 0.6]  # cut the torus open: a tube with two boundary circles
+    src = tmp_path / "holed.npy"
+    np.save(src, holed)
+    strict, kept = tmp_path / "strict.npz", tmp_path / "kept.npz"
+    report = tmp_path / "strict.json"
+    assert run_main(capsys, "reconstruct", src, "-d", 2, "-o", strict, "--report", report).returncode == 0
+    assert run_main(capsys, "reconstruct", src, "-d", 2, "-o", kept, "--keep-boundary").returncode == 0
+    rep = json.loads(report.read_text())
+    assert not rep["topology"]["closed_manifold"]  # a holed torus is not closed: the paper prunes it away
+    with np.load(strict) as a, np.load(kept) as b:
+        assert len(a["simplices"]) == 0  # the prune cascade eats the open tube
+        assert len(b["simplices"]) > 1.8 * len(holed)
