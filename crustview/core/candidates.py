@@ -302,7 +302,7 @@ def cocone_angles(
             if len(todo):
                 best[todo] = _exact_min(
                     x[todo], nrm[todo], tangents[fc[todo, a]], work[fc[todo]], s[todo],
-                    best[todo], subsets, m, tree,
+                    best[todo], subsets, m, tree, sin_lim**2,
                 )
             out[sel, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
         done += len(sel)
@@ -354,6 +354,7 @@ def _exact_min(
     subsets: list[np.ndarray],
     m: int,
     tree: cKDTree,
+    sin_lim2: float = np.sin(SCORE_LIMIT) ** 2,
 ) -> np.ndarray:
     """Minimum of sin^2 angle(y - s, AT_s) over the dual cell for a batch of faces.
 
@@ -379,8 +380,28 @@ def _exact_min(
         rest = np.flatnonzero(~inside)
     else:
         rest = np.arange(len(x))
-    if len(rest):
-        for sub in subsets:
-            v2, ins = _cone_min(x[rest][:, sub], nrm[rest][:, None])
-            best[rest] = np.minimum(best[rest], np.where(ins, v2, np.inf).min(axis=1))
+    if len(rest) == 0 or not subsets:
+        return best
+    xr, nr = x[rest], nrm[rest]
+    # lower bound per vertex subset: with any unit normal direction nu, a
+    # subset whose vertices all have nu . N^T x / |x| >= c > 0 has sin >= c on
+    # its whole cone; skip subsets that cannot beat the current minimum
+    xn = np.einsum("fvr,frm->fvm", xr, nr)
+    unit = xn / np.maximum(np.linalg.norm(xr, axis=2), 1e-300)[..., None]
+    nu = unit.sum(axis=1)
+    nu /= np.maximum(np.linalg.norm(nu, axis=1, keepdims=True), 1e-300)
+    dots = np.einsum("fvm,fm->fv", unit, nu)
+    cap = np.minimum(best[rest], sin_lim2)
+    for sub in subsets:
+        lb = dots[:, sub].min(axis=2)  # (F, S)
+        need = (lb <= 0) | (lb**2 < cap[:, None])
+        fi, si = np.nonzero(need)
+        if len(fi) == 0:
+            continue
+        v2, ins = _cone_min(xr[fi[:, None], sub[si]], nr[fi])
+        val = np.where(ins, v2, np.inf)
+        low = np.full(len(rest), np.inf)
+        np.minimum.at(low, fi, val)
+        best[rest] = np.minimum(best[rest], low)
+        cap = np.minimum(best[rest], sin_lim2)
     return best
