@@ -139,3 +139,14 @@ def test_cancel_stops_the_run():
 
     with pytest.raises(Cancelled):
         reconstruct(pts, 2, progress=progress, cancel=ev2)
+
+
+def test_four_sphere_in_r5():
+    """k = 5, d = 4: S^4 (cospherical) has Z/2 Betti numbers (1, 0, 0, 0, 1)."""
+    rng = np.random.default_rng(0)
+    x = rng.normal(size=(400, 5))
+    x /= np.linalg.norm(x, axis=1, keepdims=True)
+    rec = reconstruct(x, 4)
+    top = rec.topology
+    assert top.closed_manifold and top.unused_samples == 0
+    assert top.betti == (1, 0, 0, 0, 1) and top.euler == 2 and top.orientable
