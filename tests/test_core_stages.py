@@ -169,3 +169,23 @@ def test_cocone_score_matches_brute_force_on_real_cells():
             else:  # rejected for every threshold up to the limit
                 assert got >= cand.SCORE_LIMIT - 0.02
     assert exact >= 45
+
+
+def test_codimension_3_boundary_from_real_cell_faces_matches_all_subsets(monkeypatch):
+    """Polygons and edges of 3-dimensional cells give the same exact minimum as
+    enumerating every vertex pair and triple (Caratheodory) -- the slow way."""
+    rng = np.random.default_rng(3)
+    t = np.sort(rng.uniform(0, 2 * np.pi, 90))
+    pts = np.c_[np.cos(t), np.sin(t), 0.4 * np.cos(2 * t), 0.3 * np.sin(3 * t)]
+    b = bounding_points(4)
+    simp = delaunay(pts, b)
+    allp = np.vstack([pts, b])
+    cc = circumcenters(allp, simp)
+    _, nrm, _ = greedy_poles(allp, simp, cc, len(pts), 3)
+    faces, ptr, cs = cand.enumerate_faces(simp, len(pts), 1)
+    fast = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs, simplices=simp)
+    monkeypatch.setattr(cand, "MAX_SUBSET_VERTICES", 10**6)
+    slow = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs)
+    scored = (fast < cand.SCORE_LIMIT) | (slow < cand.SCORE_LIMIT)
+    assert scored.sum() > 50 and (np.diff(ptr) > 4).sum() > 50  # real 3-D cells
+    np.testing.assert_allclose(fast[scored], slow[scored], atol=1e-9)

@@ -59,11 +59,14 @@ The minimum over the cell is computed exactly below :data:`SCORE_LIMIT`
    cell vertex and every simplex spanned by ``j`` cell vertices,
    ``2 <= j <= k - d`` (these cover the cell's boundary; when the cell itself
    is a simplex -- always in codimension 1 -- the whole cell).  In
-   codimension >= 3 with cells of more than :data:`MAX_SUBSET_VERTICES`
-   vertices only pairs are used, which can only *over*-estimate the angle
+   codimension 3 the cell's true edges and polygons are used instead (edges
+   join simplices sharing a facet; polygons are dual to the cofaces
+   ``sigma + w``), with the Voronoi criterion for "inside a polygon".  In
+   codimension >= 4 cells with more than :data:`MAX_SUBSET_VERTICES`
+   vertices use vertex pairs only, which can only *over*-estimate the angle
    (reject, never admit wrongly).
 
-Exact in codimension 1 and 2.
+Exact in codimension 1, 2 and 3.
 """
 
 from __future__ import annotations
@@ -220,20 +223,107 @@ def _cone_min(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """
     if x.shape[-2] == 2:
         return _cone_min_pair(x, nrm)
+    value, lam, ok = _span_min(x, nrm)
+    tol = 1e-9 * np.abs(lam).max(axis=-1, keepdims=True)
+    inside = ok & ((lam >= -tol).all(axis=-1) | (lam <= tol).all(axis=-1))
+    return value, inside
+
+
+def _span_min(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Minimum of sin^2 angle(., AT) over the linear span of the rows of x.
+
+    Returns the value, the minimiser's coefficients on the rows (..., j),
+    and whether the rows were independent.
+    """
     q, rr = np.linalg.qr(np.swapaxes(x, -1, -2))  # (..., r, j), (..., j, j)
     diag = np.abs(np.diagonal(rr, axis1=-2, axis2=-1))
     scale = np.linalg.norm(x, axis=-1).max(axis=-1)
     ok = diag.min(axis=-1) > 1e-10 * np.maximum(scale, 1e-300)
     b = np.swapaxes(nrm, -1, -2) @ q  # (..., m, j)
-    mat = np.swapaxes(b, -1, -2) @ b
-    w, v = np.linalg.eigh(mat)
-    z = v[..., 0]
-    eye = np.eye(rr.shape[-1])
-    safe = np.where(ok[..., None, None], rr, eye)
-    lam = np.linalg.solve(safe, z[..., None])[..., 0]
-    tol = 1e-9 * np.abs(lam).max(axis=-1, keepdims=True)
-    inside = ok & ((lam >= -tol).all(axis=-1) | (lam <= tol).all(axis=-1))
-    return np.clip(w[..., 0], 0.0, 1.0), inside
+    w, v = np.linalg.eigh(np.swapaxes(b, -1, -2) @ b)
+    safe = np.where(ok[..., None, None], rr, np.eye(rr.shape[-1]))
+    lam = np.linalg.solve(safe, v[..., 0][..., None])[..., 0]
+    return np.clip(w[..., 0], 0.0, 1.0), lam, ok
+
+
+def _codim3_boundary_min(
+    x: np.ndarray,
+    nrm: np.ndarray,
+    face: np.ndarray,
+    simp_rows: np.ndarray,
+    s: np.ndarray,
+    n_all: int,
+    tree: cKDTree,
+) -> np.ndarray:
+    """Exact minimum of sin^2 angle over the boundary of 3-dimensional dual cells.
+
+    The boundary of a 3-polytope cell consists of its edges and its polygons.
+    Edges join two Delaunay simplices that share a facet (both contain
+    sigma); polygons are dual to the cofaces ``sigma + w``: their vertices
+    are the cell simplices containing ``w``.  Each edge is a segment (closed
+    form); on each polygon the minimiser over its plane is accepted when the
+    Voronoi criterion puts it inside (no Delaunay vertex closer than s).
+
+    Parameters
+    ----------
+    x : ndarray of shape (F, nv, r)
+        Cell vertices minus s.
+    nrm : ndarray of shape (F, r, 3)
+    face : ndarray of shape (F, d + 1)
+    simp_rows : ndarray of shape (F, nv, r + 1)
+        Vertex rows of the cell's simplices.
+    s : ndarray of shape (F, r)
+
+    Returns
+    -------
+    ndarray of shape (F,), inf where nothing on the boundary was found.
+    """
+    f_count, nv, r = x.shape
+    m = 3
+    out = np.full(f_count, np.inf)
+    in_face = (simp_rows[..., None] == face[:, None, None, :]).any(axis=3)
+    others = np.sort(simp_rows[~in_face].reshape(f_count, nv, m), axis=2)
+    fidx = np.broadcast_to(np.arange(f_count)[:, None], (f_count, nv))
+    vidx = np.broadcast_to(np.arange(nv)[None, :], (f_count, nv))
+    base = np.int64(n_all)
+    # edges: simplices sharing sigma plus all but one of their other vertices
+    keys, fs, vs = [], [], []
+    for q in range(m):
+        rest = np.delete(others, q, axis=2)
+        keys.append(((fidx * base + rest[..., 0]) * base + rest[..., 1]).ravel())
+        fs.append(fidx.ravel())
+        vs.append(vidx.ravel())
+    key, fe, ve = np.concatenate(keys), np.concatenate(fs), np.concatenate(vs)
+    order = np.argsort(key, kind="stable")
+    key, fe, ve = key[order], fe[order], ve[order]
+    pair = np.flatnonzero(key[1:] == key[:-1])
+    if len(pair):
+        ef = fe[pair]
+        seg = np.stack([x[ef, ve[pair]], x[ef, ve[pair + 1]]], axis=1)
+        val, ins = _cone_min_pair(seg, nrm[ef])
+        np.minimum.at(out, ef, np.where(ins, val, np.inf))
+    # polygons: one per coface sigma + w
+    pkey = (fidx[..., None] * base + others).ravel()
+    pf = np.repeat(fidx.ravel(), m)
+    pv = np.repeat(vidx.ravel(), m)
+    order = np.argsort(pkey, kind="stable")
+    pkey, pf, pv = pkey[order], pf[order], pv[order]
+    start = np.flatnonzero(np.concatenate([[True], pkey[1:] != pkey[:-1]]))
+    size = np.diff(np.concatenate([start, [len(pkey)]]))
+    start = start[size >= 3]
+    if len(start):
+        gf = pf[start]
+        gens = np.stack([x[gf, pv[start + i]] for i in range(3)], axis=1)  # (P, 3, r)
+        val, lam, ok = _span_min(gens, nrm[gf])
+        tot = lam.sum(axis=1)
+        ok &= np.abs(tot) > 1e-12 * np.abs(lam).max(axis=1)
+        xy = np.einsum("pj,pjr->pr", lam / np.where(ok, tot, 1.0)[:, None], gens)
+        y = s[gf] + xy
+        radius = np.linalg.norm(xy, axis=1)
+        dist, _ = tree.query(y)
+        inside = ok & (dist >= radius * (1 - 1e-9) - 1e-12)
+        np.minimum.at(out, gf, np.where(inside, val, np.inf))
+    return out
 
 
 def cocone_angles(
@@ -245,6 +335,7 @@ def cocone_angles(
     cell_simplices: np.ndarray,
     *,
     limit: float = SCORE_LIMIT,
+    simplices: np.ndarray | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> np.ndarray:
     """Cocone angle of every (face, vertex) pair (see module docstring).
@@ -261,6 +352,9 @@ def cocone_angles(
     limit : float
         Angles below ``limit`` are exact; an angle >= ``limit`` may be a lower
         bound (the pair fails every threshold up to ``limit``).
+    simplices : ndarray of shape (t, r + 1), optional
+        The Delaunay simplices; in codimension 3 they give the cells' true
+        edges and polygons, which makes the boundary minimum exact and fast.
 
     Returns
     -------
@@ -280,7 +374,9 @@ def cocone_angles(
     done = 0
     for nv in np.unique(nv_all):
         sel = np.flatnonzero(nv_all == nv)
-        cells = centres[cell_simplices[cell_ptr[sel][:, None] + np.arange(nv)]]  # (F, nv, r)
+        cell_ids = cell_simplices[cell_ptr[sel][:, None] + np.arange(nv)]
+        cells = centres[cell_ids]  # (F, nv, r)
+        simp_rows = simplices[cell_ids] if simplices is not None and m == 3 else None
         subsets = _boundary_subsets(int(nv), m)
         fc = faces[sel]
         for a in range(dp1):
@@ -303,6 +399,7 @@ def cocone_angles(
                 best[todo] = _exact_min(
                     x[todo], nrm[todo], tangents[fc[todo, a]], work[fc[todo]], s[todo],
                     best[todo], subsets, m, tree, sin_lim**2,
+                    fc[todo], None if simp_rows is None else simp_rows[todo], len(work),
                 )
             out[sel, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
         done += len(sel)
@@ -355,6 +452,9 @@ def _exact_min(
     m: int,
     tree: cKDTree,
     sin_lim2: float = np.sin(SCORE_LIMIT) ** 2,
+    face: np.ndarray | None = None,
+    simp_rows: np.ndarray | None = None,
+    n_all: int = 0,
 ) -> np.ndarray:
     """Minimum of sin^2 angle(y - s, AT_s) over the dual cell for a batch of faces.
 
@@ -380,7 +480,13 @@ def _exact_min(
         rest = np.flatnonzero(~inside)
     else:
         rest = np.arange(len(x))
-    if len(rest) == 0 or not subsets:
+    if len(rest) == 0:
+        return best
+    if simp_rows is not None and m == 3 and nv > m + 1:
+        exact = _codim3_boundary_min(x[rest], nrm[rest], face[rest], simp_rows[rest], s[rest], n_all, tree)
+        best[rest] = np.minimum(best[rest], exact)
+        return best
+    if not subsets:
         return best
     xr, nr = x[rest], nrm[rest]
     # lower bound per vertex subset: with any unit normal direction nu, a

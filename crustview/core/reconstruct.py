@@ -131,7 +131,7 @@ def reconstruct(
     lit = cand.literal_angles(prep.work, normals_w, faces)
     _check(cancel)
     coc = cand.cocone_angles(
-        work_all, normals_w, centres, faces, cptr, csimp,
+        work_all, normals_w, centres, faces, cptr, csimp, simplices=simplices,
         progress=lambda f: (report("candidates", f), _check(cancel)),
     )
     candidates = Candidates(
