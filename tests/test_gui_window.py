@@ -214,3 +214,62 @@ def test_reextract_with_another_theta_and_save(qtbot, window, tmp_path):
     assert window.save_result(str(out)) and out.exists()
     png = tmp_path / "view.png"
     assert window.save_screenshot(str(png)) and png.stat().st_size > 1000
+
+
+def test_prune_boundary_checkbox_reextracts_a_torus_with_holes(qtbot, window):
+    from crustview.core.sampling import get_manifold
+
+    pts = get_manifold("torus").sample(1500, seed=0).points
+    holed = pts[pts[:, 0] <= 0.6]  # cut open: a tube with two boundary circles, like a scan with holes
+    panel, info = window.run_panel, window.info_panel
+    manifold = window.view.adapters["manifold"].part
+    assert panel.prune.isChecked() and "paper" in panel.prune.text() and panel.prune.toolTip()
+    assert window.start_reconstruction(holed, 2, source="holed torus")
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    rec = window.model.rec
+    assert rec is not None and rec.prune_boundary and rec.extraction.stopped == "empty"
+    window.model.player.last()
+    assert manifold.n_cells == 0  # the paper's prune cascade removes everything
+    assert not info.banner.isHidden() and "NOT a closed manifold" in info.banner.text()
+    assert rec.topology.messages[0][:50] in info.banner.text()
+    assert "pruned (paper)" in info.interpretation.text() and "empty" in info.interpretation.text()
+    assert window.view.legend.notes[0] == "M_S is NOT a closed manifold"  # also written in the view
+
+    panel.prune.click()  # off: only Algorithm 3 runs again
+    qtbot.waitUntil(lambda: window.model.rec is not rec and not window.runner.busy, timeout=60_000)
+    kept = window.model.rec
+    assert kept.delaunay_simplices is rec.delaunay_simplices and kept.candidates.faces is rec.candidates.faces
+    assert not kept.prune_boundary and kept.extraction.stopped == "open"
+    assert not panel.prune.isChecked()
+    window.model.player.last()
+    assert manifold.n_cells == len(kept.manifold) > 0
+    assert window.model.layers["manifold"].count == len(kept.manifold)
+    assert "kept (prune off)" in info.interpretation.text() and "open" in info.interpretation.text()
+
+    panel.prune.click()  # on again: empty again
+    qtbot.waitUntil(lambda: window.model.rec is not kept and not window.runner.busy, timeout=60_000)
+    assert window.model.rec.prune_boundary and panel.prune.isChecked()
+    window.model.player.last()
+    assert manifold.n_cells == 0
+
+
+def test_inspector_on_a_hull_sample_and_a_simplex(qtbot, window):
+    rec = load(qtbot, window)
+    t = len(rec.delaunay_simplices)
+    hull = int(np.flatnonzero(rec.pole_index[:, 0] >= t)[0])
+    window.model.selection.select_sample(hull)
+    text = window.info_panel.selection.text()
+    assert f"Sample {hull}" in text and "vertex at infinity (hull sample), direction (" in text
+    assert window.view.adapters["voronoi"].part.n_cells > 0  # the (cut-off) cell of a hull sample draws
+    assert window.view.adapters["poles"].parts[2].n_cells == 1  # the ray towards infinity
+    interp = window.info_panel.interpretation.text()
+    assert f"{int((rec.pole_index[:, 0] >= t).sum())} of {rec.n}" in interp
+    assert "cocone (some vertex)" in interp and "pruned (paper)" in interp and "spacing" in interp
+    assert window.info_panel.banner.isHidden()  # closed manifold through every sample: no warning
+    window.model.selection.select_simplex(0)
+    text = window.info_panel.selection.text()
+    for test in ("cocone (some vertex)", "cocone-all (every vertex)", "literal ("):
+        assert test in text
+    assert "cocone angle at each vertex" in text
+    tips = [window.run_panel.test.itemData(i, Qt.ItemDataRole.ToolTipRole) for i in range(3)]
+    assert "SOME vertex" in tips[0] and "EVERY vertex" in tips[1] and "orientation" in tips[2]

@@ -93,12 +93,56 @@ def test_candidates_follow_theta(scene):
 
 def test_selected_cell_and_poles(scene):
     model, view, _ = scene
-    model.selection.select_sample(3)
-    assert view.adapters["voronoi"].part.n_cells > 0
+    rec = model.rec
+    hull = np.flatnonzero(rec.pole_index[:, 0] >= len(rec.delaunay_simplices))
+    inner = np.flatnonzero(rec.pole_index[:, 0] < len(rec.delaunay_simplices))
     poles = view.adapters["poles"]
-    assert poles.part.n_cells == model.rec.k - model.rec.d
+    finite, rays = poles.parts[0], poles.parts[2]
+    model.selection.select_sample(int(inner[0]))
+    assert view.adapters["voronoi"].part.n_cells > 0
+    assert (finite.n_cells, rays.n_cells) == (1, 0)
+    # a hull sample: its pole is the vertex at infinity, drawn as a ray to the box; its cell still draws
+    i = int(hull[0])
+    model.selection.select_sample(i)
+    assert view.adapters["voronoi"].part.n_cells > 0
+    assert (finite.n_cells, rays.n_cells) == (0, 1)
+    start, end = poles.rays  # ambient end points of the ray
+    lo, hi = model.box
+    u = rec.voronoi_vertices[rec.pole_index[i, 0]] - rec.points[i]
+    assert np.allclose(start, rec.points[i])
+    assert np.isclose(end, lo).any() or np.isclose(end, hi).any()  # reaches the edge of the box
+    cos = np.dot(end - start, u) / np.linalg.norm(end - start) / np.linalg.norm(u)
+    assert cos > 1 - 1e-9  # in the direction of the vertex at infinity
+    assert "Pole at infinity (hull sample)" in [label for label, _ in view.legend_entries()]
     model.layers["poles"].mode = "all"
-    assert poles.part.n_cells == model.rec.n * (model.rec.k - model.rec.d)
+    assert finite.n_cells == rec.n - len(hull) and rays.n_cells == len(hull)
+    assert model.layers["poles"].count == rec.n * (rec.k - rec.d)
+
+
+def test_flat_input_has_no_phantom_poles():
+    """A curve in a plane of R^3: the normal orthogonal to the plane has no pole (index -1)."""
+    from crustview.core import reconstruct
+    from crustview.scene.describe import interpretation_rows, sample_text
+
+    t = np.linspace(0, 2 * np.pi, 80, endpoint=False)
+    rec = reconstruct(np.c_[np.cos(t), 2 * np.sin(t), np.zeros_like(t)], 1)
+    assert rec.subspace_dim == 2 and (rec.pole_index[:, 1] == -1).all()
+    model = SceneModel()
+    plotter = pv.Plotter(off_screen=True, window_size=(300, 200))
+    try:
+        view = SceneView(model, plotter)
+        model.set_reconstruction(rec, source="flat ellipse")
+        model.layers["poles"].mode = "all"
+        poles = view.adapters["poles"]
+        drawn = poles.parts[0].n_cells + poles.parts[2].n_cells
+        assert drawn == rec.n == model.layers["poles"].count
+        assert "pole 2: none" in sample_text(model, 0)
+        rows = {a: b for a, b, _ in interpretation_rows(rec)}
+        assert rows["affine hull"].startswith("2-dimensional")
+        model.layers["points"].colorby = "pole distance"
+        assert view.adapters["points"].n_missing == int((rec.pole_index[:, 0] >= len(rec.delaunay_simplices)).sum())
+    finally:
+        plotter.close()
 
 
 def test_d3_boundary_triangles_with_shrink(s3_run):

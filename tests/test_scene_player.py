@@ -85,7 +85,10 @@ def test_model_quantities(torus_run):
     assert err.shape == (rec.n,) and "deg" in label
     assert np.median(err) < 10  # Algorithm 1 is accurate on a dense torus
     dist, _ = m.point_values("pole distance")
-    assert np.all(dist > 0)
+    hull = rec.pole_index[:, 0] >= len(rec.delaunay_simplices)
+    assert hull.any() and not hull.all()
+    assert np.all(dist[~hull] > 0)
+    assert np.all(np.isnan(dist[hull]))  # the first pole of a hull sample is at infinity
     assert m.point_values("none") is None
     # candidate rows and extraction ids are inverse maps
     for e in (0, 5, len(rec.extraction.simplices) - 1):

@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+from html import escape
+
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtWidgets import (
     QGroupBox,
+    QHeaderView,
     QLabel,
     QListWidget,
     QListWidgetItem,
@@ -15,15 +18,37 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from ..scene.describe import face_text, fmt_tuple, sample_text, simplex_text, topology_rows
+from ..scene.describe import (
+    face_text,
+    fmt_tuple,
+    interpretation_rows,
+    sample_text,
+    simplex_text,
+    topology_rows,
+    verdict,
+)
 from ..scene.model import SceneModel
 
 #: At most this many open faces are listed.
 MAX_FACES = 300
 
+#: Style of the verdict banner by level.
+BANNER_STYLE = {
+    "ok": "QLabel { background: #eaf6ea; border: 1px solid #5aa55a; color: #1d4d1d; padding: 5px; }",
+    "warn": "QLabel { background: #fff4dc; border: 1px solid #e0a020; color: #5a3d00; padding: 5px; }",
+    "bad": "QLabel { background: #fdecea; border: 1px solid #d62728; color: #7a1010; padding: 5px; }",
+}
+
+
+def fit_table_height(table: QTableWidget) -> None:
+    """Make a small table exactly as tall as its rows (no inner scroll bar)."""
+    h = table.horizontalHeader().height() if table.horizontalHeader().isVisible() else 0
+    h += sum(table.rowHeight(r) for r in range(table.rowCount())) + 2 * table.frameWidth() + 2
+    table.setFixedHeight(h)
+
 
 class InfoPanel(QWidget):
-    """Topology report, timings, the selection and the open (d-1)-faces.
+    """Verdict banner, topology report, timings, interpretation, selection, open (d-1)-faces.
 
     Emits :attr:`face_clicked` with a face tuple (the window frames it).
     """
@@ -35,15 +60,25 @@ class InfoPanel(QWidget):
         self.model = model
         lay = QVBoxLayout(self)
         lay.setContentsMargins(6, 4, 6, 4)
+        self.banner = QLabel(self)
+        self.banner.setWordWrap(True)
+        self.banner.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.banner.setToolTip("The core's verdict on M_S and its report messages")
+        self.banner.setVisible(False)
+        lay.addWidget(self.banner)
         box = QGroupBox("Topology of M_S", self)
         bl = QVBoxLayout(box)
         self.topology = QTableWidget(0, 3, box)
         self.topology.setHorizontalHeaderLabels(["", "found", "expected"])
         self.topology.verticalHeader().setVisible(False)
         self.topology.verticalHeader().setDefaultSectionSize(19)
-        self.topology.horizontalHeader().setStretchLastSection(True)
+        header = self.topology.horizontalHeader()
+        header.setSectionResizeMode(0, QHeaderView.ResizeMode.ResizeToContents)
+        header.setSectionResizeMode(1, QHeaderView.ResizeMode.ResizeToContents)
+        header.setSectionResizeMode(2, QHeaderView.ResizeMode.Stretch)
         self.topology.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
-        self.topology.setMinimumHeight(170)
+        self.topology.setVerticalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        self.topology.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.topology.setToolTip("The core's topology report; 'expected' is the true topology of a built-in sample")
         bl.addWidget(self.topology)
         self.messages = QLabel(box)
@@ -54,6 +89,14 @@ class InfoPanel(QWidget):
         self.timings.setToolTip("Seconds per stage of the reconstruction")
         bl.addWidget(self.timings)
         lay.addWidget(box)
+        interp = self.interpretation_box = QGroupBox("Interpretation", self)
+        il = QVBoxLayout(interp)
+        self.interpretation = QLabel(interp)
+        self.interpretation.setWordWrap(True)
+        self.interpretation.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        il.addWidget(self.interpretation)
+        interp.setToolTip("How the core read the paper for this result (docs/algorithm.md)")
+        lay.addWidget(interp)
         sel = QGroupBox("Selection", self)
         sl = QVBoxLayout(sel)
         self.selection = QLabel("Click a sample or a simplex in the view.", sel)
@@ -69,6 +112,7 @@ class InfoPanel(QWidget):
         faces = QGroupBox("Open (d-1)-faces at this step", self)
         fl = QVBoxLayout(faces)
         self.faces_label = QLabel(faces)
+        self.faces_label.setWordWrap(True)
         fl.addWidget(self.faces_label)
         self.faces = QListWidget(faces)
         self.faces.setMinimumHeight(90)
@@ -102,13 +146,23 @@ class InfoPanel(QWidget):
                 if c == 1 and exp and found != exp:
                     item.setForeground(Qt.GlobalColor.red)
                 self.topology.setItem(r, c, item)
-        self.topology.resizeColumnsToContents()
+        fit_table_height(self.topology)
         title = f"{self.model.source}: d = {rec.d} in R^{rec.k}, n = {rec.n}"
         if expected is not None:
             title += f" — expected: {expected.name}"
-        self.messages.setText(
-            "<b>" + title + "</b>" + "".join(f"<br>• {m}" for m in rec.topology.messages)
+        self.messages.setText("<b>" + escape(title) + "</b>")
+        level, words = verdict(rec)
+        msgs = rec.topology.messages
+        self.banner.setStyleSheet(BANNER_STYLE[level])
+        self.banner.setText(f"<b>{escape(words)}</b>" + "".join(f"<br>• {escape(m)}" for m in msgs))
+        self.banner.setVisible(level != "ok" or bool(msgs))
+        rows = interpretation_rows(rec)
+        self.interpretation.setText(
+            "<table cellspacing='0' cellpadding='1'>"
+            + "".join(f"<tr><td><b>{escape(a)}</b>&nbsp;&nbsp;</td><td>{escape(b)}</td></tr>" for a, b, _ in rows)
+            + "</table>"
         )
+        self.interpretation.setToolTip("<br>".join(f"<b>{escape(a)}</b>: {escape(c)}" for a, _, c in rows))
         total = sum(rec.timings.values())
         parts = ", ".join(f"{k} {v:.2f}" for k, v in rec.timings.items())
         self.timings.setText(f"<small>timings (s): {parts}; total {total:.2f}</small>")

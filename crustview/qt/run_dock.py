@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (
+    QCheckBox,
     QComboBox,
     QFormLayout,
     QHBoxLayout,
@@ -19,6 +20,7 @@ from PySide6.QtWidgets import (
 
 from ..core.candidates import SCORE_LIMIT
 from ..core.result import CANDIDATE_TESTS
+from ..scene.describe import TEST_WORDS
 from ..scene.model import SceneModel
 
 #: Stage names of the core, in words.
@@ -35,12 +37,14 @@ STAGES = {
 class RunPanel(QWidget):
     """Parameters of a run and its progress.
 
-    Emits :attr:`reconstruct_requested` with ``(d, test, theta_radians)`` and
-    :attr:`cancel_requested`.  Moving the test or theta updates the candidates
-    layer of the model at once (the extraction is redone on Reconstruct).
+    Emits :attr:`reconstruct_requested` with ``(d, test, theta_radians,
+    prune_boundary)`` and :attr:`cancel_requested`.  Moving the test or theta
+    updates the candidates layer of the model at once (the extraction is
+    redone on Reconstruct); toggling "prune boundary faces" re-extracts the
+    current result at once (only Algorithm 3 runs again).
     """
 
-    reconstruct_requested = Signal(int, str, float)
+    reconstruct_requested = Signal(int, str, float, bool)
     cancel_requested = Signal()
 
     def __init__(self, model: SceneModel, parent: QWidget | None = None) -> None:
@@ -55,9 +59,16 @@ class RunPanel(QWidget):
         form.addRow("dimension d", self.d)
         self.test = QComboBox(self)
         self.test.addItems(list(CANDIDATE_TESTS))
+        for i, t in enumerate(CANDIDATE_TESTS):
+            self.test.setItemData(i, f"{t}: a d-face is a candidate when {TEST_WORDS.get(t, t)}",
+                                  Qt.ItemDataRole.ToolTipRole)
         self.test.setToolTip(
-            "Candidate test of Algorithm 2: 'cocone' (dual cell meets the tangent cocone) or "
-            "'literal' (angle between dual cell and the estimated normal plane AN_s)"
+            "<p>Candidate test of Algorithm 2 (all three are computed; switching re-runs only Algorithm 3):</p>"
+            "<p><b>cocone</b> (default): the dual Voronoi cell meets the tangent cocone of <i>some</i> vertex "
+            "of the face, the paper's quantifier.<br>"
+            "<b>cocone-all</b>: the cell meets the cocone of <i>every</i> vertex (Cocone's rule).<br>"
+            "<b>literal</b>: the paper's test as printed, the angle between the cell and AN_s, "
+            "orientation only.</p>"
         )
         form.addRow("candidate test", self.test)
         row = QHBoxLayout()
@@ -71,6 +82,16 @@ class RunPanel(QWidget):
         row.addWidget(self.theta)
         row.addWidget(self.theta_label)
         form.addRow("angle θ", row)
+        self.prune = QCheckBox("prune boundary faces (paper)", self)
+        self.prune.setChecked(True)
+        self.prune.setToolTip(
+            "<p>On (the paper): Algorithm 3 removes every simplex at a (d-1)-face that has a single "
+            "simplex. On a scan with holes (e.g. the Stanford bunny) this cascades until everything "
+            "is removed.</p><p>Off: boundary faces are kept, so a sample with holes shows as an open "
+            "surface; the result is then not a closed manifold (extraction stops 'open').</p>"
+            "<p>Toggling re-runs only Algorithm 3 on the current result.</p>"
+        )
+        form.addRow("", self.prune)
         lay = QVBoxLayout(self)
         lay.setContentsMargins(6, 4, 6, 4)
         lay.addLayout(form)
@@ -94,6 +115,7 @@ class RunPanel(QWidget):
         self.cancel.clicked.connect(self.cancel_requested)
         self.theta.valueChanged.connect(self._theta_moved)
         self.test.currentTextChanged.connect(lambda t: model.set_candidate_display(test=t))
+        self.prune.toggled.connect(self._prune_toggled)
         model.reconstruction_changed.connect(self.sync)
         self._theta_moved(self.theta.value())
 
@@ -106,25 +128,42 @@ class RunPanel(QWidget):
         self.model.set_candidate_display(theta=self.theta_radians)
 
     def _request(self) -> None:
-        self.reconstruct_requested.emit(self.d.value(), self.test.currentText(), self.theta_radians)
+        self.reconstruct_requested.emit(self.d.value(), self.test.currentText(), self.theta_radians,
+                                        self.prune.isChecked())
+
+    def _prune_toggled(self, on: bool) -> None:
+        rec = self.model.rec
+        if rec is not None and rec.prune_boundary != bool(on):
+            self.reconstruct_requested.emit(rec.d, self.test.currentText(), self.theta_radians, bool(on))
 
     def sync(self) -> None:
         """Show the parameters of the model's reconstruction."""
         rec = self.model.rec
         if rec is None:
             return
-        for w in (self.d, self.test, self.theta):
+        widgets = (self.d, self.test, self.theta, self.prune)
+        for w in widgets:
             w.blockSignals(True)
         self.d.setRange(1, max(1, rec.k - 1))
         self.d.setValue(rec.d)
         self.test.setCurrentText(rec.test)
         self.theta.setValue(int(round(np.degrees(rec.theta) * 2)))
         self.theta_label.setText(f"{np.degrees(rec.theta):.1f}°")
-        for w in (self.d, self.test, self.theta):
+        self.prune.setChecked(bool(rec.prune_boundary))
+        for w in widgets:
             w.blockSignals(False)
+
+    def sync_prune(self) -> None:
+        """Show the prune setting of the current result (after a failed or cancelled run)."""
+        rec = self.model.rec
+        if rec is not None:
+            self.prune.blockSignals(True)
+            self.prune.setChecked(bool(rec.prune_boundary))
+            self.prune.blockSignals(False)
 
     def set_busy(self, busy: bool, label: str = "") -> None:
         self.run.setEnabled(not busy)
+        self.prune.setEnabled(not busy)
         self.cancel.setEnabled(busy)
         if busy:
             self.progress.setValue(0)

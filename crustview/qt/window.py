@@ -80,7 +80,7 @@ class MainWindow(FileActions, QMainWindow):
         }
         self.resizeDocks([self.docks["run"], self.docks["layers"], self.docks["projection"]], [150, 330, 260],
                          Qt.Orientation.Vertical)
-        self.resizeDocks([self.docks["steps"], self.docks["info"]], [440, 560], Qt.Orientation.Vertical)
+        self.resizeDocks([self.docks["steps"], self.docks["info"]], [380, 620], Qt.Orientation.Vertical)
         self.resizeDocks([self.docks["run"], self.docks["steps"]], [400, 400], Qt.Orientation.Horizontal)
 
         self.runner = Runner(self)
@@ -190,12 +190,15 @@ class MainWindow(FileActions, QMainWindow):
         return self.runner.start(fn, label)
 
     def start_reconstruction(self, points: np.ndarray, d: int, truth=None, source: str = "",
-                             test: str | None = None, theta: float | None = None) -> bool:
+                             test: str | None = None, theta: float | None = None,
+                             prune_boundary: bool | None = None) -> bool:
         test = test or self.run_panel.test.currentText()
         theta = self.run_panel.theta_radians if theta is None else theta
+        prune = self.run_panel.prune.isChecked() if prune_boundary is None else bool(prune_boundary)
 
         def job(progress, cancel):
-            return reconstruct(points, d, test=test, theta=theta, progress=progress, cancel=cancel)
+            return reconstruct(points, d, test=test, theta=theta, prune_boundary=prune, progress=progress,
+                               cancel=cancel)
 
         return self.start_job(job, f"Reconstructing {source} (d = {d})…", points=points, truth=truth,
                               source=source, keep_view=False)
@@ -212,11 +215,13 @@ class MainWindow(FileActions, QMainWindow):
         n = n or m.default_n
         test = self.run_panel.test.currentText()
         theta = self.run_panel.theta_radians
+        prune = self.run_panel.prune.isChecked()
 
         def job(progress, cancel):
             progress("prepare", 0.0)
             sample = m.sample(n, seed=seed)
-            rec = reconstruct(sample.points, m.d, test=test, theta=theta, progress=progress, cancel=cancel)
+            rec = reconstruct(sample.points, m.d, test=test, theta=theta, prune_boundary=prune,
+                              progress=progress, cancel=cancel)
             return {"rec": rec, "truth": sample, "points": sample.points}
 
         return self.start_job(job, f"Sampling and reconstructing {name} (n = {n})…", source=f"{name} (n = {n})",
@@ -225,20 +230,24 @@ class MainWindow(FileActions, QMainWindow):
     def load_demo(self) -> bool:
         return self.load_builtin(DEMO)
 
-    def _reconstruct_requested(self, d: int, test: str, theta: float) -> None:
+    def _reconstruct_requested(self, d: int, test: str, theta: float, prune: bool = True) -> None:
         rec = self.model.rec
         if self.points is None:
             self.show_error("Open a point file or a built-in sample first.")
+            self.run_panel.sync_prune()
             return
         if rec is not None and rec.d == d:  # same points and d: only Algorithm 3 again
             def job(progress, cancel):
-                return reextract(rec, test, theta, progress=progress, cancel=cancel)
+                return reextract(rec, test, theta, prune_boundary=prune, progress=progress, cancel=cancel)
 
-            self.start_job(job, f"Re-extracting with {test}, θ = {np.degrees(theta):.1f}°…", points=self.points,
-                           truth=self.model.truth, source=self.model.source, keep_view=True)
+            label = (f"Re-extracting with {test}, θ = {np.degrees(theta):.1f}°, boundary faces "
+                     f"{'pruned' if prune else 'kept'}…")
+            if not self.start_job(job, label, points=self.points, truth=self.model.truth,
+                                  source=self.model.source, keep_view=True):
+                self.run_panel.sync_prune()
         else:
             self.start_reconstruction(self.points, d, truth=self.model.truth, source=self.model.source,
-                                      test=test, theta=theta)
+                                      test=test, theta=theta, prune_boundary=prune)
 
     def _job_done(self, result) -> None:
         pending = self._pending
@@ -250,7 +259,7 @@ class MainWindow(FileActions, QMainWindow):
         self.model.set_reconstruction(rec, truth=truth, source=pending.get("source", ""),
                                       keep_view=bool(pending.get("keep_view")))
         t = rec.topology
-        verdict = "closed manifold" if t.closed_manifold else "NOT a closed manifold"
+        verdict = "closed manifold" if t.closed_manifold else f"NOT a closed manifold ({rec.extraction.stopped})"
         self.run_panel.show_idle(f"done in {sum(rec.timings.values()):.2f} s — {verdict}")
         self.statusBar().showMessage(
             f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} extraction steps.", 15000
@@ -258,10 +267,12 @@ class MainWindow(FileActions, QMainWindow):
         self.setWindowTitle(f"crustview — {self.model.source}: d = {rec.d} in R^{rec.k}")
 
     def _job_failed(self, message: str) -> None:
+        self.run_panel.sync_prune()
         self.run_panel.show_idle("failed — previous result kept")
         self.show_error(message)
 
     def _job_cancelled(self) -> None:
+        self.run_panel.sync_prune()
         self.run_panel.show_idle("cancelled — previous result kept")
         self.statusBar().showMessage("Cancelled; the previous result is still shown.", 10000)
 

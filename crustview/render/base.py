@@ -20,6 +20,9 @@ from ..scene.model import SceneModel
 
 _EMPTY = np.zeros((0, 1), dtype=np.int64)
 
+#: Colour of NaN scalars (e.g. the pole distance of a hull sample, whose pole is at infinity).
+NAN_COLOR = "#b8b8b8"
+
 
 def cell_array(cells: np.ndarray | None) -> vtkCellArray:
     """A vtkCellArray of fixed-size cells from an ``(m, w)`` integer array."""
@@ -108,6 +111,7 @@ class Part:
         """Colour by the active scalars of the mesh."""
         if getattr(self, "_lut", None) is None or self._cmap != (cmap, n_colors):
             self._lut = pv.LookupTable(cmap=cmap, n_values=n_colors)
+            self._lut.nan_color = NAN_COLOR
             self._cmap = (cmap, n_colors)
         self._lut.scalar_range = clim
         if self.mapper.lookup_table is not self._lut:

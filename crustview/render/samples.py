@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import numpy as np
+import pyvista as pv
 
 from ..scene import geometry as geo
+from ..scene.quantities import POLE_FINITE, POLE_INFINITE, pole_kinds
 from .base import LayerAdapter, set_cells, set_point_scalars, set_points
 
 #: Colour maps of the points layer's colourings.
@@ -21,6 +23,7 @@ class PointsAdapter(LayerAdapter):
         self.layer.events.colorby.connect(self.recolor)
         self.scalar_title: str | None = None
         self.clim = (0.0, 1.0)
+        self.n_missing = 0  # samples without a value (NaN, drawn in NAN_COLOR)
 
     def rebuild(self) -> None:
         rec = self.model.rec
@@ -36,13 +39,16 @@ class PointsAdapter(LayerAdapter):
         got = self.model.point_values(self.layer.colorby) if self.model.rec is not None else None
         if got is None:
             self.scalar_title = None
+            self.n_missing = 0
             self.part.solid()
             return
         values, title = got
         set_point_scalars(self.part.mesh, values)
-        hi = float(np.nanpercentile(values, 98)) if len(values) else 1.0
-        lo = float(np.nanmin(values)) if len(values) else 0.0
+        ok = values[np.isfinite(values)]
+        hi = float(np.percentile(ok, 98)) if len(ok) else 1.0
+        lo = float(ok.min()) if len(ok) else 0.0
         self.clim = (lo, max(hi, lo + 1e-12))
+        self.n_missing = len(values) - len(ok)
         self.scalar_title = title
         self.part.colormap(POINT_CMAPS.get(self.layer.colorby, "viridis"), self.clim, cell=False)
 
@@ -53,16 +59,30 @@ class PointsAdapter(LayerAdapter):
         return ("sample", int(cell_id))
 
 
-class PolesAdapter(LayerAdapter):
-    """Poles of every sample or of the selected sample, joined to the sample."""
+def lighter(color, amount: float = 0.4) -> tuple[float, float, float]:
+    """``color`` blended with white (``amount`` = share of white)."""
+    rgb = np.array(pv.Color(color).float_rgb)
+    return tuple(float(v) for v in rgb + amount * (1.0 - rgb))
 
-    parts_spec = (("", False), ("-ends", False))
+
+class PolesAdapter(LayerAdapter):
+    """Poles of every sample or of the selected sample, joined to the sample.
+
+    Finite poles are drawn as a segment to a dot.  The first pole of a sample
+    on the convex hull is a vertex at infinity: it is drawn, in a lighter
+    colour, as a ray in its direction up to the edge of the clipping box.
+    Poles that do not exist (flat input, ``pole_index == -1``) are skipped.
+    """
+
+    parts_spec = (("", False), ("-ends", False), ("-inf", False))
     uses_selection = True
 
     def __init__(self, *args) -> None:
         super().__init__(*args)
         self.layer.events.mode.connect(lambda *_: self.rebuild())
         self.ends = np.zeros((0, self.model.projection.k))
+        self.rays = np.zeros((0, self.model.projection.k))
+        self.n_infinite = 0
 
     def rebuild(self) -> None:
         rec = self.model.rec
@@ -74,26 +94,41 @@ class PolesAdapter(LayerAdapter):
             idx = np.array([self.model.selection.sample])
         else:
             idx = np.zeros(0, dtype=np.int64)
-        c = rec.k - rec.d
-        a = np.repeat(rec.points[idx], c, axis=0)
-        b = rec.voronoi_vertices[rec.pole_index[idx].ravel()]
+        c = rec.pole_index.shape[1]
+        kind = pole_kinds(rec)[idx].ravel()
+        owner = np.repeat(idx, c)
+        pole = rec.pole_index[idx].ravel()
         lo, hi = self.model.box
+        # finite poles: segment sample -> pole, clipped, and a dot when inside the box
+        fin = kind == POLE_FINITE
+        a = rec.points[owner[fin]]
+        b = rec.voronoi_vertices[pole[fin]]
         inside = np.all((b >= lo) & (b <= hi), axis=1)
-        a2, b2, keep = geo.clip_segments(a, b, lo, hi)
+        a2, b2, _ = geo.clip_segments(a, b, lo, hi)
         self.xk = np.vstack([a2, b2]) if len(a2) else np.zeros((0, rec.k))
         m = len(a2)
         set_cells(self.part.mesh, lines=np.stack([np.arange(m), np.arange(m) + m], axis=1))
         self.ends = b[inside]
         set_cells(self.parts[1].mesh, verts=np.arange(len(self.ends))[:, None])
-        self.layer.count = len(b)
+        # vertices at infinity: rays to the edge of the box
+        inf = kind == POLE_INFINITE
+        s = rec.points[owner[inf]]
+        u = rec.voronoi_vertices[pole[inf]] - s
+        u /= np.maximum(np.linalg.norm(u, axis=1, keepdims=True), 1e-300)
+        reach = 2.0 * float(np.linalg.norm(hi - lo))
+        a3, b3, _ = geo.clip_segments(s, s + reach * u, lo, hi)
+        self.rays = np.vstack([a3, b3]) if len(a3) else np.zeros((0, rec.k))
+        r = len(a3)
+        set_cells(self.parts[2].mesh, lines=np.stack([np.arange(r), np.arange(r) + r], axis=1))
+        self.n_infinite = int(inf.sum())
+        self.layer.count = int(fin.sum() + inf.sum())
         self.project()
 
     def project(self) -> None:
         proj = self.model.projection
-        if self.xk.shape[1] == proj.k:
-            set_points(self.part.mesh, proj.project(self.xk) if len(self.xk) else np.zeros((0, 3)))
-        if self.ends.shape[1] == proj.k:
-            set_points(self.parts[1].mesh, proj.project(self.ends) if len(self.ends) else np.zeros((0, 3)))
+        for mesh, xk in ((self.part.mesh, self.xk), (self.parts[1].mesh, self.ends), (self.parts[2].mesh, self.rays)):
+            if xk.shape[1] == proj.k:
+                set_points(mesh, proj.project(xk) if len(xk) else np.zeros((0, 3)))
 
     def select(self) -> None:
         if self.layer.mode != "all":
@@ -102,6 +137,7 @@ class PolesAdapter(LayerAdapter):
     def restyle(self) -> None:
         self.part.style(self.layer.color, self.layer.opacity, max(1.0, self.layer.size / 3), lines=True)
         self.parts[1].style(self.layer.color, self.layer.opacity, self.layer.size, spheres=False)
+        self.parts[2].style(lighter(self.layer.color), self.layer.opacity, max(1.0, self.layer.size / 3), lines=True)
 
 
 class NormalsAdapter(LayerAdapter):

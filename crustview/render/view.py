@@ -6,13 +6,14 @@ import numpy as np
 from vtkmodules.vtkRenderingCore import vtkCellPicker
 
 from ..scene import geometry as geo
+from ..scene.describe import verdict
 from ..scene.layers import STEP_COLORS
 from ..scene.model import SceneModel
-from .base import LayerAdapter
+from .base import NAN_COLOR, LayerAdapter
 from .complexes import CandidatesAdapter, ManifoldAdapter, RemovedAdapter, StepAdapter
 from .overlay import Legend
 from .inspect import SelectionAdapter, VoronoiAdapter
-from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter
+from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter, lighter
 
 #: Adapter of each layer (by layer name), in drawing order.
 ADAPTERS: dict[str, type[LayerAdapter]] = {
@@ -145,6 +146,7 @@ class SceneView:
         for a in self._live():
             if a.uses_selection:
                 a.select()
+        self.update_legend()  # the poles and the Voronoi cell appear with a selected sample
         self.render()
 
     # -- overlays ------------------------------------------------------------
@@ -180,7 +182,16 @@ class SceneView:
         for name in ("points", "manifold", "removed", "candidates", "normals", "poles", "voronoi", "truth"):
             layer = layers[name]
             a = self.adapters[name]
-            if not layer.visible or getattr(a, "scalar_title", None) or a.shown_cells() == 0:
+            if not layer.visible or a.shown_cells() == 0:
+                continue
+            if name == "points" and getattr(a, "scalar_title", None) and a.n_missing:
+                out.append((f"{a.scalar_title}: none (pole at infinity)", NAN_COLOR))
+            if getattr(a, "scalar_title", None):
+                continue
+            if name == "poles" and a.n_infinite:
+                if a.parts[0].n_cells:
+                    out.append((layer.title, layer.color))
+                out.append(("Pole at infinity (hull sample)", lighter(layer.color)))
                 continue
             out.append((layer.title, layer.color))
         if layers["step"].visible and self.model.player.current_step is not None:
@@ -189,7 +200,18 @@ class SceneView:
         return out
 
     def update_legend(self) -> None:
-        self.legend.set(self.legend_entries())
+        self.legend.set(self.legend_entries(), self.notes())
+
+    def notes(self) -> list[str]:
+        """Warning lines above the legend when the final M_S is not a closed manifold through every sample."""
+        rec = self.model.rec
+        if rec is None:
+            return []
+        level, words = verdict(rec)
+        if level == "ok":
+            return []
+        head, _, rest = words.partition(" (")
+        return [head, ("(" + rest + " — see Information") if rest else "see Information"]
 
     def update_basis_text(self) -> None:
         p = self.model.projection

@@ -6,6 +6,25 @@ import numpy as np
 
 from ..core.result import CANDIDATE_TESTS, Reconstruction, Step
 from .model import SceneModel
+from .quantities import POLE_INFINITE, POLE_NONE, hull_samples, pole_direction, pole_kinds
+
+#: One line per candidate test: what it asks of a d-face (for tool tips and the inspector).
+TEST_WORDS = {
+    "cocone": "the dual Voronoi cell meets the tangent cocone of SOME vertex of the face (the paper's quantifier)",
+    "cocone-all": "the dual Voronoi cell meets the tangent cocone of EVERY vertex of the face (Cocone's rule)",
+    "literal": "the dual Voronoi cell is within θ of AN_s for some vertex s, by orientation only (the paper, literally)",
+}
+
+#: Short name of each test's quantifier.
+TEST_QUANTIFIER = {"cocone": "some vertex", "cocone-all": "every vertex", "literal": "orientation only, some vertex"}
+
+#: What each value of ``Extraction.stopped`` means.
+STOPPED_WORDS = {
+    "closed": "closed: every (d-1)-face lies in 0 or 2 simplices",
+    "empty": "empty: every candidate simplex was removed",
+    "open": "open: boundary faces kept (prune boundary off)",
+    "stuck": "stuck: no rule applies but the complex is not closed",
+}
 
 
 def deg(angle: float) -> str:
@@ -43,10 +62,18 @@ def sample_text(model: SceneModel, i: int) -> str:
     lines = [f"<b>Sample {i}</b> (input row {int(rec.point_input[i])})"]
     lines.append("x = (" + ", ".join(f"{v:.4g}" for v in rec.points[i]) + ")")
     lines.append(f"local spacing {model.spacing[i]:.4g}")
+    kinds = pole_kinds(rec)[i]
     for j, p in enumerate(rec.pole_index[i]):
-        v = rec.voronoi_vertices[p]
-        dist = np.linalg.norm(v - rec.points[i])
-        lines.append(f"pole {j + 1}: vertex {int(p)}, distance {dist:.4g}")
+        if kinds[j] == POLE_NONE:
+            lines.append(f"pole {j + 1}: none (normal direction orthogonal to the samples' "
+                         f"{rec.subspace_dim}-dimensional affine hull)")
+        elif kinds[j] == POLE_INFINITE:
+            u = pole_direction(rec, i, j)
+            lines.append(f"pole {j + 1}: vertex at infinity (hull sample), direction "
+                         "(" + ", ".join(f"{v:.3f}" for v in u) + ")")
+        else:
+            dist = np.linalg.norm(rec.voronoi_vertices[p] - rec.points[i])
+            lines.append(f"pole {j + 1}: vertex {int(p)}, distance {dist:.4g}")
     err = model.point_values("normal error")
     if err is not None:
         lines.append(f"angle to the true normal plane: {err[0][i]:.2f}°")
@@ -63,11 +90,18 @@ def simplex_text(model: SceneModel, row: int) -> tuple[str, int | None]:
     c = rec.candidates
     face = c.faces[row]
     lines = [f"<b>Simplex {fmt_tuple(face)}</b> (candidate {row})"]
+    lines.append(f"deciding angle of each test, verdict at θ = {deg(model.theta)}:")
     for t in CANDIDATE_TESTS:
         if t in c.angles:
             a = float(c.angles[t][row])
             verdict = "admitted" if a < model.theta else "rejected"
-            lines.append(f"{t}: angle {deg(a)} — {verdict} at θ = {deg(model.theta)}")
+            used = " (used by the extraction)" if t == rec.test else ""
+            lines.append(f"&nbsp;&nbsp;{t} ({TEST_QUANTIFIER.get(t, '')}): {deg(a)} — <b>{verdict}</b>{used}")
+    if c.vertex_angles is not None:
+        va = c.vertex_angles[row]
+        parts = [f"{int(v)}: {deg(float(a))}" for v, a in zip(face, va)]
+        lines.append("cocone angle at each vertex: " + ", ".join(parts)
+                     + " (cocone = smallest, cocone-all = largest)")
     e = model.extraction_id(row)
     removed_step = None
     if e < 0:
@@ -94,6 +128,61 @@ def face_text(model: SceneModel, face) -> str:
     return f"<b>Face {fmt_tuple(face)}</b>: {len(inc)} incident simplices at this step ({kind})"
 
 
+def interpretation_rows(rec: Reconstruction) -> list[tuple[str, str, str]]:
+    """(choice, value, explanation) rows: how the core read the paper for this result."""
+    rows = []
+    rel = rec.joggle / rec.spacing if rec.spacing > 0 else 0.0
+    rows.append((
+        "joggle",
+        "none" if rec.joggle == 0 else f"{rec.joggle:.3g} ({rel:.1e} × spacing)",
+        "deterministic perturbation before Qhull, so cospherical points are in general position; "
+        "no quantity the algorithm uses moves by more than this",
+    ))
+    if rec.subspace_dim < rec.k:
+        rows.append((
+            "affine hull",
+            f"{rec.subspace_dim}-dimensional (k = {rec.k})",
+            f"the pipeline ran in that subspace; the {rec.k - rec.subspace_dim} orthogonal directions "
+            "were added to every normal plane (poles 'none')",
+        ))
+    hull = int(hull_samples(rec).sum())
+    rows.append((
+        "hull samples",
+        f"{hull} of {rec.n} with first pole at infinity",
+        "samples on the convex hull have unbounded Voronoi cells; their first pole is the vertex at "
+        "infinity (mean direction of the cut-off cell), drawn towards the edge of the box",
+    ))
+    rows.append((
+        "candidate test",
+        f"{rec.test} ({TEST_QUANTIFIER.get(rec.test, '')}), θ = {deg(rec.theta)}",
+        f"a d-face is a candidate when {TEST_WORDS.get(rec.test, rec.test)}",
+    ))
+    rows.append((
+        "boundary faces",
+        "pruned (paper)" if rec.prune_boundary else "kept (prune off)",
+        "Algorithm 3 removes simplices at faces with a single simplex; on a scan with holes this "
+        "cascades until nothing is left" if rec.prune_boundary else
+        "faces with a single simplex are kept, so a scan with holes shows as an open surface; "
+        "the result cannot be closed",
+    ))
+    rows.append((
+        "extraction stopped",
+        rec.extraction.stopped,
+        STOPPED_WORDS.get(rec.extraction.stopped, rec.extraction.stopped),
+    ))
+    return rows
+
+
+def verdict(rec: Reconstruction) -> tuple[str, str]:
+    """(level, one-line verdict): level is "ok", "warn" (closed but skips samples) or "bad"."""
+    t = rec.topology
+    if t.closed_manifold and not t.unused_samples:
+        return "ok", "M_S is a closed manifold through every sample"
+    if t.closed_manifold:
+        return "warn", f"M_S is closed but skips {t.unused_samples} samples"
+    return "bad", f"M_S is NOT a closed manifold (extraction stopped: {rec.extraction.stopped})"
+
+
 def topology_rows(rec: Reconstruction, expected=None) -> list[tuple[str, str, str]]:
     """(quantity, found, expected) rows of the topology table."""
     t = rec.topology
@@ -113,6 +202,5 @@ def topology_rows(rec: Reconstruction, expected=None) -> list[tuple[str, str, st
         ("non-manifold faces", str(t.nonmanifold_faces), "0" if exp else ""),
         ("singular vertices", str(t.singular_vertices), "0" if exp else ""),
         ("samples not used", str(t.unused_samples), "0" if exp else ""),
-        ("extraction stopped", rec.extraction.stopped, "closed" if exp else ""),
     ]
     return rows

@@ -74,13 +74,16 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
         ),
         Layer(
             "poles", "Poles", True, "#8e44ad", 1.0, 9.0, mode="selected",
-            tooltip="The k-d Voronoi vertices Algorithm 1 chose for each sample, "
-            "joined to their sample; 'selected' shows only the selected sample's.",
+            tooltip="The k-d Voronoi vertices Algorithm 1 chose for each sample, joined to their "
+            "sample; 'selected' shows only the selected sample's. A sample on the convex hull has an "
+            "unbounded cell: its first pole is a vertex at infinity, drawn lighter as a ray to the "
+            "edge of the box.",
         ),
         Layer(
             "voronoi", "Voronoi cells", True, "#e67e22", 0.25, 2.0,
             tooltip="In R^2 every sample's cell; in R^3 and up the selected sample's "
-            "cell, clipped to a box around the data.",
+            "cell, clipped to a box around the data (a hull sample's unbounded cell is cut off "
+            "by the far bounding points, then by the box).",
         ),
         Layer(
             "normals", "Normal planes", n <= 3000, "#0e9aa7", 0.7, 1.0,
@@ -90,8 +93,9 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
         Layer(
             "candidates", "Candidates T_S", False, "#9e9e9e", 0.6, 2.0, colorby="angle",
             colorings=("angle", "none"),
-            tooltip="Candidate d-simplices admitted by the run panel's test and angle, "
-            "coloured by the test's deciding angle (degrees).",
+            tooltip="Candidate d-simplices admitted by the run panel's test and angle θ, coloured by "
+            "the test's deciding angle (degrees): cocone = the dual cell meets the tangent cocone of "
+            "some vertex; cocone-all = of every vertex; literal = the paper's orientation-only angle.",
         ),
         Layer(
             "manifold", "M_S at this step", True, "#e9b872", 1.0, 3.0, shrink=0.8 if d >= 3 else 1.0,

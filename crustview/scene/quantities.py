@@ -28,10 +28,46 @@ def normal_error(rec: Reconstruction, true_tangents: np.ndarray) -> np.ndarray:
     return np.degrees(subspace_angle(q, rec.tangents))
 
 
+#: Kinds of pole in :func:`pole_kinds`.
+POLE_FINITE, POLE_INFINITE, POLE_NONE = 0, 1, -1
+
+
+def pole_kinds(rec: Reconstruction) -> np.ndarray:
+    """What each entry of ``rec.pole_index`` is, shape ``(n, k - d)``.
+
+    ``POLE_FINITE`` (0): a Voronoi vertex (circumcentre of a Delaunay
+    simplex).  ``POLE_INFINITE`` (1): the vertex at infinity of a sample on
+    the convex hull; ``rec.voronoi_vertices`` holds a drawable representative
+    of it after the circumcentres.  ``POLE_NONE`` (-1): no pole, the
+    direction is orthogonal to the samples' affine hull (flat input).
+    """
+    idx = np.asarray(rec.pole_index)
+    t = len(rec.delaunay_simplices)
+    return np.where(idx < 0, POLE_NONE, np.where(idx >= t, POLE_INFINITE, POLE_FINITE))
+
+
+def hull_samples(rec: Reconstruction) -> np.ndarray:
+    """Boolean mask of the samples whose first pole is a vertex at infinity."""
+    if rec.pole_index.shape[1] == 0:
+        return np.zeros(rec.n, dtype=bool)
+    return pole_kinds(rec)[:, 0] == POLE_INFINITE
+
+
+def pole_direction(rec: Reconstruction, i: int, j: int) -> np.ndarray:
+    """Unit vector from sample ``i`` towards its ``j``-th pole."""
+    v = rec.voronoi_vertices[int(rec.pole_index[i, j])] - rec.points[i]
+    return v / max(float(np.linalg.norm(v)), 1e-300)
+
+
 def pole_distance(rec: Reconstruction, spacing: np.ndarray) -> np.ndarray:
-    """Distance from each sample to its first pole, in units of its local spacing."""
-    first = rec.voronoi_vertices[rec.pole_index[:, 0]]
-    return np.linalg.norm(first - rec.points, axis=1) / np.maximum(spacing, 1e-300)
+    """Distance from each sample to its first pole, in units of its local spacing.
+
+    NaN where the first pole is a vertex at infinity (hull samples) or missing.
+    """
+    kind = pole_kinds(rec)[:, 0]
+    first = rec.voronoi_vertices[np.where(kind == POLE_NONE, 0, rec.pole_index[:, 0])]
+    dist = np.linalg.norm(first - rec.points, axis=1) / np.maximum(spacing, 1e-300)
+    return np.where(kind == POLE_FINITE, dist, np.nan)
 
 
 def estimate_dimension(points: np.ndarray, neighbours: int = 12, share: float = 0.9) -> int:

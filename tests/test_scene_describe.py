@@ -1,0 +1,84 @@
+"""The words of the information panel: inspector, interpretation, verdict (Qt-free)."""
+
+import numpy as np
+import pytest
+
+from crustview.core import CANDIDATE_TESTS, reextract
+from crustview.scene import SceneModel
+from crustview.scene.describe import interpretation_rows, sample_text, simplex_text, verdict
+
+
+@pytest.fixture()
+def model(torus_run):
+    rec, sample = torus_run
+    m = SceneModel()
+    m.set_reconstruction(rec, truth=sample, source="torus")
+    return m
+
+
+def test_sample_text_names_the_vertex_at_infinity_of_a_hull_sample(model):
+    rec = model.rec
+    t = len(rec.delaunay_simplices)
+    assert len(rec.voronoi_vertices) > t  # drawable vertices at infinity follow the circumcentres
+    hull = int(np.flatnonzero(rec.pole_index[:, 0] >= t)[0])
+    inner = int(np.flatnonzero(rec.pole_index[:, 0] < t)[0])
+    text = sample_text(model, hull)
+    assert "pole 1: vertex at infinity (hull sample), direction (" in text
+    u = rec.voronoi_vertices[rec.pole_index[hull, 0]] - rec.points[hull]
+    u /= np.linalg.norm(u)
+    assert ", ".join(f"{v:.3f}" for v in u) in text
+    text = sample_text(model, inner)
+    assert "infinity" not in text and f"pole 1: vertex {rec.pole_index[inner, 0]}, distance" in text
+
+
+def test_simplex_text_lists_every_test_and_the_per_vertex_cocone_angles(model):
+    rec = model.rec
+    c = rec.candidates
+    # a face admitted by some-vertex cocone but not by every-vertex cocone shows both verdicts
+    split = np.flatnonzero(c.mask("cocone") & ~c.mask("cocone-all"))
+    row = int(split[0]) if len(split) else 0
+    text, _ = simplex_text(model, row)
+    for test in CANDIDATE_TESTS:
+        assert f"{test} (" in text
+    assert "(used by the extraction)" in text
+    if len(split):
+        assert "cocone (some vertex): " in text and "cocone-all (every vertex): " in text
+        assert text.count("<b>admitted</b>") >= 1 and text.count("<b>rejected</b>") >= 1
+    assert "cocone angle at each vertex: " in text
+    for v in c.faces[row]:
+        assert f"{int(v)}: " in text
+    va = np.degrees(c.vertex_angles[row])
+    assert np.isclose(va.min(), np.degrees(c.angles["cocone"][row]))
+    assert np.isclose(va.max(), np.degrees(c.angles["cocone-all"][row]))
+
+
+def test_interpretation_rows_of_a_closed_result(torus_run):
+    rec, _ = torus_run
+    rows = {a: b for a, b, _ in interpretation_rows(rec)}
+    assert "× spacing" in rows["joggle"] and f"{rec.joggle / rec.spacing:.1e}" in rows["joggle"]
+    assert "affine hull" not in rows  # full-dimensional
+    hull = int((rec.pole_index[:, 0] >= len(rec.delaunay_simplices)).sum())
+    assert rows["hull samples"].startswith(f"{hull} of {rec.n}")
+    assert rows["candidate test"].startswith("cocone (some vertex)")
+    assert rows["boundary faces"] == "pruned (paper)"
+    assert rows["extraction stopped"] == "closed"
+    assert verdict(rec)[0] == "ok"
+
+
+def test_interpretation_and_verdict_of_a_torus_with_holes():
+    from crustview.core import reconstruct
+    from crustview.core.sampling import get_manifold
+
+    pts = get_manifold("torus").sample(1500, seed=0).points
+    holed = pts[pts[:, 0] <= 0.6]  # cut open: a tube with two boundary circles
+    rec = reconstruct(holed, 2)
+    rows = {a: b for a, b, _ in interpretation_rows(rec)}
+    assert rows["boundary faces"] == "pruned (paper)"
+    assert rows["extraction stopped"] == "empty"
+    assert verdict(rec) == ("bad", "M_S is NOT a closed manifold (extraction stopped: empty)")
+    kept = reextract(rec, "cocone-all", rec.theta, prune_boundary=False)
+    rows = {a: b for a, b, _ in interpretation_rows(kept)}
+    assert rows["candidate test"].startswith("cocone-all (every vertex)")
+    assert rows["boundary faces"] == "kept (prune off)"
+    assert rows["extraction stopped"] == "open"
+    assert len(kept.manifold) > 0 and verdict(kept)[0] == "bad"
