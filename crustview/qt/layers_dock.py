@@ -45,14 +45,14 @@ class LayerRow:
         self.color.clicked.connect(self._pick_color)
         self.opacity = QSlider(Qt.Orientation.Horizontal, parent)
         self.opacity.setRange(0, 100)
-        self.opacity.setFixedWidth(60)
+        self.opacity.setFixedWidth(48)
         self.opacity.setToolTip("Opacity")
         self.opacity.valueChanged.connect(lambda v: setattr(layer, "opacity", v / 100.0))
         self.size = QDoubleSpinBox(parent)
         self.size.setRange(0.0, 40.0)
         self.size.setSingleStep(0.5)
         self.size.setDecimals(1)
-        self.size.setFixedWidth(58)
+        self.size.setFixedWidth(52)
         self.size.setToolTip("Point size / line width in pixels (normal planes: glyph scale)")
         self.size.valueChanged.connect(lambda v: setattr(layer, "size", float(v)))
         for col, w in enumerate((self.visible, self.count, self.color, self.opacity, self.size)):
@@ -63,20 +63,21 @@ class LayerRow:
             combo.addItems(list(layer.colorings))
             combo.setToolTip("Scalar colouring of the layer (a legend bar appears in the view)")
             combo.currentTextChanged.connect(lambda t: setattr(layer, "colorby", t))
-            combo.setFixedWidth(110)
+            combo.setFixedWidth(92)
+            combo.view().setMinimumWidth(combo.view().sizeHintForColumn(0) + 12)
             self.extra = combo
         elif layer.name == "poles":
             combo = QComboBox(parent)
             combo.addItems(list(POLE_MODES))
             combo.setToolTip("Poles of the selected sample only, or of every sample")
             combo.currentTextChanged.connect(lambda t: setattr(layer, "mode", t))
-            combo.setFixedWidth(90)
+            combo.setFixedWidth(92)
             self.extra = combo
         elif layer.name in ("manifold", "removed"):
             spin = QDoubleSpinBox(parent)
             spin.setRange(0.3, 1.0)
             spin.setSingleStep(0.05)
-            spin.setFixedWidth(64)
+            spin.setFixedWidth(56)
             spin.setToolTip("Shrink simplices towards their centroids (separates overlapping d-simplices, d >= 3)")
             spin.valueChanged.connect(lambda v: setattr(layer, "shrink", float(v)))
             self.extra = spin
@@ -122,10 +123,12 @@ class LayersPanel(QScrollArea):
         body = QWidget(self)
         grid = QGridLayout(body)
         grid.setContentsMargins(6, 4, 6, 4)
-        grid.setHorizontalSpacing(6)
+        grid.setHorizontalSpacing(4)
         grid.setVerticalSpacing(2)
-        for col, text in enumerate(("layer", "count", "", "opacity", "size", "colouring / option")):
+        for col, text in enumerate(("layer", "count", "", "opacity", "size", "option")):
             lab = QLabel(f"<small><i>{text}</i></small>", body)
+            if text == "option":
+                lab.setToolTip("Scalar colouring (samples, candidates), which poles, or the shrink factor")
             grid.addWidget(lab, 0, col)
         names = [n for n in ORDER if n in layers] + [n for n in layers if n not in ORDER]
         self.rows = {n: LayerRow(layers[n], grid, r + 1, body) for r, n in enumerate(names)}

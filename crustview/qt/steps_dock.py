@@ -157,6 +157,11 @@ class StepsPanel(QWidget):
 
     def _extraction(self, n: int) -> None:
         self.log.reset()
+        # ResizeToContents only measures the rows in view: size the step-number column for the largest
+        fm = self.table.fontMetrics()
+        header = self.table.horizontalHeader()
+        header.setSectionResizeMode(0, QHeaderView.ResizeMode.Fixed)
+        header.resizeSection(0, fm.horizontalAdvance(str(max(n, 10))) + 14)
         self.slider.blockSignals(True)
         self.slider.setRange(0, n)
         self.slider.blockSignals(False)
