@@ -130,11 +130,13 @@ def main() -> None:
     ap.add_argument("file", nargs="?", type=Path, default=DEFAULT_FILE)
     ap.add_argument("-d", type=int, default=2)
     ap.add_argument("--target", type=int, default=100_000, help="candidate simplices wanted in T_S")
-    ap.add_argument("--size", type=int, nargs=2, default=(1024, 768), help="window size")
+    ap.add_argument("--size", type=int, nargs=2, default=None,
+                    help="window size (default: 1024 768 off-screen; 1600 1000, the app's default, with --qt)")
     ap.add_argument("--qt", action="store_true", help="measure the Qt main window (needs X)")
     args = ap.parse_args()
     rec = build(args.file, args.d, args.target)
-    (qt if args.qt else offscreen)(rec, tuple(args.size))
+    size = tuple(args.size) if args.size else ((1600, 1000) if args.qt else (1024, 768))
+    (qt if args.qt else offscreen)(rec, size)
 
 
 if __name__ == "__main__":

@@ -40,8 +40,10 @@ def test_plane_rotation_is_a_rotation_and_composes():
     p.set_angle(0, 3, np.pi / 2)
     assert orthonormal(p.basis)
     assert np.allclose(p.basis[:, 0], [0, 0, 0, 1])  # x1 rotated onto x4
+    assert p.description == "coordinates (1, 2, 3), rotated in x1-x4"
     p.rotate(3, 0, np.pi / 2)  # back by the same angle (reversed plane)
     assert np.allclose(p.basis, np.eye(4, 3))
+    assert p.description == "coordinates (1, 2, 3)"
     assert np.allclose(givens(3, 0, 1, 0.3) @ givens(3, 0, 1, -0.3), np.eye(3))
 
 

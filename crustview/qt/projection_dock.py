@@ -147,5 +147,5 @@ class ProjectionPanel(QWidget):
             return
         lab = p.axis_labels()
         self.basis.setText(
-            f"<b>basis</b> ({p.source})<br>X = {lab[0]}<br>Y = {lab[1]}<br>Z = {lab[2]}"
+            f"<b>basis</b> ({p.description})<br>X = {lab[0]}<br>Y = {lab[1]}<br>Z = {lab[2]}"
         )

@@ -219,7 +219,7 @@ class SceneView:
             text = "2-D data shown flat: X = x1, Y = x2"
         else:
             lab = p.axis_labels()
-            text = f"view axes ({p.source}):  X = {lab[0]}   Y = {lab[1]}   Z = {lab[2]}"
+            text = f"view axes ({p.description}):  X = {lab[0]}   Y = {lab[1]}   Z = {lab[2]}"
         self.basis_text.SetText(0, text)
 
     # -- camera and picking ---------------------------------------------------

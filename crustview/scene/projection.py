@@ -132,6 +132,12 @@ class Projection:
         self.origin = origin
         self.changed.emit()
 
+    @property
+    def description(self) -> str:
+        """The base of the projection, and the planes it is rotated in (for labels)."""
+        planes = [f"x{i + 1}-x{j + 1}" for (i, j), a in sorted(self._angles.items()) if a]
+        return self.source + (", rotated in " + ", ".join(planes) if planes else "")
+
     def set_base(self, basis: np.ndarray, source: str = "custom") -> None:
         """Replace the base basis and reset the plane rotations."""
         self._base = _orthonormal_columns(basis, self.k)
