@@ -1,0 +1,190 @@
+"""Regenerate the screenshots in this folder from the real main window.
+
+Run from the repository root under a virtual X server::
+
+    xvfb-run -a -s "-screen 0 1600x1000x24" python docs/screenshots/make_screenshots.py [--out DIR] [NAME ...]
+
+Each picture is ``QWidget.grab()`` of the whole window (docks included) at
+1440 x 900, saved as a 256-colour PNG (at most ~300 KB).  With names, only those
+screenshots are made (e.g. ``torus-step bunny-open``).
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+DATA = HERE.parents[2] / "shared" / "data"
+SIZE = (1440, 900)
+OUT = HERE
+
+
+def wait(app, win, timeout: float = 600.0) -> None:
+    t0 = time.monotonic()
+    while win.runner.busy:
+        app.processEvents()
+        time.sleep(0.01)
+        if time.monotonic() - t0 > timeout:
+            raise TimeoutError("reconstruction did not finish")
+    for _ in range(5):
+        app.processEvents()
+    if win.model.rec is None:
+        raise RuntimeError(win.last_error or "no result")
+
+
+def settle(app, win) -> None:
+    for _ in range(10):
+        app.processEvents()
+        time.sleep(0.02)
+    win.view.render()
+    app.processEvents()
+
+
+def save(app, win, name: str) -> None:
+    from PIL import Image
+
+    settle(app, win)
+    path = OUT / f"{name}.png"
+    tmp = OUT / f".{name}.tmp.png"
+    win.grab().save(str(tmp))
+    img = Image.open(tmp).convert("RGB")
+    img.quantize(colors=256, method=Image.Quantize.MAXCOVERAGE).save(path, optimize=True)
+    tmp.unlink()
+    print(f"{path.name}: {path.stat().st_size // 1024} KB")
+
+
+def scroll_info_to_interpretation(app, win) -> None:
+    """Scroll the information panel so that the interpretation and the selection are in view."""
+    settle(app, win)
+    area = win.docks["info"].widget()
+    area.verticalScrollBar().setValue(win.info_panel.interpretation_box.y() - 4)
+
+
+def front_sample(win, hull: bool | None = None) -> int:
+    """A sample facing the camera (optionally a convex-hull sample whose pole at
+    infinity points sideways, so that its ray shows)."""
+    rec = win.model.rec
+    cam = np.array(win.plotter.camera.position)
+    p = win.model.projection.project(rec.points)
+    dist = np.linalg.norm(p - cam, axis=1)
+    if hull is not None:
+        is_hull = rec.pole_index[:, 0] >= len(rec.delaunay_simplices)
+        dist = np.where(is_hull == hull, dist, np.inf)
+        if hull:
+            u = win.model.projection.project(rec.voronoi_vertices[rec.pole_index[:, 0]]) - p
+            u /= np.linalg.norm(u, axis=1, keepdims=True)
+            view = (p - cam) / dist[:, None]
+            dist = np.where(np.abs((u * view).sum(axis=1)) < 0.35, dist, np.inf)
+    return int(np.argmin(dist))
+
+
+def torus_step(app, win) -> None:
+    win.load_builtin("torus")
+    wait(app, win)
+    win.model.player.set_step(40)
+    win.model.selection.select_sample(front_sample(win, hull=True))
+    scroll_info_to_interpretation(app, win)
+
+
+def trefoil(app, win) -> None:
+    win.load_builtin("trefoil")
+    wait(app, win)
+    win.model.player.last()
+    win.model.selection.select_sample(front_sample(win))
+
+
+def clifford(app, win) -> None:
+    win.load_builtin("clifford-torus")
+    wait(app, win)
+    win.model.player.last()
+    win.projection_panel.sliders[(0, 3)].setValue(45)
+    win.projection_panel.sliders[(1, 2)].setValue(25)
+    win.view.reset_camera()
+
+
+def s3(app, win) -> None:
+    win.load_builtin("s3")
+    wait(app, win)
+    win.model.player.last()
+    win.model.layers["manifold"].shrink = 0.55
+    win.model.selection.select_sample(front_sample(win))
+
+
+def look_from(win, direction, zoom: float = 1.0) -> None:
+    """Camera for scans with y up (spot, the bunny), from ``direction``."""
+    cam = win.plotter.camera
+    r = win.model.radius
+    cam.focal_point = (0.0, 0.0, 0.0)
+    cam.position = tuple(r * np.asarray(direction, float))
+    cam.up = (0.0, 1.0, 0.0)
+    win.plotter.reset_camera(bounds=tuple(np.ravel(np.stack([-np.full(3, r), np.full(3, r)], axis=1))))
+    cam.zoom(zoom)
+
+
+def spot(app, win) -> None:
+    win.open_file(DATA / "spot.xyz", d=2)
+    wait(app, win)
+    win.model.player.last()
+    look_from(win, (2.5, 0.8, 1.5), 1.2)
+    win.model.selection.select_sample(front_sample(win))
+
+
+def bunny(app, win, prune: bool = True) -> None:
+    win.run_panel.prune.setChecked(prune)
+    win.open_file(DATA / "stanford-bunny.xyz", d=2)
+    wait(app, win)
+    m = win.model
+    if prune:  # the paper's prune cascade, part way: what is left, and what it has eaten (red)
+        m.layers["removed"].visible = True
+        m.player.set_step(int(0.3 * m.player.n_steps))
+    else:
+        m.player.last()
+    look_from(win, (-1.2, 0.5, 3.0), 1.5)
+
+
+CASES = {
+    "torus-step": torus_step,
+    "trefoil-r3": trefoil,
+    "clifford-torus-r4": clifford,
+    "s3-r4": s3,
+    "spot": spot,
+    "bunny": lambda app, win: bunny(app, win, True),
+    "bunny-open": lambda app, win: bunny(app, win, False),
+}
+
+
+def main(names: list[str]) -> int:
+    global OUT
+    if names[:1] == ["--out"]:
+        OUT = Path(names[1])
+        OUT.mkdir(parents=True, exist_ok=True)
+        names = names[2:]
+    import pyvista
+
+    pyvista.global_theme.multi_samples = 0
+    from PySide6.QtCore import QSettings
+    from PySide6.QtWidgets import QApplication
+
+    from crustview.qt.window import MainWindow
+
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    settings = QSettings(str(HERE / ".settings.ini"), QSettings.Format.IniFormat)
+    for name in names or list(CASES):
+        win = MainWindow(settings=settings)
+        win.resize(*SIZE)
+        win.show()
+        settle(app, win)
+        CASES[name](app, win)
+        save(app, win, name)
+        win.close()
+        app.processEvents()
+    (HERE / ".settings.ini").unlink(missing_ok=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
