@@ -211,7 +211,9 @@ def reextract(
             0,
             f"extraction removed every simplex of T_S ({len(tset)} candidates; "
             + ", ".join(f"{r}: {c['steps']} steps removed {c['removed']}" for r, c in counts.items())
-            + "): the sample is probably too sparse (undersampled) for this test and angle",
+            + "): the sample is probably too sparse (undersampled) for this test and angle, or it "
+            "has holes (an open scan), which the paper's pruning of boundary faces eats away; "
+            "turn boundary pruning off to inspect such a sample",
         )
     elif topo.closed_manifold and topo.unused_samples:
         topo.messages.insert(
