@@ -189,3 +189,21 @@ def test_codimension_3_boundary_from_real_cell_faces_matches_all_subsets(monkeyp
     scored = (fast < cand.SCORE_LIMIT) | (slow < cand.SCORE_LIMIT)
     assert scored.sum() > 50 and (np.diff(ptr) > 4).sum() > 50  # real 3-D cells
     np.testing.assert_allclose(fast[scored], slow[scored], atol=1e-9)
+
+
+def test_codimension_2_real_cell_edges_match_all_vertex_pairs():
+    """Curve in R^3: polygon cells' true edges give the all-pairs minimum."""
+    rng = np.random.default_rng(4)
+    t = np.sort(rng.uniform(0, 2 * np.pi, 120))
+    pts = np.c_[np.sin(t) + 2 * np.sin(2 * t), np.cos(t) - 2 * np.cos(2 * t), -np.sin(3 * t)]
+    b = bounding_points(3)
+    simp = delaunay(pts, b)
+    allp = np.vstack([pts, b])
+    cc = circumcenters(allp, simp)
+    _, nrm, _ = greedy_poles(allp, simp, cc, len(pts), 2)
+    faces, ptr, cs = cand.enumerate_faces(simp, len(pts), 1)
+    fast = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs, simplices=simp)
+    slow = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs)
+    scored = (fast < cand.SCORE_LIMIT) | (slow < cand.SCORE_LIMIT)
+    assert scored.sum() > 100 and (np.diff(ptr) > 6).sum() > 100
+    np.testing.assert_allclose(fast[scored], slow[scored], atol=1e-9)

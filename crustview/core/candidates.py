@@ -59,9 +59,10 @@ The minimum over the cell is computed exactly below :data:`SCORE_LIMIT`
    cell vertex and every simplex spanned by ``j`` cell vertices,
    ``2 <= j <= k - d`` (these cover the cell's boundary; when the cell itself
    is a simplex -- always in codimension 1 -- the whole cell).  In
-   codimension 3 the cell's true edges and polygons are used instead (edges
-   join simplices sharing a facet; polygons are dual to the cofaces
-   ``sigma + w``), with the Voronoi criterion for "inside a polygon".  In
+   codimension 2 and 3, when the Delaunay simplices are given, the cell's
+   true edges (and in codimension 3 polygons) are used instead: edges join
+   simplices sharing a facet, polygons are dual to the cofaces
+   ``sigma + w``, with the Voronoi criterion for "inside a polygon".  In
    codimension >= 4 cells with more than :data:`MAX_SUBSET_VERTICES`
    vertices use vertex pairs only, which can only *over*-estimate the angle
    (reject, never admit wrongly).
@@ -246,7 +247,7 @@ def _span_min(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
     return np.clip(w[..., 0], 0.0, 1.0), lam, ok
 
 
-def _codim3_boundary_min(
+def _cell_boundary_min(
     x: np.ndarray,
     nrm: np.ndarray,
     face: np.ndarray,
@@ -255,9 +256,10 @@ def _codim3_boundary_min(
     n_all: int,
     tree: cKDTree,
 ) -> np.ndarray:
-    """Exact minimum of sin^2 angle over the boundary of 3-dimensional dual cells.
+    """Exact minimum of sin^2 angle over the boundary of 2- or 3-dimensional dual cells.
 
-    The boundary of a 3-polytope cell consists of its edges and its polygons.
+    The boundary of a polygon cell (codimension 2) is its edges; that of a
+    3-polytope cell (codimension 3) is its edges and its polygons.
     Edges join two Delaunay simplices that share a facet (both contain
     sigma); polygons are dual to the cofaces ``sigma + w``: their vertices
     are the cell simplices containing ``w``.  Each edge is a segment (closed
@@ -279,7 +281,7 @@ def _codim3_boundary_min(
     ndarray of shape (F,), inf where nothing on the boundary was found.
     """
     f_count, nv, r = x.shape
-    m = 3
+    m = nrm.shape[2]
     out = np.full(f_count, np.inf)
     in_face = (simp_rows[..., None] == face[:, None, None, :]).any(axis=3)
     others = np.sort(simp_rows[~in_face].reshape(f_count, nv, m), axis=2)
@@ -290,7 +292,10 @@ def _codim3_boundary_min(
     keys, fs, vs = [], [], []
     for q in range(m):
         rest = np.delete(others, q, axis=2)
-        keys.append(((fidx * base + rest[..., 0]) * base + rest[..., 1]).ravel())
+        key_q = fidx.astype(np.int64)
+        for c in range(m - 1):
+            key_q = key_q * base + rest[..., c]
+        keys.append(key_q.ravel())
         fs.append(fidx.ravel())
         vs.append(vidx.ravel())
     key, fe, ve = np.concatenate(keys), np.concatenate(fs), np.concatenate(vs)
@@ -302,6 +307,8 @@ def _codim3_boundary_min(
         seg = np.stack([x[ef, ve[pair]], x[ef, ve[pair + 1]]], axis=1)
         val, ins = _cone_min_pair(seg, nrm[ef])
         np.minimum.at(out, ef, np.where(ins, val, np.inf))
+    if m != 3:
+        return out
     # polygons: one per coface sigma + w
     pkey = (fidx[..., None] * base + others).ravel()
     pf = np.repeat(fidx.ravel(), m)
@@ -353,8 +360,9 @@ def cocone_angles(
         Angles below ``limit`` are exact; an angle >= ``limit`` may be a lower
         bound (the pair fails every threshold up to ``limit``).
     simplices : ndarray of shape (t, r + 1), optional
-        The Delaunay simplices; in codimension 3 they give the cells' true
-        edges and polygons, which makes the boundary minimum exact and fast.
+        The Delaunay simplices; in codimension 2 and 3 they give the cells'
+        true edges and polygons, so the boundary minimum needs no subset
+        enumeration (same exact value, much faster on large cells).
 
     Returns
     -------
@@ -376,8 +384,10 @@ def cocone_angles(
         sel = np.flatnonzero(nv_all == nv)
         cell_ids = cell_simplices[cell_ptr[sel][:, None] + np.arange(nv)]
         cells = centres[cell_ids]  # (F, nv, r)
-        simp_rows = simplices[cell_ids] if simplices is not None and m == 3 else None
-        subsets = _boundary_subsets(int(nv), m)
+        simp_rows = simplices[cell_ids] if simplices is not None and m in (2, 3) else None
+        # the cells' own edges/polygons replace subset enumeration where known
+        use_cells = simp_rows is not None and nv > m + 1
+        subsets = [] if use_cells else _boundary_subsets(int(nv), m)
         fc = faces[sel]
         for a in range(dp1):
             s = work[fc[:, a]]
@@ -482,8 +492,8 @@ def _exact_min(
         rest = np.arange(len(x))
     if len(rest) == 0:
         return best
-    if simp_rows is not None and m == 3 and nv > m + 1:
-        exact = _codim3_boundary_min(x[rest], nrm[rest], face[rest], simp_rows[rest], s[rest], n_all, tree)
+    if simp_rows is not None and m in (2, 3) and nv > m + 1:
+        exact = _cell_boundary_min(x[rest], nrm[rest], face[rest], simp_rows[rest], s[rest], n_all, tree)
         best[rest] = np.minimum(best[rest], exact)
         return best
     if not subsets:
