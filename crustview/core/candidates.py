@@ -247,89 +247,161 @@ def _span_min(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
     return np.clip(w[..., 0], 0.0, 1.0), lam, ok
 
 
+def _cell_structure(face: np.ndarray, simp_rows: np.ndarray, n_all: int, m: int) -> tuple[np.ndarray, tuple]:
+    """Edges (and, in codimension 3, polygons) of 2- or 3-dimensional dual cells.
+
+    Edges join two cell simplices sharing a facet (both contain sigma);
+    polygons are dual to the cofaces ``sigma + w``: their vertices are the
+    cell simplices containing ``w`` (three of them span the polygon's plane).
+
+    Parameters
+    ----------
+    face : ndarray of shape (F, d + 1)
+    simp_rows : ndarray of shape (F, nv, r + 1)
+        Vertex rows of each cell's simplices.
+
+    Returns
+    -------
+    edges : ndarray of shape (E, 3)
+        ``(face, i, j)``: cell vertices i and j are joined by an edge.
+    polygons : (ndarray of shape (P, 6), ndarray)
+        Rows ``(face, i, j, l, start, size)``: three vertices spanning one
+        polygon, and the slice ``members[start:start + size]`` of the member
+        array listing all its vertices (empty unless m = 3).
+    """
+    f_count, nv, _ = simp_rows.shape
+    in_face = (simp_rows[..., None] == face[:, None, None, :]).any(axis=3)
+    others = np.sort(simp_rows[~in_face].reshape(f_count, nv, m), axis=2)
+    fidx = np.broadcast_to(np.arange(f_count, dtype=np.int64)[:, None], (f_count, nv))
+    vidx = np.broadcast_to(np.arange(nv)[None, :], (f_count, nv))
+    base = np.int64(n_all)
+    keys = []
+    for q in range(m):
+        rest = np.delete(others, q, axis=2)
+        key_q = fidx.copy()
+        for c in range(m - 1):
+            key_q = key_q * base + rest[..., c]
+        keys.append(key_q.ravel())
+    key = np.concatenate(keys)
+    fe, ve = np.tile(fidx.ravel(), m), np.tile(vidx.ravel(), m)
+    order = np.argsort(key, kind="stable")
+    key, fe, ve = key[order], fe[order], ve[order]
+    pair = np.flatnonzero(key[1:] == key[:-1])
+    edges = np.stack([fe[pair], ve[pair], ve[pair + 1]], axis=1)
+    if m != 3:
+        return edges, (np.empty((0, 6), np.int64), np.empty(0, np.int64))
+    pkey = (fidx[..., None] * base + others).ravel()
+    pf, pv = np.repeat(fidx.ravel(), m), np.repeat(vidx.ravel(), m)
+    order = np.argsort(pkey, kind="stable")
+    pkey, pf, pv = pkey[order], pf[order], pv[order]
+    start = np.flatnonzero(np.concatenate([[True], pkey[1:] != pkey[:-1]]))
+    size = np.diff(np.concatenate([start, [len(pkey)]]))
+    polygons = np.stack([pf[start], pv[start], pv[start + 1], pv[start + 2], start, size], axis=1)
+    # member list (pv) is kept so bounds can use every vertex of a polygon
+    return edges, (polygons[size >= 3], pv)
+
+
+class _CellFaces:
+    """Edges and polygons of one bucket's cells, built for the faces that need them.
+
+    Most faces are settled before the boundary is needed; the structure is
+    built for just the requested batch, or once for the whole bucket when a
+    batch covers a third of it or more (later batches then reuse it).
+    """
+
+    def __init__(self, face: np.ndarray, simp_rows: np.ndarray, n_all: int, m: int) -> None:
+        self.face, self.simp_rows, self.n_all, self.m = face, simp_rows, n_all, m
+        self.whole: tuple | None = None
+
+    def for_batch(self, idx: np.ndarray) -> tuple[np.ndarray, tuple]:
+        """Structure with face column renumbered to positions in ``idx`` (sorted)."""
+        if self.whole is None and 3 * len(idx) < len(self.face):
+            return _cell_structure(self.face[idx], self.simp_rows[idx], self.n_all, self.m)
+        if self.whole is None:
+            self.whole = _cell_structure(self.face, self.simp_rows, self.n_all, self.m)
+        edges, (polygons, members) = self.whole
+        pos = np.full(len(self.face), -1)
+        pos[idx] = np.arange(len(idx))
+        e = edges[pos[edges[:, 0]] >= 0]
+        pg = polygons[pos[polygons[:, 0]] >= 0]
+        return np.c_[pos[e[:, 0]], e[:, 1:]], (np.c_[pos[pg[:, 0]], pg[:, 1:]], members)
+
+
+def _sorted_group_min(out: np.ndarray, group: np.ndarray, values: np.ndarray) -> None:
+    """``out[g] = min(out[g], values[group == g])`` for a non-decreasing ``group``."""
+    if len(group) == 0:
+        return
+    start = np.flatnonzero(np.concatenate([[True], group[1:] != group[:-1]]))
+    g = group[start]
+    out[g] = np.minimum(out[g], np.minimum.reduceat(values, start))
+
+
 def _cell_boundary_min(
     x: np.ndarray,
     nrm: np.ndarray,
-    face: np.ndarray,
-    simp_rows: np.ndarray,
     s: np.ndarray,
-    n_all: int,
+    edges: np.ndarray,
+    polygons: np.ndarray,
+    cap: np.ndarray,
     tree: cKDTree,
 ) -> np.ndarray:
-    """Exact minimum of sin^2 angle over the boundary of 2- or 3-dimensional dual cells.
+    """Exact minimum of sin^2 angle over the edges and polygons of dual cells.
 
-    The boundary of a polygon cell (codimension 2) is its edges; that of a
-    3-polytope cell (codimension 3) is its edges and its polygons.
-    Edges join two Delaunay simplices that share a facet (both contain
-    sigma); polygons are dual to the cofaces ``sigma + w``: their vertices
-    are the cell simplices containing ``w``.  Each edge is a segment (closed
-    form); on each polygon the minimiser over its plane is accepted when the
-    Voronoi criterion puts it inside (no Delaunay vertex closer than s).
+    Each edge is a segment (closed form).  On each polygon the minimiser
+    over its plane is accepted when the Voronoi criterion puts it inside (no
+    Delaunay vertex closer to it than s).  Edges and polygons whose vertices
+    all lean to one normal side by more than ``sqrt(cap)`` are skipped: they
+    cannot go below ``cap``.
 
     Parameters
     ----------
     x : ndarray of shape (F, nv, r)
         Cell vertices minus s.
-    nrm : ndarray of shape (F, r, 3)
-    face : ndarray of shape (F, d + 1)
-    simp_rows : ndarray of shape (F, nv, r + 1)
-        Vertex rows of the cell's simplices.
+    nrm : ndarray of shape (F, r, m)
     s : ndarray of shape (F, r)
+    edges, polygons
+        From :func:`_cell_structure`, with face indices into this batch.
+    cap : ndarray of shape (F,)
+        Values at or above it are of no interest.
 
     Returns
     -------
-    ndarray of shape (F,), inf where nothing on the boundary was found.
+    ndarray of shape (F,), inf where nothing below ``cap`` was found.
     """
-    f_count, nv, r = x.shape
-    m = nrm.shape[2]
-    out = np.full(f_count, np.inf)
-    in_face = (simp_rows[..., None] == face[:, None, None, :]).any(axis=3)
-    others = np.sort(simp_rows[~in_face].reshape(f_count, nv, m), axis=2)
-    fidx = np.broadcast_to(np.arange(f_count)[:, None], (f_count, nv))
-    vidx = np.broadcast_to(np.arange(nv)[None, :], (f_count, nv))
-    base = np.int64(n_all)
-    # edges: simplices sharing sigma plus all but one of their other vertices
-    keys, fs, vs = [], [], []
-    for q in range(m):
-        rest = np.delete(others, q, axis=2)
-        key_q = fidx.astype(np.int64)
-        for c in range(m - 1):
-            key_q = key_q * base + rest[..., c]
-        keys.append(key_q.ravel())
-        fs.append(fidx.ravel())
-        vs.append(vidx.ravel())
-    key, fe, ve = np.concatenate(keys), np.concatenate(fs), np.concatenate(vs)
-    order = np.argsort(key, kind="stable")
-    key, fe, ve = key[order], fe[order], ve[order]
-    pair = np.flatnonzero(key[1:] == key[:-1])
-    if len(pair):
-        ef = fe[pair]
-        seg = np.stack([x[ef, ve[pair]], x[ef, ve[pair + 1]]], axis=1)
-        val, ins = _cone_min_pair(seg, nrm[ef])
-        np.minimum.at(out, ef, np.where(ins, val, np.inf))
-    if m != 3:
-        return out
-    # polygons: one per coface sigma + w
-    pkey = (fidx[..., None] * base + others).ravel()
-    pf = np.repeat(fidx.ravel(), m)
-    pv = np.repeat(vidx.ravel(), m)
-    order = np.argsort(pkey, kind="stable")
-    pkey, pf, pv = pkey[order], pf[order], pv[order]
-    start = np.flatnonzero(np.concatenate([[True], pkey[1:] != pkey[:-1]]))
-    size = np.diff(np.concatenate([start, [len(pkey)]]))
-    start = start[size >= 3]
-    if len(start):
-        gf = pf[start]
-        gens = np.stack([x[gf, pv[start + i]] for i in range(3)], axis=1)  # (P, 3, r)
+    out = np.full(len(x), np.inf)
+    xn = np.einsum("fvr,frm->fvm", x, nrm)
+    unit = xn / np.maximum(np.linalg.norm(x, axis=2), 1e-300)[..., None]
+    nu = unit.sum(axis=1)
+    nu /= np.maximum(np.linalg.norm(nu, axis=1, keepdims=True), 1e-300)
+    dots = np.einsum("fvm,fm->fv", unit, nu)
+
+    def wanted(f: np.ndarray, cols: list[np.ndarray]) -> np.ndarray:
+        lb = np.min([dots[f, c] for c in cols], axis=0)
+        return (lb <= 0) | (lb**2 < cap[f])
+
+    if len(edges):
+        e = edges[wanted(edges[:, 0], [edges[:, 1], edges[:, 2]])]
+        seg = np.stack([x[e[:, 0], e[:, 1]], x[e[:, 0], e[:, 2]]], axis=1)
+        val, ins = _cone_min_pair(seg, nrm[e[:, 0]])
+        _sorted_group_min(out, e[:, 0], np.where(ins, val, np.inf))
+    polygons, members = polygons
+    if len(polygons):
+        # bound over every vertex of the polygon (member slices)
+        sizes, starts = polygons[:, 5], polygons[:, 4]
+        offs = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+        idx = np.arange(sizes.sum()) + np.repeat(starts - offs, sizes)
+        lb = np.minimum.reduceat(dots[np.repeat(polygons[:, 0], sizes), members[idx]], offs)
+        p = polygons[(lb <= 0) | (lb**2 < cap[polygons[:, 0]])]
+        gf = p[:, 0]
+        gens = np.stack([x[gf, p[:, 1 + i]] for i in range(3)], axis=1)  # (P, 3, r)
         val, lam, ok = _span_min(gens, nrm[gf])
         tot = lam.sum(axis=1)
         ok &= np.abs(tot) > 1e-12 * np.abs(lam).max(axis=1)
         xy = np.einsum("pj,pjr->pr", lam / np.where(ok, tot, 1.0)[:, None], gens)
-        y = s[gf] + xy
         radius = np.linalg.norm(xy, axis=1)
-        dist, _ = tree.query(y)
+        dist, _ = tree.query(s[gf] + xy)
         inside = ok & (dist >= radius * (1 - 1e-9) - 1e-12)
-        np.minimum.at(out, gf, np.where(inside, val, np.inf))
+        _sorted_group_min(out, gf, np.where(inside, val, np.inf))
     return out
 
 
@@ -389,6 +461,7 @@ def cocone_angles(
         use_cells = simp_rows is not None and nv > m + 1
         subsets = [] if use_cells else _boundary_subsets(int(nv), m)
         fc = faces[sel]
+        cell_faces = _CellFaces(fc, simp_rows, len(work), m) if use_cells else None
         for a in range(dp1):
             s = work[fc[:, a]]
             nrm = normals[fc[:, a]]
@@ -408,8 +481,7 @@ def cocone_angles(
             if len(todo):
                 best[todo] = _exact_min(
                     x[todo], nrm[todo], tangents[fc[todo, a]], work[fc[todo]], s[todo],
-                    best[todo], subsets, m, tree, sin_lim**2,
-                    fc[todo], None if simp_rows is None else simp_rows[todo], len(work),
+                    best[todo], subsets, m, tree, sin_lim**2, cell_faces, todo,
                 )
             out[sel, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
         done += len(sel)
@@ -462,9 +534,8 @@ def _exact_min(
     m: int,
     tree: cKDTree,
     sin_lim2: float = np.sin(SCORE_LIMIT) ** 2,
-    face: np.ndarray | None = None,
-    simp_rows: np.ndarray | None = None,
-    n_all: int = 0,
+    cell_faces: _CellFaces | None = None,
+    batch: np.ndarray | None = None,
 ) -> np.ndarray:
     """Minimum of sin^2 angle(y - s, AT_s) over the dual cell for a batch of faces.
 
@@ -492,8 +563,10 @@ def _exact_min(
         rest = np.arange(len(x))
     if len(rest) == 0:
         return best
-    if simp_rows is not None and m in (2, 3) and nv > m + 1:
-        exact = _cell_boundary_min(x[rest], nrm[rest], face[rest], simp_rows[rest], s[rest], n_all, tree)
+    if cell_faces is not None and nv > m + 1:
+        edges, polygons = cell_faces.for_batch(batch[rest])
+        cap = np.minimum(best[rest], sin_lim2)
+        exact = _cell_boundary_min(x[rest], nrm[rest], s[rest], edges, polygons, cap, tree)
         best[rest] = np.minimum(best[rest], exact)
         return best
     if not subsets:
