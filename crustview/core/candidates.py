@@ -177,16 +177,27 @@ def _largest_eig(mat: np.ndarray) -> np.ndarray:
 
 def _cone_min_pair(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Closed form of :func:`_cone_min` for two generators, x: (..., 2, r)."""
-    x1, x2 = x[..., 0, :], x[..., 1, :]
-    l1 = np.linalg.norm(x1, axis=-1)
-    e1 = x1 / np.maximum(l1, 1e-300)[..., None]
-    p = np.einsum("...r,...r->...", x2, e1)
-    w = x2 - p[..., None] * e1
-    l2 = np.linalg.norm(w, axis=-1)
-    ok = (l1 > 1e-300) & (l2 > 1e-10 * np.maximum(np.linalg.norm(x2, axis=-1), 1e-300))
-    e2 = w / np.where(ok, l2, 1.0)[..., None]
-    b1 = np.einsum("...r,...rm->...m", e1, nrm)
-    b2 = np.einsum("...r,...rm->...m", e2, nrm)
+    xn = x @ nrm
+    return _segment_min(x[..., 0, :], x[..., 1, :], xn[..., 0, :], xn[..., 1, :])
+
+
+def _segment_min(
+    x1: np.ndarray, x2: np.ndarray, n1: np.ndarray, n2: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Minimum of sin^2 angle(., AT) over the cone of two generators.
+
+    ``x1, x2`` (..., r) are the generators, ``n1, n2`` (..., m) their normal
+    components ``N^T x``; everything is done with 2x2 algebra.
+    """
+    l1 = np.sqrt(np.einsum("...r,...r->...", x1, x1))
+    inv1 = 1.0 / np.maximum(l1, 1e-300)
+    p = np.einsum("...r,...r->...", x2, x1) * inv1
+    x2sq = np.einsum("...r,...r->...", x2, x2)
+    l2 = np.sqrt(np.maximum(x2sq - p**2, 0.0))
+    ok = (l1 > 1e-300) & (l2 > 1e-10 * np.maximum(np.sqrt(x2sq), 1e-300))
+    inv2 = 1.0 / np.where(ok, l2, 1.0)
+    b1 = n1 * inv1[..., None]
+    b2 = (n2 - p[..., None] * b1) * inv2[..., None]
     a = np.einsum("...m,...m->...", b1, b1)
     c = np.einsum("...m,...m->...", b2, b2)
     b = np.einsum("...m,...m->...", b1, b2)
@@ -198,8 +209,8 @@ def _cone_min_pair(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarr
     z2 = np.where(first, lam - a, b)
     degenerate = (np.abs(z1) + np.abs(z2)) <= 1e-300
     z1 = np.where(degenerate, 1.0, z1)  # isotropic: any direction is a minimiser
-    c2 = z2 / np.where(ok, l2, 1.0)
-    c1 = (z1 - c2 * p) / np.maximum(l1, 1e-300)
+    c2 = z2 * inv2
+    c1 = (z1 - c2 * p) * inv1
     tol = 1e-9 * np.maximum(np.abs(c1), np.abs(c2))
     inside = ok & (((c1 >= -tol) & (c2 >= -tol)) | ((c1 <= tol) & (c2 <= tol)))
     return np.clip(lam, 0.0, 1.0), inside
@@ -369,11 +380,11 @@ def _cell_boundary_min(
     ndarray of shape (F,), inf where nothing below ``cap`` was found.
     """
     out = np.full(len(x), np.inf)
-    xn = np.einsum("fvr,frm->fvm", x, nrm)
+    xn = x @ nrm
     unit = xn / np.maximum(np.linalg.norm(x, axis=2), 1e-300)[..., None]
-    nu = unit.sum(axis=1)
+    nu = np.einsum("fvm->fm", unit)
     nu /= np.maximum(np.linalg.norm(nu, axis=1, keepdims=True), 1e-300)
-    dots = np.einsum("fvm,fm->fv", unit, nu)
+    dots = _dots(unit, nu)
 
     def wanted(f: np.ndarray, cols: list[np.ndarray]) -> np.ndarray:
         lb = np.min([dots[f, c] for c in cols], axis=0)
@@ -381,8 +392,7 @@ def _cell_boundary_min(
 
     if len(edges):
         e = edges[wanted(edges[:, 0], [edges[:, 1], edges[:, 2]])]
-        seg = np.stack([x[e[:, 0], e[:, 1]], x[e[:, 0], e[:, 2]]], axis=1)
-        val, ins = _cone_min_pair(seg, nrm[e[:, 0]])
+        val, ins = _segment_min(x[e[:, 0], e[:, 1]], x[e[:, 0], e[:, 2]], xn[e[:, 0], e[:, 1]], xn[e[:, 0], e[:, 2]])
         _sorted_group_min(out, e[:, 0], np.where(ins, val, np.inf))
     polygons, members = polygons
     if len(polygons):
@@ -466,9 +476,10 @@ def cocone_angles(
             s = work[fc[:, a]]
             nrm = normals[fc[:, a]]
             x = cells - s[:, None, :]
-            xn = np.einsum("fvr,frm->fvm", x, nrm)
-            xlen = np.maximum(np.linalg.norm(x, axis=2), 1e-300)
-            best = ((xn**2).sum(axis=2) / xlen**2).min(axis=1)
+            xn = x @ nrm
+            xsq = np.maximum(np.einsum("fvr,fvr->fv", x, x), 1e-300)
+            xlen = np.sqrt(xsq)
+            best = _over_cell(np.minimum, np.einsum("fvm,fvm->fv", xn, xn) / xsq)
             # (1) cheap certificate: every cell point leans to one normal side
             unit = xn / xlen[..., None]
             lean = _lean(unit, iterations=0)
@@ -497,18 +508,37 @@ def _lean(unit: np.ndarray, iterations: int = 12) -> np.ndarray:
     with shrinking steps (Badoiu-Clarkson); any ``nu`` gives a valid bound,
     the iterations only tighten it.
     """
-    nu = unit.sum(axis=1)
+    nu = np.einsum("fvm->fm", unit)
     nu /= np.maximum(np.linalg.norm(nu, axis=1, keepdims=True), 1e-300)
-    dots = np.einsum("fvm,fm->fv", unit, nu)
-    best = dots.min(axis=1)
+    dots = _dots(unit, nu)
+    best = _over_cell(np.minimum, dots)
     rows = np.arange(len(unit))
     for it in range(iterations):
         worst = unit[rows, dots.argmin(axis=1)]
         nu = nu + (worst - nu) / (it + 2)
         nu /= np.maximum(np.linalg.norm(nu, axis=1, keepdims=True), 1e-300)
-        dots = np.einsum("fvm,fm->fv", unit, nu)
-        best = np.maximum(best, dots.min(axis=1))
+        dots = _dots(unit, nu)
+        best = np.maximum(best, _over_cell(np.minimum, dots))
     return best
+
+
+def _over_cell(op: np.ufunc, a: np.ndarray) -> np.ndarray:
+    """``op`` (np.minimum or np.maximum) reduced over axis 1, the few cell
+    vertices: a loop of whole-array operations is several times faster than
+    numpy's reduction over a short middle axis."""
+    out = a[:, 0].copy()
+    for i in range(1, a.shape[1]):
+        op(out, a[:, i], out=out)
+    return out
+
+
+def _dots(unit: np.ndarray, nu: np.ndarray) -> np.ndarray:
+    """``unit[f, v] . nu[f]`` for (F, v, m) and (F, m); a loop over the small m
+    axis beats matmul/einsum on these shapes."""
+    out = unit[..., 0] * nu[:, None, 0]
+    for j in range(1, unit.shape[2]):
+        out += unit[..., j] * nu[:, None, j]
+    return out
 
 
 def _boundary_subsets(nv: int, m: int) -> list[np.ndarray]:
@@ -555,8 +585,16 @@ def _exact_min(
         xs = np.einsum("frd,fd->fr", tan, coef)
         y = s + xs
         radius = np.linalg.norm(xs, axis=1)
-        dist, _ = tree.query(y)
-        inside = ok & (dist >= radius * (1 - 1e-9) - 1e-12)
+        # the convex cell lies in the bounding box of its vertices: y* outside
+        # that box is outside the cell (no query needed)
+        lo, hi = _over_cell(np.minimum, x), _over_cell(np.maximum, x)
+        slack = 1e-9 * (np.maximum(-lo, hi).max(axis=1) + radius)[:, None]
+        in_box = ((xs >= lo - slack) & (xs <= hi + slack)).all(axis=1)
+        ask = np.flatnonzero(ok & in_box)
+        inside = np.zeros(len(x), dtype=bool)
+        if len(ask):
+            dist, _ = tree.query(y[ask])
+            inside[ask] = dist >= radius[ask] * (1 - 1e-9) - 1e-12
         best[inside] = 0.0
         rest = np.flatnonzero(~inside)
     else:
@@ -575,11 +613,11 @@ def _exact_min(
     # lower bound per vertex subset: with any unit normal direction nu, a
     # subset whose vertices all have nu . N^T x / |x| >= c > 0 has sin >= c on
     # its whole cone; skip subsets that cannot beat the current minimum
-    xn = np.einsum("fvr,frm->fvm", xr, nr)
+    xn = xr @ nr
     unit = xn / np.maximum(np.linalg.norm(xr, axis=2), 1e-300)[..., None]
-    nu = unit.sum(axis=1)
+    nu = np.einsum("fvm->fm", unit)
     nu /= np.maximum(np.linalg.norm(nu, axis=1, keepdims=True), 1e-300)
-    dots = np.einsum("fvm,fm->fv", unit, nu)
+    dots = _dots(unit, nu)
     cap = np.minimum(best[rest], sin_lim2)
     for sub in subsets:
         lb = dots[:, sub].min(axis=2)  # (F, S)
