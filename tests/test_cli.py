@@ -61,14 +61,14 @@ def get_points(name, n):
     ("file", "d", "fragments"),
     [
         ("missing.csv", 1, ["missing.csv", "does not exist"]),
-        ("dir.csv", 1, ["dir.csv"]),  # unreadable
+        ("dir.csv", 1, ["dir.csv", "not a regular file"]),  # unreadable
         ("empty.csv", 1, ["empty.csv", "no points"]),
-        ("garbage.txt", 1, ["garbage.txt"]),
-        ("garbage.ply", 1, ["garbage.ply"]),  # meshio prints and calls sys.exit()
+        ("garbage.txt", 1, ["garbage.txt", "non-number"]),
+        ("garbage.ply", 1, ["garbage.ply", ".ply mesh"]),  # meshio prints and calls sys.exit()
         ("vector.npy", 1, ["vector.npy", "2-D"]),  # wrong shape
         ("nan.csv", 1, ["nan.csv", "NaN"]),
-        ("plane.npy", 2, ["d"]),  # d out of range: d = k
-        ("few.txt", 2, ["points"]),  # fewer than k + 2 samples
+        ("plane.npy", 2, ["between 1 and k-1", "got d = 2"]),  # d out of range: d = k
+        ("few.txt", 2, ["at least k + 2 = 5 points", "got 3"]),  # fewer than k + 2 samples
     ],
 )
 def test_reconstruct_bad_input_is_one_line(bad_files, tmp_path, file, d, fragments):
@@ -89,11 +89,11 @@ def run_main(capsys, *args):
 @pytest.mark.parametrize(
     ("file", "d", "fragments"),
     [
-        ("corrupt.npy", 1, ["corrupt.npy"]),
+        ("corrupt.npy", 1, ["corrupt.npy", "NumPy .npy"]),
         ("latin1.csv", 1, ["latin1.csv", "UTF-8"]),
         ("ragged.csv", 1, ["ragged.csv", "line 2"]),
         ("onecol.txt", 1, ["onecol.txt", "coordinates"]),
-        ("plane.npy", 7, ["d"]),  # d > k
+        ("plane.npy", 7, ["between 1 and k-1", "got d = 7"]),  # d > k
         ("plane.npy", 0, ["-d"]),  # rejected by the parser
         ("plane.npy", "x", ["-d"]),
     ],

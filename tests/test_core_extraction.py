@@ -107,6 +107,96 @@ def test_chord_of_a_hexagon_is_resolved_in_codimension_two():
     assert len(ext.complex_at(1)) == 6 and len(ext.complex_at(0)) == 7
 
 
+def teardrop_and_pentagon():
+    """A big teardrop loop and a small regular pentagon, both through the origin.
+
+    The teardrop's corner at the origin is 60 deg (folded: its two edges meet
+    within 90 deg), every other corner of both loops is > 90 deg.  At the
+    origin the pentagon's edges meet at 108 deg, and a teardrop edge meets a
+    pentagon edge at 96 deg or more.  Vertex 0 is the origin.
+    """
+    # circle of radius 3 at (0, -6): the tangents from the origin touch it at
+    # polar angles 30 and 150 deg (cos 60 = 3/6) and meet at 60 deg
+    arc = np.radians(np.linspace(150, 390, 11))
+    big = np.c_[3 * np.cos(arc), -6 + 3 * np.sin(arc)]
+    # regular pentagon of side 1 with a vertex at the origin, above it
+    rp = 1 / (2 * np.sin(np.pi / 5))
+    ang = np.radians(-90 + 72 * np.arange(1, 5))
+    penta = np.c_[rp * np.cos(ang), rp + rp * np.sin(ang)]
+    pts = np.vstack([[0.0, 0.0], big, penta])
+    nb, npn = len(big), len(penta)
+    loop_big = [0] + list(range(1, nb + 1))
+    loop_pen = [0] + list(range(nb + 1, nb + npn + 1))
+    edges = [[a, b] for loop in (loop_big, loop_pen) for a, b in zip(loop, loop[1:] + loop[:1])]
+    return pts, np.array(edges), nb + 1, npn + 1
+
+
+def corner_angle(pts, loop_edges, v):
+    """Angle at vertex v between its two edges in loop_edges, degrees."""
+    other = [b if a == v else a for a, b in loop_edges if v in (a, b)]
+    u = pts[other] - pts[v]
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    return np.degrees(np.arccos(np.clip(u[0] @ u[1], -1, 1)))
+
+
+def test_line_4_a_folded_pair_is_never_kept_even_if_it_would_cascade_least():
+    """Paper, Algorithm 3 line 4: keep a pair meeting at more than 90 deg.
+
+    Counting only what is dropped at the vertex, keeping the teardrop's
+    folded pair (60 deg) looks cheapest: the pentagon (5 edges) is lost,
+    against the whole teardrop (12 edges) for the pentagon's pair (108 deg).
+    Line 4 forbids the folded pair; crustview enforces it twice (the
+    eligibility filter, and the cascade simulation, in which a kept folded
+    pair is itself sharp and pruned), so the pentagon's pair must be kept.
+    """
+    pts, edges, nbig, npen = teardrop_and_pentagon()
+    big, pen = edges[:nbig], edges[nbig:]
+    # the drawing is as the docstring says
+    assert corner_angle(pts, big, 0) == pytest.approx(60.0, abs=0.5)
+    assert corner_angle(pts, pen, 0) == pytest.approx(108.0, abs=1e-6)
+    assert all(corner_angle(pts, big, v) > 90 for v in range(1, nbig))
+    assert all(corner_angle(pts, pen, v) > 90 for v in range(nbig, nbig + npen - 1))
+    ext = extract(pts, edges)
+    resolve = [s for s in ext.steps if s.rule == RULE_RESOLVE]
+    assert len(resolve) == 1 and resolve[0].tau == (0,)
+    assert np.degrees(resolve[0].angle) == pytest.approx(108.0, abs=1e-6)
+    kept = {tuple(sorted(edges[i])) for i in resolve[0].kept}
+    assert kept == {tuple(sorted(e)) for e in pen if 0 in e}
+    final = {tuple(e) for e in ext.complex_at(ext.n_steps)}
+    assert final == {tuple(sorted(e)) for e in pen} and ext.stopped == "closed"
+
+
+def test_sharp_fan_of_three_triangles_is_pruned_whole():
+    """Three triangles on one edge, their far vertices within 80 deg of each
+    other: no pair meets at more than 90 deg, so the sharp rule removes all
+    three in one step.  Boundary pruning is off so nothing else acts first."""
+    tau = [[0, 0, 0], [1, 0, 0]]
+    tips = [[0.5, np.cos(a), np.sin(a)] for a in np.radians([10, 50, 90])]
+    pts = np.array(tau + tips, float)
+    tris = np.array([[0, 1, 2], [0, 1, 3], [0, 1, 4]])
+    ext = extract(pts, tris, prune_boundary=False)
+    assert len(ext.steps) == 1
+    step = ext.steps[0]
+    assert step.rule == RULE_PRUNE and step.tau == (0, 1) and sorted(step.removed) == [0, 1, 2]
+    assert np.degrees(step.angle) == pytest.approx(80.0)  # the widest pair
+    assert ext.stopped == "empty"
+
+
+def test_open_disc_kept_with_boundary_pruning_off_and_eaten_with_it_on():
+    """A flat hexagonal fan: six triangles, six boundary edges."""
+    t = np.arange(6) * np.pi / 3
+    pts = np.vstack([[0, 0, 0], np.c_[np.cos(t), np.sin(t), np.zeros(6)]])
+    tris = np.array([[0, 1 + i, 1 + (i + 1) % 6] for i in range(6)])
+    kept = extract(pts, tris, prune_boundary=False)
+    assert kept.steps == [] and kept.stopped == "open" and len(kept.complex_at(0)) == 6
+    rep = analyse(kept.complex_at(0), 7, 2)
+    assert not rep.closed_manifold and rep.betti[:2] == (1, 0)
+    eaten = extract(pts, tris)
+    assert eaten.stopped == "empty"
+    assert all(s.rule == RULE_PRUNE for s in eaten.steps)
+    assert sum(len(s.removed) for s in eaten.steps) == 6
+
+
 def test_replay_is_exact_and_cheap():
     pts = np.vstack([OCTA_PTS, [[1.5, 1.5, 0.0]]])
     ext = extract(pts, np.vstack([OCTA, [[0, 2, 6]]]))

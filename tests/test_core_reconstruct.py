@@ -2,6 +2,7 @@
 
 import threading
 
+import gudhi
 import numpy as np
 import pytest
 
@@ -9,18 +10,50 @@ from crustview.core import Cancelled, InputError, reconstruct, reextract
 from crustview.core.sampling import get_manifold
 
 
+# Textbook topology, written down here independently of the library's own
+# metadata: Z/2 Betti numbers and orientability.
+TEXTBOOK = {
+    "circle": ((1, 1), True),
+    "ellipse": ((1, 1), True),
+    "trefoil": ((1, 1), True),  # a knot is a circle
+    "hopf-link": ((2, 2), True),  # two circles
+    "sphere": ((1, 0, 1), True),
+    "ellipsoid": ((1, 0, 1), True),
+    "torus": ((1, 2, 1), True),
+    "clifford-torus": ((1, 2, 1), True),
+    "flat-klein": ((1, 2, 1), False),  # Z/2 coefficients: b1 = 2, b2 = 1
+    "sphere-r4": ((1, 0, 1), True),
+    "s3": ((1, 0, 0, 1), True),
+    "circle-r4": ((1, 1), True),
+    "torus-r5": ((1, 2, 1), True),
+}
+
+
+def gudhi_betti(simplices):
+    """Z/2 Betti numbers of a simplicial complex, computed by GUDHI (the peer)."""
+    st = gudhi.SimplexTree()
+    for s in simplices:
+        st.insert([int(v) for v in s])
+    st.compute_persistence(homology_coeff_field=2, persistence_dim_max=True)
+    return tuple(st.betti_numbers())
+
+
 def assert_correct(rec, m):
+    betti, orientable = TEXTBOOK[m.name]
+    assert (m.betti, m.orientable) == (betti, orientable)  # the metadata is right
     top = rec.topology
     assert top.closed_manifold, top.messages
     assert top.unused_samples == 0  # the paper: every sample is a vertex
-    assert top.betti == m.betti
-    assert top.euler == m.euler
-    assert top.orientable == m.orientable
+    assert np.unique(rec.manifold).size == rec.n
+    assert top.betti == betti
+    assert gudhi_betti(rec.manifold) == betti  # an independent homology code agrees
+    assert top.euler == sum((-1) ** i * b for i, b in enumerate(betti))
+    assert top.orientable == orientable
     assert rec.extraction.stopped == "closed"
 
 
 # (name, n, options): cospherical and not, codimension 1 (circle, sphere,
-# torus ...), 2 (curves in R^3, surfaces in R^4) and 3 (a curve in R^4)
+# torus ...), 2 (curves in R^3, surfaces in R^4) and 3 (a curve in R^4, a torus in R^5)
 CASES = [
     ("circle", 120, {}),
     ("ellipse", 150, {"density": "nonuniform"}),
@@ -35,6 +68,7 @@ CASES = [
     ("sphere-r4", 1000, {}),
     ("s3", 1500, {}),
     ("circle-r4", 150, {}),
+    ("torus-r5", 600, {}),  # a surface in codimension 3
 ]
 
 
@@ -131,14 +165,43 @@ def test_cancel_stops_the_run():
     ev.set()
     with pytest.raises(Cancelled):
         reconstruct(pts, 2, cancel=ev)
+    # cancelled inside the candidate stage: it must stop there, not at the end
     ev2 = threading.Event()
+    seen = []
 
     def progress(stage, frac):
+        seen.append((stage, frac))
         if stage == "candidates":
             ev2.set()
 
     with pytest.raises(Cancelled):
         reconstruct(pts, 2, progress=progress, cancel=ev2)
+    stages = [s for s, _ in seen]
+    assert "candidates" in stages
+    assert not {"extraction", "topology", "done"} & set(stages)
+    assert max(f for s, f in seen if s == "candidates") < 1.0  # stopped part-way
+
+
+class _LateCancel:
+    """Reports "set" from its ``after``-th query on."""
+
+    def __init__(self, after: int) -> None:
+        self.calls, self.after = 0, after
+
+    def is_set(self) -> bool:
+        self.calls += 1
+        return self.calls >= self.after
+
+
+def test_cancel_stops_the_extraction_part_way():
+    """reextract checks the flag while Algorithm 3 runs, not only before it."""
+    rec = reconstruct(get_manifold("torus").sample(1500, seed=0).points, 2)
+    full = reextract(rec, "literal", np.pi / 8)
+    assert full.extraction.n_steps > 600  # long enough to be cancelled inside
+    late = _LateCancel(after=2)
+    with pytest.raises(Cancelled):
+        reextract(rec, "literal", np.pi / 8, cancel=late)
+    assert late.calls == 2  # read every 256 steps: stopped at step 512 of > 600
 
 
 def test_four_sphere_in_r5():

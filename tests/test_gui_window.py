@@ -1,5 +1,7 @@
 """The real main window under Xvfb, driven with qtbot."""
 
+import time
+
 import numpy as np
 import pytest
 
@@ -55,9 +57,85 @@ def test_loading_a_builtin_sample(qtbot, window):
     assert window.run_panel.d.value() == 2
 
 
-def test_keyboard_and_slider_stepping_follow_alive(qtbot, window):
+def answer_next_dialog(qtbot, answer):
+    """Run ``answer(dialog)`` on the next modal dialog, from the event loop."""
+    from PySide6.QtCore import QTimer
+    from PySide6.QtWidgets import QApplication
+
+    done = []
+
+    def poll():
+        dlg = QApplication.activeModalWidget()
+        if dlg is None:
+            QTimer.singleShot(20, poll)
+            return
+        answer(dlg)
+        done.append(dlg)
+
+    QTimer.singleShot(20, poll)
+    return done
+
+
+def test_menu_dialog_dimension_question_and_drop(qtbot, window, tmp_path):
+    """The ways a user opens data: File > Open built-in sample (its dialog),
+    a file whose d is asked for, and a file dropped on the window."""
+    from PySide6.QtCore import QMimeData, QPoint, QUrl
+    from PySide6.QtGui import QDropEvent
+    from PySide6.QtWidgets import QInputDialog
+
+    def pick_circle(dlg):
+        dlg.name.setCurrentIndex(dlg.name.findData("circle"))
+        dlg.n.setValue(90)
+        dlg.accept()
+
+    action = next(a for a in window.actions() if a.text() == "Open &built-in sample…")
+    answered = answer_next_dialog(qtbot, pick_circle)
+    action.trigger()  # modal: returns once the dialog is answered
+    assert answered
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec is not None, timeout=30_000)
+    rec = window.model.rec
+    assert rec.n == 90 and rec.d == 1 and window.model.source.startswith("circle")
+    assert window.view.adapters["manifold"].part.n_cells == len(rec.extraction.simplices)
+
+    # a file without d: the question suggests d from local PCA (a surface: 2)
+    pts = tmp_path / "torus.xyz"
+    from crustview.core.sampling import get_manifold
+
+    np.savetxt(pts, get_manifold("torus").sample(600, seed=1).points)
+    asked = []
+
+    def answer_d(dlg):
+        assert isinstance(dlg, QInputDialog)
+        asked.append(dlg.intValue())
+        dlg.accept()
+
+    answer_next_dialog(qtbot, answer_d)
+    assert window.open_file(pts)
+    assert asked == [2]
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    assert window.model.rec is not rec and window.model.rec.d == 2 and window.model.rec.n == 600
+
+    # dropping a file opens it too (d asked again; answered 1 for a curve)
+    curve = tmp_path / "trefoil.csv"
+    np.savetxt(curve, get_manifold("trefoil").sample(150, seed=2).points, delimiter=",")
+    answer_next_dialog(qtbot, lambda dlg: (dlg.setIntValue(1), dlg.accept()))
+    mime = QMimeData()
+    mime.setUrls([QUrl.fromLocalFile(str(curve))])
+    drop = QDropEvent(QPoint(10, 10), Qt.DropAction.CopyAction, mime, Qt.MouseButton.NoButton,
+                      Qt.KeyboardModifier.NoModifier)
+    window.dropEvent(drop)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    assert window.model.source == "trefoil.csv" and window.model.rec.d == 1 and window.model.rec.n == 150
+    assert str(curve.resolve()) in window.recent_files()
+
+
+def test_keyboard_and_slider_stepping_follow_the_recorded_steps(qtbot, window):
     rec = load(qtbot, window)
     ext = rec.extraction
+
+    def recorded(i):
+        """Simplices alive after i steps, from the step records alone."""
+        return len(ext.simplices) - sum(len(s.removed) for s in ext.steps[:i])
     manifold = window.view.adapters["manifold"].part
     window.activateWindow()
     qtbot.waitActive(window)
@@ -66,14 +144,14 @@ def test_keyboard_and_slider_stepping_follow_alive(qtbot, window):
                       (Qt.Key.Key_End, ext.n_steps), (Qt.Key.Key_Home, 0)):
         qtbot.keyClick(window.plotter, key)
         assert window.model.player.position == want
-        assert manifold.n_cells == int(ext.alive(want).sum())
+        assert manifold.n_cells == recorded(want)
     window.steps_panel.slider.setValue(ext.n_steps // 2)
-    assert manifold.n_cells == int(ext.alive(ext.n_steps // 2).sum())
+    assert manifold.n_cells == recorded(ext.n_steps // 2)
     assert window.steps_panel.counter.text() == f"step {ext.n_steps // 2} / {ext.n_steps}"
     # selecting a row of the event log jumps there
     window.steps_panel.table.selectRow(4)
     assert window.model.player.position == 5
-    assert manifold.n_cells == int(ext.alive(5).sum())
+    assert manifold.n_cells == recorded(5)
     # play runs to the end
     window.steps_panel.speed.setValue(500)
     qtbot.keyClick(window.plotter, Qt.Key.Key_Space)
@@ -96,14 +174,20 @@ def test_toggling_each_layer_changes_pixels(qtbot, window):
         layer.visible = True
     m.layers["candidates"].opacity = 1.0
     qtbot.wait(50)
+    assert ext.steps[m.player.position - 1].removed  # the step layer has something to show
+    rows = window.layers_panel.rows
+    assert set(rows) == set(m.layers)
     for name in m.layers:
-        if name == "step" and not (ext.steps[m.player.position - 1].removed or ext.steps[m.player.position - 1].kept):
-            continue
+        box = rows[name].visible
+        assert box.isChecked()
         on = shot(window)
-        m.layers[name].visible = False
+        box.click()  # the layer panel's own check box, as a user does
+        assert not m.layers[name].visible
         off = shot(window)
-        m.layers[name].visible = True
+        box.click()
+        assert m.layers[name].visible
         assert differs(on, off), f"hiding layer {name!r} did not change the picture"
+        assert not differs(on, shot(window), min_pixels=1), f"showing {name!r} again did not restore the picture"
 
 
 @pytest.mark.gl
@@ -133,13 +217,18 @@ def test_projection_changes_picture_not_data(qtbot, window):
 def test_bad_file_shows_error_and_keeps_previous_result(qtbot, window, tmp_path):
     rec = load(qtbot, window)
     window.model.player.set_step(3)
+    cells = window.view.adapters["manifold"].part.n_cells
+    before = shot(window)
     bad = tmp_path / "bad.xyz"
     bad.write_text("1 2 3\n4 five 6\n")
     assert not window.open_file(bad, d=2)
-    assert "bad.xyz" in window.last_error
+    assert "bad.xyz" in window.last_error and "line 2" in window.last_error
+    assert "Traceback" not in window.error_box.text()
     assert window.error_box is not None and window.error_box.isVisible()
     assert window.model.rec is rec and window.model.player.position == 3
     window.error_box.close()
+    assert window.view.adapters["manifold"].part.n_cells == cells
+    assert not differs(before, shot(window), min_pixels=1)  # the picture is untouched
     # a d the core rejects: reported from the worker, previous result kept
     good = tmp_path / "pts.xyz"
     np.savetxt(good, rec.points[:200])
@@ -147,7 +236,10 @@ def test_bad_file_shows_error_and_keeps_previous_result(qtbot, window, tmp_path)
     assert window.open_file(good, d=7)
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=30_000)
     assert window.last_error and "Traceback" not in window.last_error
-    assert window.model.rec is rec
+    assert "d = 7" in window.last_error or "between 1 and" in window.last_error
+    assert window.error_box.isVisible()
+    assert window.model.rec is rec and window.model.player.position == 3
+    assert window.view.adapters["manifold"].part.n_cells == cells
     assert str(good.resolve()) in window.recent_files()
 
 
@@ -156,10 +248,15 @@ def test_cancel_stops_a_long_run(qtbot, window):
     stages = []
     window.runner.progress.connect(lambda s, f: stages.append(s))
     assert window.load_builtin("trefoil", 2500)  # near-quadratic Delaunay: a long run
-    qtbot.waitUntil(lambda: "candidates" in stages or "normals" in stages, timeout=60_000)
+    qtbot.waitUntil(lambda: "candidates" in stages, timeout=60_000)
     assert window.runner.busy and window.run_panel.cancel.isEnabled()
+    clicked_at = len(stages)
+    t0 = time.monotonic()
     with qtbot.waitSignal(window.runner.cancelled, timeout=15_000):
         window.run_panel.cancel.click()
+    # the run stopped inside the candidate stage, not after finishing
+    assert time.monotonic() - t0 < 2.0
+    assert not {"extraction", "topology"} & set(stages[clicked_at:])
     assert not window.runner.busy
     assert window.model.rec is rec
     assert "cancelled" in window.run_panel.progress.format()

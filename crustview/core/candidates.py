@@ -258,6 +258,73 @@ def _span_min(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
     return np.clip(w[..., 0], 0.0, 1.0), lam, ok
 
 
+def _span_min3(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_span_min` for three generators in closed form, x: (P, 3, r).
+
+    Gram-Schmidt gives ``x = Q R``; the smallest eigenpair of the 3x3 matrix
+    ``B^T B`` (``B = N^T Q``) comes from the trigonometric formula and a cross
+    product of two rows of ``B^T B - lambda I``; back substitution gives the
+    coefficients.  No LAPACK call per polygon.
+    """
+    xn = x @ nrm  # (P, 3, m): N^T x_i
+
+    def dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        return np.einsum("...i,...i->...", a, b)
+
+    a1, a2, a3 = x[:, 0], x[:, 1], x[:, 2]
+    r11 = np.sqrt(dot(a1, a1))
+    q1 = a1 / np.maximum(r11, 1e-300)[:, None]
+    r12, r13 = dot(q1, a2), dot(q1, a3)
+    w2 = a2 - r12[:, None] * q1
+    r22 = np.sqrt(dot(w2, w2))
+    q2 = w2 / np.maximum(r22, 1e-300)[:, None]
+    r23 = dot(q2, a3)
+    w3 = a3 - r13[:, None] * q1 - r23[:, None] * q2
+    r33 = np.sqrt(dot(w3, w3))
+    scale = np.sqrt(np.maximum(np.maximum(r11**2, dot(a2, a2)), dot(a3, a3)))
+    ok = np.minimum(np.minimum(r11, r22), r33) > 1e-10 * np.maximum(scale, 1e-300)
+    b1 = xn[:, 0] / np.maximum(r11, 1e-300)[:, None]
+    b2 = (xn[:, 1] - r12[:, None] * b1) / np.maximum(r22, 1e-300)[:, None]
+    b3 = (xn[:, 2] - r13[:, None] * b1 - r23[:, None] * b2) / np.maximum(r33, 1e-300)[:, None]
+    m00, m11, m22 = dot(b1, b1), dot(b2, b2), dot(b3, b3)
+    m01, m02, m12 = dot(b1, b2), dot(b1, b3), dot(b2, b3)
+    q = (m00 + m11 + m22) / 3
+    p1 = m01**2 + m02**2 + m12**2
+    p = np.sqrt(((m00 - q) ** 2 + (m11 - q) ** 2 + (m22 - q) ** 2 + 2 * p1) / 6)
+    ps = np.maximum(p, 1e-300)
+    c00, c11, c22 = (m00 - q) / ps, (m11 - q) / ps, (m22 - q) / ps
+    c01, c02, c12 = m01 / ps, m02 / ps, m12 / ps
+    det = c00 * (c11 * c22 - c12**2) - c01 * (c01 * c22 - c12 * c02) + c02 * (c01 * c12 - c11 * c02)
+    phi = np.arccos(np.clip(det / 2, -1.0, 1.0)) / 3
+    lam_min = np.where(p > 1e-300, q + 2 * p * np.cos(phi + 2 * np.pi / 3), q)
+    # eigenvector: the longest cross product of two rows of M - lam I
+    rows = np.stack(
+        [np.stack([m00 - lam_min, m01, m02], 1), np.stack([m01, m11 - lam_min, m12], 1),
+         np.stack([m02, m12, m22 - lam_min], 1)], axis=1)
+    cands = np.stack([np.cross(rows[:, 0], rows[:, 1]), np.cross(rows[:, 0], rows[:, 2]),
+                      np.cross(rows[:, 1], rows[:, 2])], axis=1)
+    size = dot(cands, cands)
+    v = cands[np.arange(len(x)), size.argmax(axis=1)]
+    flat = size.max(axis=1) <= 1e-300  # repeated smallest eigenvalue: any vector in its space
+    if flat.any():
+        v[flat] = _null_vector(rows[flat])
+    v /= np.maximum(np.sqrt(dot(v, v)), 1e-300)[:, None]
+    c3 = v[:, 2] / np.where(ok, r33, 1.0)
+    c2 = (v[:, 1] - r23 * c3) / np.where(ok, r22, 1.0)
+    c1 = (v[:, 0] - r12 * c2 - r13 * c3) / np.where(ok, r11, 1.0)
+    return np.clip(lam_min, 0.0, 1.0), np.stack([c1, c2, c3], axis=1), ok
+
+
+def _null_vector(rows: np.ndarray) -> np.ndarray:
+    """A unit vector orthogonal to the (rank <= 1) rows of each 3x3 block."""
+    big = rows[np.arange(len(rows)), np.einsum("pij,pij->pi", rows, rows).argmax(axis=1)]
+    trial = np.where((np.abs(big[:, :1]) < 0.9), np.array([[1.0, 0, 0]]), np.array([[0, 1.0, 0]]))
+    v = np.cross(big, trial)
+    tiny = np.einsum("pi,pi->p", v, v) <= 1e-300
+    v[tiny] = [1.0, 0.0, 0.0]
+    return v
+
+
 def _cell_structure(face: np.ndarray, simp_rows: np.ndarray, n_all: int, m: int) -> tuple[np.ndarray, tuple]:
     """Edges (and, in codimension 3, polygons) of 2- or 3-dimensional dual cells.
 
@@ -400,17 +467,29 @@ def _cell_boundary_min(
         sizes, starts = polygons[:, 5], polygons[:, 4]
         offs = np.concatenate([[0], np.cumsum(sizes)[:-1]])
         idx = np.arange(sizes.sum()) + np.repeat(starts - offs, sizes)
-        lb = np.minimum.reduceat(dots[np.repeat(polygons[:, 0], sizes), members[idx]], offs)
-        p = polygons[(lb <= 0) | (lb**2 < cap[polygons[:, 0]])]
+        pf_all = np.repeat(polygons[:, 0], sizes)
+        lb = np.minimum.reduceat(dots[pf_all, members[idx]], offs)
+        want = (lb <= 0) | (lb**2 < cap[polygons[:, 0]])
+        p = polygons[want]
         gf = p[:, 0]
         gens = np.stack([x[gf, p[:, 1 + i]] for i in range(3)], axis=1)  # (P, 3, r)
-        val, lam, ok = _span_min(gens, nrm[gf])
+        val, lam, ok = _span_min3(gens, nrm[gf])
         tot = lam.sum(axis=1)
-        ok &= np.abs(tot) > 1e-12 * np.abs(lam).max(axis=1)
+        # only a value below the cap and below the edges' minimum matters
+        ok &= (np.abs(tot) > 1e-12 * np.abs(lam).max(axis=1)) & (val < np.minimum(cap, out)[gf])
         xy = np.einsum("pj,pjr->pr", lam / np.where(ok, tot, 1.0)[:, None], gens)
-        radius = np.linalg.norm(xy, axis=1)
-        dist, _ = tree.query(s[gf] + xy)
-        inside = ok & (dist >= radius * (1 - 1e-9) - 1e-12)
+        # a point outside the bounding box of the polygon's vertices is outside it
+        mem = np.repeat(want, sizes)
+        pts = x[pf_all[mem], members[idx[mem]]]
+        o = np.concatenate([[0], np.cumsum(sizes[want])[:-1]])
+        lo, hi = np.minimum.reduceat(pts, o, axis=0), np.maximum.reduceat(pts, o, axis=0)
+        slack = 1e-9 * (np.maximum(-lo, hi).max(axis=1) + np.abs(xy).max(axis=1))[:, None]
+        ask = np.flatnonzero(ok & ((xy >= lo - slack) & (xy <= hi + slack)).all(axis=1))
+        inside = np.zeros(len(p), dtype=bool)
+        if len(ask):
+            radius = np.linalg.norm(xy[ask], axis=1)
+            dist, _ = tree.query(s[gf[ask]] + xy[ask])
+            inside[ask] = dist >= radius * (1 - 1e-9) - 1e-12
         _sorted_group_min(out, gf, np.where(inside, val, np.inf))
     return out
 
