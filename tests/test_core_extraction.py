@@ -197,6 +197,28 @@ def test_open_disc_kept_with_boundary_pruning_off_and_eaten_with_it_on():
     assert sum(len(s.removed) for s in eaten.steps) == 6
 
 
+def test_with_boundary_pruning_off_the_pair_that_opens_no_hole_is_kept():
+    """A hexagon loop with a one-edge spur at vertex 0, pruning of boundary off.
+
+    At vertex 0 the spur is exactly opposite one hexagon edge (180 deg, the
+    flattest pair), the hexagon's own pair meets at 120 deg.  Keeping the
+    flattest pair drops a hexagon edge and opens a hole at its far end;
+    keeping the hexagon's pair only drops the spur, whose tip already was a
+    boundary face.  The pair that leaves the curve whole must win.
+    """
+    t = np.arange(6) * np.pi / 3
+    hexagon = np.c_[np.cos(t), np.sin(t)]
+    tip = hexagon[0] - (hexagon[1] - hexagon[0])  # opposite the edge 0-1
+    pts = np.vstack([hexagon, tip])
+    edges = np.array([[i, (i + 1) % 6] for i in range(6)] + [[0, 6]])
+    ext = extract(pts, edges, prune_boundary=False)
+    assert len(ext.steps) == 1
+    step = ext.steps[0]
+    assert step.rule == RULE_RESOLVE and step.tau == (0,) and step.removed == (6,)
+    assert np.degrees(step.angle) == pytest.approx(120.0)
+    assert ext.stopped == "closed" and len(ext.complex_at(1)) == 6
+
+
 def test_replay_is_exact_and_cheap():
     pts = np.vstack([OCTA_PTS, [[1.5, 1.5, 0.0]]])
     ext = extract(pts, np.vstack([OCTA, [[0, 2, 6]]]))

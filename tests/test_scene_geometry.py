@@ -75,6 +75,7 @@ def test_clipped_cell_of_a_cube():
 
 
 def test_planar_voronoi_edges_match_scipy():
+    """Every finite Voronoi edge of a sample, endpoint for endpoint, as scipy's Voronoi has it."""
     from scipy.spatial import Delaunay, Voronoi
 
     rng = np.random.default_rng(2)
@@ -84,11 +85,18 @@ def test_planar_voronoi_edges_match_scipy():
     allp = np.vstack([pts, ring])
     tri = Delaunay(allp)
     vor = Voronoi(allp)
-    a, b = planar_voronoi_edges(tri.simplices, vor.vertices[:0].reshape(0, 2) if False else
-                                _circumcentres(allp, tri.simplices), len(pts), np.full(2, -100.0), np.full(2, 100.0))
+    a, b = planar_voronoi_edges(tri.simplices, _circumcentres(allp, tri.simplices), len(pts),
+                                np.full(2, -100.0), np.full(2, 100.0))
+
+    def key(p, q):
+        return tuple(sorted([tuple(np.round(p, 6)), tuple(np.round(q, 6))]))
+
     # each finite ridge between two points with at least one sample
-    want = sum(1 for (p, q), r in zip(vor.ridge_points, vor.ridge_vertices) if min(p, q) < len(pts) and -1 not in r)
-    assert len(a) == want
+    want = {key(*vor.vertices[r]) for (p, q), r in zip(vor.ridge_points, vor.ridge_vertices)
+            if min(p, q) < len(pts) and -1 not in r}
+    got = [key(p, q) for p, q in zip(a, b)]
+    assert len(got) == len(set(got)) == len(want)
+    assert set(got) == want
 
 
 def _circumcentres(p, simp):

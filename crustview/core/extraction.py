@@ -312,15 +312,25 @@ def extract(
 
 
 def _cascade_loss(ex: _Extractor, drop: list[int], limit: int) -> int:
-    """Simplices removed by dropping ``drop`` plus the prune cascade it starts (capped)."""
+    """Simplices removed by dropping ``drop`` plus the prune cascade it starts (capped).
+
+    With boundary pruning off a face left with one simplex is not pruned, but
+    it is a new hole in the surface: each such face counts as one loss, so
+    the choice still prefers pairs that leave the surface whole.
+    """
     gone = set(drop)
+    opened: set[int] = set()
     queue = deque()
     for s in drop:
         queue.extend(int(h) for h in ex.facet_of[s])
-    while queue and len(gone) < limit:
+    while queue and len(gone) + len(opened) < limit:
         h = queue.popleft()
         simp = [s for s in ex.alive_at(h) if s not in gone]
-        if not simp or (len(simp) == 1 and not ex.prune_boundary):
+        if len(simp) == 1 and not ex.prune_boundary:
+            if ex.count[h] >= 2:
+                opened.add(h)
+            continue
+        if not simp:
             continue
         if len(simp) > 1:
             if _max_pair(ex.pair_angles(h, simp)) >= HALF_PI:
@@ -328,7 +338,7 @@ def _cascade_loss(ex: _Extractor, drop: list[int], limit: int) -> int:
         for s in simp:
             gone.add(s)
             queue.extend(int(g) for g in ex.facet_of[s] if g != h)
-    return len(gone)
+    return len(gone) + len(opened)
 
 
 def _choose_pair(ex: _Extractor, g: int, simp: list[int], ang: np.ndarray) -> tuple[int, int] | None:
