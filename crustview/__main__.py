@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 import time
 from collections.abc import Sequence
@@ -107,7 +108,19 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _check_display() -> None:
+    """Fail with one line when no screen is reachable (Qt would abort)."""
+    if sys.platform.startswith("linux") and not (
+        os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or os.environ.get("QT_QPA_PLATFORM")
+    ):
+        raise _UsageError(
+            "no display: DISPLAY is not set (run it on a desktop, under 'xvfb-run', or use "
+            "'crustview reconstruct' for headless work)"
+        )
+
+
 def _run_app(*args: object) -> int:
+    _check_display()
     try:
         from crustview.qt.app import run_app
     except ImportError as err:
@@ -199,7 +212,10 @@ def _dispatch(argv: Sequence[str]) -> int:
     if args.command == "view":
         from crustview.io import read_points
 
-        read_points(args.file)  # report a bad file here, before a window opens
+        points = read_points(args.file)  # report a bad file here, before a window opens
+        k = points.shape[1]
+        if args.d is not None and not 1 <= args.d < k:
+            raise _UsageError(f"d must be between 1 and k-1 = {k - 1} for points in R^{k}; got d = {args.d}")
         return _run_app(str(args.file), args.d)
     if args.command == "reconstruct":
         return _cmd_reconstruct(args)

@@ -314,8 +314,9 @@ def write_result(path: str | os.PathLike, rec: Reconstruction) -> None:
         T_S, the faces admitted by ``rec.test`` at ``rec.theta``.
     ``normals`` (n_in, k, k - d), ``tangents`` (n_in, k, d)
         Estimated orthonormal bases at each input row.
-    ``d``, ``k``, ``test``, ``theta``
-        Scalars (``theta`` in radians).
+    ``d``, ``k``, ``test``, ``theta``, ``prune_boundary``
+        Scalars (``theta`` in radians): the run's parameters, so that
+        :func:`read_run_parameters` can redo exactly this run.
 
     Mesh suffixes write the input points (padded to 3-D) and M_S as
     triangles (d = 2) or line segments (d = 1); they need d <= 2 and k <= 3,
@@ -350,6 +351,7 @@ def write_result(path: str | os.PathLike, rec: Reconstruction) -> None:
                 k=np.int64(rec.k),
                 test=np.str_(rec.test),
                 theta=np.float64(rec.theta),
+                prune_boundary=np.bool_(rec.prune_boundary),
             )
         except OSError as err:
             raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
@@ -366,6 +368,36 @@ def write_result(path: str | os.PathLike, rec: Reconstruction) -> None:
         )
     points = _pad3(rec.input_points, path, suffix)
     _write_mesh(path, points, "triangle" if rec.d == 2 else "line", simplices)
+
+
+def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
+    """Parameters of the run saved in a result ``.npz``, or None for a plain point file.
+
+    Returns
+    -------
+    dict or None
+        ``d``, ``test``, ``theta`` (radians), ``prune_boundary`` and
+        ``simplices`` (M_S in input rows) when ``path`` is a result written by
+        :func:`write_result`; reconstructing its points with these
+        parameters gives the same M_S (the pipeline is deterministic).
+    """
+    path = Path(path)
+    if path.suffix.lower() != ".npz" or not path.is_file():
+        return None
+    try:
+        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as archive:
+            if not {"d", "test", "theta", "simplices"} <= set(archive.keys()):
+                return None
+            out = {
+                "d": int(archive["d"]),
+                "test": str(archive["test"]),
+                "theta": float(archive["theta"]),
+                "prune_boundary": bool(archive["prune_boundary"]) if "prune_boundary" in archive else True,
+                "simplices": np.asarray(archive["simplices"], dtype=np.int64),
+            }
+    except Exception as err:  # noqa: BLE001
+        raise InputError(f"Cannot read '{path}' as a NumPy .npz archive ({_reason(err)}).") from None
+    return out
 
 
 def _jsonable(obj: Any) -> Any:

@@ -251,3 +251,16 @@ def test_keep_boundary_on_a_torus_with_a_hole(capsys, tmp_path):
     rep = analyse(tri, len(holed), 2)
     assert rep.components == 1 and rep.nonmanifold_faces == 0 and rep.betti[2] == 0
     assert rep.boundary_faces > 0 and not rep.closed_manifold
+
+
+def test_view_rejects_an_impossible_d_before_a_window_opens(capsys, bad_files):
+    proc = run_main(capsys, "view", bad_files / "plane.npy", "-d", 2)
+    assert_one_line_error(proc, "between 1 and k-1 = 1", "got d = 2")
+
+
+def test_view_without_a_display_is_one_line(capsys, bad_files, monkeypatch):
+    for var in ("DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM"):
+        monkeypatch.delenv(var, raising=False)
+    proc = run_main(capsys, "view", bad_files / "plane.npy", "-d", 1)
+    assert_one_line_error(proc, "no display", "xvfb-run")
+    assert_one_line_error(run_main(capsys), "no display")

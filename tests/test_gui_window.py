@@ -229,18 +229,28 @@ def test_bad_file_shows_error_and_keeps_previous_result(qtbot, window, tmp_path)
     window.error_box.close()
     assert window.view.adapters["manifold"].part.n_cells == cells
     assert not differs(before, shot(window), min_pixels=1)  # the picture is untouched
-    # a d the core rejects: reported from the worker, previous result kept
-    good = tmp_path / "pts.xyz"
-    np.savetxt(good, rec.points[:200])
+    # too few points for the core: reported from the worker, previous result kept
+    few = tmp_path / "few.xyz"
+    np.savetxt(few, rec.points[:4])
     window.last_error = None
-    assert window.open_file(good, d=7)
+    assert window.open_file(few, d=2)
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=30_000)
     assert window.last_error and "Traceback" not in window.last_error
-    assert "d = 7" in window.last_error or "between 1 and" in window.last_error
+    assert "at least k + 2 = 5 points" in window.last_error
     assert window.error_box.isVisible()
     assert window.model.rec is rec and window.model.player.position == 3
     assert window.view.adapters["manifold"].part.n_cells == cells
-    assert str(good.resolve()) in window.recent_files()
+    assert "previous result kept" in window.run_panel.progress.format()
+    assert str(few.resolve()) in window.recent_files()
+    window.error_box.close()
+    # an impossible d for the file is asked again (here: cancelled), nothing lost
+    good = tmp_path / "pts.xyz"
+    np.savetxt(good, rec.points[:200])
+    asked = []
+    answer_next_dialog(qtbot, lambda dlg: (asked.append(dlg.intValue()), dlg.reject()))
+    assert not window.open_file(good, d=7)
+    assert asked == [2]  # the local-PCA suggestion for a surface in R^3
+    assert window.model.rec is rec and window.model.player.position == 3
 
 
 def test_cancel_stops_a_long_run(qtbot, window):
@@ -370,3 +380,50 @@ def test_inspector_on_a_hull_sample_and_a_simplex(qtbot, window):
     assert "cocone angle at each vertex" in text
     tips = [window.run_panel.test.itemData(i, Qt.ItemDataRole.ToolTipRole) for i in range(3)]
     assert "SOME vertex" in tips[0] and "EVERY vertex" in tips[1] and "orientation" in tips[2]
+
+
+def test_saved_result_reopens_with_its_own_run_and_wrong_topology_is_flagged(qtbot, window, tmp_path):
+    """A result saved with the literal test reopens as that run (no d question),
+    and a closed result with the wrong Betti numbers is not called a success."""
+    from crustview import io
+    from crustview.core import reconstruct
+    from crustview.core.sampling import get_manifold
+
+    sample = get_manifold("torus").sample(1500, seed=0)
+    saved = reconstruct(sample.points, 2, test="literal", theta=np.radians(30))
+    path = tmp_path / "lit.npz"
+    io.write_result(path, saved)
+    assert window.open_file(path)  # no dialog: d comes from the file
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec is not None, timeout=60_000)
+    rec = window.model.rec
+    assert (rec.d, rec.test) == (2, "literal") and np.isclose(rec.theta, np.radians(30))
+    assert len(rec.manifold) == len(saved.manifold)
+    assert "Same M_S as saved in lit.npz" in window.statusBar().currentMessage()
+    assert window.run_panel.test.currentText() == "literal"
+
+    # built-in torus with the literal test: closed, but b1 = 0 and samples skipped
+    window.run_panel.test.setCurrentText("literal")
+    load(qtbot, window, "torus")
+    t = window.model.rec.topology
+    assert t.closed_manifold and t.betti != (1, 2, 1)
+    text = window.run_panel.progress.format()
+    assert "WRONG" in text and "≠ true (1, 2, 1)" in text and "samples unused" in text
+
+
+def test_changing_the_test_marks_the_result_out_of_date_until_reextracted(qtbot, window):
+    rec = load(qtbot, window)
+    panel = window.run_panel
+    assert not panel.stale.isVisible() and panel.run.text() == "Reconstruct"
+    panel.test.setCurrentText("literal")
+    assert panel.stale.isVisible() and panel.run.text() == "Re-extract"
+    assert "literal" in panel.stale.text() and "cocone" in panel.stale.text()
+    assert window.model.layers["candidates"].count == int(rec.candidates.mask("literal", rec.theta).sum())
+    panel.run.click()
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec is not rec, timeout=60_000)
+    assert window.model.rec.test == "literal"
+    assert not panel.stale.isVisible() and panel.run.text() == "Reconstruct"
+    # moving theta back and forth: out of date only while it differs
+    panel.theta.setValue(panel.theta.value() + 10)
+    assert panel.stale.isVisible()
+    panel.theta.setValue(panel.theta.value() - 10)
+    assert not panel.stale.isVisible()

@@ -55,6 +55,7 @@ class FileActions:
         path = str(path)
         try:
             points = io.read_points(path)
+            saved = io.read_run_parameters(path)
         except CrustviewError as err:
             self.show_error(str(err))
             return False
@@ -68,12 +69,23 @@ class FileActions:
             return False
         self._add_recent(path)
         self.settings.setValue("last_dir", str(Path(path).parent))
+        name = Path(path).name
+        params: dict = {}
+        if saved is not None and (d is None or d == saved["d"]):
+            # a saved result: redo exactly its run (deterministic), no question
+            d = saved["d"]
+            params = {"test": saved["test"], "theta": saved["theta"], "prune_boundary": saved["prune_boundary"]}
+        if d is not None and not 1 <= d < k:
+            self.statusBar().showMessage(f"d = {d} is not possible for points in R^{k}; choose 1 … {k - 1}.", 10000)
+            d = None
         if d is None:
-            d = ask_dimension(self, k, estimate_dimension(points), Path(path).name)
+            d = ask_dimension(self, k, estimate_dimension(points), name)
             if d is None:
                 self.statusBar().showMessage("Opening cancelled: no dimension given.", 5000)
                 return False
-        self.start_reconstruction(points, int(d), truth=None, source=Path(path).name)
+        self.start_reconstruction(points, int(d), truth=None, source=name, **params)
+        if params:
+            self._pending["saved"] = (saved["simplices"], name)
         return True
 
     def open_builtin_dialog(self) -> None:

@@ -105,6 +105,11 @@ class RunPanel(QWidget):
         buttons.addWidget(self.run)
         buttons.addWidget(self.cancel)
         lay.addLayout(buttons)
+        self.stale = QLabel(self)
+        self.stale.setWordWrap(True)
+        self.stale.setStyleSheet("QLabel { background: #fff3cd; color: #6b4e00; padding: 3px; border-radius: 3px; }")
+        self.stale.setVisible(False)
+        lay.addWidget(self.stale)
         self.progress = QProgressBar(self)
         self.progress.setRange(0, 1000)
         self.progress.setTextVisible(True)
@@ -114,7 +119,7 @@ class RunPanel(QWidget):
         self.run.clicked.connect(self._request)
         self.cancel.clicked.connect(self.cancel_requested)
         self.theta.valueChanged.connect(self._theta_moved)
-        self.test.currentTextChanged.connect(lambda t: model.set_candidate_display(test=t))
+        self.test.currentTextChanged.connect(self._test_changed)
         self.prune.toggled.connect(self._prune_toggled)
         model.reconstruction_changed.connect(self.sync)
         self._theta_moved(self.theta.value())
@@ -126,6 +131,28 @@ class RunPanel(QWidget):
     def _theta_moved(self, v: int) -> None:
         self.theta_label.setText(f"{v / 2:.1f}°")
         self.model.set_candidate_display(theta=self.theta_radians)
+        self.update_stale()
+
+    def _test_changed(self, test: str) -> None:
+        self.model.set_candidate_display(test=test)
+        self.update_stale()
+
+    def update_stale(self) -> None:
+        """Say so when the candidates layer no longer matches M_S and the steps."""
+        rec = self.model.rec
+        stale = rec is not None and (
+            self.test.currentText() != rec.test or abs(self.theta_radians - rec.theta) > 1e-9
+        )
+        if stale:
+            self.stale.setText(
+                f"The candidates layer shows <b>{self.test.currentText()}</b>, θ = {np.degrees(self.theta_radians):.1f}°; "
+                f"M_S, the steps and the report are still from <b>{rec.test}</b>, θ = {np.degrees(rec.theta):.1f}°. "
+                "Press <b>Re-extract</b> (Algorithm 3 only) to bring them in line."
+            )
+        self.stale.setVisible(stale)
+        same_d = rec is not None and self.d.value() == rec.d
+        self.run.setText("Re-extract" if stale and same_d else "Reconstruct")
+        self.run.setStyleSheet("QPushButton { font-weight: bold; }" if stale else "")
 
     def _request(self) -> None:
         self.reconstruct_requested.emit(self.d.value(), self.test.currentText(), self.theta_radians,
@@ -152,6 +179,7 @@ class RunPanel(QWidget):
         self.prune.setChecked(bool(rec.prune_boundary))
         for w in widgets:
             w.blockSignals(False)
+        self.update_stale()
 
     def sync_prune(self) -> None:
         """Show the prune setting of the current result (after a failed or cancelled run)."""
@@ -166,6 +194,7 @@ class RunPanel(QWidget):
         self.prune.setEnabled(not busy)
         self.cancel.setEnabled(busy)
         if busy:
+            self.progress.setStyleSheet("")
             self.progress.setValue(0)
             self.progress.setFormat(label or "starting…")
 
@@ -173,5 +202,11 @@ class RunPanel(QWidget):
         self.progress.setValue(int(1000 * max(0.0, min(1.0, fraction))))
         self.progress.setFormat(f"{STAGES.get(stage, stage)} %p%")
 
-    def show_idle(self, text: str) -> None:
+    def show_idle(self, text: str, ok: bool | None = None) -> None:
+        """Idle text; ``ok=False`` turns the bar red (failed or wrong result), True green."""
         self.progress.setFormat(text)
+        self.progress.setToolTip(text)
+        colour = {True: "#3a8f3a", False: "#c0392b"}.get(ok)
+        self.progress.setStyleSheet(f"QProgressBar::chunk {{ background: {colour}; }}" if colour else "")
+        if ok is not None:
+            self.progress.setValue(1000)

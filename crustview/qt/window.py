@@ -41,6 +41,14 @@ def _scrolled(widget: QWidget) -> QScrollArea:
     return area
 
 
+def _same_simplices(rec, saved: np.ndarray) -> bool:
+    """Whether ``rec``'s M_S, in input rows, is the saved simplex list."""
+    mine = np.asarray(rec.point_input)[np.asarray(rec.manifold, dtype=np.intp)].reshape(-1, rec.d + 1)
+    a = np.unique(np.sort(mine, axis=1), axis=0)
+    b = np.unique(np.sort(np.asarray(saved).reshape(-1, rec.d + 1), axis=1), axis=0)
+    return a.shape == b.shape and bool((a == b).all())
+
+
 class MainWindow(FileActions, QMainWindow):
     """crustview's main window.
 
@@ -260,20 +268,33 @@ class MainWindow(FileActions, QMainWindow):
                                       keep_view=bool(pending.get("keep_view")))
         t = rec.topology
         verdict = "closed manifold" if t.closed_manifold else f"NOT a closed manifold ({rec.extraction.stopped})"
-        self.run_panel.show_idle(f"done in {sum(rec.timings.values()):.2f} s — {verdict}")
-        self.statusBar().showMessage(
-            f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} extraction steps.", 15000
-        )
+        expected = truth.manifold if truth is not None else None
+        problems = []
+        if t.closed_manifold and t.unused_samples:
+            problems.append(f"{t.unused_samples} samples unused")
+        if expected is not None and t.closed_manifold and tuple(t.betti) != tuple(expected.betti):
+            problems.append(f"Betti {tuple(t.betti)} ≠ true {tuple(expected.betti)}")
+        if problems:
+            verdict += " but WRONG: " + ", ".join(problems)
+        ok = t.closed_manifold and not problems
+        self.run_panel.show_idle(f"done in {sum(rec.timings.values()):.2f} s — {verdict}", ok=ok)
+        message = f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} extraction steps."
+        saved = pending.get("saved")
+        if saved is not None:
+            same = _same_simplices(rec, saved[0])
+            message += (f" Same M_S as saved in {saved[1]}." if same else
+                        f" M_S DIFFERS from the one saved in {saved[1]} (other crustview version?).")
+        self.statusBar().showMessage(message, 20000)
         self.setWindowTitle(f"crustview — {self.model.source}: d = {rec.d} in R^{rec.k}")
 
     def _job_failed(self, message: str) -> None:
         self.run_panel.sync_prune()
-        self.run_panel.show_idle("failed — previous result kept")
+        self.run_panel.show_idle("failed — previous result kept" if self.model.rec is not None else "failed", ok=False)
         self.show_error(message)
 
     def _job_cancelled(self) -> None:
         self.run_panel.sync_prune()
-        self.run_panel.show_idle("cancelled — previous result kept")
+        self.run_panel.show_idle("cancelled — previous result kept" if self.model.rec is not None else "cancelled")
         self.statusBar().showMessage("Cancelled; the previous result is still shown.", 10000)
 
     def show_error(self, message: str) -> None:
