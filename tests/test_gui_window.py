@@ -427,3 +427,23 @@ def test_changing_the_test_marks_the_result_out_of_date_until_reextracted(qtbot,
     assert panel.stale.isVisible()
     panel.theta.setValue(panel.theta.value() - 10)
     assert not panel.stale.isVisible()
+
+
+def test_frame_each_step_moves_the_camera_onto_the_step_drawn_on_top(qtbot, window):
+    rec = load(qtbot, window)
+    ext = rec.extraction
+    window.steps_panel.follow.setChecked(True)
+    whole = np.array(window.plotter.camera.focal_point)
+    window.model.player.set_step(40)
+    step = ext.steps[39]
+    focus = np.array(window.plotter.camera.focal_point)
+    tau = window.model.projection.project(rec.points[list(step.tau)]).mean(axis=0)
+    assert np.linalg.norm(focus - tau) < 4 * np.median(window.model.spacing)
+    assert np.linalg.norm(focus - whole) > np.linalg.norm(focus - tau)
+    # the step highlight lives in the overlay renderer, so M_S cannot hide it
+    step_actor = window.view.adapters["step"].part.actor
+    assert window.view.top_renderer.HasViewProp(step_actor)
+    assert not window.plotter.renderer.HasViewProp(step_actor)
+    on = shot(window)
+    window.model.layers["step"].visible = False
+    assert differs(on, shot(window), min_pixels=50)

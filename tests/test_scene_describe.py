@@ -82,3 +82,15 @@ def test_interpretation_and_verdict_of_a_torus_with_holes():
     assert rows["boundary faces"] == "kept (prune off)"
     assert rows["extraction stopped"] == "open"
     assert len(kept.manifold) > 0 and verdict(kept)[0] == "bad"
+
+
+def test_step_words_read_well_for_boundary_steps_and_empty_replays():
+    from crustview.core.result import RULE_PRUNE, Step
+    from crustview.scene.describe import step_words
+
+    boundary = Step(0, RULE_PRUNE, (3, 4), (), (7,), float("nan"), "only one d-simplex left at this face (boundary)")
+    text = step_words(boundary, 1, 5)
+    assert "angle" not in text and " -" not in text
+    assert text.endswith("Only one d-simplex left at this face (boundary).")
+    assert "nothing to do" in step_words(None, 0, 0) and "Press →" not in step_words(None, 0, 0)
+    assert "Press →" in step_words(None, 0, 5)

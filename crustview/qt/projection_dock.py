@@ -11,6 +11,7 @@ from PySide6.QtWidgets import (
     QLabel,
     QPushButton,
     QSlider,
+    QStyle,
     QVBoxLayout,
     QWidget,
 )
@@ -42,8 +43,9 @@ class ProjectionPanel(QWidget):
         row2 = QHBoxLayout()
         self.pca = QPushButton("PCA", self)
         self.pca.setToolTip("Project onto the three principal axes of the samples")
-        self.tour = QPushButton("▶ Grand tour", self)
+        self.tour = QPushButton("Grand tour", self)
         self.tour.setCheckable(True)
+        self.tour.setIcon(self.style().standardIcon(QStyle.StandardPixmap.SP_MediaPlay))
         self.tour.setToolTip("Move smoothly between random projections of R^k (click again to pause)")
         self.tour_speed = QSlider(Qt.Orientation.Horizontal, self)
         self.tour_speed.setRange(1, 30)
@@ -127,7 +129,10 @@ class ProjectionPanel(QWidget):
     def _tour_state(self, playing: bool) -> None:
         self.tour.blockSignals(True)
         self.tour.setChecked(playing)
-        self.tour.setText("⏸ Pause tour" if playing else "▶ Grand tour")
+        # standard icons: the ⏸/▶ glyphs are missing from many fonts
+        sp = QStyle.StandardPixmap.SP_MediaPause if playing else QStyle.StandardPixmap.SP_MediaPlay
+        self.tour.setIcon(self.style().standardIcon(sp))
+        self.tour.setText("Pause tour" if playing else "Grand tour")
         self.tour.blockSignals(False)
         self.timer.start() if playing else self.timer.stop()
 

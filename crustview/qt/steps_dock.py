@@ -5,6 +5,7 @@ from __future__ import annotations
 from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, QTimer
 from PySide6.QtWidgets import (
     QAbstractItemView,
+    QCheckBox,
     QComboBox,
     QDoubleSpinBox,
     QHBoxLayout,
@@ -119,6 +120,9 @@ class StepsPanel(QWidget):
         row2.addWidget(self.to_rule)
         row2.addWidget(self.rule, 1)
         lay.addLayout(row2)
+        self.follow = QCheckBox("Frame each step (zoom onto τ and its simplices; R resets the view)", self)
+        self.follow.setToolTip("Move the camera to every step as it is applied, keeping the view direction")
+        lay.addWidget(self.follow)
         self.words = QLabel(self)
         self.words.setWordWrap(True)
         self.words.setMinimumHeight(64)
@@ -141,8 +145,13 @@ class StepsPanel(QWidget):
         self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
         self.table.verticalHeader().setVisible(False)
         self.table.verticalHeader().setDefaultSectionSize(20)
-        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
-        self.table.horizontalHeader().setStretchLastSection(True)
+        header = self.table.horizontalHeader()
+        header.setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
+        # the simplex lists share what is left, so the angle column is never cut off
+        header.setSectionResizeMode(3, QHeaderView.ResizeMode.Stretch)
+        header.setSectionResizeMode(4, QHeaderView.ResizeMode.Stretch)
+        header.setStretchLastSection(False)
+        header.setMinimumSectionSize(24)
         self.table.setToolTip("Event log: every recorded step; selecting a row jumps there")
         lay.addWidget(self.table, 1)
         self.timer = QTimer(self)
@@ -208,7 +217,8 @@ class StepsPanel(QWidget):
             idx = self.log.index(i - 1, 0)
             self.table.selectRow(i - 1)
             sm.setCurrentIndex(idx, sm.SelectionFlag.NoUpdate)
-            self.table.scrollTo(idx, QAbstractItemView.ScrollHint.PositionAtCenter)
+            # EnsureVisible: a clicked row never moves away from under the mouse
+            self.table.scrollTo(idx, QAbstractItemView.ScrollHint.EnsureVisible)
         else:
             self.table.clearSelection()
         sm.blockSignals(False)

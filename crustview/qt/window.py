@@ -102,6 +102,8 @@ class MainWindow(FileActions, QMainWindow):
         self.run_panel.cancel_requested.connect(self.runner.cancel)
         self.info_panel.face_clicked.connect(self.view.frame_face)
         self.model.player.step_changed.connect(lambda *_: self._update_status())
+        self.model.player.step_changed.connect(self._follow_step)
+        self.steps_panel.follow.toggled.connect(lambda on: on and self._follow_step())
         self.model.reconstruction_changed.connect(self._update_status)
 
         self._build_menus()
@@ -317,6 +319,16 @@ class MainWindow(FileActions, QMainWindow):
             f"n = {rec.n} · candidates {len(rec.extraction.simplices):,} · M_S now {alive:,} · "
             f"step {self.model.player.position}/{rec.extraction.n_steps}"
         )
+
+    def _follow_step(self, *_) -> None:
+        """With "Frame each step" on, zoom onto the step just applied."""
+        step = self.model.player.current_step
+        rec = self.model.rec
+        if not self.steps_panel.follow.isChecked() or step is None or rec is None:
+            return
+        ids = np.concatenate([np.asarray(step.tau, dtype=np.int64),
+                              rec.extraction.simplices[list(step.kept) + list(step.removed)].ravel()])
+        self.view.frame_points(np.unique(ids))
 
     # -- picking ---------------------------------------------------------------------
     def _on_press(self, *_) -> None:

@@ -57,17 +57,41 @@ class SceneView:
             layer.events.colorby.connect(lambda *_: self._after_colour())
             layer.events.mode.connect(lambda *_: self.render())
             layer.events.shrink.connect(lambda *_: self.render())
+        self._on_top(("step", "selection"))
         self._bars: dict[str, object] = {}
         self._stale: set[LayerAdapter] = set()
         self.legend = Legend(plotter)
         self._built_for: int | None = None
-        self.basis_text = plotter.add_text("", position="lower_left", font_size=9, color="#333333", name="basis")
+        self.basis_text = plotter.add_text("", position="lower_left", font_size=11, color="#222222", name="basis")
         self.axes = plotter.add_axes(xlabel="X", ylabel="Y", zlabel="Z", line_width=2)
         model.reconstruction_changed.connect(self.on_reconstruction)
         model.projection.changed.connect(self.on_projection)
         model.player.step_changed.connect(self.on_step)
         model.selection.changed.connect(self.on_selection)
         model.candidates_changed.connect(lambda *_: self._after_colour())
+
+    def _on_top(self, names: tuple[str, ...]) -> None:
+        """Draw these layers in a second renderer layer over the scene.
+
+        The step's removed simplices usually lie *inside* M_S (that is why
+        they are removed); drawn in place they would be hidden by the opaque
+        surface.  The overlay renderer shares the camera and clears only the
+        depth buffer, so the highlight is always seen, in its true place.
+        """
+        from vtkmodules.vtkRenderingCore import vtkRenderer
+
+        window = self.plotter.render_window
+        top = vtkRenderer()
+        top.SetLayer(1)
+        top.InteractiveOff()
+        top.SetActiveCamera(self.plotter.renderer.GetActiveCamera())
+        window.SetNumberOfLayers(2)
+        window.AddRenderer(top)
+        for name in names:
+            for part in self.adapters[name].parts:
+                self.plotter.remove_actor(part.actor, render=False)
+                top.AddActor(part.actor)
+        self.top_renderer = top
 
     # -- helpers -------------------------------------------------------------
     @property
@@ -168,11 +192,14 @@ class SceneView:
                 del self._bars[title]
         for j, (title, mapper) in enumerate(want.items()):
             if title not in self._bars:
-                self.plotter.add_scalar_bar(
-                    title=title, mapper=mapper, vertical=True, position_x=0.87, position_y=0.08 + 0.42 * j,
-                    height=0.36, width=0.07, n_labels=4, fmt="%.3g", color="#222222",
-                    title_font_size=12, label_font_size=11,
+                # horizontal, bottom right, below the data: the title fits and stays readable
+                bar = self.plotter.add_scalar_bar(
+                    title=title, mapper=mapper, vertical=False, position_x=0.58, position_y=0.05 + 0.13 * j,
+                    height=0.07, width=0.38, n_labels=5, fmt="%.3g", color="#222222",
+                    title_font_size=14, label_font_size=12, bold=False,
                 )
+                bar.GetTitleTextProperty().SetBackgroundColor(1.0, 1.0, 1.0)
+                bar.GetTitleTextProperty().SetBackgroundOpacity(0.75)
                 self._bars[title] = mapper
 
     def legend_entries(self) -> list[tuple[str, str]]:
@@ -219,7 +246,7 @@ class SceneView:
             text = "2-D data shown flat: X = x1, Y = x2"
         else:
             lab = p.axis_labels()
-            text = f"view axes ({p.description}):  X = {lab[0]}   Y = {lab[1]}   Z = {lab[2]}"
+            text = f"view axes: {p.description}\nX = {lab[0]}    Y = {lab[1]}    Z = {lab[2]}"
         self.basis_text.SetText(0, text)
 
     # -- camera and picking ---------------------------------------------------

@@ -39,6 +39,9 @@ def fmt_tuple(t) -> str:
 def step_words(step: Step | None, position: int, n_steps: int) -> str:
     """One or two sentences about the step just applied at ``position``."""
     if step is None:
+        if n_steps == 0:
+            return ("Step 0 / 0: T_S already is a closed manifold, so Algorithm 3 had nothing to do; "
+                    "M_S = T_S.")
         return (
             f"Step 0 / {n_steps}: the candidate complex T_S before extraction. "
             "Press → to apply the first step."
@@ -50,8 +53,9 @@ def step_words(step: Step | None, position: int, n_steps: int) -> str:
     return (
         f"Step {position} / {n_steps} — {rule} at τ = {fmt_tuple(step.tau)}: removed "
         f"{len(step.removed)} simplex{'es' if len(step.removed) != 1 else ''} "
-        f"{fmt_tuple(step.removed[:8])}{' …' if len(step.removed) > 8 else ''}{kept}; "
-        f"angle {deg(step.angle)}. {step.reason}"
+        f"{fmt_tuple(step.removed[:8])}{' …' if len(step.removed) > 8 else ''}{kept}"
+        + (f"; angle {deg(step.angle)}" if np.isfinite(step.angle) else "")
+        + f". {step.reason[0].upper()}{step.reason[1:]}."
     )
 
 

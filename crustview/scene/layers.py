@@ -108,7 +108,8 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
         Layer(
             "step", "Current step", True, STEP_COLORS["tau"], 1.0, 6.0,
             tooltip="The step just applied: the face tau (amber), the kept pair (green) "
-            "and the simplices it removed (red).",
+            "and the simplices it removed (red); drawn over the other layers, so it shows "
+            "even inside M_S.",
         ),
         Layer(
             "selection", "Selection", True, "#ff00ff", 1.0, 6.0,

@@ -78,6 +78,8 @@ class SceneModel:
         if not keep_view:
             m = self.layers["manifold"]
             m.shrink = 0.8 if rec.d >= 3 else 1.0
+            # a curve is thin: a darker, wider line keeps it visible on the light background
+            m.color, m.size = ("#b35806", 4.0) if rec.d == 1 else ("#e9b872", 3.0)
             self.layers["removed"].shrink = m.shrink
             self.layers["points"].size = 5.0 if rec.n < 2000 else (3.5 if rec.n < 10000 else 1.5)
             # tens of thousands of samples hide the surface: start with them off
