@@ -154,10 +154,13 @@ def _summary(rec, seconds: float, output: Path) -> str:
 
 
 def _cmd_reconstruct(args: argparse.Namespace) -> int:
-    from crustview.core import reconstruct
+    from crustview.core import cost_warning, reconstruct
     from crustview.io import read_points, write_report, write_result
 
     points = read_points(args.input)
+    note = cost_warning(points.shape[1], args.d) if 1 <= args.d < points.shape[1] else None
+    if note:
+        print(f"{PROG}: warning: {note}", file=sys.stderr, flush=True)
     start = time.perf_counter()
     rec = reconstruct(points, args.d, test=args.test, theta=math.radians(args.theta),
                       prune_boundary=not args.keep_boundary)

@@ -264,3 +264,15 @@ def test_view_without_a_display_is_one_line(capsys, bad_files, monkeypatch):
     proc = run_main(capsys, "view", bad_files / "plane.npy", "-d", 1)
     assert_one_line_error(proc, "no display", "xvfb-run")
     assert_one_line_error(run_main(capsys), "no display")
+
+
+def test_high_dimensions_get_a_warning_first(capsys, tmp_path):
+    rng = np.random.default_rng(0)
+    src = tmp_path / "r6.npy"
+    np.save(src, rng.random((12, 6)))
+    proc = run_main(capsys, "reconstruct", src, "-d", 5, "-o", tmp_path / "r6.npz")
+    assert proc.returncode == 0
+    assert proc.stderr.startswith("crustview: warning: Points in R^6") and "long run" in proc.stderr
+    small = tmp_path / "c.npy"
+    np.save(small, get_points("circle", 40))
+    assert run_main(capsys, "reconstruct", small, "-d", 1, "-o", tmp_path / "c.npz").stderr == ""

@@ -447,3 +447,37 @@ def test_frame_each_step_moves_the_camera_onto_the_step_drawn_on_top(qtbot, wind
     on = shot(window)
     window.model.layers["step"].visible = False
     assert differs(on, shot(window), min_pixels=50)
+
+
+def test_raw_points_are_shown_while_the_first_run_goes(qtbot, window):
+    """An empty window shows the samples at once; the result replaces them."""
+    before = shot(window)
+    assert window.load_builtin("trefoil", 1500)  # long enough to look at mid-run
+    assert window.runner.busy
+    assert window.plotter.actors.get("preview") is not None
+    assert differs(before, shot(window), min_pixels=200)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    assert window.model.rec is not None
+    assert window.plotter.actors.get("preview") is None
+
+
+def test_small_screens_keep_half_the_window_for_the_view(qtbot, window):
+    window.fit_to_screen(1024, 700)
+    qtbot.wait(100)
+    load(qtbot, window, "circle")
+    qtbot.wait(100)
+    assert window.width() <= 1024 and window.height() <= 700
+    assert window.plotter.width() >= 0.5 * window.width()
+    assert len(window.tabifiedDockWidgets(window.docks["steps"])) == 4
+    assert not window.docks["steps"].visibleRegion().isEmpty()  # Steps is the tab in front
+
+
+def test_y_up_view_for_scans_is_remembered(qtbot, window):
+    load(qtbot, window, "circle")
+    load(qtbot, window, "sphere")
+    assert np.allclose(window.plotter.camera.up, (0, 0, 1), atol=1e-6)
+    window.y_up.trigger()
+    assert np.allclose(window.plotter.camera.up, (0, 1, 0), atol=1e-6)
+    assert window.settings.value("y_up") == "true"
+    window.y_up.trigger()
+    assert np.allclose(window.plotter.camera.up, (0, 0, 1), atol=1e-6)

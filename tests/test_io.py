@@ -11,7 +11,14 @@ import pytest
 from crustview.core import reconstruct
 from crustview.core.errors import InputError
 from crustview.core.sampling import get_manifold
-from crustview.io import read_points, report_dict, write_points, write_report, write_result
+from crustview.io import (
+    read_points,
+    read_run_parameters,
+    report_dict,
+    write_points,
+    write_report,
+    write_result,
+)
 
 
 # ---------------------------------------------------------------- fixtures: real runs
@@ -156,11 +163,12 @@ def _check_npz(path, rec):
     with np.load(path, allow_pickle=False) as z:
         data = {key: z[key] for key in z.files}
     assert set(data) == {"points", "simplices", "candidates", "normals", "tangents",
-                         "d", "k", "test", "theta"}  # fmt: skip
+                         "d", "k", "test", "theta", "prune_boundary"}  # fmt: skip
     n_in, k, d = len(rec.input_points), rec.k, rec.d
     np.testing.assert_array_equal(data["points"], rec.input_points)
     assert int(data["d"]) == d and int(data["k"]) == k
     assert str(data["test"]) == rec.test and float(data["theta"]) == rec.theta
+    assert bool(data["prune_boundary"]) == rec.prune_boundary
     simp, cand = data["simplices"], data["candidates"]
     assert simp.shape == (len(rec.manifold), d + 1) and cand.shape[1] == d + 1
     assert simp.min() >= 0 and simp.max() < n_in
@@ -261,3 +269,18 @@ def test_report(tmp_path, sphere_rec):
     assert set(data["timings"]) == set(sphere_rec.timings)
     with pytest.raises(InputError):
         write_report(tmp_path / "missing" / "r.json", sphere_rec)
+
+
+def test_run_parameters_round_trip_and_plain_files_have_none(tmp_path):
+    pts = get_manifold("circle").sample(60, seed=0).points
+    rec = reconstruct(pts, 1, test="cocone-all", theta=0.3, prune_boundary=False)
+    write_result(tmp_path / "r.npz", rec)
+    got = read_run_parameters(tmp_path / "r.npz")
+    assert (got["d"], got["test"], got["theta"], got["prune_boundary"]) == (1, "cocone-all", 0.3, False)
+    again = reconstruct(read_points(tmp_path / "r.npz"), got["d"], test=got["test"], theta=got["theta"],
+                        prune_boundary=got["prune_boundary"])
+    assert _rows(again.point_input[again.manifold]) == _rows(got["simplices"])  # the same M_S
+    np.savez(tmp_path / "plain.npz", points=pts)
+    np.save(tmp_path / "plain.npy", pts)
+    assert read_run_parameters(tmp_path / "plain.npz") is None
+    assert read_run_parameters(tmp_path / "plain.npy") is None

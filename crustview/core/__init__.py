@@ -7,7 +7,7 @@ reextract(rec, test, theta) -> Reconstruction   (Algorithm 3 again, fast)
 """
 
 from .errors import Cancelled, CrustviewError, InputError, QhullFailure
-from .reconstruct import reconstruct, reextract
+from .reconstruct import cost_warning, reconstruct, reextract
 from .result import CANDIDATE_TESTS, RULES, Candidates, Extraction, Reconstruction, Step, TopologyReport
 
 __all__ = [
@@ -21,6 +21,7 @@ __all__ = [
     "QhullFailure",
     "Reconstruction",
     "Step",
+    "cost_warning",
     "TopologyReport",
     "reconstruct",
     "reextract",

@@ -49,7 +49,9 @@ def run_app(path: str | os.PathLike | None = None, d: int | None = None, demo: b
     app.setApplicationName("crustview")
     app.setOrganizationName("crustview")
     window = MainWindow()
-    window.resize(1600, 1000)
+    screen = app.primaryScreen()
+    geo = screen.availableGeometry() if screen is not None else None
+    window.fit_to_screen(geo.width() if geo else 1600, geo.height() if geo else 1000)
     window.show()
     sys.excepthook = _excepthook(window)
     if path is not None:

@@ -70,6 +70,8 @@ class FileActions:
         self._add_recent(path)
         self.settings.setValue("last_dir", str(Path(path).parent))
         name = Path(path).name
+        if self.model.rec is None:  # nothing shown yet: the raw points, while d is asked and the run goes
+            self.view.show_preview(points)
         params: dict = {}
         if saved is not None and (d is None or d == saved["d"]):
             # a saved result: redo exactly its run (deterministic), no question

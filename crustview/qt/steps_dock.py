@@ -164,6 +164,13 @@ class StepsPanel(QWidget):
         player.playing_changed.connect(self._playing)
         self._extraction(player.n_steps)
 
+    def compact(self) -> None:
+        """Narrower controls for small screens."""
+        self.counter.setMinimumWidth(0)
+        self.speed.setSuffix("/s")
+        self.follow.setText("Frame each step")
+        self.to_rule.setText("Next of rule")
+
     def _extraction(self, n: int) -> None:
         self.log.reset()
         # ResizeToContents only measures the rows in view: size the step-number column for the largest

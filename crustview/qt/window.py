@@ -19,7 +19,7 @@ from PySide6.QtWidgets import (
 )
 from pyvistaqt import QtInteractor
 
-from ..core import reconstruct, reextract
+from ..core import cost_warning, reconstruct, reextract
 from ..render import SceneView
 from ..scene.model import SceneModel
 from .files import FileActions
@@ -139,6 +139,29 @@ class MainWindow(FileActions, QMainWindow):
                 return True
         return False
 
+    def fit_to_screen(self, width: int, height: int) -> None:
+        """Size the window for a screen of ``width`` x ``height`` pixels.
+
+        Below 1400 pixels of width all docks share one tabbed column on the
+        right (Steps first) and get narrower, so the 3-D view keeps more than
+        half of the window.
+        """
+        w, h = min(1600, int(width * 0.95)), min(1000, int(height * 0.92))
+        self.resize(w, h)
+        if width < 1400:
+            # one column of tabbed docks on the right; narrow panels scroll sideways
+            self.layers_panel.setMinimumWidth(0)
+            self.layers_panel.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAsNeeded)
+            self.steps_panel.compact()
+            right = Qt.DockWidgetArea.RightDockWidgetArea
+            order = ["steps", "run", "layers", "projection", "info"]
+            for name in order:
+                self.addDockWidget(right, self.docks[name])
+            for name in order[1:]:
+                self.tabifyDockWidget(self.docks["steps"], self.docks[name])
+            self.docks["steps"].raise_()
+            self.resizeDocks([self.docks["steps"]], [max(300, int(w * 0.36))], Qt.Orientation.Horizontal)
+
     # -- construction helpers ---------------------------------------------------
     def _dock(self, title: str, widget: QWidget, area) -> QDockWidget:
         dock = QDockWidget(title, self)
@@ -184,6 +207,11 @@ class MainWindow(FileActions, QMainWindow):
         self._action(s, "Last (M_S)", p.last, Qt.Key.Key_End)
         v = bar.addMenu("&View")
         self._action(v, "Reset camera", lambda: (self.view.reset_camera(), self.view.render()), "R")
+        self.y_up = self._action(v, "Y axis up", self._set_y_up, "Y",
+                                 "View with the Y axis up (scans such as the bunny are stored Y-up)")
+        self.y_up.setCheckable(True)
+        self.y_up.setChecked(str(self.settings.value("y_up", "false")).lower() == "true")
+        self.view.y_up = self.y_up.isChecked()
         self._action(v, "Clear selection", self.model.selection.clear, Qt.Key.Key_Escape)
         v.addSeparator()
         for dock in self.docks.values():
@@ -210,11 +238,15 @@ class MainWindow(FileActions, QMainWindow):
             return reconstruct(points, d, test=test, theta=theta, prune_boundary=prune, progress=progress,
                                cancel=cancel)
 
+        note = cost_warning(points.shape[1], d)
+        if note:
+            self.show_error(note + " Cancel stops it at any time.")
+
         return self.start_job(job, f"Reconstructing {source} (d = {d})…", points=points, truth=truth,
                               source=source, keep_view=False)
 
     def load_builtin(self, name: str, n: int | None = None, seed: int = 0) -> bool:
-        """Sample a built-in manifold and reconstruct it (both in the worker)."""
+        """Sample a built-in manifold and reconstruct it (in the worker)."""
         from ..core.sampling import get_manifold
 
         try:
@@ -227,9 +259,15 @@ class MainWindow(FileActions, QMainWindow):
         theta = self.run_panel.theta_radians
         prune = self.run_panel.prune.isChecked()
 
+        # with nothing on screen yet, sample here (milliseconds below 20k points) and show the
+        # raw points while the reconstruction runs; otherwise all of it runs in the worker
+        early = m.sample(n, seed=seed) if self.model.rec is None and n <= 20000 and not self.runner.busy else None
+        if early is not None:
+            self.view.show_preview(early.points)
+
         def job(progress, cancel):
             progress("prepare", 0.0)
-            sample = m.sample(n, seed=seed)
+            sample = early if early is not None else m.sample(n, seed=seed)
             rec = reconstruct(sample.points, m.d, test=test, theta=theta, prune_boundary=prune,
                               progress=progress, cancel=cancel)
             return {"rec": rec, "truth": sample, "points": sample.points}
@@ -319,6 +357,12 @@ class MainWindow(FileActions, QMainWindow):
             f"n = {rec.n} · candidates {len(rec.extraction.simplices):,} · M_S now {alive:,} · "
             f"step {self.model.player.position}/{rec.extraction.n_steps}"
         )
+
+    def _set_y_up(self, *_) -> None:
+        self.view.y_up = self.y_up.isChecked()
+        self.settings.setValue("y_up", "true" if self.view.y_up else "false")
+        self.view.reset_camera()
+        self.view.render()
 
     def _follow_step(self, *_) -> None:
         """With "Frame each step" on, zoom onto the step just applied."""

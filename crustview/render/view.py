@@ -45,6 +45,8 @@ class SceneView:
         self.model = model
         self.plotter = plotter
         self.auto_render = True
+        #: View the data with its Y axis up instead of Z (View ▸ Y axis up).
+        self.y_up = False
         plotter.set_background(BACKGROUND[0], top=BACKGROUND[1])
         self.adapters: dict[str, LayerAdapter] = {}
         for name, cls in ADAPTERS.items():
@@ -132,10 +134,36 @@ class SceneView:
                 self._stale.add(a)
 
     # -- model events ------------------------------------------------------------
+    def show_preview(self, points: np.ndarray | None) -> None:
+        """Draw raw input points (first three coordinates, centred) before any result exists.
+
+        Used while the dimension is asked and the first reconstruction runs,
+        so the window is never empty; ``None`` removes the preview.
+        """
+        if points is None:
+            if self.plotter.actors.get("preview") is not None:
+                self.plotter.remove_actor("preview", render=False)
+                self.render()
+            return
+        p = np.asarray(points, dtype=float)
+        p = p - p.mean(axis=0)
+        flat = p.shape[1] == 2
+        p3 = np.zeros((len(p), 3))
+        p3[:, : min(3, p.shape[1])] = p[:, :3]
+        import pyvista as pv
+
+        self.plotter.add_mesh(pv.PolyData(p3), name="preview", color="#34495e", point_size=3.0,
+                              render_points_as_spheres=False, pickable=False, reset_camera=False)
+        if flat:
+            self.plotter.view_xy(render=False)
+        self.plotter.reset_camera(bounds=tuple(np.ravel(np.stack([p3.min(axis=0), p3.max(axis=0)], axis=1))))
+        self.render()
+
     def on_reconstruction(self) -> None:
         rec = self.model.rec
         if rec is None:
             return
+        self.show_preview(None)
         self._built_for = id(rec)
         self._stale.clear()
         for a in self.adapters.values():
@@ -264,8 +292,12 @@ class SceneView:
             self.plotter.disable_parallel_projection()
             cam = self.plotter.camera
             cam.focal_point = (0.0, 0.0, 0.0)
-            cam.position = (1.6 * r, -2.2 * r, 1.4 * r)
-            cam.up = (0.0, 0.0, 1.0)
+            if self.y_up:  # scans are often stored Y-up (the bunny, spot)
+                cam.position = (1.6 * r, 1.4 * r, 2.2 * r)
+                cam.up = (0.0, 1.0, 0.0)
+            else:
+                cam.position = (1.6 * r, -2.2 * r, 1.4 * r)
+                cam.up = (0.0, 0.0, 1.0)
             p = self.model.projection.project(self.model.rec.points)
             lo, hi = p.min(axis=0), p.max(axis=0)
             bounds = tuple(np.ravel(np.stack([lo, hi], axis=1)))
