@@ -209,7 +209,7 @@ def _check_points(data: Any, path: Path) -> np.ndarray:
     if bad.any():
         raise InputError(
             f"Cannot use '{path}': {int(bad.sum())} point(s) have NaN or infinite "
-            f"coordinates (first at row {int(np.flatnonzero(bad)[0])})."
+            f"coordinates (the first is point {int(np.flatnonzero(bad)[0]) + 1}, counting from 1)."
         )
     return arr
 

@@ -130,7 +130,7 @@ def test_bad_binary_files(tmp_path):
     np.save(tmp_path / "none.npy", np.zeros((0, 3)))
     _expect_error(tmp_path / "none.npy", "no points")
     np.save(tmp_path / "inf.npy", np.array([[0.0, 1.0], [np.inf, 2.0]]))
-    _expect_error(tmp_path / "inf.npy", "row 1")
+    _expect_error(tmp_path / "inf.npy", "the first is point 2, counting from 1")
     np.save(tmp_path / "words.npy", np.array([["a", "b"], ["c", "d"]]))
     _expect_error(tmp_path / "words.npy", "not numbers")
     np.save(tmp_path / "objects.npy", np.array([[1, None]], dtype=object), allow_pickle=True)

@@ -147,7 +147,7 @@ def _build() -> dict[str, TestManifold]:
            "Unit 3-sphere in Hopf coordinates.",
            (_s3, ((0.0, 0.0, 0.0), (np.pi / 2, _TAU, _TAU)))),
         tm("circle-r4", 4, 1, (1, 1), 0, True, False, 150,
-           "Trefoil knot lifted to R^4 by w = 0.35 cos t (codimension 3).",
+           "A circle in R^4 (codimension 3): the trefoil knot of R^3 lifted by w = 0.35 cos t.",
            (_circle_r4, _LOOP)),
         tm("torus-r5", 5, 2, (1, 2, 1), 0, True, False, 1000,
            "Torus (cos u, sin u, cos v, sin v, 0.3 sin(u+v)) in R^5 (codimension 3).",

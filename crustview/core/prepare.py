@@ -111,7 +111,8 @@ def validate(points: np.ndarray, d: int) -> np.ndarray:
     if bad.any():
         rows = np.flatnonzero(bad)
         raise InputError(
-            f"{bad.sum()} point(s) contain NaN or infinity (first at row {rows[0]}); remove them"
+            f"{bad.sum()} point(s) contain NaN or infinity (the first is row {rows[0]} of the array, "
+            "counting from 0); remove them"
         )
     if n < k + 2:
         raise InputError(f"need at least k + 2 = {k + 2} points in R^{k}; got {n}")

@@ -66,7 +66,7 @@ class InfoPanel(QWidget):
         self.banner.setToolTip("The core's verdict on M_S and its report messages")
         self.banner.setVisible(False)
         lay.addWidget(self.banner)
-        box = QGroupBox("Topology of M_S", self)
+        box = QGroupBox("Topology of the final M_S (after the last step)", self)
         bl = QVBoxLayout(box)
         self.topology = QTableWidget(0, 3, box)
         self.topology.setHorizontalHeaderLabels(["", "found", "expected"])
