@@ -481,3 +481,18 @@ def test_y_up_view_for_scans_is_remembered(qtbot, window):
     assert window.settings.value("y_up") == "true"
     window.y_up.trigger()
     assert np.allclose(window.plotter.camera.up, (0, 0, 1), atol=1e-6)
+
+
+def test_reextraction_keeps_the_camera_and_step_a_new_sample_resets_them(qtbot, window):
+    rec = load(qtbot, window)
+    window.plotter.camera.zoom(2.0)
+    window.model.player.set_step(5)
+    cam = np.array(window.plotter.camera.position)
+    window.run_panel.test.setCurrentText("cocone-all")
+    window.run_panel.run.click()
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec is not rec, timeout=60_000)
+    assert np.allclose(window.plotter.camera.position, cam)
+    assert window.model.player.position == 5
+    load(qtbot, window, "sphere")
+    assert not np.allclose(window.plotter.camera.position, cam)
+    assert window.model.player.position == 0

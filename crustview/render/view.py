@@ -172,7 +172,8 @@ class SceneView:
             a.apply_visibility()
         self.update_overlays()
         self.update_basis_text()
-        self.reset_camera()
+        if not self.model.kept_view:
+            self.reset_camera()
         self.render()
 
     def on_projection(self) -> None:

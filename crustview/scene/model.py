@@ -46,6 +46,7 @@ class SceneModel:
 
     def __init__(self) -> None:
         self.rec: Reconstruction | None = None
+        self.kept_view = False
         self.truth = None
         self.source = ""
         self.layers: dict[str, Layer] = default_layers()
@@ -62,6 +63,8 @@ class SceneModel:
         """Show ``rec``; ``keep_view`` keeps projection and step (re-extraction)."""
         same_space = self.rec is not None and self.rec.k == rec.k
         position = self.player.position if keep_view else 0
+        #: Whether the last result kept the view (a re-extraction): the camera stays too.
+        self.kept_view = bool(keep_view and same_space)
         self.rec = rec
         self.truth = truth
         self.source = source or self.source
