@@ -70,6 +70,31 @@ def test_literal_angle_of_a_tilted_triangle():
     assert np.degrees(ang[0]) == pytest.approx(30.0)
 
 
+def test_literal_angle_in_codimension_2_and_3_and_the_some_vertex_quantifier():
+    """Hand-made: an edge in R^3 (codim 2) and a triangle in R^5 (codim 3).
+
+    Edge (0,0,0)-(1,0,1): its direction makes 45 deg with the x axis (AT of
+    vertex 0) and 0 deg with the direction (1,0,1)/sqrt2 (AT of vertex 1);
+    the paper's quantifier ("some sample") takes the smaller, 0 deg.
+    Triangle in R^5 spanned by e1 and (cos 20) e2 + (sin 20) e3 at a vertex
+    whose AT is span(e1, e2): largest principal angle 20 deg.
+    """
+    work = np.array([[0.0, 0, 0], [1.0, 0, 1]])
+    n0 = np.array([[0.0, 0], [1, 0], [0, 1]])  # AN = span(y, z): AT = x axis
+    r = np.sqrt(0.5)
+    n1 = np.array([[0.0, -r], [1, 0], [0, r]])  # AN orthogonal to (1, 0, 1)
+    ang = cand.literal_angles(work, np.stack([n0, n1]), np.array([[0, 1]]))
+    assert np.degrees(ang[0]) == pytest.approx(0.0, abs=1e-6)
+    ang0 = cand.literal_angles(work, np.stack([n0, n0]), np.array([[0, 1]]))
+    assert np.degrees(ang0[0]) == pytest.approx(45.0)
+    c, s = np.cos(np.radians(20)), np.sin(np.radians(20))
+    work5 = np.array([[0.0, 0, 0, 0, 0], [1, 0, 0, 0, 0], [0, c, s, 0, 0]])
+    eye = np.eye(5)
+    normals5 = np.tile(eye[:, 2:], (3, 1, 1))  # AN = span(e3, e4, e5) at every vertex
+    ang5 = cand.literal_angles(work5, normals5, np.array([[0, 1, 2]]))
+    assert np.degrees(ang5[0]) == pytest.approx(20.0)
+
+
 def brute_force_min(x, nrm, rng, samples=20000):
     """Smallest sin^2 angle to AT over random convex combinations of the rows of x."""
     w = rng.dirichlet(np.full(len(x), 0.3), size=samples)
