@@ -109,14 +109,38 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _check_display() -> None:
-    """Fail with one line when no screen is reachable (Qt would abort)."""
-    if sys.platform.startswith("linux") and not (
-        os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or os.environ.get("QT_QPA_PLATFORM")
-    ):
-        raise _UsageError(
-            "no display: DISPLAY is not set (run it on a desktop, under 'xvfb-run', or use "
-            "'crustview reconstruct' for headless work)"
-        )
+    """Fail with one line when no screen is reachable (Qt would abort the process)."""
+    if not sys.platform.startswith("linux") or os.environ.get("QT_QPA_PLATFORM") or \
+            os.environ.get("WAYLAND_DISPLAY"):
+        return
+    hint = "run it on a desktop, under 'xvfb-run', or use 'crustview reconstruct' for headless work"
+    display = os.environ.get("DISPLAY")
+    if not display:
+        raise _UsageError(f"no display: DISPLAY is not set ({hint})")
+    if not _x_display_opens(display):
+        raise _UsageError(f"no display: cannot connect to the X display '{display}' ({hint})")
+
+
+def _x_display_opens(display: str) -> bool:
+    """Whether Xlib can open ``display``; True when Xlib itself is not found (let Qt try)."""
+    import ctypes
+    import ctypes.util
+
+    name = ctypes.util.find_library("X11")
+    if name is None:
+        return True
+    try:
+        xlib = ctypes.CDLL(name)
+    except OSError:
+        return True
+    xlib.XOpenDisplay.restype = ctypes.c_void_p
+    xlib.XOpenDisplay.argtypes = [ctypes.c_char_p]
+    xlib.XCloseDisplay.argtypes = [ctypes.c_void_p]
+    handle = xlib.XOpenDisplay(display.encode())
+    if not handle:
+        return False
+    xlib.XCloseDisplay(handle)
+    return True
 
 
 def _run_app(*args: object) -> int:

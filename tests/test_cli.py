@@ -264,6 +264,9 @@ def test_view_without_a_display_is_one_line(capsys, bad_files, monkeypatch):
     proc = run_main(capsys, "view", bad_files / "plane.npy", "-d", 1)
     assert_one_line_error(proc, "no display", "xvfb-run")
     assert_one_line_error(run_main(capsys), "no display")
+    monkeypatch.setenv("DISPLAY", ":9731")  # no X server there
+    assert_one_line_error(run_main(capsys, "view", bad_files / "plane.npy", "-d", 1),
+                          "cannot connect to the X display ':9731'")
 
 
 def test_high_dimensions_get_a_warning_first(capsys, tmp_path):

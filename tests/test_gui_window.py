@@ -407,7 +407,7 @@ def test_saved_result_reopens_with_its_own_run_and_wrong_topology_is_flagged(qtb
     t = window.model.rec.topology
     assert t.closed_manifold and t.betti != (1, 2, 1)
     text = window.run_panel.progress.format()
-    assert "WRONG" in text and "≠ true (1, 2, 1)" in text and "samples unused" in text
+    assert "WRONG" in text and "≠ true (1, 2, 1)" in text and f"{t.unused_samples} unused" in text
 
 
 def test_changing_the_test_marks_the_result_out_of_date_until_reextracted(qtbot, window):
@@ -472,13 +472,15 @@ def test_small_screens_keep_half_the_window_for_the_view(qtbot, window):
     assert not window.docks["steps"].visibleRegion().isEmpty()  # Steps is the tab in front
 
 
-def test_y_up_view_for_scans_is_remembered(qtbot, window):
+def test_y_up_view_for_scans(qtbot, window):
     load(qtbot, window, "circle")
     load(qtbot, window, "sphere")
     assert np.allclose(window.plotter.camera.up, (0, 0, 1), atol=1e-6)
     window.y_up.trigger()
     assert np.allclose(window.plotter.camera.up, (0, 1, 0), atol=1e-6)
-    assert window.settings.value("y_up") == "true"
+    load(qtbot, window, "circle")  # stays on for the session
+    load(qtbot, window, "sphere")
+    assert np.allclose(window.plotter.camera.up, (0, 1, 0), atol=1e-6)
     window.y_up.trigger()
     assert np.allclose(window.plotter.camera.up, (0, 0, 1), atol=1e-6)
 
@@ -496,3 +498,74 @@ def test_reextraction_keeps_the_camera_and_step_a_new_sample_resets_them(qtbot, 
     load(qtbot, window, "sphere")
     assert not np.allclose(window.plotter.camera.position, cam)
     assert window.model.player.position == 0
+
+
+def test_arrow_keys_move_a_focused_slider_not_the_replay(qtbot, window):
+    load(qtbot, window)
+    window.activateWindow()
+    qtbot.waitActive(window)
+    theta = window.run_panel.theta
+    theta.setFocus()
+    qtbot.waitUntil(theta.hasFocus)
+    before = theta.value()
+    qtbot.keyClick(theta, Qt.Key.Key_Right)
+    qtbot.keyClick(theta, Qt.Key.Key_Right)
+    assert theta.value() == before + 2
+    assert window.model.player.position == 0
+    window.plotter.setFocus()
+    qtbot.keyClick(window.plotter, Qt.Key.Key_Right)
+    assert window.model.player.position == 1
+
+
+def test_the_event_log_shows_exactly_the_current_step(qtbot, window):
+    load(qtbot, window)
+    table = window.steps_panel.table
+    player = window.model.player
+
+    def selected():
+        return [ix.row() for ix in table.selectionModel().selectedRows()]
+
+    for _ in range(5):
+        player.next()
+    assert selected() == [4]
+    table.selectRow(2)  # a click on row 3 jumps to step 3
+    assert player.position == 3 and selected() == [2]
+    player.next()
+    player.next()
+    assert selected() == [4]
+    player.first()
+    assert selected() == []
+    window.steps_panel.rule.setCurrentText("resolve-nonmanifold")
+    player.last()
+    words = window.steps_panel.words.text()
+    window.steps_panel.to_rule.click()  # nothing after the last step
+    assert window.steps_panel.words.text() == words
+    assert "No further step" in window.statusBar().currentMessage()
+
+
+def test_the_out_of_date_note_does_not_squash_the_run_panel(qtbot, window):
+    load(qtbot, window)
+    panel = window.run_panel
+    heights = {w: w.height() for w in (panel.d, panel.test, panel.theta, panel.prune)}
+    panel.test.setCurrentText("literal")
+    qtbot.waitUntil(panel.stale.isVisible)
+    qtbot.wait(100)
+    for w, h in heights.items():
+        assert w.height() >= min(h, w.sizeHint().height()), w
+    assert panel.d.height() >= panel.d.sizeHint().height()
+
+
+def test_saved_result_with_another_d_keeps_its_test_and_theta(qtbot, window, tmp_path):
+    from crustview import io
+    from crustview.core import reconstruct
+    from crustview.core.sampling import get_manifold
+
+    saved = reconstruct(get_manifold("sphere").sample(300, seed=0).points, 2, test="literal",
+                        theta=np.radians(30))
+    path = tmp_path / "s.npz"
+    io.write_result(path, saved)
+    assert window.open_file(path, d=1)
+    assert "saved with d = 2" in window.statusBar().currentMessage()
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec is not None, timeout=60_000)
+    rec = window.model.rec
+    assert rec.d == 1 and rec.test == "literal" and np.isclose(rec.theta, np.radians(30))

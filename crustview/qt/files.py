@@ -73,10 +73,16 @@ class FileActions:
         if self.model.rec is None:  # nothing shown yet: the raw points, while d is asked and the run goes
             self.view.show_preview(points)
         params: dict = {}
-        if saved is not None and (d is None or d == saved["d"]):
-            # a saved result: redo exactly its run (deterministic), no question
-            d = saved["d"]
+        note = ""
+        if saved is not None:
+            # a saved result: redo its run (deterministic), no question; a d given
+            # on top changes only d
             params = {"test": saved["test"], "theta": saved["theta"], "prune_boundary": saved["prune_boundary"]}
+            if d is None:
+                d = saved["d"]
+            elif d != saved["d"]:
+                note = (f"{name} was saved with d = {saved['d']}; reconstructing with d = {d}, "
+                        f"keeping its test ({saved['test']}) and θ = {np.degrees(saved['theta']):.1f}°.")
         if d is not None and not 1 <= d < k:
             self.statusBar().showMessage(f"d = {d} is not possible for points in R^{k}; choose 1 … {k - 1}.", 10000)
             d = None
@@ -86,7 +92,9 @@ class FileActions:
                 self.statusBar().showMessage("Opening cancelled: no dimension given.", 5000)
                 return False
         self.start_reconstruction(points, int(d), truth=None, source=name, **params)
-        if params:
+        if note:
+            self.statusBar().showMessage(note, 20000)
+        elif params:
             self._pending["saved"] = (saved["simplices"], name)
         return True
 

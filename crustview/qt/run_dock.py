@@ -10,6 +10,7 @@ from PySide6.QtWidgets import (
     QFormLayout,
     QHBoxLayout,
     QLabel,
+    QLayout,
     QProgressBar,
     QPushButton,
     QSlider,
@@ -94,6 +95,10 @@ class RunPanel(QWidget):
         form.addRow("", self.prune)
         lay = QVBoxLayout(self)
         lay.setContentsMargins(6, 4, 6, 4)
+        # the dock grows when the out-of-date note appears instead of squashing the fields
+        lay.setSizeConstraint(QLayout.SizeConstraint.SetMinimumSize)
+        for w in (self.d, self.test, self.theta, self.prune):
+            w.setMinimumHeight(w.sizeHint().height())
         lay.addLayout(form)
         buttons = QHBoxLayout()
         self.run = QPushButton("Reconstruct", self)
@@ -116,6 +121,8 @@ class RunPanel(QWidget):
         self.progress.setFormat("idle")
         self.progress.setValue(0)
         lay.addWidget(self.progress)
+        for w in (self.run, self.cancel, self.progress):
+            w.setMinimumHeight(w.sizeHint().height())
         self.run.clicked.connect(self._request)
         self.cancel.clicked.connect(self.cancel_requested)
         self.theta.valueChanged.connect(self._theta_moved)

@@ -16,6 +16,7 @@ from PySide6.QtWidgets import (
     QStyle,
     QTableView,
     QToolButton,
+    QToolTip,
     QVBoxLayout,
     QWidget,
 )
@@ -137,6 +138,7 @@ class StepsPanel(QWidget):
             self,
         )
         lay.addWidget(legend)
+        self._syncing = False
         self.log = StepLog(model)
         self.table = QTableView(self)
         self.table.setModel(self.log)
@@ -184,13 +186,19 @@ class StepsPanel(QWidget):
         self.sync(self.model.player.position)
 
     def _row_selected(self, current, _previous) -> None:
-        if current.isValid():
+        if current.isValid() and not self._syncing:
             self.model.player.set_step(current.row() + 1)
 
     def _run_to_rule(self) -> None:
         rule = self.rule.currentText()
         if not self.model.player.run_to_rule(rule):
-            self.words.setText(f"No further step of rule {rule} after step {self.model.player.position}.")
+            # said beside the button; the current step's description stays
+            self.to_rule.setToolTip(f"No further step of rule {rule} after step {self.model.player.position}.")
+            QToolTip.showText(self.to_rule.mapToGlobal(self.to_rule.rect().bottomLeft()),
+                              self.to_rule.toolTip(), self.to_rule)
+            window = self.window()
+            if hasattr(window, "statusBar"):
+                window.statusBar().showMessage(self.to_rule.toolTip(), 8000)
 
     def _speed(self, v: float) -> None:
         self.model.player.speed = v
@@ -218,14 +226,19 @@ class StepsPanel(QWidget):
         self.slider.blockSignals(False)
         self.counter.setText(f"step {i} / {n}")
         self.words.setText(step_words(player.current_step, i, n) if player.extraction else "No reconstruction yet.")
+        # the selection model's signals stay on (the view repaints from them, so
+        # exactly one row looks selected); a flag stops the echo to the player
         sm = self.table.selectionModel()
-        sm.blockSignals(True)
-        if i > 0:
-            idx = self.log.index(i - 1, 0)
-            self.table.selectRow(i - 1)
-            sm.setCurrentIndex(idx, sm.SelectionFlag.NoUpdate)
-            # EnsureVisible: a clicked row never moves away from under the mouse
-            self.table.scrollTo(idx, QAbstractItemView.ScrollHint.EnsureVisible)
-        else:
-            self.table.clearSelection()
-        sm.blockSignals(False)
+        self._syncing = True
+        try:
+            if i > 0:
+                idx = self.log.index(i - 1, 0)
+                flags = sm.SelectionFlag.ClearAndSelect | sm.SelectionFlag.Rows
+                sm.setCurrentIndex(idx, flags)
+                # EnsureVisible: a clicked row never moves away from under the mouse
+                self.table.scrollTo(idx, QAbstractItemView.ScrollHint.EnsureVisible)
+            else:
+                sm.clearSelection()
+                sm.setCurrentIndex(QModelIndex(), sm.SelectionFlag.Clear)
+        finally:
+            self._syncing = False

@@ -6,6 +6,8 @@ import numpy as np
 from PySide6.QtCore import QEvent, QObject, QSettings, Qt
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import (
+    QAbstractButton,
+    QAbstractSlider,
     QAbstractSpinBox,
     QApplication,
     QComboBox,
@@ -123,18 +125,31 @@ class MainWindow(FileActions, QMainWindow):
         }
         QApplication.instance().installEventFilter(self)
 
-    def eventFilter(self, obj: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt API
-        """Stepping keys reach the player even when the window is not active.
+    def _keeps_key(self, obj: QObject, key: int) -> bool:
+        """Whether the focused widget needs this stepping key for itself."""
+        if isinstance(obj, (QLineEdit, QAbstractSpinBox, QComboBox, QAbstractSlider)):
+            return True  # text, numbers, choices and sliders (θ, opacity) use ← → Home End
+        return key == Qt.Key.Key_Space and isinstance(obj, QAbstractButton)  # Space presses a button
 
-        The menu actions carry the same shortcuts; Qt only honours those in
-        the active window, so key presses that arrive here (no shortcut
-        matched) are handled too, except in text and number fields.
+    def eventFilter(self, obj: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt API
+        """Stepping keys reach the player, except where the focused widget needs them.
+
+        The menu actions carry the same shortcuts.  A widget that uses the key
+        (a slider, a spin box, a text field, Space on a button) claims it
+        through ``ShortcutOverride``, so the shortcut does not fire; key
+        presses that reach no shortcut (window not active) are handled here.
         """
-        if event.type() == QEvent.Type.KeyPress and isinstance(obj, QWidget) and obj.window() is self:
+        kind = event.type()
+        if kind in (QEvent.Type.KeyPress, QEvent.Type.ShortcutOverride) and isinstance(obj, QWidget) \
+                and obj.window() is self:
             fn = self._step_keys.get(event.key())
-            if fn is not None and event.modifiers() == Qt.KeyboardModifier.NoModifier and not isinstance(
-                obj, (QLineEdit, QAbstractSpinBox, QComboBox)
-            ):
+            if fn is None or event.modifiers() != Qt.KeyboardModifier.NoModifier:
+                return False
+            if self._keeps_key(obj, event.key()):
+                if kind == QEvent.Type.ShortcutOverride:
+                    event.accept()  # the widget gets the key, not the menu shortcut
+                return False
+            if kind == QEvent.Type.KeyPress:
                 fn()
                 return True
         return False
@@ -209,9 +224,7 @@ class MainWindow(FileActions, QMainWindow):
         self._action(v, "Reset camera", lambda: (self.view.reset_camera(), self.view.render()), "R")
         self.y_up = self._action(v, "Y axis up", self._set_y_up, "Y",
                                  "View with the Y axis up (scans such as the bunny are stored Y-up)")
-        self.y_up.setCheckable(True)
-        self.y_up.setChecked(str(self.settings.value("y_up", "false")).lower() == "true")
-        self.view.y_up = self.y_up.isChecked()
+        self.y_up.setCheckable(True)  # for this session only: the demo and R^4 data read Z-up
         self._action(v, "Clear selection", self.model.selection.clear, Qt.Key.Key_Escape)
         v.addSeparator()
         for dock in self.docks.values():
@@ -310,12 +323,12 @@ class MainWindow(FileActions, QMainWindow):
         verdict = "closed manifold" if t.closed_manifold else f"NOT a closed manifold ({rec.extraction.stopped})"
         expected = truth.manifold if truth is not None else None
         problems = []
-        if t.closed_manifold and t.unused_samples:
-            problems.append(f"{t.unused_samples} samples unused")
         if expected is not None and t.closed_manifold and tuple(t.betti) != tuple(expected.betti):
             problems.append(f"Betti {tuple(t.betti)} ≠ true {tuple(expected.betti)}")
+        if t.closed_manifold and t.unused_samples:
+            problems.append(f"{t.unused_samples} unused")
         if problems:
-            verdict += " but WRONG: " + ", ".join(problems)
+            verdict = "WRONG: " + ", ".join(problems)
         ok = t.closed_manifold and not problems
         self.run_panel.show_idle(f"done in {sum(rec.timings.values()):.2f} s — {verdict}", ok=ok)
         message = f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} extraction steps."
@@ -360,7 +373,6 @@ class MainWindow(FileActions, QMainWindow):
 
     def _set_y_up(self, *_) -> None:
         self.view.y_up = self.y_up.isChecked()
-        self.settings.setValue("y_up", "true" if self.view.y_up else "false")
         self.view.reset_camera()
         self.view.render()
 

@@ -65,6 +65,9 @@ class SceneView:
         self.legend = Legend(plotter)
         self._built_for: int | None = None
         self.basis_text = plotter.add_text("", position="lower_left", font_size=11, color="#222222", name="basis")
+        tp = self.basis_text.GetTextProperty()
+        tp.SetBackgroundColor(1.0, 1.0, 1.0)  # readable over the data too
+        tp.SetBackgroundOpacity(0.75)
         self.axes = plotter.add_axes(xlabel="X", ylabel="Y", zlabel="Z", line_width=2)
         model.reconstruction_changed.connect(self.on_reconstruction)
         model.projection.changed.connect(self.on_projection)
@@ -87,6 +90,10 @@ class SceneView:
         top.SetLayer(1)
         top.InteractiveOff()
         top.SetActiveCamera(self.plotter.renderer.GetActiveCamera())
+        # the same lights as the scene (a layer renderer of its own would light
+        # its actors from nowhere and draw them almost black)
+        top.AutomaticLightCreationOff()
+        top.SetLightCollection(self.plotter.renderer.GetLights())
         window.SetNumberOfLayers(2)
         window.AddRenderer(top)
         for name in names:
@@ -312,7 +319,7 @@ class SceneView:
             return
         p = self.model.projection.project(rec.points[np.asarray(idx)])
         lo, hi = p.min(axis=0), p.max(axis=0)
-        pad = max(float(np.max(hi - lo)), 4 * float(np.median(self.model.spacing)))
+        pad = max(float(np.max(hi - lo)), 2.5 * float(np.median(self.model.spacing)))
         c = (lo + hi) / 2
         bounds = np.ravel(np.stack([c - pad, c + pad], axis=1))
         self.plotter.reset_camera(bounds=tuple(bounds))
