@@ -90,6 +90,18 @@ def torus_step(app, win) -> None:
     scroll_info_to_interpretation(app, win)
 
 
+def torus_framed(app, win) -> None:
+    """'Frame each step' on a resolve step, with what earlier steps removed in red."""
+    win.load_builtin("torus")
+    wait(app, win)
+    win.model.layers["removed"].visible = True
+    win.model.layers["removed"].opacity = 0.8
+    win.steps_panel.follow.setChecked(True)
+    win.steps_panel.rule.setCurrentText("resolve-nonmanifold")
+    win.model.player.set_step(60)
+    win.steps_panel.to_rule.click()
+
+
 def trefoil(app, win) -> None:
     win.load_builtin("trefoil")
     wait(app, win)
@@ -148,6 +160,7 @@ def bunny(app, win, prune: bool = True) -> None:
 
 CASES = {
     "torus-step": torus_step,
+    "torus-framed": torus_framed,
     "trefoil-r3": trefoil,
     "clifford-torus-r4": clifford,
     "s3-r4": s3,
