@@ -232,3 +232,44 @@ def test_codimension_2_real_cell_edges_match_all_vertex_pairs():
     scored = (fast < cand.SCORE_LIMIT) | (slow < cand.SCORE_LIMIT)
     assert scored.sum() > 100 and (np.diff(ptr) > 6).sum() > 100
     np.testing.assert_allclose(fast[scored], slow[scored], atol=1e-9)
+
+
+def test_cell_boundary_with_no_polygon_worth_a_look_returns_nothing():
+    """Every polygon vertex leans far to one normal side: no polygon can go
+    below the cap, so none is evaluated (and nothing breaks)."""
+    from scipy.spatial import cKDTree
+
+    nrm = np.eye(4)[None, :, 1:]  # AN = span(e2, e3, e4): AT = e1 axis
+    x = np.array([[[0.1, 1, 1, 1], [0.0, 1, 1.2, 1], [0.1, 1.1, 1, 1], [0.0, 1, 1, 1.3]]])
+    polygons = np.array([[0, 0, 1, 2, 0, 3]])
+    members = np.array([0, 1, 2])
+    out = cand._cell_boundary_min(x, nrm, np.zeros((1, 4)), np.empty((0, 3), np.int64),
+                                  (polygons, members), np.array([0.01]), cKDTree(np.zeros((1, 4))))
+    assert out.shape == (1,) and np.isinf(out[0])
+
+
+def test_closed_form_span_minimum_matches_lapack_even_when_ill_conditioned():
+    rng = np.random.default_rng(7)
+    p, r, m = 3000, 5, 3
+    x = rng.normal(size=(p, 3, r))
+    nrm = np.linalg.qr(rng.normal(size=(p, r, m)))[0]
+    x[:500, 2] = x[:500, 0] + 1e-8 * rng.normal(size=(500, r))  # nearly dependent generators
+    full = np.linalg.qr(np.concatenate([nrm, rng.normal(size=(p, r, 2))], axis=2))[0]
+    x[500:1000, :2] = np.swapaxes(full[500:1000, :, 3:], 1, 2)  # two generators in AT: double zero
+    v1, _, ok1 = cand._span_min(x, nrm)
+    v2, lam, ok2 = cand._span_min3(x, nrm)
+    assert (ok1 == ok2).all()
+    np.testing.assert_allclose(v2[ok1], v1[ok1], atol=1e-12)
+    y = np.einsum("pj,pjr->pr", lam, x)  # the minimiser is where the value is reached
+    reached = (np.einsum("pr,prm->pm", y, nrm) ** 2).sum(axis=1) / (y**2).sum(axis=1)
+    np.testing.assert_allclose(reached[ok1], v1[ok1], atol=1e-6)
+
+
+def test_segment_minimum_survives_nearly_parallel_generators():
+    rng = np.random.default_rng(8)
+    x1 = rng.normal(size=(200, 4))
+    x2 = x1 * 1.5 + 1e-7 * rng.normal(size=(200, 4))
+    nrm = np.linalg.qr(rng.normal(size=(200, 4, 2)))[0]
+    v, _ = cand._segment_min(x1, x2, np.einsum("pr,prm->pm", x1, nrm), np.einsum("pr,prm->pm", x2, nrm))
+    ref, _, ok = cand._span_min(np.stack([x1, x2], axis=1), nrm)
+    np.testing.assert_allclose(v[ok], ref[ok], atol=1e-6)

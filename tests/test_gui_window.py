@@ -569,3 +569,39 @@ def test_saved_result_with_another_d_keeps_its_test_and_theta(qtbot, window, tmp
     qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec is not None, timeout=60_000)
     rec = window.model.rec
     assert rec.d == 1 and rec.test == "literal" and np.isclose(rec.theta, np.radians(30))
+
+
+def test_keys_in_a_floating_dock_and_a_busy_window(qtbot, window, tmp_path):
+    load(qtbot, window)
+    dock = window.docks["run"]
+    dock.setFloating(True)
+    dock.show()
+    qtbot.waitExposed(dock)
+    dock.activateWindow()
+    theta = window.run_panel.theta
+    theta.setFocus()
+    qtbot.waitUntil(theta.hasFocus)
+    before = theta.value()
+    qtbot.keyClick(theta, Qt.Key.Key_Right)
+    assert theta.value() == before + 1 and window.model.player.position == 0
+    dock.setFloating(False)
+    # opening a file while a run goes is refused, and the running job is untouched
+    assert window.load_builtin("trefoil", 1500)
+    pts = tmp_path / "p.xyz"
+    np.savetxt(pts, window.model.rec.points[:100])
+    assert not window.open_file(pts, d=2)
+    assert "already running" in window.last_error
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    assert window.model.source.startswith("trefoil")
+    assert "saved" not in window.statusBar().currentMessage()
+
+
+def test_a_result_between_slider_steps_is_not_out_of_date(qtbot, window):
+    from crustview.core import reconstruct
+    from crustview.core.sampling import get_manifold
+
+    sample = get_manifold("circle").sample(80, seed=0)
+    rec = reconstruct(sample.points, 1, theta=np.radians(22.3))
+    window.model.set_reconstruction(rec, truth=sample, source="circle")
+    assert window.run_panel.theta.value() == 45  # shown as 22.5°
+    assert not window.run_panel.stale.isVisible()

@@ -193,7 +193,8 @@ def _segment_min(
     inv1 = 1.0 / np.maximum(l1, 1e-300)
     p = np.einsum("...r,...r->...", x2, x1) * inv1
     x2sq = np.einsum("...r,...r->...", x2, x2)
-    l2 = np.sqrt(np.maximum(x2sq - p**2, 0.0))
+    w = x2 - (p * inv1)[..., None] * x1  # explicit: |x2|^2 - p^2 cancels for near-parallel generators
+    l2 = np.sqrt(np.einsum("...r,...r->...", w, w))
     ok = (l1 > 1e-300) & (l2 > 1e-10 * np.maximum(np.sqrt(x2sq), 1e-300))
     inv2 = 1.0 / np.where(ok, l2, 1.0)
     b1 = n1 * inv1[..., None]
@@ -312,7 +313,15 @@ def _span_min3(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarray, 
     c3 = v[:, 2] / np.where(ok, r33, 1.0)
     c2 = (v[:, 1] - r23 * c3) / np.where(ok, r22, 1.0)
     c1 = (v[:, 0] - r12 * c2 - r13 * c3) / np.where(ok, r11, 1.0)
-    return np.clip(lam_min, 0.0, 1.0), np.stack([c1, c2, c3], axis=1), ok
+    value, coef = np.clip(lam_min, 0.0, 1.0), np.stack([c1, c2, c3], axis=1)
+    # ill-conditioned cases go to LAPACK: nearly dependent generators (classical
+    # Gram-Schmidt loses orthogonality) and a repeated smallest eigenvalue (the
+    # cross products vanish and the eigenvector is noise)
+    frob2 = (rows**2).sum(axis=(1, 2))
+    fragile = ok & ((np.minimum(r22, r33) < 1e-4 * scale) | (size.max(axis=1) <= 1e-16 * frob2**2))
+    if fragile.any():
+        value[fragile], coef[fragile], ok[fragile] = _span_min(x[fragile], nrm[fragile])
+    return value, coef, ok
 
 
 def _null_vector(rows: np.ndarray) -> np.ndarray:
@@ -470,6 +479,8 @@ def _cell_boundary_min(
         pf_all = np.repeat(polygons[:, 0], sizes)
         lb = np.minimum.reduceat(dots[pf_all, members[idx]], offs)
         want = (lb <= 0) | (lb**2 < cap[polygons[:, 0]])
+        if not want.any():
+            return out
         p = polygons[want]
         gf = p[:, 0]
         gens = np.stack([x[gf, p[:, 1 + i]] for i in range(3)], axis=1)  # (P, 3, r)
@@ -490,6 +501,10 @@ def _cell_boundary_min(
             radius = np.linalg.norm(xy[ask], axis=1)
             dist, _ = tree.query(s[gf[ask]] + xy[ask])
             inside[ask] = dist >= radius * (1 - 1e-9) - 1e-12
+            # report the value actually reached at the accepted point (equal to
+            # the eigenvalue up to rounding; never below what the polygon has)
+            nxy = np.einsum("pr,prm->pm", xy[ask], nrm[gf[ask]])
+            val[ask] = (nxy**2).sum(axis=1) / np.maximum(radius**2, 1e-300)
         _sorted_group_min(out, gf, np.where(inside, val, np.inf))
     return out
 
@@ -518,8 +533,9 @@ def cocone_angles(
     faces, cell_ptr, cell_simplices
         From :func:`enumerate_faces`.
     limit : float
-        Angles below ``limit`` are exact; an angle >= ``limit`` may be a lower
-        bound (the pair fails every threshold up to ``limit``).
+        Angles below ``limit`` are exact; an angle >= ``limit`` is only known
+        to be >= ``limit`` (a bound, not the exact minimum): the pair fails
+        every threshold up to ``limit``.
     simplices : ndarray of shape (t, r + 1), optional
         The Delaunay simplices; in codimension 2 and 3 they give the cells'
         true edges and polygons, so the boundary minimum needs no subset
@@ -605,6 +621,8 @@ def _over_cell(op: np.ufunc, a: np.ndarray) -> np.ndarray:
     """``op`` (np.minimum or np.maximum) reduced over axis 1, the few cell
     vertices: a loop of whole-array operations is several times faster than
     numpy's reduction over a short middle axis."""
+    if a.shape[1] > 8:  # large cells: numpy's own reduction wins again
+        return op.reduce(a, axis=1)
     out = a[:, 0].copy()
     for i in range(1, a.shape[1]):
         op(out, a[:, i], out=out)

@@ -53,6 +53,9 @@ class FileActions:
         from .. import io
 
         path = str(path)
+        if self.runner.busy:
+            self.show_error("A reconstruction is already running; cancel it first.")
+            return False
         try:
             points = io.read_points(path)
             saved = io.read_run_parameters(path)
@@ -91,7 +94,8 @@ class FileActions:
             if d is None:
                 self.statusBar().showMessage("Opening cancelled: no dimension given.", 5000)
                 return False
-        self.start_reconstruction(points, int(d), truth=None, source=name, **params)
+        if not self.start_reconstruction(points, int(d), truth=None, source=name, **params):
+            return False
         if note:
             self.statusBar().showMessage(note, 20000)
         elif params:

@@ -147,8 +147,9 @@ class RunPanel(QWidget):
     def update_stale(self) -> None:
         """Say so when the candidates layer no longer matches M_S and the steps."""
         rec = self.model.rec
+        # the slider has half-degree steps: a result at 22.3° (API, CLI) shows as 22.5° and is current
         stale = rec is not None and (
-            self.test.currentText() != rec.test or abs(self.theta_radians - rec.theta) > 1e-9
+            self.test.currentText() != rec.test or self.theta.value() != int(round(np.degrees(rec.theta) * 2))
         )
         if stale:
             self.stale.setText(

@@ -11,6 +11,7 @@ from PySide6.QtWidgets import (
     QAbstractSpinBox,
     QApplication,
     QComboBox,
+    QDialog,
     QDockWidget,
     QLabel,
     QLineEdit,
@@ -125,6 +126,17 @@ class MainWindow(FileActions, QMainWindow):
         }
         QApplication.instance().installEventFilter(self)
 
+    def _owns(self, obj: QWidget) -> bool:
+        """A widget of this window, floating docks included, dialogs excluded."""
+        if isinstance(obj.window(), QDialog):
+            return False
+        w = obj
+        while w is not None:
+            if w is self:
+                return True
+            w = w.parentWidget()
+        return False
+
     def _keeps_key(self, obj: QObject, key: int) -> bool:
         """Whether the focused widget needs this stepping key for itself."""
         if isinstance(obj, (QLineEdit, QAbstractSpinBox, QComboBox, QAbstractSlider)):
@@ -141,7 +153,7 @@ class MainWindow(FileActions, QMainWindow):
         """
         kind = event.type()
         if kind in (QEvent.Type.KeyPress, QEvent.Type.ShortcutOverride) and isinstance(obj, QWidget) \
-                and obj.window() is self:
+                and self._owns(obj):
             fn = self._step_keys.get(event.key())
             if fn is None or event.modifiers() != Qt.KeyboardModifier.NoModifier:
                 return False
@@ -272,9 +284,9 @@ class MainWindow(FileActions, QMainWindow):
         theta = self.run_panel.theta_radians
         prune = self.run_panel.prune.isChecked()
 
-        # with nothing on screen yet, sample here (milliseconds below 20k points) and show the
+        # with nothing on screen yet, sample here (< 0.2 s up to 3000 points) and show the
         # raw points while the reconstruction runs; otherwise all of it runs in the worker
-        early = m.sample(n, seed=seed) if self.model.rec is None and n <= 20000 and not self.runner.busy else None
+        early = m.sample(n, seed=seed) if self.model.rec is None and n <= 3000 and not self.runner.busy else None
         if early is not None:
             self.view.show_preview(early.points)
 
