@@ -80,7 +80,7 @@ from scipy.spatial import cKDTree
 
 #: Cells with more vertices skip the (k-d)-subset enumeration in codim >= 3.
 MAX_SUBSET_VERTICES = 12
-#: Cocone scores below this are exact; larger ones may be lower bounds.
+#: Cocone scores below this are exact; larger ones are only known to be >= it.
 SCORE_LIMIT = np.pi / 4
 
 
