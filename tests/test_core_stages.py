@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from crustview.core import candidates as cand
+from crustview.core import conemin, dualcells
 from crustview.core.delaunay import bounding_points, circumcenters, delaunay
 from crustview.core.normals import complete_bases, greedy_poles
 
@@ -114,14 +115,14 @@ def test_cone_minimum_matches_brute_force_on_simplices(r, m):
         j = m + 1
         x = rng.normal(size=(j, r)) + rng.normal(size=r) * 2
         nrm = np.linalg.qr(rng.normal(size=(r, m)))[0]
-        v, inside = cand._cone_min(x[None], nrm[None])
+        v, inside = conemin.cone_min(x[None], nrm[None])
         vals = ((x @ nrm) ** 2).sum(axis=1) / (x**2).sum(axis=1)
         exact = min(vals.min(), v[0] if inside[0] else np.inf)
         for sub in range(2, j):
             import itertools
 
             for c in itertools.combinations(range(j), sub):
-                vv, ii = cand._cone_min(x[list(c)][None], nrm[None])
+                vv, ii = conemin.cone_min(x[list(c)][None], nrm[None])
                 if ii[0]:
                     exact = min(exact, vv[0])
         bf = brute_force_min(x, nrm, rng)
@@ -243,7 +244,7 @@ def test_cell_boundary_with_no_polygon_worth_a_look_returns_nothing():
     x = np.array([[[0.1, 1, 1, 1], [0.0, 1, 1.2, 1], [0.1, 1.1, 1, 1], [0.0, 1, 1, 1.3]]])
     polygons = np.array([[0, 0, 1, 2, 0, 3]])
     members = np.array([0, 1, 2])
-    out = cand._cell_boundary_min(x, nrm, np.zeros((1, 4)), np.empty((0, 3), np.int64),
+    out = dualcells.cell_boundary_min(x, nrm, np.zeros((1, 4)), np.empty((0, 3), np.int64),
                                   (polygons, members), np.array([0.01]), cKDTree(np.zeros((1, 4))))
     assert out.shape == (1,) and np.isinf(out[0])
 
@@ -256,8 +257,8 @@ def test_closed_form_span_minimum_matches_lapack_even_when_ill_conditioned():
     x[:500, 2] = x[:500, 0] + 1e-8 * rng.normal(size=(500, r))  # nearly dependent generators
     full = np.linalg.qr(np.concatenate([nrm, rng.normal(size=(p, r, 2))], axis=2))[0]
     x[500:1000, :2] = np.swapaxes(full[500:1000, :, 3:], 1, 2)  # two generators in AT: double zero
-    v1, _, ok1 = cand._span_min(x, nrm)
-    v2, lam, ok2 = cand._span_min3(x, nrm)
+    v1, _, ok1 = conemin.span_min(x, nrm)
+    v2, lam, ok2 = conemin.span_min3(x, nrm)
     assert (ok1 == ok2).all()
     np.testing.assert_allclose(v2[ok1], v1[ok1], atol=1e-12)
     y = np.einsum("pj,pjr->pr", lam, x)  # the minimiser is where the value is reached
@@ -270,6 +271,6 @@ def test_segment_minimum_survives_nearly_parallel_generators():
     x1 = rng.normal(size=(200, 4))
     x2 = x1 * 1.5 + 1e-7 * rng.normal(size=(200, 4))
     nrm = np.linalg.qr(rng.normal(size=(200, 4, 2)))[0]
-    v, _ = cand._segment_min(x1, x2, np.einsum("pr,prm->pm", x1, nrm), np.einsum("pr,prm->pm", x2, nrm))
-    ref, _, ok = cand._span_min(np.stack([x1, x2], axis=1), nrm)
+    v, _ = conemin.segment_min(x1, x2, np.einsum("pr,prm->pm", x1, nrm), np.einsum("pr,prm->pm", x2, nrm))
+    ref, _, ok = conemin.span_min(np.stack([x1, x2], axis=1), nrm)
     np.testing.assert_allclose(v[ok], ref[ok], atol=1e-6)

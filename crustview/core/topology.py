@@ -105,7 +105,7 @@ def orientable(simplices: np.ndarray, pairs: tuple | None = None) -> bool:
     owner = np.repeat(np.arange(c), dp1)
     pos = np.tile(np.arange(dp1), c)
     order = np.argsort(inv, kind="stable")
-    inv_s, own_s, pos_s = inv[order], owner[order], pos[order]
+    own_s, pos_s = owner[order], pos[order]
     starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
     two = counts == 2
     i0 = starts[two]
