@@ -456,6 +456,7 @@ def test_raw_points_are_shown_while_the_first_run_goes(qtbot, window):
     assert window.runner.busy
     assert window.plotter.actors.get("preview") is not None
     assert differs(before, shot(window), min_pixels=200)
+    assert window.layers_panel.rows["points"].count.text().replace(",", "") == "1500"
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
     assert window.model.rec is not None
     assert window.plotter.actors.get("preview") is None

@@ -153,6 +153,7 @@ class SceneView:
                 self.render()
             return
         p = np.asarray(points, dtype=float)
+        self.model.layers["points"].count = len(p)  # the layer panel counts what is drawn
         p = p - p.mean(axis=0)
         flat = p.shape[1] == 2
         p3 = np.zeros((len(p), 3))
