@@ -301,8 +301,9 @@ def test_jump_to_removing_step_and_open_faces(qtbot, window):
     faces = window.info_panel.faces
     assert faces.count() > 0
     cam = window.plotter.camera.position
-    faces.setCurrentRow(0)
-    face = faces.item(0).data(Qt.ItemDataRole.UserRole)
+    item = faces.item(0)
+    qtbot.mouseClick(faces.viewport(), Qt.MouseButton.LeftButton, pos=faces.visualItemRect(item).center())
+    face = item.data(Qt.ItemDataRole.UserRole)
     assert window.model.selection.face == tuple(sorted(face))
     assert window.plotter.camera.position != cam  # framed
     assert window.view.adapters["selection"].part.n_cells > 0
@@ -606,3 +607,41 @@ def test_a_result_between_slider_steps_is_not_out_of_date(qtbot, window):
     window.model.set_reconstruction(rec, truth=sample, source="circle")
     assert window.run_panel.theta.value() == 45  # shown as 22.5°
     assert not window.run_panel.stale.isVisible()
+
+
+def test_legend_names_all_poles_and_a_colouring_that_needs_the_truth(qtbot, window, tmp_path):
+    load(qtbot, window, "s3")
+    window.model.layers["poles"].mode = "all"
+    labels = [label for label, _ in window.view.legend_entries()]
+    assert "Pole at infinity (hull sample)" in labels  # S^3: every sample is on the hull
+    assert window.view.legend.entries == window.view.legend_entries() + [(n, None) for n in window.view.notes()]
+    # a point file has no true manifold: the normal-error colouring says so
+    pts = tmp_path / "torus.xyz"
+    np.savetxt(pts, load_points_of("torus"))
+    assert window.open_file(pts, d=2)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    window.model.layers["points"].colorby = "normal error"
+    labels = [label for label, _ in window.view.legend_entries()]
+    assert any(label.startswith("normal error: not available") for label in labels)
+
+
+def load_points_of(name, n=600):
+    from crustview.core.sampling import get_manifold
+
+    return get_manifold(name).sample(n, seed=0).points
+
+
+def test_focus_entering_the_open_faces_list_selects_nothing(qtbot, window):
+    load(qtbot, window)
+    window.model.player.set_step(5)
+    window.info_panel.refresh_faces()
+    faces = window.info_panel.faces
+    assert faces.count() > 0
+    cam = np.array(window.plotter.camera.position)
+    faces.setFocus()
+    faces.setCurrentRow(0)  # keyboard focus and current row, no click
+    qtbot.wait(50)
+    assert window.model.selection.face is None
+    assert np.allclose(window.plotter.camera.position, cam)
+    faces.itemClicked.emit(faces.item(0))  # a click selects and frames
+    assert window.model.selection.face is not None

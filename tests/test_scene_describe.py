@@ -94,3 +94,27 @@ def test_step_words_read_well_for_boundary_steps_and_empty_replays():
     assert text.endswith("Only one d-simplex left at this face (boundary).")
     assert "nothing to do" in step_words(None, 0, 0) and "Press →" not in step_words(None, 0, 0)
     assert "Press →" in step_words(None, 0, 5)
+
+
+def test_a_simplex_is_named_by_the_number_the_steps_use(model):
+    rec = model.rec
+    ext = rec.extraction
+    step = next(s for s in ext.steps if s.removed)
+    e = step.removed[0]
+    row = model.candidate_row(e)
+    text, removed_step = simplex_text(model, row)
+    assert f"(T_S simplex {e})" in text and removed_step == step.index + 1
+    outside = int(np.flatnonzero(~rec.candidates.mask(rec.test, rec.theta))[0])
+    text, _ = simplex_text(model, outside)
+    assert f"(Delaunay 2-face {outside}, not in T_S)" in text
+
+
+def test_selection_holds_one_thing_at_a_time(model):
+    sel = model.selection
+    sel.select_sample(3)
+    sel.select_simplex(5)
+    assert (sel.sample, sel.simplex, sel.face) == (None, 5, None)
+    sel.select_face((2, 1))
+    assert (sel.sample, sel.simplex, sel.face) == (None, None, (1, 2))
+    sel.select_sample(4)
+    assert (sel.sample, sel.simplex, sel.face) == (4, None, None)

@@ -30,7 +30,7 @@ from ..scene.describe import (
 from ..scene.model import SceneModel
 
 #: At most this many open faces are listed.
-MAX_FACES = 300
+MAX_FACES = 2000
 
 #: Style of the verdict banner by level.
 BANNER_STYLE = {
@@ -117,8 +117,10 @@ class InfoPanel(QWidget):
         self.faces = QListWidget(faces)
         self.faces.setMinimumHeight(90)
         self.faces.setToolTip("Faces in one simplex (boundary) or more than two (non-manifold); click to frame one")
+        # only a click or Enter selects: the list taking keyboard focus (e.g. after
+        # Esc) must not select its first face and move the camera
         self.faces.itemClicked.connect(self._face_item)
-        self.faces.currentItemChanged.connect(lambda cur, _prev: self._face_item(cur))
+        self.faces.itemActivated.connect(self._face_item)
         fl.addWidget(self.faces)
         lay.addWidget(faces, 1)
         self._jump_to: int | None = None

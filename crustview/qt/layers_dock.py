@@ -63,7 +63,8 @@ class LayerRow:
             combo.addItems(list(layer.colorings))
             combo.setToolTip("Scalar colouring of the layer (a legend bar appears in the view)")
             combo.currentTextChanged.connect(lambda t: setattr(layer, "colorby", t))
-            combo.setFixedWidth(92)
+            combo.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToContents)
+            combo.setFixedWidth(max(92, combo.sizeHint().width()))  # "normal error" fits
             combo.view().setMinimumWidth(combo.view().sizeHintForColumn(0) + 12)
             self.extra = combo
         elif layer.name == "poles":

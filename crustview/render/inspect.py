@@ -139,5 +139,7 @@ class SelectionAdapter(LayerAdapter):
     def restyle(self) -> None:
         self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=False, spheres=False)
         self.part.actor.prop.point_size = 2.2 * self.layer.size
-        self.part.actor.prop.line_width = max(2.0, self.layer.size / 2)
+        # curves: the selected edge must stand out from M_S's own (thick) line
+        curve = self.model.rec is not None and self.model.rec.d == 1
+        self.part.actor.prop.line_width = self.layer.size * 1.2 if curve else max(2.0, self.layer.size / 2)
         self.part.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(-6, -6)

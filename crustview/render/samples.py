@@ -151,7 +151,8 @@ class NormalsAdapter(LayerAdapter):
         rec = self.model.rec
         if rec is None:
             return
-        scale = 0.45 * self.layer.size * self.model.spacing
+        # half-length: 0.45 spacing on surfaces; longer on curves, where sample markers cover short ones
+        scale = (0.45 if rec.d >= 2 else 1.0) * self.layer.size * self.model.spacing
         verts, lines, polys = geo.normal_glyphs(rec.points, rec.normals, scale)
         self.xk = verts
         self.project()

@@ -57,7 +57,7 @@ class SceneView:
             for field in ("color", "opacity", "size"):
                 getattr(layer.events, field).connect(lambda *_, a=a: self._on_style(a))
             layer.events.colorby.connect(lambda *_: self._after_colour())
-            layer.events.mode.connect(lambda *_: self.render())
+            layer.events.mode.connect(lambda *_: (self.update_legend(), self.render()))
             layer.events.shrink.connect(lambda *_: self.render())
         self._on_top(("step", "selection"))
         self._bars: dict[str, object] = {}
@@ -250,6 +250,9 @@ class SceneView:
                 continue
             if name == "points" and getattr(a, "scalar_title", None) and a.n_missing:
                 out.append((f"{a.scalar_title}: none (pole at infinity)", NAN_COLOR))
+            if name == "points" and layer.colorby != "none" and not getattr(a, "scalar_title", None):
+                out.append((f"{layer.colorby}: not available here (needs the true manifold "
+                            "of a built-in sample)", NAN_COLOR))
             if getattr(a, "scalar_title", None):
                 continue
             if name == "poles" and a.n_infinite:

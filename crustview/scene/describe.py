@@ -93,7 +93,10 @@ def simplex_text(model: SceneModel, row: int) -> tuple[str, int | None]:
     assert rec is not None
     c = rec.candidates
     face = c.faces[row]
-    lines = [f"<b>Simplex {fmt_tuple(face)}</b> (candidate {row})"]
+    e = model.extraction_id(row)
+    # the number the steps use (T_S of the extraction); other Delaunay faces by their row
+    ident = f"T_S simplex {e}" if e >= 0 else f"Delaunay {rec.d}-face {row}, not in T_S"
+    lines = [f"<b>Simplex {fmt_tuple(face)}</b> ({ident})"]
     lines.append(f"deciding angle of each test, verdict at θ = {deg(model.theta)}:")
     for t in CANDIDATE_TESTS:
         if t in c.angles:
@@ -106,7 +109,6 @@ def simplex_text(model: SceneModel, row: int) -> tuple[str, int | None]:
         parts = [f"{int(v)}: {deg(float(a))}" for v, a in zip(face, va)]
         lines.append("cocone angle at each vertex: " + ", ".join(parts)
                      + " (cocone = smallest, cocone-all = largest)")
-    e = model.extraction_id(row)
     removed_step = None
     if e < 0:
         lines.append(f"not in T_S of the extraction ({rec.test}, θ = {deg(rec.theta)})")

@@ -8,7 +8,8 @@ from psygnal import Signal
 class Selection:
     """Selection state shared by the view and the information panel.
 
-    At most one of each kind is selected.  ``simplex`` is a row of
+    One thing is selected at a time: picking a sample, a simplex or a face
+    replaces what was selected before.  ``simplex`` is a row of
     ``Candidates.faces`` (every candidate d-face, whatever the test);
     ``face`` is a sorted tuple of d sample indices.
     """
@@ -22,14 +23,17 @@ class Selection:
         self.face: tuple[int, ...] | None = None
 
     def select_sample(self, i: int | None) -> None:
+        self.simplex = self.face = None
         self.sample = None if i is None else int(i)
         self.changed.emit()
 
     def select_simplex(self, f: int | None) -> None:
+        self.sample = self.face = None
         self.simplex = None if f is None else int(f)
         self.changed.emit()
 
     def select_face(self, face: tuple[int, ...] | None) -> None:
+        self.sample = self.simplex = None
         self.face = None if face is None else tuple(sorted(int(v) for v in face))
         self.changed.emit()
 
