@@ -152,7 +152,7 @@ class NormalsAdapter(LayerAdapter):
         if rec is None:
             return
         # half-length: 0.45 spacing on surfaces; longer on curves, where sample markers cover short ones
-        scale = (0.45 if rec.d >= 2 else 1.0) * self.layer.size * self.model.spacing
+        scale = (0.45 if rec.d >= 2 else 1.5) * self.layer.size * self.model.spacing
         verts, lines, polys = geo.normal_glyphs(rec.points, rec.normals, scale)
         self.xk = verts
         self.project()
@@ -165,6 +165,9 @@ class NormalsAdapter(LayerAdapter):
             self.rebuild()
         self.part.style(self.layer.color, self.layer.opacity, 4.0, lines=False)
         self.part.actor.prop.line_width = 2.0
+        # in front of coincident lines (flat 2-D data: Voronoi edges run along the normals)
+        self.part.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(-1, -1)
+        self.part.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(-1, -1)
 
 
 class TruthAdapter(LayerAdapter):
