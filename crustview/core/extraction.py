@@ -127,6 +127,11 @@ class _Extractor:
         self.count = np.diff(self.ptr).copy()
         self.removed_at = np.full(c, -1, dtype=np.int64)
         self.steps: list[Step] = []
+        # the step whose removals last touched each facet (cascade bookkeeping)
+        self.exposer = np.full(len(self.facets), -1, dtype=np.int64)
+        # d-simplices alive at each sample; a sample at 0 can never be a vertex again
+        self.vcount = np.bincount(self.simplices.ravel(), minlength=int(self.simplices.max()) + 1)
+        self.lost: int | None = None
 
     # -- geometry ---------------------------------------------------------
     def _u(self, s: int, g: int) -> np.ndarray:
@@ -160,6 +165,12 @@ class _Extractor:
             for g in self.facet_of[s]:
                 self.count[g] -= 1
                 touched.add(int(g))
+            for v in self.simplices[s]:
+                self.vcount[v] -= 1
+                if self.vcount[v] == 0 and self.lost is None:
+                    self.lost = int(v)
+        for g in touched:
+            self.exposer[g] = step
         return touched
 
     def tau(self, g: int) -> tuple[int, ...]:
@@ -187,6 +198,7 @@ def extract(
     simplices: np.ndarray,
     *,
     prune_boundary: bool = True,
+    stop_when_sample_lost: bool = False,
     cancel: object | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> Extraction:
@@ -202,6 +214,12 @@ def extract(
         pruned.  False keeps such boundary faces; only for inspecting samples
         that are not closed (scans with holes): the result then cannot be a
         closed manifold, and the report says so.
+    stop_when_sample_lost : bool
+        Stop as soon as some sample has lost its last d-simplex
+        (``stopped = "sample-lost"``).  Algorithm 3 only removes simplices,
+        so from then on it can no longer return a manifold through every
+        sample, as the paper requires; the robust extension uses this to
+        hand over early.
     cancel : object with ``is_set()``, optional
         Checked every 256 steps; raises :class:`~crustview.core.errors.Cancelled`.
     progress : callable, optional
@@ -218,6 +236,7 @@ def extract(
     if len(simplices) == 0:
         return Extraction(np.empty((0, d1), np.int64), [], np.zeros(0, np.int64), "empty")
     ex = _Extractor(points, simplices, prune_boundary)
+    holes = ex.facets[ex.count == 1]
     prune = deque(_initial_sharp(ex))
     queued = set(prune)
     heap = []
@@ -237,18 +256,24 @@ def extract(
             if not sharp:
                 continue
             idx = len(ex.steps)
+            cause = int(ex.exposer[g])
             touched = ex.remove(simp, idx)
             why = (
                 "only one d-simplex left at this face (boundary)"
                 if len(simp) == 1
                 else f"all {len(simp)} d-simplices meet within {np.degrees(best):.1f} deg < 90 deg (sharp)"
             )
-            ex.steps.append(Step(idx, RULE_PRUNE, ex.tau(g), (), tuple(simp), best, why))
+            ex.steps.append(Step(idx, RULE_PRUNE, ex.tau(g), (), tuple(simp), best, why,
+                                 cause=cause))
             for h in sorted(touched):
                 if h != g and ex.count[h] > 0 and h not in queued:
                     prune.append(h)
                     queued.add(h)
             check_cancel()
+            if stop_when_sample_lost and ex.lost is not None:
+                break
+        if stop_when_sample_lost and ex.lost is not None:
+            break
         # lines 3-5: one non-manifold face, most confident first
         chosen = None
         while heap:
@@ -295,12 +320,16 @@ def extract(
             if ex.count[h] > 2:
                 heapq.heappush(heap, (-np.pi, h))
         check_cancel()
+        if stop_when_sample_lost and ex.lost is not None:
+            break
         if progress is not None and idx % 64 == 0:
             progress(1.0 - len(heap) / max(len(ex.facets), 1))
     n_steps = len(ex.steps)
     # a simplex removed by step j is alive after i steps iff i <= j
     removed_at = np.where(ex.removed_at < 0, n_steps, ex.removed_at)
-    if not ex.alive.any():
+    if stop_when_sample_lost and ex.lost is not None:
+        stopped = "sample-lost"
+    elif not ex.alive.any():
         stopped = "empty"
     elif (ex.count[ex.count > 0] == 2).all():
         stopped = "closed"
@@ -308,7 +337,10 @@ def extract(
         stopped = "open"  # boundary faces were kept on request
     else:  # pragma: no cover - with pruning the loop only ends with counts in {0, 2}
         stopped = "stuck"
-    return Extraction(ex.simplices, ex.steps, removed_at, stopped)
+    ext = Extraction(ex.simplices, ex.steps, removed_at, stopped, holes=holes)
+    if stopped == "sample-lost":
+        ext.notes.append(f"sample {ex.lost} lost its last simplex at step {n_steps - 1}")
+    return ext
 
 
 def _cascade_loss(ex: _Extractor, drop: list[int], limit: int) -> int:

@@ -15,7 +15,8 @@ from .errors import Cancelled, InputError
 from .extraction import extract
 from .normals import complete_bases, greedy_poles
 from .prepare import DEFAULT_JOGGLE, prepare_points
-from .result import CANDIDATE_TESTS, Candidates, Reconstruction
+from .result import CANDIDATE_TESTS, EXTRACTION_MODES, Candidates, Reconstruction
+from .robust import extract_robust
 from .topology import analyse
 
 ProgressFn = Callable[[str, float], None]
@@ -26,7 +27,9 @@ def _check(cancel: object | None) -> None:
         raise Cancelled("reconstruction cancelled")
 
 
-def _validate_params(test: str, theta: float) -> float:
+def _validate_params(test: str, theta: float, mode: str = "robust") -> float:
+    if mode not in EXTRACTION_MODES:
+        raise InputError(f"unknown extraction mode {mode!r}; choose one of {', '.join(EXTRACTION_MODES)}")
     if test not in CANDIDATE_TESTS:
         raise InputError(f"unknown candidate test {test!r}; choose one of {', '.join(CANDIDATE_TESTS)}")
     try:
@@ -65,6 +68,7 @@ def reconstruct(
     theta: float = np.pi / 8,
     joggle: float = DEFAULT_JOGGLE,
     prune_boundary: bool = True,
+    mode: str = "robust",
     progress: ProgressFn | None = None,
     cancel: object | None = None,
 ) -> Reconstruction:
@@ -88,7 +92,12 @@ def reconstruct(
     prune_boundary : bool
         Algorithm 3 prunes faces with a single simplex (the paper).  False
         keeps them, for looking at samples with holes (scans); the result is
-        then not closed and the report says so.
+        then not closed and the report says so.  Paper mode only.
+    mode : {"robust", "paper"}
+        ``"robust"`` (default): the paper's Algorithm 3, and where it cannot
+        give a closed manifold through every sample, the growing extension of
+        :mod:`crustview.core.robust` (identical result whenever the paper's
+        loop succeeds).  ``"paper"``: Algorithm 3 exactly as printed.
     joggle : float
         Relative size (of the sample spacing) of the perturbation applied
         before Qhull; 0 disables it (slow and degenerate on cospherical data).
@@ -109,7 +118,7 @@ def reconstruct(
     >>> rec.topology.closed_manifold, rec.topology.betti
     (True, (1, 1))
     """
-    theta = _validate_params(test, theta)
+    theta = _validate_params(test, theta, mode)
     report = progress or (lambda stage, frac: None)
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
@@ -184,8 +193,10 @@ def reconstruct(
         topology=None,  # type: ignore[arg-type]
         timings=timings,
         prune_boundary=prune_boundary,
+        mode=mode,
     )
-    return reextract(rec, test, theta, prune_boundary=prune_boundary, progress=progress, cancel=cancel)
+    return reextract(rec, test, theta, prune_boundary=prune_boundary, mode=mode, progress=progress,
+                     cancel=cancel)
 
 
 def reextract(
@@ -194,20 +205,23 @@ def reextract(
     theta: float,
     *,
     prune_boundary: bool | None = None,
+    mode: str | None = None,
     progress: ProgressFn | None = None,
     cancel: object | None = None,
 ) -> Reconstruction:
     """Re-run Algorithm 3 and the topology report for another test or threshold.
 
     Nothing before Algorithm 3 is recomputed: every test's angles are stored.
-    ``prune_boundary=None`` keeps the setting of ``rec``.
+    ``prune_boundary=None`` and ``mode=None`` keep the settings of ``rec``.
 
     Returns
     -------
     Reconstruction
         A new object sharing the arrays of ``rec``.
     """
-    theta = _validate_params(test, theta)
+    if mode is None:
+        mode = rec.mode
+    theta = _validate_params(test, theta, mode)
     report = progress or (lambda stage, frac: None)
     timings = dict(rec.timings)
     t0 = time.perf_counter()
@@ -215,15 +229,21 @@ def reextract(
     tset = rec.candidates.select(test, theta)
     if prune_boundary is None:
         prune_boundary = rec.prune_boundary
-    ext = extract(rec.points, tset, prune_boundary=prune_boundary, cancel=cancel,
-                  progress=lambda f: report("extraction", f))
+    if mode == "robust":
+        ext = extract_robust(rec.points, rec.candidates.faces, rec.candidates.angles[test], theta,
+                             spacing=rec.spacing, cancel=cancel, progress=lambda f: report("extraction", f))
+    else:
+        ext = extract(rec.points, tset, prune_boundary=prune_boundary, cancel=cancel,
+                      progress=lambda f: report("extraction", f))
     manifold = ext.complex_at(ext.n_steps)
     timings["extraction"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     report("topology", 0.0)
     topo = analyse(manifold, rec.n, rec.d)
     counts = ext.counts_by_rule()
-    if ext.stopped == "empty":
+    if mode == "robust":
+        _robust_messages(ext, topo)
+    elif ext.stopped == "empty":
         topo.messages.insert(
             0,
             f"extraction removed every simplex of T_S ({len(tset)} candidates; "
@@ -250,4 +270,20 @@ def reextract(
     report("done", 1.0)
     cands = replace(rec.candidates, theta=theta)
     return replace(rec, candidates=cands, test=test, theta=theta, extraction=ext, manifold=manifold,
-                   topology=topo, timings=timings, prune_boundary=prune_boundary)
+                   topology=topo, timings=timings, prune_boundary=prune_boundary, mode=mode)
+
+
+def _robust_messages(ext, topo) -> None:
+    """Sentences for the report of a robust run: which extraction ran, what is left open."""
+    topo.messages[:0] = list(ext.notes)
+    counts = ext.counts_by_rule()
+    extra = {r: c["added"] for r, c in counts.items() if c.get("added")}
+    if extra:
+        topo.messages.append("steps beyond the paper: "
+                             + ", ".join(f"{r} added {c}" for r, c in extra.items()))
+    if topo.boundary_faces:
+        topo.messages.append(
+            f"{topo.boundary_faces} boundary faces remain: holes too large to be undersampling gaps "
+            "(an open scan), or gaps the extension could not close")
+    if topo.unused_samples:
+        topo.messages.append(f"{topo.unused_samples} samples are not vertices of M_S")
