@@ -32,10 +32,11 @@ RULE_SEED = "seed"
 RULE_GROW = "grow"
 RULE_RELAX = "grow-relaxed"
 RULE_FILL = "fill-hole"
-RULES = (RULE_PRUNE, RULE_RESOLVE, RULE_SEED, RULE_GROW, RULE_RELAX, RULE_FILL)
+RULE_INSERT = "insert-sample"
+RULES = (RULE_PRUNE, RULE_RESOLVE, RULE_SEED, RULE_GROW, RULE_RELAX, RULE_FILL, RULE_INSERT)
 #: Rules that remove simplices (the paper's) and rules that add them (the extension's).
 REMOVING_RULES = (RULE_PRUNE, RULE_RESOLVE)
-ADDING_RULES = (RULE_SEED, RULE_GROW, RULE_RELAX, RULE_FILL)
+ADDING_RULES = (RULE_SEED, RULE_GROW, RULE_RELAX, RULE_FILL, RULE_INSERT)
 
 #: Extraction modes: the paper's Algorithm 3 as printed, and the robust extension.
 EXTRACTION_MODES = ("robust", "paper")

@@ -57,25 +57,18 @@ replayed in paper mode.
 
 from __future__ import annotations
 
-import heapq
 from collections.abc import Callable
 
 import numpy as np
 
 from .errors import Cancelled
-from .extraction import extract, facet_structure, opposite_vectors
-from .result import RULE_FILL, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
+from .extraction import extract
+from .grow import COS_CREASE, COS_PAPER, Grower
+from .holes import Patcher
+from .result import RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
 from .topology import analyse
 
-HALF_PI = np.pi / 2
-#: Largest candidate score (radians) used by ``grow-relaxed``: scores are exact below it.
-RELAX_LIMIT = np.pi / 4
-#: Largest hole, in boundary (d-1)-faces, that ``fill-hole`` closes.
-FILL_MAX_FACES = 24
-#: Largest hole span, in median sample spacings, that ``fill-hole`` closes.
-FILL_MAX_SPAN = 6.0
 
-_RULE_OF_TIER = {0: RULE_GROW, 1: RULE_RELAX, 2: RULE_FILL}
 
 
 def extract_robust(
@@ -142,247 +135,94 @@ def extract_robust(
         missing = int((~covered).sum())
         note_paper = f"{missing} samples are in no simplex of T_S, so the paper's Algorithm 3 cannot succeed"
         holes = None
-    # order: T_S first (ids as in paper mode), then the other Delaunay faces
-    order = np.concatenate([np.flatnonzero(admitted), np.flatnonzero(~admitted)])
-    grower = _Grower(points, faces[order], scores[order], admitted[order], spacing)
-    grower.run(cancel=cancel, progress=progress)
-    ext = grower.extraction(holes)
+    ext = _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress)
+    ext.holes = holes
     ext.notes.insert(0, note_paper + "; the robust extension grew M_S instead")
     return ext
 
 
-class _Grower:
-    """State of the growing phase; see the module docstring."""
+def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) -> Extraction:
+    """Phases 2 and 3 of the module docstring, assembled into one replayable Extraction."""
+    order = np.concatenate([np.flatnonzero(admitted), np.flatnonzero(~admitted)])
+    F, S = faces[order], scores[order]
+    n_ts = int(admitted.sum())
+    tier = (np.arange(len(F)) >= n_ts).astype(np.int8)
+    gr = Grower(points, F, S, tier)
 
-    def __init__(self, points: np.ndarray, faces: np.ndarray, scores: np.ndarray, admitted: np.ndarray,
-                 spacing: float) -> None:
-        self.points = points
-        self.faces = faces
-        self.scores = scores
-        self.n = len(points)
-        self.dp1 = faces.shape[1]
-        self.tier = np.where(admitted, 0, np.where(scores < RELAX_LIMIT, 1, 2)).astype(np.int8)
-        self.spacing = float(spacing)
-        self.facets, self.facet_of, self.ptr, self.inc = facet_structure(faces)
-        self.u = opposite_vectors(points, faces)
-        f = len(faces)
-        self.alive = np.zeros(f, dtype=bool)
-        self.added_at = np.full(f, -1, dtype=np.int64)
-        self.count = np.zeros(len(self.facets), dtype=np.int64)
-        self.vcount = np.zeros(self.n, dtype=np.int64)   # simplices at each vertex
-        self.vfront = np.zeros(self.n, dtype=np.int64)   # boundary facets at each vertex
-        self.steps: list[Step] = []
-        self.heap: list[tuple[int, int, float, int, int]] = []
-        self.fill_report: list[str] = []
+    def rule_of(f: int, cos: float) -> str:
+        return RULE_GROW if tier[f] == 0 and cos < COS_PAPER else RULE_RELAX
 
-    # -- geometry ---------------------------------------------------------
-    def _pos(self, s: int, g: int) -> int:
-        row = self.facet_of[s]
-        return int(np.flatnonzero(row == g)[0])
-
-    def _cos(self, s: int, t: int, g: int) -> float:
-        """cos of the angle phi between simplices s and t at facet g."""
-        return float(self.u[s, self._pos(s, g)] @ self.u[t, self._pos(t, g)])
-
-    def _alive_at(self, g: int) -> list[int]:
-        return [int(s) for s in self.inc[self.ptr[g]:self.ptr[g + 1]] if self.alive[s]]
-
-    # -- candidates -------------------------------------------------------
-    def _apex(self, f: int, g: int) -> int:
-        pos = self._pos(f, g)
-        return int(self.faces[f, pos])
-
-    def _classify(self, f: int, g: int) -> tuple[bool, bool]:
-        """(valid, gluing) for adding face ``f`` across boundary facet ``g``."""
-        if self.alive[f]:
-            return False, False
-        others = [int(h) for h in self.facet_of[f] if h != g]
-        for h in others:
-            if self.count[h] >= 2:
-                return False, False
-        c = self._apex(f, g)
-        if self.vcount[c] > 0 and self.vfront[c] == 0:
-            return False, False  # c is inside the surface
-        closing = False
-        for h in others:
-            if self.count[h] == 1:
-                closing = True
-                (s,) = self._alive_at(h)
-                if self._cos(s, f, h) >= 0.0:  # folded onto an existing simplex
-                    return False, False
-        gluing = self.vcount[c] > 0 and not closing
-        return True, gluing
-
-    def _push_front(self, g: int) -> None:
-        """Queue every admissible face across boundary facet ``g``."""
-        simp = self._alive_at(g)
-        if len(simp) != 1:
-            return
-        s = simp[0]
-        us = self.u[s, self._pos(s, g)]
-        for f in self.inc[self.ptr[g]:self.ptr[g + 1]]:
-            f = int(f)
-            if f == s or self.alive[f] or self.tier[f] == 2:
-                continue  # tier-2 faces only close small holes (_fill_holes)
-            cosphi = float(us @ self.u[f, self._pos(f, g)])
-            if cosphi >= 0.0:
-                continue  # meets sigma at phi <= pi/2: line 4 of the paper forbids the pair
-            ok, glue = self._classify(f, g)
-            if not ok:
-                continue
-            dev = np.pi - np.arccos(max(-1.0, min(1.0, cosphi)))
-            heapq.heappush(self.heap, (int(self.tier[f]), int(glue), dev, f, g))
-
-    def _add(self, f: int, rule: str, tau: tuple[int, ...], angle: float, why: str) -> None:
-        idx = len(self.steps)
-        self.alive[f] = True
-        self.added_at[f] = idx
-        touched = []
-        for h in self.facet_of[f]:
-            h = int(h)
-            self.count[h] += 1
-            touched.append(h)
-            delta = 1 if self.count[h] == 1 else -1
-            for v in self.facets[h]:
-                self.vfront[v] += delta
-        for v in self.faces[f]:
-            self.vcount[v] += 1
-        self.steps.append(Step(idx, rule, tau, (), (), angle, why, added=(f,)))
-        for h in touched:
-            if self.count[h] == 1:
-                self._push_front(h)
-
-    # -- phases -----------------------------------------------------------
-    def _seed(self) -> bool:
-        """Start a new component at the best face whose vertices are all unused."""
-        free = (self.vcount[self.faces] == 0).all(axis=1) & (self.tier < 2) & ~self.alive
-        cand = np.flatnonzero(free)
-        if len(cand) == 0:
-            return False
-        f = int(cand[np.lexsort((cand, self.scores[cand], self.tier[cand]))[0]])
-        self._add(f, RULE_SEED, tuple(int(v) for v in self.faces[f]), float(self.scores[f]),
-                  f"new component started at the best-scored free candidate "
-                  f"(score {np.degrees(self.scores[f]):.1f} deg)")
-        return True
-
-    def _grow(self, cancel: object | None, progress: Callable[[float], None] | None) -> None:
-        heap = self.heap
-        while heap:
-            tier, glue, dev, f, g = heapq.heappop(heap)
-            if self.count[g] != 1 or self.alive[f]:
-                continue
-            ok, now_glue = self._classify(f, g)
-            if not ok:
-                continue
-            if now_glue and not glue:  # became a gluing move since it was queued
-                heapq.heappush(heap, (tier, 1, dev, f, g))
-                continue
-            c = self._apex(f, g)
-            rule = _RULE_OF_TIER[tier]
-            kind = "glued to a boundary vertex" if now_glue else (
-                "new vertex" if self.vcount[c] == 0 else "closing")
-            self._add(f, rule, tuple(int(v) for v in self.facets[g]), float(np.pi - dev),
-                      f"added across a boundary face, {np.degrees(np.pi - dev):.1f} deg from its neighbour "
-                      f"(180 = flat), score {np.degrees(self.scores[f]):.1f} deg; {kind}")
-            if len(self.steps) % 256 == 0:
-                if cancel is not None and cancel.is_set():
-                    raise Cancelled("reconstruction cancelled")
-                if progress is not None:
-                    progress(min(1.0, float((self.vcount > 0).sum()) / max(self.n, 1)))
-
-    def run(self, cancel: object | None = None, progress: Callable[[float], None] | None = None) -> None:
+    for limit in (COS_PAPER, COS_CREASE):
+        gr.cos_limit = limit
+        gr.requeue_front()
         while True:
-            self._grow(cancel, progress)
-            if not self._seed():
+            gr.grow(rule_of, cancel, progress)
+            if not gr.seed():
                 break
-        self._fill_holes(cancel)
-
-    def _hole_components(self) -> list[np.ndarray]:
-        """Boundary facets grouped into holes (connected through shared vertices)."""
-        front = np.flatnonzero(self.count == 1)
-        if len(front) == 0:
-            return []
-        from scipy.sparse import coo_matrix
-        from scipy.sparse.csgraph import connected_components
-
-        rows = np.repeat(np.arange(len(front)), self.dp1 - 1)
-        cols = self.facets[front].ravel()
-        inc = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(front), self.n)).tocsr()
-        adj = inc @ inc.T
-        _, lab = connected_components(adj, directed=False)
-        return [front[lab == c] for c in range(lab.max() + 1)]
-
-    def _fill_holes(self, cancel: object | None) -> None:
-        for comp in sorted(self._hole_components(), key=len):
-            if cancel is not None and cancel.is_set():
-                raise Cancelled("reconstruction cancelled")
-            verts = np.unique(self.facets[comp])
-            span = _span(self.points[verts])
-            if len(comp) > FILL_MAX_FACES or span > FILL_MAX_SPAN * self.spacing:
-                continue
-            allowed = np.zeros(self.n, dtype=bool)
-            allowed[verts] = True
-            heap: list[tuple[float, int, int]] = []
-            for g in comp:
-                self._push_fill(int(g), allowed, heap)
-            while heap:
-                dev, f, g = heapq.heappop(heap)
-                if self.count[g] != 1 or self.alive[f]:
-                    continue
-                ok, glue = self._classify(f, g)
-                if not ok or glue:
-                    continue
-                self._add(f, RULE_FILL, tuple(int(v) for v in self.facets[g]), float(np.pi - dev),
-                          f"closing a hole of {len(comp)} boundary faces spanning "
-                          f"{span / self.spacing:.1f} spacings with a Delaunay face "
-                          f"(score {np.degrees(self.scores[f]):.1f} deg)")
-                for h in self.facet_of[f]:
-                    if self.count[h] == 1:
-                        self._push_fill(int(h), allowed, heap)
-
-    def _push_fill(self, g: int, allowed: np.ndarray, heap: list) -> None:
-        simp = self._alive_at(g)
-        if len(simp) != 1:
-            return
-        s = simp[0]
-        us = self.u[s, self._pos(s, g)]
-        for f in self.inc[self.ptr[g]:self.ptr[g + 1]]:
-            f = int(f)
-            if self.alive[f] or not allowed[self.faces[f]].all():
-                continue
-            cosphi = float(us @ self.u[f, self._pos(f, g)])
-            if cosphi >= 0.0:
-                continue
-            heapq.heappush(heap, (np.pi - np.arccos(max(-1.0, cosphi)), f, g))
-
-    def extraction(self, holes: np.ndarray | None) -> Extraction:
-        used = np.flatnonzero(self.added_at >= 0)
-        used = used[np.argsort(self.added_at[used], kind="stable")]
-        # T_S (tier 0) first so that the candidate layer and M_S share ids, then added faces
-        ts = np.flatnonzero(self.tier == 0)
-        extra = used[self.tier[used] > 0]
-        rows = np.concatenate([ts, extra])
-        remap = np.full(len(self.faces), -1, dtype=np.int64)
-        remap[rows] = np.arange(len(rows))
-        n_steps = len(self.steps)
-        steps = [Step(s.index, s.rule, s.tau, s.kept, s.removed, s.angle, s.reason,
-                      added=tuple(int(remap[a]) for a in s.added)) for s in self.steps]
-        # nothing is present at step 0; a face added by step j is present from j + 1 on;
-        # T_S faces never added are never present, and nothing is ever removed
-        added_at = np.full(len(rows), n_steps + 1, dtype=np.int64)
-        added_at[remap[used]] = self.added_at[used] + 1
-        removed_at = np.full(len(rows), n_steps, dtype=np.int64)
-        front = self.count == 1
-        stopped = "closed" if not front.any() and self.alive.any() else ("open" if self.alive.any() else "empty")
-        ext = Extraction(self.faces[rows], steps, removed_at, stopped, added_at=added_at,
-                         holes=holes, mode="robust",
-                         in_candidates=np.arange(len(rows)) < len(ts))
-        return ext
-
-
-def _span(p: np.ndarray) -> float:
-    """Largest distance between two of the points (exact for small sets)."""
-    if len(p) < 2:
-        return 0.0
-    diff = p[:, None, :] - p[None, :, :]
-    return float(np.sqrt((diff ** 2).sum(-1).max()))
+    if cancel is not None and cancel.is_set():
+        raise Cancelled("reconstruction cancelled")
+    grown = [f for f, *_ in gr.log]
+    pt = Patcher(points, [tuple(int(v) for v in F[f]) for f in grown], F, spacing)
+    for _ in range(4):  # eroding one hole can reach another: repeat while something closes
+        before = len(pt.boundary())
+        for hole in pt.holes():
+            pt.fill(hole)
+        if len(pt.boundary()) in (0, before):
+            break
+    left = pt.insert_unused()
+    # rows: T_S first, then every other simplex in the order it first appeared
+    rows: list[tuple[int, ...]] = [tuple(r) for r in F[:n_ts].tolist()] if n_ts else []
+    row_of: dict[tuple[int, ...], int] = {}
+    grown_rows = []
+    for f in grown:
+        if f < n_ts:
+            grown_rows.append(f)
+        else:
+            grown_rows.append(len(rows))
+            rows.append(tuple(int(v) for v in F[f]))
+    patch_rows = list(grown_rows)
+    ts_index = None
+    for i in range(len(grown), len(pt.simp)):
+        s = pt.simp[i]
+        if ts_index is None:
+            ts_index = {r: j for j, r in enumerate(rows[:n_ts])}
+        r = ts_index.get(s, row_of.get(s))
+        if r is None:
+            r = len(rows)
+            rows.append(s)
+            row_of[s] = r
+        patch_rows.append(r)
+    steps: list[Step] = []
+    for (f, rule, g, angle) in gr.log:
+        idx = len(steps)
+        tau = tuple(int(v) for v in (gr.facets[g] if g >= 0 else F[f]))
+        if rule == RULE_SEED:
+            why = (f"new component started at the best free candidate (score {np.degrees(S[f]):.1f} deg, "
+                   f"size {gr.size[f]:.2f})")
+        else:
+            where = "a face of T_S" if tier[f] == 0 else f"a Delaunay face outside T_S (score {np.degrees(S[f]):.1f} deg)"
+            why = (f"added {where} across a boundary face, meeting its neighbour at {np.degrees(angle):.1f} deg "
+                   f"(180 = flat), size {gr.size[f]:.2f}")
+        steps.append(Step(idx, rule, tau, (), (), angle, why, added=(grown_rows[idx],)))
+    for rule, tau, added, removed, angle, why in pt.log:
+        steps.append(Step(len(steps), rule, tau, (), tuple(patch_rows[i] for i in removed), angle, why,
+                          added=tuple(patch_rows[i] for i in added)))
+    n_steps = len(steps)
+    simplices = np.array(rows, dtype=np.int64).reshape(-1, F.shape[1])
+    added_at = np.full(len(rows), n_steps + 1, dtype=np.int64)
+    removed_at = np.full(len(rows), n_steps, dtype=np.int64)
+    for st in steps:
+        for r in st.added:
+            added_at[r] = min(added_at[r], st.index + 1)
+        for r in st.removed:
+            removed_at[r] = st.index
+    bnd = len(pt.boundary())
+    alive_any = any(pt.alive)
+    stopped = "empty" if not alive_any else ("closed" if bnd == 0 else "open")
+    ext = Extraction(simplices, steps, removed_at, stopped, added_at=added_at, mode="robust",
+                     in_candidates=np.arange(len(rows)) < n_ts)
+    if left:
+        shown = ", ".join(str(x) for x in left[:10]) + (" ..." if len(left) > 10 else "")
+        ext.notes.append(f"{len(left)} samples are farther than the insertion limit from M_S and were left "
+                         f"out (outliers or unreachable): {shown}")
+    return ext

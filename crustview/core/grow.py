@@ -1,0 +1,209 @@
+"""Growing a manifold over the Delaunay d-faces (the robust extension's main phase).
+
+See :mod:`crustview.core.robust` for the rules and why they exist.  This
+module holds the mechanics: a priority queue of (boundary face, candidate
+simplex) pairs, validity tests that keep the complex a manifold with
+boundary, and seeding of new components.
+
+All per-candidate arrays are laid out in the CSR order of
+:func:`~crustview.core.extraction.facet_structure`: entry ``j`` pairs facet
+``fg[j]`` with simplex ``inc[j]``, whose vertex opposite that facet is
+``apex[j]`` and whose unit vector from the facet to that vertex is ``ucsr[j]``.
+"""
+
+from __future__ import annotations
+
+import heapq
+from collections.abc import Callable
+
+import numpy as np
+
+from .errors import Cancelled
+from .extraction import facet_structure, opposite_vectors
+
+#: Largest size ratio (circumradius over the local spacing) of a grown simplex.
+SIZE_MAX = 6.0
+#: cos(phi) limits at a boundary face: the paper's line 4 (phi > pi/2), then a
+#: relaxed pass for creases of real scans (phi > pi/3).
+COS_PAPER = 0.0
+COS_CREASE = 0.5
+
+
+def size_ratio(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Circumradius of each face over the mean nearest-neighbour distance of its vertices.
+
+    About 0.6-1 for the simplices of a well-spaced sample; large for faces
+    that span a gap (between the hooves of a scanned horse, across a real
+    hole of an open scan).
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, k)
+    faces : ndarray of shape (f, d + 1)
+
+    Returns
+    -------
+    ndarray of shape (f,)
+    """
+    from scipy.spatial import cKDTree
+
+    if len(faces) == 0:
+        return np.zeros(0)
+    dist, _ = cKDTree(points).query(points, k=2)
+    nn = dist[:, 1]
+    p = points[faces]
+    a = p[:, 1:] - p[:, :1]  # (f, d, k)
+    gram = a @ np.swapaxes(a, 1, 2)
+    rhs = 0.5 * np.einsum("fdd->fd", gram)
+    reg = 1e-12 * np.maximum(np.einsum("fdd->f", gram), 1e-300)[:, None, None] * np.eye(gram.shape[1])
+    lam = np.linalg.solve(gram + reg, rhs[..., None])[..., 0]
+    radius = np.linalg.norm(np.einsum("fd,fdk->fk", lam, a), axis=1)
+    return radius / np.maximum(nn[faces].mean(axis=1), 1e-300)
+
+
+class Grower:
+    """Adds Delaunay d-faces across the boundary, one per step, keeping a manifold.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, k)
+    faces : ndarray of shape (f, d + 1)
+        Sorted rows; T_S first (``tier == 0``).
+    scores : ndarray of shape (f,)
+        Candidate-test angles.
+    tier : ndarray of shape (f,)
+        0 for faces of T_S, 1 for the other Delaunay faces.
+    """
+
+    def __init__(self, points: np.ndarray, faces: np.ndarray, scores: np.ndarray, tier: np.ndarray) -> None:
+        self.points = points
+        self.faces = faces
+        self.scores = scores
+        self.tier = tier.astype(np.int8)
+        self.n = len(points)
+        self.dp1 = faces.shape[1]
+        self.size = size_ratio(points, faces)
+        self.facets, self.facet_of, self.ptr, _ = facet_structure(faces)
+        order = np.argsort(self.facet_of.ravel(), kind="stable")
+        self.inc = order // self.dp1
+        pos = order % self.dp1
+        self.u = opposite_vectors(points, faces)
+        self.ucsr = self.u[self.inc, pos]
+        self.apex = faces[self.inc, pos]
+        self.fg = np.repeat(np.arange(len(self.facets)), np.diff(self.ptr))
+        f = len(faces)
+        self.alive = np.zeros(f, dtype=bool)
+        self.count = np.zeros(len(self.facets), dtype=np.int64)
+        self.xor = np.zeros(len(self.facets), dtype=np.int64)  # xor of (id + 1) of alive simplices
+        self.vcount = np.zeros(self.n, dtype=np.int64)
+        self.vfront = np.zeros(self.n, dtype=np.int64)
+        self.heap: list[tuple[int, float, int]] = []
+        self.cos_limit = COS_PAPER
+        #: (face id, rule, facet id or -1, angle) per step, in order
+        self.log: list[tuple[int, str, int, float]] = []
+
+    # -- bookkeeping --------------------------------------------------------
+    def owner(self, g: int) -> int:
+        """The one alive simplex at a boundary facet."""
+        return int(self.xor[g]) - 1
+
+    def _u_at(self, f: int, h: int) -> np.ndarray:
+        return self.u[f, int(np.flatnonzero(self.facet_of[f] == h)[0])]
+
+    def add(self, f: int, rule: str, g: int, angle: float) -> None:
+        self.alive[f] = True
+        for h in self.facet_of[f]:
+            self.count[h] += 1
+            self.xor[h] ^= f + 1
+            self.vfront[self.facets[h]] += 1 if self.count[h] == 1 else -1
+        self.vcount[self.faces[f]] += 1
+        self.log.append((f, rule, g, angle))
+        for h in self.facet_of[f]:
+            if self.count[h] == 1:
+                self.push_front(int(h))
+
+    # -- candidates ---------------------------------------------------------
+    def push_front(self, g: int) -> None:
+        """Queue the admissible simplices across boundary facet ``g``."""
+        lo, hi = self.ptr[g], self.ptr[g + 1]
+        cand = self.inc[lo:hi]
+        s = self.owner(g)
+        us = self.ucsr[lo:hi][cand == s][0]
+        ok = ~self.alive[cand] & (self.size[cand] <= SIZE_MAX)
+        cos = self.ucsr[lo:hi] @ us
+        ok &= cos < self.cos_limit
+        if not ok.any():
+            return
+        j = np.flatnonzero(ok) + lo
+        cand = self.inc[j]
+        fo = self.facet_of[cand]
+        cnt = np.where(fo == g, 0, self.count[fo])
+        ok = (cnt < 2).all(axis=1)
+        c = self.apex[j]
+        ok &= ~((self.vcount[c] > 0) & (self.vfront[c] == 0))
+        closing = (cnt == 1).any(axis=1)
+        glue = (self.vcount[c] > 0) & ~closing
+        cost = self.size[cand] * (1.0 + self.tier[cand])
+        for jj, gl, co in zip(j[ok].tolist(), glue[ok].tolist(), cost[ok].tolist()):
+            heapq.heappush(self.heap, (int(gl), co, jj))
+
+    def valid(self, j: int) -> tuple[bool, bool, float]:
+        """(valid, gluing, cos phi at the facet) of candidate entry ``j`` now."""
+        f, g = int(self.inc[j]), int(self.fg[j])
+        if self.alive[f] or self.count[g] != 1:
+            return False, False, 1.0
+        cos = float(self.ucsr[j] @ self._u_at(self.owner(g), g))
+        if cos >= self.cos_limit:
+            return False, False, cos
+        c = int(self.apex[j])
+        if self.vcount[c] > 0 and self.vfront[c] == 0:
+            return False, False, cos
+        closing = False
+        for h in self.facet_of[f]:
+            h = int(h)
+            if h == g:
+                continue
+            if self.count[h] >= 2:
+                return False, False, cos
+            if self.count[h] == 1:
+                closing = True
+                if float(self._u_at(f, h) @ self._u_at(self.owner(h), h)) >= self.cos_limit:
+                    return False, False, cos  # folded onto an existing simplex
+        return True, bool(self.vcount[c] > 0 and not closing), cos
+
+    # -- phases -------------------------------------------------------------
+    def seed(self) -> bool:
+        """Start a new component at the best T_S face whose vertices are all unused."""
+        free = (self.vcount[self.faces] == 0).all(axis=1) & ~self.alive & (self.size <= SIZE_MAX)
+        cand = np.flatnonzero(free)
+        if len(cand) == 0:
+            return False
+        best = cand[np.lexsort((cand, self.size[cand], self.scores[cand], self.tier[cand]))[0]]
+        self.add(int(best), "seed", -1, float(self.scores[best]))
+        return True
+
+    def grow(self, rule_of: Callable[[int, float], str], cancel: object | None = None,
+             progress: Callable[[float], None] | None = None) -> None:
+        """Pop candidates until none is valid; ``rule_of(face, cos)`` names each step."""
+        heap = self.heap
+        while heap:
+            glue, cost, j = heapq.heappop(heap)
+            ok, now_glue, cos = self.valid(j)
+            if not ok:
+                continue
+            if now_glue and not glue:  # became a gluing move since it was queued
+                heapq.heappush(heap, (1, cost, j))
+                continue
+            f = int(self.inc[j])
+            self.add(f, rule_of(f, cos), int(self.fg[j]), float(np.arccos(np.clip(cos, -1, 1))))
+            if len(self.log) % 512 == 0:
+                if cancel is not None and cancel.is_set():
+                    raise Cancelled("reconstruction cancelled")
+                if progress is not None:
+                    progress(float((self.vcount > 0).sum()) / max(self.n, 1))
+
+    def requeue_front(self) -> None:
+        """Queue every boundary facet again (after the angle limit changed)."""
+        self.heap = []
+        for g in np.flatnonzero(self.count == 1):
+            self.push_front(int(g))

@@ -1,0 +1,446 @@
+"""Closing small holes and taking in left-out samples (the robust extension's last phase).
+
+Works on the complex that :mod:`crustview.core.grow` produced, with a
+dictionary of (d-1)-faces so that simplices outside the Delaunay
+triangulation can be added where no Delaunay face fits:
+
+* ``fill-hole``: a hole (boundary (d-1)-faces connected through their
+  vertices) with at most :data:`FILL_MAX_FACES` faces and a span of at most
+  :data:`FILL_MAX_SPAN` sample spacings is an undersampling gap.  It is
+  closed first with Delaunay d-faces among its own vertices (flattest
+  first, creases up to 120 deg allowed), then -- for d = 2 -- by clipping
+  ears off each boundary loop (triangles need not be Delaunay), for d = 1 by
+  joining its two ends.  Larger holes are real boundary and stay open.
+* ``insert-sample``: a sample that is no vertex of M_S and lies within
+  :data:`INSERT_MAX` spacings of a simplex whose projection contains it is
+  made a vertex by a stellar subdivision of that simplex (one simplex is
+  replaced by d + 1 that share the sample), which keeps a manifold a
+  manifold in every dimension.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+#: Largest hole, in boundary (d-1)-faces, that ``fill-hole`` closes.
+FILL_MAX_FACES = 30
+#: Largest hole span, in median sample spacings, that ``fill-hole`` closes.
+FILL_MAX_SPAN = 14.0
+#: Largest distance, in median spacings, from a left-out sample to the simplex it is inserted in.
+INSERT_MAX = 2.0
+#: A closing simplex may meet its neighbours at phi > 60 deg (creases up to 120 deg).
+COS_FILL = 0.5
+#: An ear may meet its neighbours at phi > 25 deg: a hole's rim leaves no other choice.
+COS_EAR = 0.9
+
+Simplex = tuple[int, ...]
+
+
+def _facets(s: Simplex) -> list[Simplex]:
+    return [s[:a] + s[a + 1:] for a in range(len(s))]
+
+
+class Patcher:
+    """A d-complex as dictionaries, for local edits.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, k)
+    simplices : list of sorted tuples
+        The current complex.
+    delaunay : ndarray of shape (f, d + 1)
+        Sorted Delaunay d-faces, preferred for closing holes.
+    spacing : float
+        Median nearest-neighbour distance.
+    """
+
+    def __init__(self, points: np.ndarray, simplices: list[Simplex], delaunay: np.ndarray, spacing: float) -> None:
+        self.points = points
+        self.spacing = float(spacing)
+        self.simp: list[Simplex] = []
+        self.alive: list[bool] = []
+        self.fmap: dict[Simplex, list[int]] = {}
+        self.log: list[tuple[str, Simplex, tuple[int, ...], tuple[int, ...], float, str]] = []
+        for s in simplices:
+            self._insert(s)
+        self.delaunay = delaunay
+        from scipy.spatial import cKDTree
+
+        dist, _ = cKDTree(points).query(points, k=2)
+        self.nn = dist[:, 1]
+        flat = delaunay.ravel()
+        order = np.argsort(flat, kind="stable")
+        self.vptr = np.concatenate([[0], np.cumsum(np.bincount(flat, minlength=len(points)))])
+        self.vfaces = order // delaunay.shape[1] if delaunay.size else order
+
+    # -- editing ------------------------------------------------------------
+    def _insert(self, s: Simplex) -> int:
+        i = len(self.simp)
+        self.simp.append(s)
+        self.alive.append(True)
+        for f in _facets(s):
+            self.fmap.setdefault(f, []).append(i)
+        return i
+
+    def _delete(self, i: int) -> None:
+        self.alive[i] = False
+        for f in _facets(self.simp[i]):
+            self.fmap[f].remove(i)
+
+    def at(self, f: Simplex) -> list[int]:
+        return self.fmap.get(f, [])
+
+    def boundary(self) -> list[Simplex]:
+        return [f for f, ids in self.fmap.items() if len(ids) == 1]
+
+    def used(self) -> np.ndarray:
+        mask = np.zeros(len(self.points), dtype=bool)
+        for s, a in zip(self.simp, self.alive):
+            if a:
+                mask[list(s)] = True
+        return mask
+
+    # -- geometry -----------------------------------------------------------
+    def _u(self, s: Simplex, f: Simplex) -> np.ndarray:
+        """Unit vector from aff(f) to the vertex of s opposite f."""
+        (apex,) = set(s) - set(f)
+        p = self.points
+        v = p[apex] - p[f[0]]
+        if len(f) > 1:
+            q, _ = np.linalg.qr((p[list(f[1:])] - p[f[0]]).T)
+            v = v - q @ (q.T @ v)
+        return v / max(float(np.linalg.norm(v)), 1e-300)
+
+    def fits(self, s: Simplex) -> tuple[bool, float]:
+        """Whether ``s`` can be added: every facet in at most one simplex, none folded.
+
+        Returns (ok, largest cos phi with an existing neighbour).
+        """
+        worst = -1.0
+        touching = 0
+        for f in _facets(s):
+            ids = self.at(f)
+            if len(ids) >= 2:
+                return False, 2.0
+            if ids:
+                touching += 1
+                c = float(self._u(s, f) @ self._u(self.simp[ids[0]], f))
+                worst = max(worst, c)
+        return touching > 0 and worst < COS_FILL, worst
+
+    def add(self, s: Simplex, rule: str, tau: Simplex, angle: float, why: str) -> None:
+        i = self._insert(s)
+        self.log.append((rule, tau, (i,), (), angle, why))
+
+    # -- holes --------------------------------------------------------------
+    def holes(self) -> list[list[Simplex]]:
+        """Boundary facets grouped by shared vertices."""
+        bnd = self.boundary()
+        parent = list(range(len(bnd)))
+
+        def find(a: int) -> int:
+            while parent[a] != a:
+                parent[a] = parent[parent[a]]
+                a = parent[a]
+            return a
+
+        first: dict[int, int] = {}
+        for i, f in enumerate(bnd):
+            for v in f:
+                if v in first:
+                    parent[find(i)] = find(first[v])
+                else:
+                    first[v] = i
+        groups: dict[int, list[Simplex]] = {}
+        for i, f in enumerate(bnd):
+            groups.setdefault(find(i), []).append(f)
+        return sorted(groups.values(), key=len)
+
+    def fill(self, hole: list[Simplex]) -> bool:
+        """Close one hole if it is small; True when it was closed."""
+        verts = sorted({v for f in hole for v in f})
+        p = self.points[verts]
+        span = float(np.sqrt(((p[:, None] - p[None]) ** 2).sum(-1).max())) if len(verts) > 1 else 0.0
+        local = max(float(self.nn[verts].mean()), self.spacing)
+        if len(hole) > FILL_MAX_FACES or span > FILL_MAX_SPAN * local:
+            return False
+        why = f"hole of {len(hole)} boundary faces spanning {span / local:.1f} local spacings"
+        self._fill_delaunay(set(verts), why)
+        rest = [f for f in hole if len(self.at(f)) == 1]
+        dp1 = len(hole[0]) + 1
+        if rest and dp1 == 3:
+            for attempt in range(3):
+                for _ in range(3):
+                    if self._loops(rest) is not None:
+                        break
+                    rest = self._unpinch(rest, why)
+                self._ear_clip(rest, why)
+                rest = [f for f in rest if len(self.at(f)) == 1]
+                if not rest or attempt == 2:
+                    break
+                rest = self._erode(rest, why)
+        elif rest and dp1 == 2:
+            self._join_ends(rest, why)
+            rest = [f for f in rest if len(self.at(f)) == 1]
+        return not rest
+
+    def _erode(self, edges: list[Simplex], why: str) -> list[Simplex]:
+        """Remove the simplices on the hole's rim (they block every ear); returns the new rim."""
+        rim = sorted({ids[0] for f in edges for ids in [self.at(f)] if len(ids) == 1})
+        touched = {v for i in rim for v in self.simp[i]}
+        for i in rim:
+            self._delete(i)
+        self.log.append(("fill-hole", edges[0], (), tuple(rim), float("nan"),
+                         f"{why}: no ear fits, so the {len(rim)} simplices on its rim were removed "
+                         "and the wider hole is closed again"))
+        return [f for f in self.boundary() if any(x in touched for x in f)]
+
+    def _unpinch(self, edges: list[Simplex], why: str) -> list[Simplex]:
+        """At each vertex where the hole's boundary pinches, drop all but the largest fan.
+
+        Returns the hole's boundary edges afterwards.
+        """
+        deg: dict[int, int] = {}
+        for e in edges:
+            for v in e:
+                deg[v] = deg.get(v, 0) + 1
+        touched = set(v for e in edges for v in e)
+        for v in [v for v, c in deg.items() if c > 2]:
+            tris = [i for f, ids in self.fmap.items() if v in f and len(f) == 2 for i in ids]
+            tris = sorted(set(tris))
+            # fans: triangles at v connected through the edges at v that they share
+            parent = {i: i for i in tris}
+
+            def find(a: int) -> int:
+                while parent[a] != a:
+                    a = parent[a]
+                return a
+
+            for f, ids in self.fmap.items():
+                if v in f and len(ids) == 2:
+                    parent[find(ids[0])] = find(ids[1])
+            fans: dict[int, list[int]] = {}
+            for i in tris:
+                fans.setdefault(find(i), []).append(i)
+            if len(fans) < 2:
+                continue
+            for fan in sorted(fans.values(), key=len)[:-1]:
+                for i in fan:
+                    touched.update(self.simp[i])
+                    self._delete(i)
+                self.log.append(("fill-hole", (v,), (), tuple(fan), float("nan"),
+                                 f"{why}: its boundary pinches at sample {v}; removed the smaller fan of "
+                                 f"{len(fan)} simplices there so the hole has a simple rim"))
+        return [f for f in self.boundary() if any(x in touched for x in f)]
+
+    def _fill_delaunay(self, verts: set[int], why: str) -> None:
+        cand = set()
+        for v in verts:
+            for fi in self.vfaces[self.vptr[v]:self.vptr[v + 1]]:
+                row = tuple(int(x) for x in self.delaunay[fi])
+                if all(x in verts for x in row):
+                    cand.add(row)
+        cand -= {s for s, a in zip(self.simp, self.alive) if a}
+        while cand:
+            best = None
+            for s in cand:
+                ok, worst = self.fits(s)
+                if ok and (best is None or worst < best[0]):
+                    best = (worst, s)
+            if best is None:
+                return
+            worst, s = best
+            cand.discard(s)
+            tau = next(f for f in _facets(s) if len(self.at(f)) == 1)
+            self.add(s, "fill-hole", tau, float(np.arccos(np.clip(worst, -1, 1))),
+                     f"closing a {why} with a Delaunay face")
+
+    def _loops(self, edges: list[Simplex]) -> list[list[int]] | None:
+        """Boundary edges as simple cycles, or None when a vertex is pinched."""
+        nbr: dict[int, list[int]] = {}
+        for a, b in edges:
+            nbr.setdefault(a, []).append(b)
+            nbr.setdefault(b, []).append(a)
+        if any(len(x) != 2 for x in nbr.values()):
+            return None
+        loops, seen = [], set()
+        for start in nbr:
+            if start in seen:
+                continue
+            loop, prev, cur = [start], None, start
+            seen.add(start)
+            while True:
+                nxt = nbr[cur][0] if nbr[cur][0] != prev else nbr[cur][1]
+                if nxt == start:
+                    break
+                loop.append(nxt)
+                seen.add(nxt)
+                prev, cur = cur, nxt
+            loops.append(loop)
+        return loops
+
+    def _ear_clip(self, edges: list[Simplex], why: str) -> None:
+        """Triangulate each simple boundary loop by ear clipping in its best-fit plane.
+
+        The loop is projected to the plane of its two main directions; if the
+        projected polygon is simple, ear clipping there always succeeds (two
+        ears theorem), and the lifted triangles cannot overlap each other.
+        Among the valid ears the best-shaped (largest smallest angle) goes
+        first.  Loops whose projection crosses itself are left alone.
+        """
+        loops = self._loops(edges)
+        if loops is None:
+            return
+        for loop in loops:
+            q = self._plane(loop)
+            if q is None:
+                continue
+            idx = list(range(len(loop)))
+            while len(idx) >= 3:
+                best = None
+                m = len(idx)
+                for t in range(m):
+                    a, b, c = idx[t - 1], idx[t], idx[(t + 1) % m]
+                    if not _is_ear(q, idx, t):
+                        continue
+                    tri = tuple(sorted((loop[a], loop[b], loop[c])))
+                    diag = tuple(sorted((loop[a], loop[c])))
+                    if m > 3 and self.at(diag):
+                        continue  # the diagonal is already an edge of M_S elsewhere
+                    if any(len(self.at(f)) >= 2 for f in _facets(tri)):
+                        continue
+                    shape = _min_angle(q[a], q[b], q[c])
+                    if best is None or shape > best[0]:
+                        best = (shape, t, tri)
+                if best is None:
+                    break
+                _, t, tri = best
+                self.add(tri, "fill-hole", tuple(sorted((loop[idx[t - 1]], loop[idx[t]]))), float("nan"),
+                         f"closing a {why}: ear at sample {loop[idx[t]]} clipped in the hole's plane "
+                         "(need not be a Delaunay face)")
+                idx.pop(t)
+                if len(idx) < 3:
+                    break
+
+    def _plane(self, loop: list[int]) -> np.ndarray | None:
+        """The loop in its best-fit plane, shape (m, 2), or None if that polygon is not simple."""
+        p = self.points[loop]
+        c = p - p.mean(axis=0)
+        _, _, vt = np.linalg.svd(c, full_matrices=False)
+        q = c @ vt[:2].T
+        m = len(loop)
+        for i in range(m):
+            for j in range(i + 2, m):
+                if i == 0 and j == m - 1:
+                    continue
+                if _segments_cross(q[i], q[(i + 1) % m], q[j], q[(j + 1) % m]):
+                    return None
+        return q
+
+    def _join_ends(self, ends: list[Simplex], why: str) -> None:
+        pts = [f[0] for f in ends]
+        while len(pts) >= 2:
+            best = None
+            for a, b in itertools.combinations(pts, 2):
+                dist = float(np.linalg.norm(self.points[a] - self.points[b]))
+                if best is None or dist < best[0]:
+                    best = (dist, a, b)
+            dist, a, b = best
+            s = (min(a, b), max(a, b))
+            if s in self.fmap.get((a,), []) or not self.fits(s)[0]:
+                return
+            self.add(s, "fill-hole", (a,), float("nan"), f"closing a {why}: joined its ends")
+            pts.remove(a)
+            pts.remove(b)
+
+    # -- left-out samples ---------------------------------------------------
+    def insert_unused(self) -> list[int]:
+        """Insert left-out samples by stellar subdivision; returns those left out still."""
+        from scipy.spatial import cKDTree
+
+        used = self.used()
+        missing = np.flatnonzero(~used)
+        if len(missing) == 0:
+            return []
+        by_vertex: dict[int, list[int]] = {}
+        for i, (s, a) in enumerate(zip(self.simp, self.alive)):
+            if a:
+                for v in s:
+                    by_vertex.setdefault(v, []).append(i)
+        ids = np.flatnonzero(used)
+        tree = cKDTree(self.points[ids])
+        left = []
+        for x in missing.tolist():
+            _, near = tree.query(self.points[x], k=min(8, len(ids)))
+            cand = {i for v in np.atleast_1d(near) for i in by_vertex.get(int(ids[v]), []) if self.alive[i]}
+            best = None
+            for i in cand:
+                dist, inside = self._project(x, self.simp[i])
+                if inside and (best is None or dist < best[0]):
+                    best = (dist, i)
+            if best is None or best[0] > INSERT_MAX * self.spacing:
+                left.append(x)
+                continue
+            dist, i = best
+            old = self.simp[i]
+            self._delete(i)
+            new = [self._insert(tuple(sorted(f + (x,)))) for f in _facets(old)]
+            for j in new:
+                for v in self.simp[j]:
+                    by_vertex.setdefault(v, []).append(j)
+            self.log.append(("insert-sample", (x,), tuple(new), (i,), float("nan"),
+                             f"sample {x} was no vertex; it lies {dist / self.spacing:.2f} spacings from "
+                             f"a simplex, which is split into {len(new)} around it"))
+        return left
+
+    def _project(self, x: int, s: Simplex) -> tuple[float, bool]:
+        """Distance from sample x to aff(s), and whether its projection lies in s."""
+        p = self.points[list(s)]
+        a = (p[1:] - p[0]).T
+        lam, *_ = np.linalg.lstsq(a, self.points[x] - p[0], rcond=None)
+        bary = np.concatenate([[1 - lam.sum()], lam])
+        foot = p[0] + a @ lam
+        return float(np.linalg.norm(self.points[x] - foot)), bool((bary >= -1e-9).all())
+
+
+def _cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    return float((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]))
+
+
+def _segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> bool:
+    """Whether the open segments ab and cd cross (proper intersection)."""
+    d1, d2 = _cross(c, d, a), _cross(c, d, b)
+    d3, d4 = _cross(a, b, c), _cross(a, b, d)
+    return d1 * d2 < 0 and d3 * d4 < 0
+
+
+def _is_ear(q: np.ndarray, idx: list[int], t: int) -> bool:
+    """Whether vertex idx[t] of the polygon q[idx] is an ear (convex, nothing inside)."""
+    m = len(idx)
+    poly = q[idx]
+    area = 0.5 * sum(_cross(np.zeros(2), poly[i], poly[(i + 1) % m]) for i in range(m))
+    sign = 1.0 if area >= 0 else -1.0
+    a, b, c = poly[t - 1], poly[t], poly[(t + 1) % m]
+    if sign * _cross(a, b, c) <= 0:
+        return False
+    for r in range(m):
+        if r in (t - 1 if t > 0 else m - 1, t, (t + 1) % m):
+            continue
+        p = poly[r]
+        if sign * _cross(a, b, p) >= 0 and sign * _cross(b, c, p) >= 0 and sign * _cross(c, a, p) >= 0:
+            return False
+    return True
+
+
+def _min_angle(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> float:
+    """Smallest angle of the triangle abc (radians)."""
+    out = np.pi
+    for p, q, r in ((a, b, c), (b, c, a), (c, a, b)):
+        u, v = q - p, r - p
+        den = float(np.linalg.norm(u) * np.linalg.norm(v))
+        if den == 0:
+            return 0.0
+        out = min(out, float(np.arccos(np.clip(u @ v / den, -1, 1))))
+    return out
