@@ -279,3 +279,19 @@ def test_high_dimensions_get_a_warning_first(capsys, tmp_path):
     small = tmp_path / "c.npy"
     np.save(small, get_points("circle", 40))
     assert run_main(capsys, "reconstruct", small, "-d", 1, "-o", tmp_path / "c.npz").stderr == ""
+
+
+@pytest.mark.parametrize("scale", [1e300, 1e-300])
+def test_reconstruct_at_extreme_scales(tmp_path, scale):
+    """Issue 9, item 6: values near 1e300 (or 1e-300) reconstruct, without a warning line."""
+    src = tmp_path / "far.npy"
+    np.save(src, get_points("torus", 400) * scale)
+    proc = run("reconstruct", src, "-d", 2, "-o", tmp_path / "out.npz")
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    assert "a closed manifold" in proc.stdout and "(1, 2, 1)" in proc.stdout
+
+
+def test_reconstruct_beyond_the_largest_scale_is_one_line(tmp_path):
+    src = tmp_path / "huge.csv"
+    np.savetxt(src, get_points("circle", 40) * 1e306, delimiter=",")
+    assert_one_line_error(run("reconstruct", src, "-d", 1, "-o", tmp_path / "o.npz"), "too large")

@@ -14,7 +14,7 @@ from .delaunay import bounding_points, circumcenters, delaunay
 from .errors import Cancelled, InputError
 from .extraction import extract
 from .normals import complete_bases, greedy_poles
-from .prepare import DEFAULT_JOGGLE, prepare_points
+from .prepare import DEFAULT_JOGGLE, prepare_points, prescale
 from .result import CANDIDATE_TESTS, Candidates, Reconstruction
 from .topology import analyse
 
@@ -215,7 +215,8 @@ def reextract(
     tset = rec.candidates.select(test, theta)
     if prune_boundary is None:
         prune_boundary = rec.prune_boundary
-    ext = extract(rec.points, tset, prune_boundary=prune_boundary, cancel=cancel,
+    # angles only: the exact power-of-two rescaling keeps squares finite at any input scale
+    ext = extract(rec.points / prescale(rec.points), tset, prune_boundary=prune_boundary, cancel=cancel,
                   progress=lambda f: report("extraction", f))
     manifold = ext.complex_at(ext.n_steps)
     timings["extraction"] = time.perf_counter() - t0
