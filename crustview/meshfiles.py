@@ -231,6 +231,8 @@ def read_off(path: Path) -> MeshData:
     st, col, nrm, four, ndim = (bool(g) for g in hdr.groups()) if hdr else (False,) * 5
     # a token stream that remembers line ends (face colours run to the end of a line)
     pos = [0, 1 if hdr else 0]  # line, token
+    if pos[1] >= len(lines[0]):
+        pos = [1, 0]
 
     def take(count: int, what: str) -> list[str]:
         out: list[str] = []
@@ -265,8 +267,9 @@ def read_off(path: Path) -> MeshData:
         raise _bad(path, "per-vertex normals in an n-dimensional OFF (NnOFF) are not supported")
     comps = dim + (1 if four else 0)
     per = comps + 3 * nrm + 4 * col + 2 * st
+    tokens = take(nv * per, "the vertices")
     try:
-        values = np.array(take(nv * per, "the vertices"), dtype=float).reshape(nv, per)
+        values = np.array(tokens, dtype=float).reshape(nv, per)
     except ValueError:
         raise _bad(path, "a vertex coordinate is not a number") from None
     points = _dehomogenise(values[:, :comps], four, path)

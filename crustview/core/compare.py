@@ -196,7 +196,8 @@ def hausdorff(points: np.ndarray, a: np.ndarray, b: np.ndarray, *, step: float |
     d = a.shape[1] - 1
     if step is None:
         # aim at TARGET_SAMPLES per complex (more for big meshes), never above max_samples
-        target = min(max_samples, max(TARGET_SAMPLES, 4 * max(len(a), len(b))))
+        base = TARGET_SAMPLES if d >= 2 else TARGET_SAMPLES // 5  # curves: far queries cost ~ r / step
+        target = min(max_samples, max(base, 4 * max(len(a), len(b))))
         both = np.concatenate([a, b])
         lengths = np.linalg.norm(points[both[:, 0]] - points[both[:, -1]], axis=1)
         step = float(np.median(lengths)) / 8 or 1.0
