@@ -263,12 +263,15 @@ def _dispatch(argv: Sequence[str]) -> int:
     if args.command is None:
         return _run_app()
     if args.command == "view":
-        from crustview.io import read_points
+        from crustview.io import read_mesh, read_points
 
-        points = read_points(args.file)  # report a bad file here, before a window opens
+        mesh = read_mesh(args.file)  # report a bad file (or bad faces) here, before a window opens
+        points = mesh.points if mesh is not None else read_points(args.file)
         k = points.shape[1]
         if args.d is not None and not 1 <= args.d < k:
             raise _UsageError(f"d must be between 1 and k-1 = {k - 1} for points in R^{k}; got d = {args.d}")
+        if mesh is not None and args.d is not None:
+            mesh.simplices(args.d)
         return _run_app(str(args.file), args.d)
     if args.command == "reconstruct":
         return _cmd_reconstruct(args)

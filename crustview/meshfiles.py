@@ -49,8 +49,8 @@ from __future__ import annotations
 import os
 import re
 from contextlib import redirect_stderr, redirect_stdout
-from io import StringIO
 from dataclasses import dataclass
+from io import StringIO
 from pathlib import Path
 
 import numpy as np

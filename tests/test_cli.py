@@ -332,3 +332,10 @@ def test_reconstruct_in_r4_to_noff_and_ply(tmp_path):
         assert back.returncode == 0, back.stderr
         assert "60 of 60 mesh faces recovered (100.0%), 0 extra" in back.stdout
         assert "Hausdorff distance 0 " in back.stdout
+
+
+def test_view_rejects_bad_mesh_faces_before_a_window_opens(capsys, tmp_path):
+    src = tmp_path / "bad.off"
+    src.write_text("OFF\n5 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n3 0 1 5\n")
+    proc = run_main(capsys, "view", src, "-d", 2)
+    assert_one_line_error(proc, "refers to vertex 5")
