@@ -179,9 +179,11 @@ def _summary(rec, seconds: float, output: Path) -> str:
 
 def _cmd_reconstruct(args: argparse.Namespace) -> int:
     from crustview.core import cost_warning, reconstruct
-    from crustview.io import read_points, write_report, write_result
+    from crustview.io import read_mesh, read_points, write_report, write_result
 
-    points = read_points(args.input)
+    mesh = read_mesh(args.input)  # a mesh with faces: its vertices are the sample, its faces the truth
+    points = mesh.points if mesh is not None else read_points(args.input)
+    truth = mesh.simplices(args.d) if mesh is not None and 1 <= args.d < points.shape[1] else None
     note = cost_warning(points.shape[1], args.d) if 1 <= args.d < points.shape[1] else None
     if note:
         print(f"{PROG}: warning: {note}", file=sys.stderr, flush=True)
@@ -189,11 +191,35 @@ def _cmd_reconstruct(args: argparse.Namespace) -> int:
     rec = reconstruct(points, args.d, test=args.test, theta=math.radians(args.theta),
                       prune_boundary=not args.keep_boundary)
     seconds = time.perf_counter() - start
+    comparison = None
+    if truth is not None:
+        from crustview.core.compare import compare_to_mesh
+
+        comparison = compare_to_mesh(rec, truth)
     write_result(args.output, rec)
     if args.report is not None:
-        write_report(args.report, rec)
+        write_report(args.report, rec, comparison)
     print(_summary(rec, seconds, args.output))
+    if comparison is not None:
+        print(comparison_summary(comparison, args.input.name))
     return 0
+
+
+def comparison_summary(c, name: str) -> str:
+    """One sentence: M_S against the mesh's faces."""
+    from crustview.core.compare import MeshComparison
+
+    def top(t) -> str:
+        g = MeshComparison.genus(t)
+        shape = f"closed, genus {g}" if g is not None else ("closed" if t.closed_manifold else "not closed")
+        return f"{shape}, Betti {tuple(int(b) for b in t.betti)}"
+
+    h = c.hausdorff
+    collapsed = f" ({c.collapsed_faces} collapsed by duplicate merging)" if c.collapsed_faces else ""
+    return (f"Against the faces of {name}: {c.recovered} of {c.mesh_faces} mesh faces recovered "
+            f"({100 * c.recovered_share:.1f}%){collapsed}, {c.extra} extra; mesh {top(c.mesh_topology)}; "
+            f"M_S {top(c.result_topology)}; Hausdorff distance {h.distance:.4g} "
+            f"(sampled, within {h.error_bound:.2g}).")
 
 
 def _cmd_sample(args: argparse.Namespace) -> int:
@@ -237,12 +263,15 @@ def _dispatch(argv: Sequence[str]) -> int:
     if args.command is None:
         return _run_app()
     if args.command == "view":
-        from crustview.io import read_points
+        from crustview.io import read_mesh, read_points
 
-        points = read_points(args.file)  # report a bad file here, before a window opens
+        mesh = read_mesh(args.file)  # report a bad file (or bad faces) here, before a window opens
+        points = mesh.points if mesh is not None else read_points(args.file)
         k = points.shape[1]
         if args.d is not None and not 1 <= args.d < k:
             raise _UsageError(f"d must be between 1 and k-1 = {k - 1} for points in R^{k}; got d = {args.d}")
+        if mesh is not None and args.d is not None:
+            mesh.simplices(args.d)
         return _run_app(str(args.file), args.d)
     if args.command == "reconstruct":
         return _cmd_reconstruct(args)

@@ -9,12 +9,15 @@ Supported suffixes
 read_points
     ``.npy`` (2-D array), ``.npz`` (key ``points``), ``.csv .txt .xyz``
     (comma or whitespace separated, ``#`` comments, optional header line),
-    ``.ply .obj .off .vtk .vtu .stl`` (vertices only, through meshio).
+    ``.off .noff .ply`` (any dimension, :mod:`crustview.meshfiles`),
+    ``.obj .vtk .vtu .stl`` (through meshio).  :func:`read_mesh` also gives
+    the faces of these files (a ground truth).
 write_points
-    ``.npy .npz .csv .txt .xyz .ply .vtk``.
+    ``.npy .npz .csv .txt .xyz .ply .vtk`` (``.ply`` in any dimension).
 write_result
-    ``.npz`` for every d and k; ``.ply .obj .off .vtk .stl`` meshes when
-    d <= 2 and k <= 3 (``.off`` and ``.stl`` hold triangles only).
+    ``.npz``, ``.noff``, ``.off`` and ``.ply`` for every d and k (``.off`` is
+    plain OFF for k <= 3 and nOFF above); ``.obj .vtk .stl`` meshes when
+    d <= 2 and k <= 3 (``.stl`` holds triangles only).
 write_report
     ``.json``.
 """
@@ -25,8 +28,6 @@ import json
 import math
 import os
 import re
-from contextlib import redirect_stderr, redirect_stdout
-from io import StringIO
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -35,13 +36,16 @@ import numpy as np
 from crustview.core.errors import InputError
 
 if TYPE_CHECKING:
+    from crustview.core.compare import MeshComparison
     from crustview.core.result import Reconstruction
 
 TEXT_SUFFIXES = (".csv", ".txt", ".xyz")
-MESH_SUFFIXES = (".ply", ".obj", ".off", ".vtk", ".vtu", ".stl")
+MESH_SUFFIXES = (".ply", ".obj", ".off", ".noff", ".vtk", ".vtu", ".stl")
 READ_SUFFIXES = (".npy", ".npz", *TEXT_SUFFIXES, *MESH_SUFFIXES)
 POINT_WRITE_SUFFIXES = (".npy", ".npz", *TEXT_SUFFIXES, ".ply", ".vtk")
-RESULT_MESH_SUFFIXES = (".ply", ".obj", ".off", ".vtk", ".stl")
+RESULT_MESH_SUFFIXES = (".ply", ".obj", ".off", ".noff", ".vtk", ".stl")
+#: Result suffixes written in any dimension (own writers, :mod:`crustview.meshfiles`).
+ND_RESULT_SUFFIXES = (".ply", ".off", ".noff")
 RESULT_SUFFIXES = (".npz", *RESULT_MESH_SUFFIXES)
 
 _SPLIT = re.compile(r"[,;\s]+")
@@ -169,23 +173,44 @@ def _read_text(path: Path) -> np.ndarray:
 
 
 def _read_mesh(path: Path) -> np.ndarray:
-    import meshio  # deferred: only mesh formats need it
+    from crustview.meshfiles import read_mesh
 
-    # meshio prints its complaints and calls sys.exit() when a file does not
-    # parse; keep the terminal clean and turn every outcome into one sentence.
-    chatter = StringIO()
-    try:
-        with redirect_stdout(chatter), redirect_stderr(chatter), np.errstate(all="ignore"):
-            mesh = meshio.read(path)
-    except (Exception, SystemExit) as err:  # noqa: BLE001
-        said = " ".join(chatter.getvalue().split("Error:")[0].split()[:12]).rstrip(".")
-        reason = _reason(err) if not isinstance(err, SystemExit) else (said or "malformed file")
-        raise InputError(
-            f"Cannot read '{path}' as a {path.suffix.lower()} mesh ({reason})."
-        ) from None
-    points = np.asarray(mesh.points)
+    return _drop_zero_z(read_mesh(path).points)
+
+
+def read_mesh(path: str | os.PathLike):
+    """Points and faces of a mesh file, or None when it has no faces or is not a mesh format.
+
+    Returns
+    -------
+    MeshData or None
+        :class:`crustview.meshfiles.MeshData`; its points are those of
+        :func:`read_points` (a zero third column dropped as there).
+
+    Raises
+    ------
+    InputError
+        For a malformed file or faces that refer to missing vertices.
+    """
+    from dataclasses import replace
+
+    from crustview.meshfiles import read_mesh as _read
+
+    path = Path(path)
+    if path.suffix.lower() not in MESH_SUFFIXES:
+        return None
+    if not path.is_file():
+        raise InputError(f"Cannot read '{path}': the file does not exist.")
+    mesh = _read(path)
+    if mesh.n_cells == 0:
+        return None
+    return replace(mesh, points=_check_points(_drop_zero_z(mesh.points), path))
+
+
+def _drop_zero_z(points: np.ndarray) -> np.ndarray:
+    points = np.asarray(points)
     if points.ndim == 2 and points.shape[1] == 3 and len(points) and not points[:, 2].any():
-        points = points[:, :2]
+        return points[:, :2]
     return points
 
 
@@ -262,6 +287,20 @@ def _write_obj(path: Path, points: np.ndarray, cell_type: str | None, cells: np.
             np.savetxt(fh, np.asarray(cells) + 1, fmt=f"{tag}" + " %d" * width)
 
 
+def _write_nd(path: Path, points: np.ndarray, simplices: np.ndarray | None, comment: str) -> None:
+    """PLY, OFF or nOFF in any dimension (:mod:`crustview.meshfiles`)."""
+    from crustview.meshfiles import write_off, write_ply
+
+    try:
+        if path.suffix.lower() == ".ply":
+            write_ply(path, points, simplices, comment=comment)
+        else:
+            simp = np.empty((0, 1), np.int64) if simplices is None else simplices
+            write_off(path, points, simp, ndim=path.suffix.lower() == ".noff", comment=comment)
+    except OSError as err:
+        raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
+
+
 def write_points(path: str | os.PathLike, points: np.ndarray) -> None:
     """Write a point set.
 
@@ -269,8 +308,9 @@ def write_points(path: str | os.PathLike, points: np.ndarray) -> None:
     ----------
     path : str or path-like
         ``.npy``, ``.npz`` (key ``points``), ``.csv`` (comma separated),
-        ``.txt``/``.xyz`` (space separated), ``.ply``/``.vtk`` (k <= 3,
-        padded with zeros to 3-D).
+        ``.txt``/``.xyz`` (space separated), ``.ply`` (any k: extra
+        coordinate properties above 3, see :mod:`crustview.meshfiles`),
+        ``.vtk`` (k <= 3, padded with zeros to 3-D).
     points : ndarray of shape (n, k)
 
     Raises
@@ -285,7 +325,10 @@ def write_points(path: str | os.PathLike, points: np.ndarray) -> None:
         raise InputError(
             f"Cannot write '{path}': points must have shape (n, k), got {points.shape}."
         )
-    if suffix in (".ply", ".vtk"):
+    if suffix == ".ply":
+        _write_nd(path, points, None, "crustview points")
+        return
+    if suffix == ".vtk":
         _write_mesh(path, _pad3(points, path, suffix), None, np.empty((0, 1), int))
         return
     try:
@@ -318,9 +361,11 @@ def write_result(path: str | os.PathLike, rec: Reconstruction) -> None:
         Scalars (``theta`` in radians): the run's parameters, so that
         :func:`read_run_parameters` can redo exactly this run.
 
-    Mesh suffixes write the input points (padded to 3-D) and M_S as
+    ``.ply``, ``.off`` and ``.noff`` write the input points and M_S in any
+    k and d (:mod:`crustview.meshfiles`; :func:`read_mesh` reads them back).
+    ``.obj .vtk .stl`` write the input points (padded to 3-D) and M_S as
     triangles (d = 2) or line segments (d = 1); they need d <= 2 and k <= 3,
-    and ``.off``/``.stl`` hold triangles only.
+    and ``.stl`` holds triangles only.
 
     Parameters
     ----------
@@ -356,12 +401,16 @@ def write_result(path: str | os.PathLike, rec: Reconstruction) -> None:
         except OSError as err:
             raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
         return
+    if suffix in ND_RESULT_SUFFIXES:
+        _write_nd(path, rec.input_points, simplices,
+                  f"crustview: M_S, d = {rec.d}, k = {rec.k}, {len(simplices)} simplices")
+        return
     if rec.d > 2:
         raise InputError(
             f"Cannot write '{path}': mesh files hold curves and surfaces only, "
             f"this reconstruction is {rec.d}-dimensional; use .npz instead."
         )
-    if rec.d == 1 and suffix in (".off", ".stl"):
+    if rec.d == 1 and suffix == ".stl":
         raise InputError(
             f"Cannot write '{path}': {suffix} files hold triangles only and this "
             "reconstruction is a curve; use .ply, .obj, .vtk or .npz instead."
@@ -412,8 +461,9 @@ def _jsonable(obj: Any) -> Any:
     return obj
 
 
-def report_dict(rec: Reconstruction) -> dict[str, Any]:
+def report_dict(rec: Reconstruction, comparison: MeshComparison | None = None) -> dict[str, Any]:
     """The content of :func:`write_report` as plain Python objects."""
+    extra = {} if comparison is None else {"ground_truth": comparison.as_dict()}
     return _jsonable(
         {
             "d": rec.d,
@@ -428,16 +478,21 @@ def report_dict(rec: Reconstruction) -> dict[str, Any]:
             "topology": rec.topology.as_dict(),
             "rules": rec.extraction.counts_by_rule(),
             "timings": dict(rec.timings),
+            **extra,
         }
     )
 
 
-def write_report(path: str | os.PathLike, rec: Reconstruction) -> None:
+def write_report(path: str | os.PathLike, rec: Reconstruction,
+                 comparison: MeshComparison | None = None) -> None:
     """Write a JSON summary of a reconstruction.
 
     Keys: ``d k n n_input test theta theta_degrees n_candidates stopped``,
     ``topology`` (:meth:`TopologyReport.as_dict`), ``rules``
-    (:meth:`Extraction.counts_by_rule`) and ``timings`` (seconds per stage).
+    (:meth:`Extraction.counts_by_rule`) and ``timings`` (seconds per stage);
+    with a ``comparison``, also ``ground_truth``
+    (:meth:`~crustview.core.compare.MeshComparison.as_dict`: recovered and
+    extra faces, both topologies, the sampled Hausdorff distance).
 
     Raises
     ------
@@ -447,7 +502,7 @@ def write_report(path: str | os.PathLike, rec: Reconstruction) -> None:
     path = Path(path)
     try:
         with open(path, "w", encoding="utf-8") as fh:
-            json.dump(report_dict(rec), fh, indent=2)
+            json.dump(report_dict(rec, comparison), fh, indent=2)
             fh.write("\n")
     except OSError as err:
         raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None

@@ -279,3 +279,63 @@ def test_high_dimensions_get_a_warning_first(capsys, tmp_path):
     small = tmp_path / "c.npy"
     np.save(small, get_points("circle", 40))
     assert run_main(capsys, "reconstruct", small, "-d", 1, "-o", tmp_path / "c.npz").stderr == ""
+
+
+@pytest.mark.parametrize("scale", [1e300, 1e-300])
+def test_reconstruct_at_extreme_scales(tmp_path, scale):
+    """Issue 9, item 6: values near 1e300 (or 1e-300) reconstruct, without a warning line."""
+    src = tmp_path / "far.npy"
+    np.save(src, get_points("torus", 400) * scale)
+    proc = run("reconstruct", src, "-d", 2, "-o", tmp_path / "out.npz")
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    assert "a closed manifold" in proc.stdout and "(1, 2, 1)" in proc.stdout
+
+
+def test_reconstruct_beyond_the_largest_scale_is_one_line(tmp_path):
+    src = tmp_path / "huge.csv"
+    np.savetxt(src, get_points("circle", 40) * 1e306, delimiter=",")
+    assert_one_line_error(run("reconstruct", src, "-d", 1, "-o", tmp_path / "o.npz"), "too large")
+
+
+# ---------------------------------------------------------------- meshes as ground truth
+RESOURCES = __import__("pathlib").Path(__file__).resolve().parents[1] / "resources"
+
+
+def test_reconstruct_a_mesh_reports_the_comparison(tmp_path):
+    report = tmp_path / "r.json"
+    proc = run("reconstruct", RESOURCES / "bumpy.off", "-d", 2, "-o", tmp_path / "out.noff", "--report", report)
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    assert "Against the faces of bumpy.off:" in proc.stdout and "of 2496 mesh faces recovered" in proc.stdout
+    truth = json.loads(report.read_text())["ground_truth"]
+    assert truth["mesh_faces"] == 2496 and truth["mesh"]["genus"] == 0 and truth["mesh"]["closed_manifold"]
+    assert truth["recovered"] + truth["extra"] == truth["result_faces"]
+    assert 0 <= truth["hausdorff"] < float("inf") and truth["hausdorff_error_bound"] > 0
+    assert (tmp_path / "out.noff").read_text().startswith("nOFF\n")
+
+
+def test_mesh_faces_that_do_not_fit_d_are_one_line(tmp_path):
+    src = tmp_path / "bad.off"
+    src.write_text("OFF\n5 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n3 0 1 2\n3 0 1 9\n")
+    assert_one_line_error(run("reconstruct", src, "-d", 2, "-o", tmp_path / "o.npz"), "refers to vertex 9")
+    src.write_text("OFF\n5 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n3 0 1 2\n2 3 4\n")
+    assert_one_line_error(run("reconstruct", src, "-d", 2, "-o", tmp_path / "o.npz"), "2 vertices")
+
+
+def test_reconstruct_in_r4_to_noff_and_ply(tmp_path):
+    src = tmp_path / "c4.npy"
+    np.save(src, get_points("circle-r4", 60))
+    for suffix in (".noff", ".ply"):
+        out = tmp_path / f"c4{suffix}"
+        proc = run("reconstruct", src, "-d", 1, "-o", out)
+        assert proc.returncode == 0, proc.stderr
+        back = run("reconstruct", out, "-d", 1, "-o", tmp_path / "again.npz")  # its own M_S as the truth
+        assert back.returncode == 0, back.stderr
+        assert "60 of 60 mesh faces recovered (100.0%), 0 extra" in back.stdout
+        assert "Hausdorff distance 0 " in back.stdout
+
+
+def test_view_rejects_bad_mesh_faces_before_a_window_opens(capsys, tmp_path):
+    src = tmp_path / "bad.off"
+    src.write_text("OFF\n5 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n3 0 1 5\n")
+    proc = run_main(capsys, "view", src, "-d", 2)
+    assert_one_line_error(proc, "refers to vertex 5")

@@ -108,3 +108,31 @@ def test_core_imports_no_gui_library():
     count, bad = out.stdout.strip().split(" ", 1) if " " in out.stdout.strip() else (out.stdout.strip(), "")
     assert int(count) >= 12, out.stdout  # every module was imported
     assert bad == "", bad
+
+
+# ---------------------------------------------------------------- extreme scales
+def _ellipse_in_r3(n=80):
+    """A tilted ellipse in R^3 (not cospherical, nothing degenerate)."""
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    return np.c_[np.cos(t), 2 * np.sin(t), 0.3 * np.cos(t) + 0.1 * np.sin(2 * t)]
+
+
+@pytest.mark.parametrize("scale", [1e300, 1e-300, 1e-310])
+def test_extreme_scales_give_the_same_result_as_unit_scale(scale):
+    """Squared distances of these points overflow (1e600) or underflow (1e-600);
+    the exact power-of-two prescaling makes the run identical to the unit one."""
+    base = _ellipse_in_r3()
+    assert scale * scale in (0.0, float("inf"))
+    ref = reconstruct(base, 1)
+    # no overflow or invalid-value warning anywhere (harmless underflows exist at scale 1 too)
+    with np.errstate(over="raise", invalid="raise", divide="raise"):
+        got = reconstruct(base * scale, 1)
+    assert got.topology.closed_manifold and got.topology.betti == (1, 1)
+    np.testing.assert_array_equal(got.manifold, ref.manifold)
+    np.testing.assert_allclose(got.normals, ref.normals, atol=1e-9)
+    assert got.spacing == pytest.approx(ref.spacing * scale, rel=1e-6)
+
+
+def test_too_large_coordinates_are_one_clear_error():
+    with pytest.raises(InputError, match="too large .* divide the data by a constant"):
+        prepare_points(_ellipse_in_r3() * 1e306, 1)

@@ -54,7 +54,7 @@ def _rows(a):
 def test_points_round_trip(tmp_path, suffix, k):
     pts = np.random.default_rng(k).normal(size=(37, k))
     path = tmp_path / f"p{suffix}"
-    if suffix in (".ply", ".vtk") and k > 3:
+    if suffix == ".vtk" and k > 3:
         with pytest.raises(InputError, match="at most 3"):
             write_points(path, pts)
         return
@@ -202,7 +202,7 @@ def test_npz_result_in_r4(tmp_path):
     write_result(tmp_path / "s3.npz", rec)
     _check_npz(tmp_path / "s3.npz", rec)
     with pytest.raises(InputError, match="3-dimensional"):
-        write_result(tmp_path / "s3.ply", rec)
+        write_result(tmp_path / "s3.obj", rec)
 
 
 # ---------------------------------------------------------------- write_result: meshes
@@ -242,9 +242,8 @@ def test_curve_meshes_read_back(tmp_path, circle_rec, trefoil_rec, suffix):
 
 
 def test_unsupported_result_combinations(tmp_path, circle_rec):
-    for suffix in (".off", ".stl"):
-        with pytest.raises(InputError, match="triangles only"):
-            write_result(tmp_path / f"c{suffix}", circle_rec)
+    with pytest.raises(InputError, match="triangles only"):
+        write_result(tmp_path / "c.stl", circle_rec)
     with pytest.raises(InputError, match="unsupported"):
         write_result(tmp_path / "c.csv", circle_rec)
     rec4 = reconstruct(get_manifold("circle-r4").sample(60, seed=0).points, 1)

@@ -7,7 +7,10 @@ Everything Qhull sees goes through :func:`prepare_points`.  It
    ``merge_tol * spacing`` (``spacing`` = median nearest-neighbour distance)
    become one sample, so tolerance scales with the data, not with 1e-12;
 3. centres and scales the samples to unit radius (Qhull loses precision at
-   large offsets);
+   large offsets).  Before any distance is taken, the input is divided by a
+   power of two near its largest absolute value (:func:`prescale`), which is
+   exact in binary floating point: coordinates near 1e300 or 1e-300, whose
+   squared distances would overflow or underflow, work like any others;
 4. detects a lower-dimensional affine hull (relative singular value below
    ``1e-9``) and expresses the points in an orthonormal basis of it; the
    caller lifts results back with :attr:`PreparedPoints.basis`;
@@ -119,6 +122,36 @@ def validate(points: np.ndarray, d: int) -> np.ndarray:
     return pts
 
 
+#: Largest absolute coordinate accepted: every quantity the pipeline derives
+#: in input units (bounding points at 4x the radius, far Voronoi vertices,
+#: sums of squares in R^k) must stay finite.
+MAX_ABS_COORD = 1e305
+
+
+def prescale(pts: np.ndarray) -> float:
+    """A power of two ``s`` such that ``pts / s`` has largest absolute value in [0.5, 1).
+
+    Dividing by a power of two only changes exponents, so it is exact (short
+    of subnormal numbers); squared distances of ``pts / s`` neither overflow
+    nor underflow.
+
+    Raises
+    ------
+    InputError
+        When the largest absolute coordinate is 0 (every point at the origin)
+        or above :data:`MAX_ABS_COORD`.
+    """
+    top = float(np.abs(pts).max())
+    if top == 0.0:
+        raise InputError("all points coincide; nothing to reconstruct")
+    if top > MAX_ABS_COORD:
+        raise InputError(
+            f"coordinates up to {top:.3g} are too large to work with (the limit is {MAX_ABS_COORD:.0e}: "
+            "derived points lie a few radii away); divide the data by a constant first"
+        )
+    return float(np.ldexp(1.0, int(np.frexp(top)[1])))
+
+
 def merge_duplicates(pts: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, float]:
     """Merge points closer than ``tol * spacing``.
 
@@ -188,15 +221,19 @@ def prepare_points(
     """
     pts = validate(points, d)
     n_in, k = pts.shape
-    input_index, point_input, spacing = merge_duplicates(pts, merge_tol)
+    unit = prescale(pts)  # exact power of two; everything below works on pts / unit
+    input_index, point_input, spacing = merge_duplicates(pts / unit, merge_tol)
+    spacing *= unit
     uniq = pts[point_input]
+    small = uniq / unit
     n = len(uniq)
     if n < k + 2:
         raise InputError(
             f"only {n} distinct points remain after merging duplicates; need at least {k + 2} in R^{k}"
         )
-    center = uniq.mean(axis=0)
-    centred = uniq - center
+    center_small = small.mean(axis=0)
+    centred = small - center_small
+    center = center_small * unit
     # affine hull
     _, sv, vt = np.linalg.svd(centred, full_matrices=False)
     rank = int((sv > sv[0] * 1e-9).sum())
@@ -207,13 +244,15 @@ def prepare_points(
         )
     basis = vt[:rank].T if rank < k else np.eye(k)
     local = centred @ basis
-    scale = float(np.sqrt((local**2).sum(axis=1).max()))
-    work = local / scale
+    scale_small = float(np.sqrt((local**2).sum(axis=1).max()))
+    work = local / scale_small
+    scale = scale_small * unit
     jog = 0.0
     if joggle > 0:
         rng = np.random.default_rng(seed)
         jog = joggle * spacing
-        work = work + rng.uniform(-1.0, 1.0, size=work.shape) * (jog / scale)
+        # relative size computed from unit-free quantities (no underflow near 1e-300)
+        work = work + rng.uniform(-1.0, 1.0, size=work.shape) * (joggle * (spacing / unit) / scale_small)
     return PreparedPoints(
         points=uniq,
         input_index=input_index,

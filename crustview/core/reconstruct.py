@@ -14,7 +14,7 @@ from .delaunay import bounding_points, circumcenters, delaunay
 from .errors import Cancelled, InputError
 from .extraction import extract
 from .normals import complete_bases, greedy_poles
-from .prepare import DEFAULT_JOGGLE, prepare_points
+from .prepare import DEFAULT_JOGGLE, prepare_points, prescale
 from .result import CANDIDATE_TESTS, EXTRACTION_MODES, Candidates, Reconstruction
 from .robust import extract_robust
 from .topology import analyse
@@ -229,11 +229,14 @@ def reextract(
     tset = rec.candidates.select(test, theta)
     if prune_boundary is None:
         prune_boundary = rec.prune_boundary
+    # the exact power-of-two rescaling keeps squares finite at any input scale
+    scale = prescale(rec.points)
     if mode == "robust":
-        ext = extract_robust(rec.points, rec.candidates.faces, rec.candidates.angles[test], theta,
-                             spacing=rec.spacing, cancel=cancel, progress=lambda f: report("extraction", f))
+        ext = extract_robust(rec.points / scale, rec.candidates.faces, rec.candidates.angles[test], theta,
+                             spacing=rec.spacing / scale, cancel=cancel,
+                             progress=lambda f: report("extraction", f))
     else:
-        ext = extract(rec.points, tset, prune_boundary=prune_boundary, cancel=cancel,
+        ext = extract(rec.points / scale, tset, prune_boundary=prune_boundary, cancel=cancel,
                       progress=lambda f: report("extraction", f))
     manifold = ext.complex_at(ext.n_steps)
     timings["extraction"] = time.perf_counter() - t0

@@ -57,7 +57,8 @@ class FileActions:
             self.show_error("A reconstruction is already running; cancel it first.")
             return False
         try:
-            points = io.read_points(path)
+            mesh = io.read_mesh(path)  # a mesh with faces: vertices are the sample, faces the truth
+            points = mesh.points if mesh is not None else io.read_points(path)
             saved = io.read_run_parameters(path)
         except CrustviewError as err:
             self.show_error(str(err))
@@ -94,7 +95,17 @@ class FileActions:
             if d is None:
                 self.statusBar().showMessage("Opening cancelled: no dimension given.", 5000)
                 return False
-        if not self.start_reconstruction(points, int(d), truth=None, source=name, **params):
+        truth = None
+        if mesh is not None:
+            from ..scene.truth import MeshTruth
+
+            try:
+                truth = MeshTruth(points, mesh.simplices(int(d)), name)
+            except CrustviewError as err:
+                self.show_error(str(err))
+                return False
+            self.model.layers["truth"].visible = True
+        if not self.start_reconstruction(points, int(d), truth=truth, source=name, **params):
             return False
         if note:
             self.statusBar().showMessage(note, 20000)

@@ -89,6 +89,17 @@ class InfoPanel(QWidget):
         self.timings.setToolTip("Seconds per stage of the reconstruction")
         bl.addWidget(self.timings)
         lay.addWidget(box)
+        gt = self.truth_box = QGroupBox("Ground truth: the mesh's faces", self)
+        gl = QVBoxLayout(gt)
+        self.truth_text = QLabel(gt)
+        self.truth_text.setWordWrap(True)
+        self.truth_text.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        gt.setToolTip("M_S against the faces of the opened mesh: a face is recovered when M_S has a "
+                      "simplex on exactly its samples. The Hausdorff distance is sampled on both "
+                      "complexes (± the sampling's error bound).")
+        gl.addWidget(self.truth_text)
+        gt.setVisible(False)
+        lay.addWidget(gt)
         interp = self.interpretation_box = QGroupBox("Interpretation", self)
         il = QVBoxLayout(interp)
         self.interpretation = QLabel(interp)
@@ -158,6 +169,7 @@ class InfoPanel(QWidget):
         self.banner.setStyleSheet(BANNER_STYLE[level])
         self.banner.setText(f"<b>{escape(words)}</b>" + "".join(f"<br>• {escape(m)}" for m in msgs))
         self.banner.setVisible(level != "ok" or bool(msgs))
+        self.refresh_truth()
         rows = interpretation_rows(rec)
         self.interpretation.setText(
             "<table cellspacing='0' cellpadding='1'>"
@@ -170,6 +182,25 @@ class InfoPanel(QWidget):
         self.timings.setText(f"<small>timings (s): {parts}; total {total:.2f}</small>")
         self.refresh_faces()
         self.refresh_selection()
+
+    def refresh_truth(self) -> None:
+        """The comparison with a mesh's faces, when the input was a mesh."""
+        from ..scene.truth import comparison_rows
+
+        cmp = getattr(self.model.truth, "comparison", None)
+        self.truth_box.setVisible(cmp is not None)
+        if cmp is None:
+            self.truth_text.setText("")
+            return
+        cells = "".join(
+            f"<tr><td><b>{escape(a)}</b>&nbsp;&nbsp;</td><td>{escape(b)}</td><td>&nbsp;&nbsp;{escape(c)}</td></tr>"
+            for a, b, c in comparison_rows(cmp)
+        )
+        self.truth_text.setText(
+            f"<small>{escape(self.model.truth.name)}</small>"
+            "<table cellspacing='0' cellpadding='1'><tr><td></td><td><i>M_S</i></td>"
+            f"<td>&nbsp;&nbsp;<i>mesh</i></td></tr>{cells}</table>"
+        )
 
     # -- selection -------------------------------------------------------------
     def refresh_selection(self, *_) -> None:

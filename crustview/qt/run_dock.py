@@ -32,6 +32,7 @@ STAGES = {
     "candidates": "candidate complex (Algorithm 2)",
     "extraction": "manifold extraction (Algorithm 3)",
     "topology": "topology report",
+    "compare": "comparison with the mesh",
 }
 
 

@@ -52,6 +52,19 @@ def _same_simplices(rec, saved: np.ndarray) -> bool:
     return a.shape == b.shape and bool((a == b).all())
 
 
+def _comparing(job, truth, points):
+    """``job`` followed, in the worker, by the comparison with a mesh truth (if any)."""
+    if truth is None or not hasattr(truth, "compared"):
+        return job
+
+    def run(progress, cancel):
+        rec = job(progress, cancel)
+        progress("compare", 0.0)
+        return {"rec": rec, "truth": truth.compared(rec), "points": points}
+
+    return run
+
+
 class MainWindow(FileActions, QMainWindow):
     """crustview's main window.
 
@@ -263,6 +276,8 @@ class MainWindow(FileActions, QMainWindow):
             return reconstruct(points, d, test=test, theta=theta, prune_boundary=prune, progress=progress,
                                cancel=cancel)
 
+        job = _comparing(job, truth, points)
+
         note = cost_warning(points.shape[1], d)
         if note:
             self.show_error(note + " Cancel stops it at any time.")
@@ -313,6 +328,8 @@ class MainWindow(FileActions, QMainWindow):
             def job(progress, cancel):
                 return reextract(rec, test, theta, prune_boundary=prune, progress=progress, cancel=cancel)
 
+            job = _comparing(job, self.model.truth, self.points)
+
             label = (f"Re-extracting with {test}, θ = {np.degrees(theta):.1f}°, boundary faces "
                      f"{'pruned' if prune else 'kept'}…")
             if not self.start_job(job, label, points=self.points, truth=self.model.truth,
@@ -337,6 +354,9 @@ class MainWindow(FileActions, QMainWindow):
         problems = []
         if expected is not None and t.closed_manifold and tuple(t.betti) != tuple(expected.betti):
             problems.append(f"Betti {tuple(t.betti)} ≠ true {tuple(expected.betti)}")
+        mesh_cmp = getattr(truth, "comparison", None)
+        if mesh_cmp is not None and t.closed_manifold and tuple(t.betti) != tuple(mesh_cmp.mesh_topology.betti):
+            problems.append(f"Betti {tuple(t.betti)} ≠ mesh {tuple(mesh_cmp.mesh_topology.betti)}")
         if t.closed_manifold and t.unused_samples:
             problems.append(f"{t.unused_samples} unused")
         if problems:

@@ -171,7 +171,7 @@ class NormalsAdapter(LayerAdapter):
 
 
 class TruthAdapter(LayerAdapter):
-    """A dense sample of the true manifold (built-in samples only), faint."""
+    """The ground truth, faint: a dense sample of a built-in manifold, or a mesh file's faces."""
 
     N_DENSE = 20_000
 
@@ -184,7 +184,8 @@ class TruthAdapter(LayerAdapter):
         self.xk = np.zeros((0, self.model.projection.k))
         set_cells(self.part.mesh)
         truth = self.model.truth
-        self.layer.count = 0 if truth is None else self.N_DENSE
+        faces = getattr(truth, "faces", None)
+        self.layer.count = 0 if truth is None else (len(faces) if faces is not None else self.N_DENSE)
         if self.layer.visible:
             self._load()
 
@@ -193,6 +194,9 @@ class TruthAdapter(LayerAdapter):
         self._pending = False
         if truth is None or self.model.rec is None:
             return
+        if getattr(truth, "faces", None) is not None:
+            self._load_faces(truth)
+            return
         ref = np.asarray(truth.manifold.reference(self.N_DENSE), float)
         if ref.shape[1] != self.model.rec.k:
             return
@@ -200,6 +204,24 @@ class TruthAdapter(LayerAdapter):
         self.project()
         set_cells(self.part.mesh, verts=np.arange(len(ref))[:, None])
         self.layer.count = len(ref)
+
+    def _load_faces(self, truth) -> None:
+        """Mesh faces: triangles (d = 2), segments (d = 1), or edges of higher simplices."""
+        pts = np.asarray(truth.points, float)
+        if pts.shape[1] != self.model.rec.k:
+            return
+        faces = np.asarray(truth.faces, dtype=np.int64)
+        self.xk = pts
+        self.project()
+        if faces.shape[1] == 3:
+            set_cells(self.part.mesh, polys=faces)
+        elif faces.shape[1] == 2:
+            set_cells(self.part.mesh, lines=faces)
+        else:
+            pairs = [faces[:, [i, j]] for i in range(faces.shape[1]) for j in range(i + 1, faces.shape[1])]
+            edges = np.unique(np.sort(np.concatenate(pairs), axis=1), axis=0)
+            set_cells(self.part.mesh, lines=edges)
+        self.layer.count = len(faces)
 
     def apply_visibility(self) -> None:
         super().apply_visibility()

@@ -117,7 +117,8 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
         ),
         Layer(
             "truth", "Ground truth", False, "#5d6d7e", 0.25, 2.0,
-            tooltip="A dense sample of the true manifold (built-in samples only).",
+            tooltip="A dense sample of the true manifold (built-in samples), or the faces of "
+            "the mesh file whose vertices were reconstructed.",
         ),
     ]
     return {layer.name: layer for layer in layers}
