@@ -29,7 +29,7 @@ from ..scene.model import SceneModel
 COLUMNS = ("#", "rule", "τ", "kept", "removed", "added", "angle")
 
 #: Short rule names in the step table.
-RULE_SHORT = {"prune-sharp": "prune", "resolve-nonmanifold": "resolve"}
+RULE_SHORT = {"prune-sharp": "prune", "resolve-nonmanifold": "resolve", "grow-relaxed": "relax", "fill-hole": "fill"}
 
 
 def _ids(t) -> str:

@@ -205,7 +205,7 @@ class SceneModel:
         if colorby == "local spacing":
             return self.spacing, "local spacing"
         if colorby == "epsilon":
-            return self.quality.epsilon, "estimated epsilon (radius / pole dist.)"
+            return self.quality.epsilon, "estimated epsilon"
         return None
 
     def candidate_mask(self) -> np.ndarray:
