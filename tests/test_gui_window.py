@@ -8,6 +8,8 @@ import pytest
 pytest.importorskip("pytestqt")
 from PySide6.QtCore import Qt  # noqa: E402
 
+from crustview.qt.info_dock import BANNER_STYLE  # noqa: E402
+
 
 def load(qtbot, win, name="torus", n=None, timeout=60_000):
     assert win.load_builtin(name, n)
@@ -173,11 +175,16 @@ def test_toggling_each_layer_changes_pixels(qtbot, window):
     for name, layer in m.layers.items():
         layer.visible = True
     m.layers["candidates"].opacity = 1.0
+    if m.cascades():
+        m.set_cascade(m.cascades()[0])
     qtbot.wait(50)
     assert ext.steps[m.player.position - 1].removed  # the step layer has something to show
     rows = window.layers_panel.rows
     assert set(rows) == set(m.layers)
-    for name in m.layers:
+    # layers with nothing to show on this sample (e.g. no holes in T_S) are checked elsewhere
+    empty = {n for n in ("holes", "cascade") if m.layers[n].count == 0}
+    assert empty <= {"holes", "cascade"}
+    for name in set(m.layers) - empty:
         box = rows[name].visible
         assert box.isChecked()
         on = shot(window)
@@ -331,6 +338,7 @@ def test_prune_boundary_checkbox_reextracts_a_torus_with_holes(qtbot, window):
     holed = pts[pts[:, 0] <= 0.6]  # cut open: a tube with two boundary circles, like a scan with holes
     panel, info = window.run_panel, window.info_panel
     manifold = window.view.adapters["manifold"].part
+    panel.set_mode("paper")  # the paper's pruning is what this test is about (robust is the default)
     assert panel.prune.isChecked() and "paper" in panel.prune.text() and panel.prune.toolTip()
     assert window.start_reconstruction(holed, 2, source="holed torus")
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
@@ -373,7 +381,9 @@ def test_inspector_on_a_hull_sample_and_a_simplex(qtbot, window):
     interp = window.info_panel.interpretation.text()
     assert f"{int((rec.pole_index[:, 0] >= t).sum())} of {rec.n}" in interp
     assert "cocone (some vertex)" in interp and "pruned (paper)" in interp and "spacing" in interp
-    assert window.info_panel.banner.isHidden()  # closed manifold through every sample: no warning
+    # closed manifold through every sample: no warning, only which extraction ran
+    assert window.info_panel.banner.styleSheet() == BANNER_STYLE["ok"]
+    assert "through every sample</b> — robust extraction" in window.info_panel.banner.text()
     window.model.selection.select_simplex(0)
     text = window.info_panel.selection.text()
     for test in ("cocone (some vertex)", "cocone-all (every vertex)", "literal ("):
@@ -402,7 +412,9 @@ def test_saved_result_reopens_with_its_own_run_and_wrong_topology_is_flagged(qtb
     assert "Same M_S as saved in lit.npz" in window.statusBar().currentMessage()
     assert window.run_panel.test.currentText() == "literal"
 
-    # built-in torus with the literal test: closed, but b1 = 0 and samples skipped
+    # built-in torus with the literal test in the paper's mode: closed, but b1 = 0 and samples skipped
+    window.run_panel.set_mode("paper")  # re-extracts the current result first
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec.mode == "paper", timeout=60_000)
     window.run_panel.test.setCurrentText("literal")
     load(qtbot, window, "torus")
     t = window.model.rec.topology

@@ -82,6 +82,8 @@ class FileActions:
             # a saved result: redo its run (deterministic), no question; a d given
             # on top changes only d
             params = {"test": saved["test"], "theta": saved["theta"], "prune_boundary": saved["prune_boundary"]}
+            if saved.get("mode") is not None:  # files saved before the robust extraction have none
+                params["mode"] = str(saved["mode"])
             if d is None:
                 d = saved["d"]
             elif d != saved["d"]:

@@ -28,6 +28,7 @@ from ..scene.describe import (
     verdict,
 )
 from ..scene.model import SceneModel
+from .diagnosis import DiagnosisPanel
 
 #: At most this many open faces are listed.
 MAX_FACES = 2000
@@ -54,6 +55,10 @@ class InfoPanel(QWidget):
     """
 
     face_clicked = Signal(object)
+    #: A prune cascade was clicked (the window frames its origin).
+    cascade_clicked = Signal(object)
+    #: The user asked to look at the paper's run.
+    paper_requested = Signal()
 
     def __init__(self, model: SceneModel, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -100,6 +105,10 @@ class InfoPanel(QWidget):
         gl.addWidget(self.truth_text)
         gt.setVisible(False)
         lay.addWidget(gt)
+        self.diagnosis = DiagnosisPanel(model, self)
+        self.diagnosis.cascade_clicked.connect(self.cascade_clicked)
+        self.diagnosis.paper_requested.connect(self.paper_requested)
+        lay.addWidget(self.diagnosis)
         interp = self.interpretation_box = QGroupBox("Interpretation", self)
         il = QVBoxLayout(interp)
         self.interpretation = QLabel(interp)
@@ -167,8 +176,10 @@ class InfoPanel(QWidget):
         level, words = verdict(rec)
         msgs = rec.topology.messages
         self.banner.setStyleSheet(BANNER_STYLE[level])
-        self.banner.setText(f"<b>{escape(words)}</b>" + "".join(f"<br>• {escape(m)}" for m in msgs))
-        self.banner.setVisible(level != "ok" or bool(msgs))
+        which = "robust extraction" if rec.mode == "robust" else "the paper's Algorithm 3"
+        self.banner.setText(f"<b>{escape(words)}</b> — {escape(which, quote=False)}"
+                            + "".join(f"<br>• {escape(m)}" for m in msgs))
+        self.banner.setVisible(True)
         self.refresh_truth()
         rows = interpretation_rows(rec)
         self.interpretation.setText(

@@ -20,7 +20,8 @@ from PySide6.QtWidgets import (
 from ..scene.layers import POLE_MODES, Layer
 
 #: Order of the rows in the panel.
-ORDER = ("points", "manifold", "step", "removed", "candidates", "normals", "poles", "voronoi", "selection", "truth")
+ORDER = ("points", "manifold", "step", "removed", "holes", "cascade", "candidates", "normals", "poles", "voronoi",
+         "selection", "truth")
 
 
 def _swatch(button: QToolButton, color: str) -> None:

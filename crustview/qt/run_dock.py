@@ -20,9 +20,12 @@ from PySide6.QtWidgets import (
 )
 
 from ..core.candidates import SCORE_LIMIT
-from ..core.result import CANDIDATE_TESTS
+from ..core.result import CANDIDATE_TESTS, EXTRACTION_MODES
 from ..scene.describe import TEST_WORDS
 from ..scene.model import SceneModel
+
+#: Label of each extraction mode in the Run panel.
+MODE_LABELS = {"robust": "robust (default)", "paper": "paper's Algorithm 3"}
 
 #: Stage names of the core, in words.
 STAGES = {
@@ -33,6 +36,7 @@ STAGES = {
     "extraction": "manifold extraction (Algorithm 3)",
     "topology": "topology report",
     "compare": "comparison with the mesh",
+    "quality": "sampling quality (estimated ε)",
 }
 
 
@@ -40,10 +44,11 @@ class RunPanel(QWidget):
     """Parameters of a run and its progress.
 
     Emits :attr:`reconstruct_requested` with ``(d, test, theta_radians,
-    prune_boundary)`` and :attr:`cancel_requested`.  Moving the test or theta
-    updates the candidates layer of the model at once (the extraction is
-    redone on Reconstruct); toggling "prune boundary faces" re-extracts the
-    current result at once (only Algorithm 3 runs again).
+    prune_boundary)`` and :attr:`cancel_requested`; the extraction mode is
+    read from :attr:`mode`.  Moving the test or theta updates the candidates
+    layer of the model at once (the extraction is redone on Reconstruct);
+    toggling "prune boundary faces" or choosing another extraction re-extracts
+    the current result at once (only Algorithm 3 runs again).
     """
 
     reconstruct_requested = Signal(int, str, float, bool)
@@ -94,11 +99,23 @@ class RunPanel(QWidget):
             "<p>Toggling re-runs only Algorithm 3 on the current result.</p>"
         )
         form.addRow("", self.prune)
+        self.extraction = QComboBox(self)
+        for m in EXTRACTION_MODES:
+            self.extraction.addItem(MODE_LABELS.get(m, m), m)
+        self.extraction.setToolTip(
+            "<p><b>robust</b> (default): the paper's Algorithm 3, and where it cannot give a closed "
+            "manifold through every sample, an extension that grows M_S across boundaries (rules seed, "
+            "grow, grow-relaxed, fill-hole) instead of pruning it. The result is identical whenever the "
+            "paper's loop succeeds.</p><p><b>paper's Algorithm 3</b>: exactly as printed (prune sharp "
+            "and boundary faces, resolve non-manifold faces); its prune cascades are listed in the "
+            "Information panel.</p><p>Switching re-runs only Algorithm 3 on the current result.</p>"
+        )
+        form.addRow("extraction", self.extraction)
         lay = QVBoxLayout(self)
         lay.setContentsMargins(6, 4, 6, 4)
         # the dock grows when the out-of-date note appears instead of squashing the fields
         lay.setSizeConstraint(QLayout.SizeConstraint.SetMinimumSize)
-        for w in (self.d, self.test, self.theta, self.prune):
+        for w in (self.d, self.test, self.theta, self.prune, self.extraction):
             w.setMinimumHeight(w.sizeHint().height())
         lay.addLayout(form)
         buttons = QHBoxLayout()
@@ -129,8 +146,27 @@ class RunPanel(QWidget):
         self.theta.valueChanged.connect(self._theta_moved)
         self.test.currentTextChanged.connect(self._test_changed)
         self.prune.toggled.connect(self._prune_toggled)
+        self.extraction.currentIndexChanged.connect(self._mode_changed)
         model.reconstruction_changed.connect(self.sync)
         self._theta_moved(self.theta.value())
+
+    @property
+    def mode(self) -> str:
+        """The chosen extraction mode, ``"robust"`` or ``"paper"``."""
+        return str(self.extraction.currentData())
+
+    def set_mode(self, mode: str) -> None:
+        """Choose an extraction mode (re-extracts the current result when it differs)."""
+        i = self.extraction.findData(mode)
+        if i >= 0:
+            self.extraction.setCurrentIndex(i)
+
+    def _mode_changed(self, *_) -> None:
+        self.prune.setEnabled(self.mode == "paper" and self.run.isEnabled())
+        rec = self.model.rec
+        if rec is not None and rec.mode != self.mode:
+            self.reconstruct_requested.emit(rec.d, self.test.currentText(), self.theta_radians,
+                                            self.prune.isChecked())
 
     @property
     def theta_radians(self) -> float:
@@ -177,9 +213,11 @@ class RunPanel(QWidget):
         rec = self.model.rec
         if rec is None:
             return
-        widgets = (self.d, self.test, self.theta, self.prune)
+        widgets = (self.d, self.test, self.theta, self.prune, self.extraction)
         for w in widgets:
             w.blockSignals(True)
+        self.extraction.setCurrentIndex(max(0, self.extraction.findData(rec.mode)))
+        self.prune.setEnabled(rec.mode == "paper" and self.run.isEnabled())
         self.d.setRange(1, max(1, rec.k - 1))
         self.d.setValue(rec.d)
         self.test.setCurrentText(rec.test)
@@ -194,13 +232,17 @@ class RunPanel(QWidget):
         """Show the prune setting of the current result (after a failed or cancelled run)."""
         rec = self.model.rec
         if rec is not None:
-            self.prune.blockSignals(True)
+            for w in (self.prune, self.extraction):
+                w.blockSignals(True)
             self.prune.setChecked(bool(rec.prune_boundary))
-            self.prune.blockSignals(False)
+            self.extraction.setCurrentIndex(max(0, self.extraction.findData(rec.mode)))
+            for w in (self.prune, self.extraction):
+                w.blockSignals(False)
 
     def set_busy(self, busy: bool, label: str = "") -> None:
         self.run.setEnabled(not busy)
-        self.prune.setEnabled(not busy)
+        self.prune.setEnabled(not busy and self.mode == "paper")
+        self.extraction.setEnabled(not busy)
         self.cancel.setEnabled(busy)
         if busy:
             self.progress.setStyleSheet("")

@@ -26,7 +26,14 @@ from ..scene.describe import deg, fmt_tuple, step_words
 from ..scene.layers import STEP_COLORS
 from ..scene.model import SceneModel
 
-COLUMNS = ("#", "rule", "τ", "kept", "removed", "angle")
+COLUMNS = ("#", "rule", "τ", "kept", "removed", "added", "angle")
+
+#: Short rule names in the step table.
+RULE_SHORT = {"prune-sharp": "prune", "resolve-nonmanifold": "resolve", "grow-relaxed": "relax", "fill-hole": "fill"}
+
+
+def _ids(t) -> str:
+    return "" if not t else (fmt_tuple(t) if len(t) <= 4 else f"{len(t)} simplices")
 
 
 class StepLog(QAbstractTableModel):
@@ -55,10 +62,11 @@ class StepLog(QAbstractTableModel):
         if role == Qt.ItemDataRole.DisplayRole:
             return (
                 str(s.index + 1),
-                "prune" if s.rule == "prune-sharp" else "resolve",
+                RULE_SHORT.get(s.rule, s.rule),
                 fmt_tuple(s.tau),
-                fmt_tuple(s.kept) if s.kept else "",
-                fmt_tuple(s.removed) if len(s.removed) <= 4 else f"{len(s.removed)} simplices",
+                _ids(s.kept),
+                _ids(s.removed),
+                _ids(s.added),
                 deg(s.angle),
             )[index.column()]
         if role == Qt.ItemDataRole.ToolTipRole:
@@ -114,7 +122,8 @@ class StepsPanel(QWidget):
         row2 = QHBoxLayout()
         self.rule = QComboBox(self)
         self.rule.addItems(list(RULES))
-        self.rule.setToolTip("prune-sharp: line 2 of Algorithm 3; resolve-nonmanifold: lines 3-5")
+        self.rule.setToolTip("prune-sharp: line 2 of Algorithm 3; resolve-nonmanifold: lines 3-5; seed, grow, "
+                             "grow-relaxed, fill-hole: the robust extension, which adds simplices")
         self.to_rule = QPushButton("Run to next step of rule", self)
         self.to_rule.setToolTip("Jump to just after the next step that applied the chosen rule")
         self.to_rule.clicked.connect(self._run_to_rule)
@@ -134,7 +143,8 @@ class StepsPanel(QWidget):
         legend = QLabel(
             f"<span style='color:{STEP_COLORS['tau']}'>■</span> τ &nbsp; "
             f"<span style='color:{STEP_COLORS['kept']}'>■</span> kept pair &nbsp; "
-            f"<span style='color:{STEP_COLORS['removed']}'>■</span> removed by this step",
+            f"<span style='color:{STEP_COLORS['removed']}'>■</span> removed by this step &nbsp; "
+            f"<span style='color:{STEP_COLORS['added']}'>■</span> added by this step (robust)",
             self,
         )
         lay.addWidget(legend)
@@ -152,6 +162,7 @@ class StepsPanel(QWidget):
         # the simplex lists share what is left, so the angle column is never cut off
         header.setSectionResizeMode(3, QHeaderView.ResizeMode.Stretch)
         header.setSectionResizeMode(4, QHeaderView.ResizeMode.Stretch)
+        header.setSectionResizeMode(5, QHeaderView.ResizeMode.Stretch)
         header.setStretchLastSection(False)
         header.setMinimumSectionSize(24)
         self.table.setToolTip("Event log: every recorded step; selecting a row jumps there")

@@ -35,6 +35,9 @@ from .worker import Runner
 
 DEMO = "torus"
 
+#: How the window names each extraction mode.
+MODE_WORDS = {"robust": "robust extraction", "paper": "the paper's Algorithm 3"}
+
 
 def _scrolled(widget: QWidget) -> QScrollArea:
     area = QScrollArea()
@@ -42,6 +45,14 @@ def _scrolled(widget: QWidget) -> QScrollArea:
     area.setWidgetResizable(True)
     area.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
     return area
+
+
+def _quality(rec, progress):
+    """The samples' estimated epsilon, computed in the worker with the reconstruction."""
+    from ..core.quality import sampling_quality
+
+    progress("quality", 0.0)
+    return sampling_quality(rec)
 
 
 def _same_simplices(rec, saved: np.ndarray) -> bool:
@@ -117,6 +128,8 @@ class MainWindow(FileActions, QMainWindow):
         self.run_panel.reconstruct_requested.connect(self._reconstruct_requested)
         self.run_panel.cancel_requested.connect(self.runner.cancel)
         self.info_panel.face_clicked.connect(self.view.frame_face)
+        self.info_panel.cascade_clicked.connect(self.view.frame_cascade)
+        self.info_panel.paper_requested.connect(lambda: self.run_panel.set_mode("paper"))
         self.model.player.step_changed.connect(lambda *_: self._update_status())
         self.model.player.step_changed.connect(self._follow_step)
         self.steps_panel.follow.toggled.connect(lambda on: on and self._follow_step())
@@ -267,14 +280,16 @@ class MainWindow(FileActions, QMainWindow):
 
     def start_reconstruction(self, points: np.ndarray, d: int, truth=None, source: str = "",
                              test: str | None = None, theta: float | None = None,
-                             prune_boundary: bool | None = None) -> bool:
+                             prune_boundary: bool | None = None, mode: str | None = None) -> bool:
         test = test or self.run_panel.test.currentText()
         theta = self.run_panel.theta_radians if theta is None else theta
         prune = self.run_panel.prune.isChecked() if prune_boundary is None else bool(prune_boundary)
+        mode = mode or self.run_panel.mode
 
         def job(progress, cancel):
-            return reconstruct(points, d, test=test, theta=theta, prune_boundary=prune, progress=progress,
-                               cancel=cancel)
+            rec = reconstruct(points, d, test=test, theta=theta, prune_boundary=prune, mode=mode,
+                              progress=progress, cancel=cancel)
+            return {"rec": rec, "truth": truth, "points": points, "quality": _quality(rec, progress)}
 
         job = _comparing(job, truth, points)
 
@@ -298,6 +313,7 @@ class MainWindow(FileActions, QMainWindow):
         test = self.run_panel.test.currentText()
         theta = self.run_panel.theta_radians
         prune = self.run_panel.prune.isChecked()
+        mode = self.run_panel.mode
 
         # with nothing on screen yet, sample here (< 0.2 s up to 3000 points) and show the
         # raw points while the reconstruction runs; otherwise all of it runs in the worker
@@ -308,9 +324,9 @@ class MainWindow(FileActions, QMainWindow):
         def job(progress, cancel):
             progress("prepare", 0.0)
             sample = early if early is not None else m.sample(n, seed=seed)
-            rec = reconstruct(sample.points, m.d, test=test, theta=theta, prune_boundary=prune,
+            rec = reconstruct(sample.points, m.d, test=test, theta=theta, prune_boundary=prune, mode=mode,
                               progress=progress, cancel=cancel)
-            return {"rec": rec, "truth": sample, "points": sample.points}
+            return {"rec": rec, "truth": sample, "points": sample.points, "quality": _quality(rec, progress)}
 
         return self.start_job(job, f"Sampling and reconstructing {name} (n = {n})…", source=f"{name} (n = {n})",
                               keep_view=False)
@@ -324,14 +340,16 @@ class MainWindow(FileActions, QMainWindow):
             self.show_error("Open a point file or a built-in sample first.")
             self.run_panel.sync_prune()
             return
+        mode = self.run_panel.mode
         if rec is not None and rec.d == d:  # same points and d: only Algorithm 3 again
             def job(progress, cancel):
-                return reextract(rec, test, theta, prune_boundary=prune, progress=progress, cancel=cancel)
+                return reextract(rec, test, theta, prune_boundary=prune, mode=mode, progress=progress,
+                                 cancel=cancel)
 
             job = _comparing(job, self.model.truth, self.points)
 
-            label = (f"Re-extracting with {test}, θ = {np.degrees(theta):.1f}°, boundary faces "
-                     f"{'pruned' if prune else 'kept'}…")
+            label = (f"Re-extracting ({MODE_WORDS[mode]}) with {test}, θ = {np.degrees(theta):.1f}°"
+                     + (f", boundary faces {'pruned' if prune else 'kept'}…" if mode == "paper" else "…"))
             if not self.start_job(job, label, points=self.points, truth=self.model.truth,
                                   source=self.model.source, keep_view=True):
                 self.run_panel.sync_prune()
@@ -347,7 +365,8 @@ class MainWindow(FileActions, QMainWindow):
             rec, truth, points = result, pending.get("truth"), pending.get("points")
         self.points = points
         self.model.set_reconstruction(rec, truth=truth, source=pending.get("source", ""),
-                                      keep_view=bool(pending.get("keep_view")))
+                                      keep_view=bool(pending.get("keep_view")),
+                                      quality=result.get("quality") if isinstance(result, dict) else None)
         t = rec.topology
         verdict = "closed manifold" if t.closed_manifold else f"NOT a closed manifold ({rec.extraction.stopped})"
         expected = truth.manifold if truth is not None else None
@@ -362,8 +381,9 @@ class MainWindow(FileActions, QMainWindow):
         if problems:
             verdict = "WRONG: " + ", ".join(problems)
         ok = t.closed_manifold and not problems
-        self.run_panel.show_idle(f"done in {sum(rec.timings.values()):.2f} s — {verdict}", ok=ok)
-        message = f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} extraction steps."
+        self.run_panel.show_idle(f"{rec.mode}: done in {sum(rec.timings.values()):.2f} s — {verdict}", ok=ok)
+        message = (f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} steps of "
+                   f"{MODE_WORDS.get(rec.mode, rec.mode)}.")
         saved = pending.get("saved")
         if saved is not None:
             same = _same_simplices(rec, saved[0])
@@ -415,7 +435,8 @@ class MainWindow(FileActions, QMainWindow):
         if not self.steps_panel.follow.isChecked() or step is None or rec is None:
             return
         ids = np.concatenate([np.asarray(step.tau, dtype=np.int64),
-                              rec.extraction.simplices[list(step.kept) + list(step.removed)].ravel()])
+                              rec.extraction.simplices[list(step.kept) + list(step.removed)
+                                                       + list(step.added)].ravel()])
         self.view.frame_points(np.unique(ids))
 
     # -- picking ---------------------------------------------------------------------

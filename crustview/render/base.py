@@ -123,6 +123,18 @@ class Part:
             self.mapper.SetScalarModeToUsePointData()
         self.mapper.scalar_visibility = True
 
+    def use_lookup_table(self, lut, clim: tuple[float, float], cell: bool) -> None:
+        """Colour by the active scalars through a ready-made lookup table."""
+        lut.scalar_range = clim
+        self._lut, self._cmap = lut, None
+        self.mapper.lookup_table = lut
+        self.mapper.scalar_range = clim
+        if cell:
+            self.mapper.SetScalarModeToUseCellData()
+        else:
+            self.mapper.SetScalarModeToUsePointData()
+        self.mapper.scalar_visibility = True
+
     def solid(self) -> None:
         self.mapper.scalar_visibility = False
 

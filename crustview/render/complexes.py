@@ -189,10 +189,14 @@ class ManifoldAdapter(ComplexAdapter):
 
 
 class RemovedAdapter(ManifoldAdapter):
-    """Simplices removed by the steps up to the current position."""
+    """Simplices removed by the steps up to the current position.
+
+    ``removed_by(i)``, not ``~alive(i)``: in a robust run a simplex that is not
+    yet added is not alive either, but it was never removed.
+    """
 
     def mask(self):
-        return ~self.model.rec.extraction.alive(self.model.player.position)
+        return self.model.rec.extraction.removed_by(self.model.player.position)
 
     def restyle(self) -> None:
         super().restyle()
@@ -200,7 +204,7 @@ class RemovedAdapter(ManifoldAdapter):
 
 
 class StepAdapter(LayerAdapter):
-    """The step just applied: tau, the kept pair and the removed simplices."""
+    """The step just applied: tau, the kept pair, the removed and the added simplices."""
 
     parts_spec = (("", False), ("-tau", False))
     uses_step = True
@@ -216,15 +220,17 @@ class StepAdapter(LayerAdapter):
         ext = rec.extraction
         kept = np.array(s.kept if s else (), dtype=np.int64)
         removed = np.array(s.removed if s else (), dtype=np.int64)
-        ids = np.concatenate([kept, removed])
+        added = np.array(s.added if s else (), dtype=np.int64)
+        ids = np.concatenate([kept, removed, added])
         self.drawing = SimplexDrawing(ext.simplices[ids], rec.d, 0.92 if rec.d >= 2 else 1.0)
-        self.kind = np.concatenate([np.ones(len(kept)), 2 * np.ones(len(removed))])
+        self.kind = np.concatenate([np.ones(len(kept)), 2 * np.ones(len(removed)), 3 * np.ones(len(added))])
         self.tau = np.array(s.tau if s else (), dtype=np.int64)
         self.project()
         self.drawing.apply(self.part.mesh, None)
         set_cell_scalars(self.part.mesh, np.repeat(self.kind, self.drawing.per))
-        self.part.mapper.lookup_table = _categorical([STEP_COLORS["kept"], STEP_COLORS["removed"]])
-        self.part.mapper.scalar_range = (1, 2)
+        self.part.mapper.lookup_table = _categorical([STEP_COLORS["kept"], STEP_COLORS["removed"],
+                                                      STEP_COLORS["added"]])
+        self.part.mapper.scalar_range = (1, 3)
         self.part.mapper.SetScalarModeToUseCellData()
         self.part.mapper.scalar_visibility = True
         # tau: a vertex (d=1), an edge (d=2) or a (d-1)-simplex drawn by its edges

@@ -7,10 +7,39 @@ import pyvista as pv
 
 from ..scene import geometry as geo
 from ..scene.quantities import POLE_FINITE, POLE_INFINITE, pole_kinds
-from .base import LayerAdapter, set_cells, set_point_scalars, set_points
+from .base import NAN_COLOR, LayerAdapter, set_cells, set_point_scalars, set_points
 
 #: Colour maps of the points layer's colourings.
 POINT_CMAPS = {"normal error": "magma_r", "pole distance": "viridis", "local spacing": "cividis"}
+
+
+def epsilon_lut(bounds: dict[str, float], hi: float, n: int = 256) -> pv.LookupTable:
+    """Colours of the estimated epsilon on ``[0, hi]`` with the paper's bounds as breaks.
+
+    Below the smallest bound: blue to green (the theorems apply); between the
+    bounds: yellow; above the largest: orange to dark red.  Each bound is an
+    annotation (a labelled tick) on the colour bar.
+    """
+    lo_b, hi_b = min(bounds.values()), max(bounds.values())
+    x = (np.arange(n) + 0.5) / n * hi
+    good = np.array([[0.16, 0.35, 0.75], [0.15, 0.65, 0.35]])
+    bad = np.array([[0.98, 0.55, 0.10], [0.45, 0.0, 0.05]])
+    rgb = np.empty((n, 3))
+    f = np.clip(x / max(lo_b, 1e-12), 0, 1)[:, None]
+    rgb[:] = good[0] + f * (good[1] - good[0])
+    mid = (x > lo_b) & (x <= hi_b)
+    rgb[mid] = (0.93, 0.80, 0.10)
+    over = x > hi_b
+    g = np.clip((x[over] - hi_b) / max(hi - hi_b, 1e-12), 0, 1)[:, None]
+    rgb[over] = bad[0] + g * (bad[1] - bad[0])
+    lut = pv.LookupTable(values=np.c_[rgb * 255, np.full(n, 255)].astype(np.uint8))
+    lut.nan_color = NAN_COLOR
+    lut.scalar_range = (0.0, hi)
+    names: dict[float, list[str]] = {}
+    for name, b in bounds.items():
+        names.setdefault(round(b, 6), []).append(name.replace("theorems ", "").replace("theorem ", ""))
+    lut.annotations = {b: f"{b:.3g}: Thm {' & '.join(v)}" for b, v in names.items()}
+    return lut
 
 
 class PointsAdapter(LayerAdapter):
@@ -45,6 +74,14 @@ class PointsAdapter(LayerAdapter):
         values, title = got
         set_point_scalars(self.part.mesh, values)
         ok = values[np.isfinite(values)]
+        self.n_missing = len(values) - len(ok)
+        self.scalar_title = title
+        if self.layer.colorby == "epsilon":
+            bounds = self.model.quality.thresholds
+            # the largest bound sits at a quarter of the bar: room for the undersampled tail
+            self.clim = (0.0, 4.0 * max(bounds.values()))
+            self.part.use_lookup_table(epsilon_lut(bounds, self.clim[1]), self.clim, cell=False)
+            return
         hi = float(np.percentile(ok, 98)) if len(ok) else 1.0
         lo = float(ok.min()) if len(ok) else 0.0
         self.clim = (lo, max(hi, lo + 1e-12))

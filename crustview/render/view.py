@@ -7,10 +7,11 @@ from vtkmodules.vtkRenderingCore import vtkCellPicker
 
 from ..scene import geometry as geo
 from ..scene.describe import verdict
-from ..scene.layers import STEP_COLORS
+from ..scene.layers import CASCADE_COLOR, STEP_COLORS
 from ..scene.model import SceneModel
 from .base import NAN_COLOR, LayerAdapter
 from .complexes import CandidatesAdapter, ManifoldAdapter, RemovedAdapter, StepAdapter
+from .diagnosis import CascadeAdapter, HolesAdapter
 from .overlay import Legend
 from .inspect import SelectionAdapter, VoronoiAdapter
 from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter, lighter
@@ -25,6 +26,8 @@ ADAPTERS: dict[str, type[LayerAdapter]] = {
     "normals": NormalsAdapter,
     "poles": PolesAdapter,
     "points": PointsAdapter,
+    "holes": HolesAdapter,
+    "cascade": CascadeAdapter,
     "step": StepAdapter,
     "selection": SelectionAdapter,
 }
@@ -59,7 +62,7 @@ class SceneView:
             layer.events.colorby.connect(lambda *_: self._after_colour())
             layer.events.mode.connect(lambda *_: (self.update_legend(), self.render()))
             layer.events.shrink.connect(lambda *_: self.render())
-        self._on_top(("step", "selection"))
+        self._on_top(("cascade", "step", "selection"))
         self._bars: dict[str, object] = {}
         self._stale: set[LayerAdapter] = set()
         self.legend = Legend(plotter)
@@ -74,6 +77,7 @@ class SceneView:
         model.player.step_changed.connect(self.on_step)
         model.selection.changed.connect(self.on_selection)
         model.candidates_changed.connect(lambda *_: self._after_colour())
+        model.cascade_changed.connect(lambda *_: (self.update_legend(), self.render()))
 
     def _on_top(self, names: tuple[str, ...]) -> None:
         """Draw these layers in a second renderer layer over the scene.
@@ -243,7 +247,7 @@ class SceneView:
         """(label, colour) of the visible solid-colour layers and the step highlight."""
         out = []
         layers = self.model.layers
-        for name in ("points", "manifold", "removed", "candidates", "normals", "poles", "voronoi", "truth"):
+        for name in ("points", "manifold", "removed", "holes", "candidates", "normals", "poles", "voronoi", "truth"):
             layer = layers[name]
             a = self.adapters[name]
             if not layer.visible or a.shown_cells() == 0:
@@ -261,9 +265,18 @@ class SceneView:
                 out.append(("Pole at infinity (hull sample)", lighter(layer.color)))
                 continue
             out.append((layer.title, layer.color))
-        if layers["step"].visible and self.model.player.current_step is not None:
-            out += [("tau (face of the step)", STEP_COLORS["tau"]), ("kept pair", STEP_COLORS["kept"]),
-                    ("removed now", STEP_COLORS["removed"])]
+        step = self.model.player.current_step
+        if layers["step"].visible and step is not None:
+            out.append(("tau (face of the step)", STEP_COLORS["tau"]))
+            if step.kept:
+                out.append(("kept pair", STEP_COLORS["kept"]))
+            if step.removed or not step.added:
+                out.append(("removed now", STEP_COLORS["removed"]))
+            if step.added:
+                out.append(("added now (robust extension)", STEP_COLORS["added"]))
+        c = self.model.cascade
+        if layers["cascade"].visible and c is not None:
+            out.append((f"cascade from step {c.origin + 1}: {c.removed:,} removed", CASCADE_COLOR))
         return out
 
     def update_legend(self) -> None:
@@ -328,6 +341,16 @@ class SceneView:
         bounds = np.ravel(np.stack([c - pad, c + pad], axis=1))
         self.plotter.reset_camera(bounds=tuple(bounds))
         self.render()
+
+    def frame_cascade(self, cascade) -> None:
+        """Frame the origin face of a prune cascade with the simplices its first step removed."""
+        rec = self.model.rec
+        if rec is None or cascade is None:
+            return
+        first = rec.extraction.steps[cascade.origin]
+        ids = np.concatenate([np.asarray(cascade.tau, dtype=np.int64),
+                              rec.extraction.simplices[list(first.removed)].ravel()])
+        self.frame_points(np.unique(ids))
 
     def frame_face(self, face) -> None:
         """Frame a (d-1)-face with its incident simplices at the current step."""

@@ -22,7 +22,7 @@ TEST_QUANTIFIER = {"cocone": "some vertex", "cocone-all": "every vertex", "liter
 STOPPED_WORDS = {
     "closed": "closed: every (d-1)-face lies in 0 or 2 simplices",
     "empty": "empty: every candidate simplex was removed",
-    "open": "open: boundary faces kept (prune boundary off)",
+    "open": "open: boundary faces kept (prune boundary off), or holes the robust extension left open",
     "stuck": "stuck: no rule applies but the complex is not closed",
 }
 
@@ -50,6 +50,16 @@ def step_words(step: Step | None, position: int, n_steps: int) -> str:
         step.rule, step.rule
     )
     kept = f"; kept {fmt_tuple(step.kept)}" if step.kept else ""
+    if step.added and not step.removed:
+        words = {"seed": "Seed M_S", "grow": "Grow across a boundary face",
+                 "grow-relaxed": "Grow across a boundary face (θ relaxed)", "fill-hole": "Fill a hole"}
+        return (
+            f"Step {position} / {n_steps} — {words.get(step.rule, step.rule)} at τ = {fmt_tuple(step.tau)}: added "
+            f"{len(step.added)} simplex{'es' if len(step.added) != 1 else ''} "
+            f"{fmt_tuple(step.added[:8])}{' …' if len(step.added) > 8 else ''}"
+            + (f"; angle {deg(step.angle)}" if np.isfinite(step.angle) else "")
+            + (f". {step.reason[0].upper()}{step.reason[1:]}." if step.reason else ".")
+        )
     return (
         f"Step {position} / {n_steps} — {rule} at τ = {fmt_tuple(step.tau)}: removed "
         f"{len(step.removed)} simplex{'es' if len(step.removed) != 1 else ''} "
@@ -162,6 +172,13 @@ def interpretation_rows(rec: Reconstruction) -> list[tuple[str, str, str]]:
         "candidate test",
         f"{rec.test} ({TEST_QUANTIFIER.get(rec.test, '')}), θ = {deg(rec.theta)}",
         f"a d-face is a candidate when {TEST_WORDS.get(rec.test, rec.test)}",
+    ))
+    rows.append((
+        "extraction",
+        "robust (the paper's Algorithm 3, extended)" if rec.mode == "robust" else "the paper's Algorithm 3",
+        "robust: the paper's loop first; if it cannot give a closed manifold through every sample, M_S is "
+        "grown across boundaries instead (rules seed, grow, grow-relaxed, fill-hole)" if rec.mode == "robust"
+        else "exactly as printed: prune sharp and boundary faces, resolve non-manifold faces",
     ))
     rows.append((
         "boundary faces",

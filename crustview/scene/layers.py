@@ -7,12 +7,16 @@ from dataclasses import dataclass, field
 from psygnal import evented
 
 #: Colourings the points layer offers.
-POINT_COLORINGS = ("none", "normal error", "pole distance", "local spacing")
+POINT_COLORINGS = ("none", "epsilon", "normal error", "pole distance", "local spacing")
 #: Which poles to show.
 POLE_MODES = ("selected", "all")
 
 #: Colours of the current-step highlight: tau, kept pair, removed simplices.
-STEP_COLORS = {"tau": "#ffb000", "kept": "#2ca02c", "removed": "#d62728"}
+STEP_COLORS = {"tau": "#ffb000", "kept": "#2ca02c", "removed": "#d62728", "added": "#1f5fd6"}
+#: Colour of the highlighted prune cascade (every simplex its steps removed).
+CASCADE_COLOR = "#00a0a0"
+#: Colour of the holes of T_S.
+HOLES_COLOR = "#d4006a"
 #: Colour of the selection highlight.
 SELECTION_COLOR = "#ff00ff"
 
@@ -103,13 +107,24 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
         ),
         Layer(
             "removed", "Removed so far", False, "#c0392b", 0.3, 2.0, shrink=0.8 if d >= 3 else 1.0,
-            tooltip="Candidate simplices removed by the steps up to the current one.",
+            tooltip="Simplices removed by the steps up to the current one.",
         ),
         Layer(
             "step", "Current step", True, STEP_COLORS["tau"], 1.0, 6.0,
-            tooltip="The step just applied: the face tau (amber), the kept pair (green) "
-            "and the simplices it removed (red); drawn over the other layers, so it shows "
-            "even inside M_S.",
+            tooltip="The step just applied: the face tau (amber), the kept pair (green), "
+            "the simplices it removed (red) and those it added (blue, robust extraction only); "
+            "drawn over the other layers, so it shows even inside M_S.",
+        ),
+        Layer(
+            "holes", "Holes of T_S", False, HOLES_COLOR, 1.0, 5.0,
+            tooltip="The (d-1)-faces of the candidate complex T_S that lie in a single simplex before "
+            "extraction starts: the paper's pruning starts its cascades there (thick lines for "
+            "surfaces, dots for curves, triangles for 3-manifolds).",
+        ),
+        Layer(
+            "cascade", "Highlighted cascade", True, CASCADE_COLOR, 0.85, 6.0,
+            tooltip="The prune cascade chosen in the Information panel: every simplex removed by the "
+            "steps that descend from its origin, drawn over the other layers, with the origin face thick.",
         ),
         Layer(
             "selection", "Selection", True, "#ff00ff", 1.0, 6.0,

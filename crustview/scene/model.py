@@ -8,7 +8,8 @@ from __future__ import annotations
 import numpy as np
 from psygnal import Signal
 
-from ..core.result import Reconstruction
+from ..core.quality import SamplingQuality, sampling_quality
+from ..core.result import Cascade, Reconstruction
 from . import geometry as geo
 from .layers import Layer, default_layers
 from .player import StepPlayer
@@ -43,6 +44,8 @@ class SceneModel:
     reconstruction_changed = Signal()
     #: Emitted when the displayed candidate test or threshold changes.
     candidates_changed = Signal()
+    #: Emitted when the highlighted prune cascade changes (None: none).
+    cascade_changed = Signal(object)
 
     def __init__(self) -> None:
         self.rec: Reconstruction | None = None
@@ -57,10 +60,20 @@ class SceneModel:
         self.test = "cocone"
         self.theta = np.pi / 8
         self._cache: dict[str, object] = {}
+        self._quality: tuple[int, SamplingQuality] | None = None
+        #: The prune cascade highlighted by the cascade layer (from ``rec.extraction.cascades()``).
+        self.cascade: Cascade | None = None
 
     # -- setting data ----------------------------------------------------
-    def set_reconstruction(self, rec: Reconstruction, truth=None, source: str = "", keep_view: bool = False) -> None:
-        """Show ``rec``; ``keep_view`` keeps projection and step (re-extraction)."""
+    def set_reconstruction(self, rec: Reconstruction, truth=None, source: str = "", keep_view: bool = False,
+                           quality: SamplingQuality | None = None) -> None:
+        """Show ``rec``; ``keep_view`` keeps projection and step (re-extraction).
+
+        ``quality``: the samples' :func:`~crustview.core.quality.sampling_quality`
+        when it was computed already (in the worker thread).
+        """
+        if quality is not None:
+            self._quality = (id(rec.delaunay_simplices), quality)
         same_space = self.rec is not None and self.rec.k == rec.k
         position = self.player.position if keep_view else 0
         #: Whether the last result kept the view (a re-extraction): the camera stays too.
@@ -71,6 +84,7 @@ class SceneModel:
         self.test = rec.test
         self.theta = float(rec.theta)
         self._cache = {}
+        self.cascade = None
         if not keep_view:
             self.selection.sample = self.selection.simplex = None
             self.selection.face = None
@@ -92,6 +106,11 @@ class SceneModel:
         self.player.set_extraction(rec.extraction, position)
         self.reconstruction_changed.emit()
         self.selection.changed.emit()
+
+    def set_cascade(self, cascade: Cascade | None) -> None:
+        """Highlight ``cascade`` (one of :meth:`cascades`), or nothing."""
+        self.cascade = cascade
+        self.cascade_changed.emit(cascade)
 
     def set_candidate_display(self, test: str | None = None, theta: float | None = None) -> None:
         """Change the test / threshold the candidates layer shows."""
@@ -127,6 +146,51 @@ class SceneModel:
             "radius", lambda: float(np.linalg.norm(self.rec.points - self.projection.origin, axis=1).max() or 1.0)
         )
 
+    @property
+    def quality(self) -> SamplingQuality:
+        """Estimated sampling quality per sample (:mod:`crustview.core.quality`).
+
+        Computed on first use and kept across re-extractions (it depends only
+        on the Delaunay, the poles and the normals, which they share).
+        """
+        assert self.rec is not None
+        key = id(self.rec.delaunay_simplices)
+        if self._quality is None or self._quality[0] != key:
+            self._quality = (key, sampling_quality(self.rec))
+        return self._quality[1]
+
+    def cascades(self) -> list[Cascade]:
+        """Prune cascades of the shown extraction, largest first (empty for a robust run that fell back)."""
+        assert self.rec is not None
+        return self._cached("cascades", self.rec.extraction.cascades)
+
+    def cascade_simplices(self, cascade: Cascade | None = None) -> np.ndarray:
+        """Ids (rows of ``extraction.simplices``) of every simplex removed by ``cascade``'s steps."""
+        assert self.rec is not None
+        c = self.cascade if cascade is None else cascade
+        if c is None:
+            return np.zeros(0, dtype=np.int64)
+        steps = self.rec.extraction.steps
+        ids = [np.asarray(steps[i].removed, dtype=np.int64) for i in np.asarray(c.steps)]
+        return np.concatenate(ids) if ids else np.zeros(0, dtype=np.int64)
+
+    def holes(self) -> np.ndarray:
+        """The (d-1)-faces of T_S in a single simplex before extraction, shape (h, d).
+
+        ``rec.extraction.holes`` when the core recorded them, otherwise counted
+        on T_S for the extraction's test and threshold.
+        """
+        assert self.rec is not None
+        rec = self.rec
+
+        def compute():
+            if rec.extraction.holes is not None:
+                return np.asarray(rec.extraction.holes, dtype=np.int64).reshape(-1, rec.d)
+            faces, inc = geo.facets(rec.candidates.select(rec.test, rec.theta))
+            return faces[np.bincount(inc.ravel(), minlength=len(faces)) == 1]
+
+        return self._cached("holes", compute)
+
     def point_values(self, colorby: str) -> tuple[np.ndarray, str] | None:
         """Scalar per sample for a colouring of the points layer, with its label."""
         rec = self.rec
@@ -140,6 +204,8 @@ class SceneModel:
             return self._cached("pdist", lambda: pole_distance(rec, self.spacing)), "pole distance / spacing"
         if colorby == "local spacing":
             return self.spacing, "local spacing"
+        if colorby == "epsilon":
+            return self.quality.epsilon, "estimated epsilon"
         return None
 
     def candidate_mask(self) -> np.ndarray:

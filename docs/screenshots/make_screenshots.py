@@ -158,7 +158,57 @@ def bunny(app, win, prune: bool = True) -> None:
     look_from(win, (-1.2, 0.5, 3.0), 1.5)
 
 
+SCANS = DATA / "scans"
+
+
+def scan(app, win, name: str, mode: str) -> None:
+    """Reconstruct the vertices of a real scan (mesh file) in ``mode``."""
+    import meshio
+
+    pts = np.asarray(meshio.read(SCANS / name).points, dtype=float)
+    win.run_panel.set_mode(mode)
+    win.start_reconstruction(pts, 2, source=name)
+    wait(app, win)
+
+
+def scroll_info_to_diagnosis(app, win) -> None:
+    """Scroll the information panel to the epsilon histogram and the cascade list."""
+    settle(app, win)
+    area = win.docks["info"].widget()
+    area.verticalScrollBar().setValue(win.info_panel.diagnosis.y() - 4)
+
+
+def epsilon_and_cascade(app, win, name: str, direction, zoom: float) -> None:
+    """Paper mode: samples coloured by the estimated epsilon, the largest cascade highlighted."""
+    scan(app, win, name, "paper")
+    m = win.model
+    m.layers["points"].visible = True
+    m.layers["points"].size = 4.0 if m.rec.n < 10000 else 2.0
+    m.layers["points"].colorby = "epsilon"
+    m.layers["normals"].visible = False
+    panel = win.info_panel.diagnosis
+    panel.cascades.setCurrentRow(0)
+    panel._clicked(panel.cascades.item(0))  # what a click does: highlight and frame
+    m.layers["cascade"].opacity = 0.5
+    c = m.cascade
+    m.player.set_step(c.origin + 1)  # M_S as the cascade starts; teal: all it will remove
+    look_from(win, direction, zoom)
+    scroll_info_to_diagnosis(app, win)
+
+
+def fertility_robust(app, win) -> None:
+    scan(app, win, "fertility.off", "robust")
+    m = win.model
+    m.player.last()
+    m.layers["normals"].visible = False
+    m.layers["points"].visible = False
+    look_from(win, (0.3, 0.4, 3.0), 2.0)
+
+
 CASES = {
+    "fertility-epsilon": lambda app, win: epsilon_and_cascade(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
+    "nefertiti-epsilon": lambda app, win: epsilon_and_cascade(app, win, "nefertiti.obj", (0.3, 0.4, 3.0), 1.6),
+    "fertility-robust": fertility_robust,
     "torus-step": torus_step,
     "torus-framed": torus_framed,
     "trefoil-r3": trefoil,

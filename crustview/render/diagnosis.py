@@ -1,0 +1,99 @@
+"""Adapters of the layers that say why an extraction failed: holes of T_S, a prune cascade."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..scene import geometry as geo
+from .base import LayerAdapter, set_cells, set_points
+from .complexes import SimplexDrawing
+
+
+def face_cells(faces: np.ndarray) -> dict[str, np.ndarray]:
+    """VTK cells of (d-1)-faces given as rows of vertex ids into the drawn points.
+
+    A vertex (d = 1) is a point, an edge (d = 2) a line, a triangle (d = 3) a
+    polygon; larger faces are drawn by their boundary triangles.
+    """
+    faces = np.asarray(faces, dtype=np.int64)
+    w = faces.shape[1] if faces.ndim == 2 else 0
+    if len(faces) == 0 or w == 0:
+        return {}
+    if w == 1:
+        return {"verts": faces}
+    if w == 2:
+        return {"lines": faces}
+    if w == 3:
+        return {"polys": faces}
+    local = geo.simplex_triangles(w - 1)
+    return {"polys": faces[:, local].reshape(-1, 3)}
+
+
+class HolesAdapter(LayerAdapter):
+    """The holes of T_S: (d-1)-faces in a single candidate simplex before extraction."""
+
+    def rebuild(self) -> None:
+        rec = self.model.rec
+        if rec is None:
+            return
+        holes = self.model.holes()
+        self.xk = rec.points
+        self.project()
+        set_cells(self.part.mesh, **face_cells(holes))
+        self.layer.count = len(holes)
+
+    def restyle(self) -> None:
+        d = self.model.rec.d if self.model.rec is not None else 2
+        self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=d == 2, spheres=False)
+        self.part.actor.prop.point_size = self.layer.size * 2.0
+        self.part.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(-3, -3)
+        self.part.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(-3, -3)
+
+
+class CascadeAdapter(LayerAdapter):
+    """The highlighted prune cascade: every simplex its steps removed, and its origin face.
+
+    Drawn in the overlay renderer (like the current step): the cascade mostly
+    lies where M_S no longer is, or inside it.
+    """
+
+    parts_spec = (("", False), ("-origin", False))
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self.model.cascade_changed.connect(lambda *_: self.rebuild())
+        self.drawing: SimplexDrawing | None = None
+        self.tau = np.zeros(0, dtype=np.int64)
+
+    def rebuild(self) -> None:
+        rec = self.model.rec
+        if rec is None:
+            return
+        ids = self.model.cascade_simplices()
+        c = self.model.cascade
+        self.drawing = SimplexDrawing(rec.extraction.simplices[ids], rec.d, 0.92 if rec.d >= 3 else 1.0)
+        self.tau = np.array(c.tau if c is not None else (), dtype=np.int64)
+        self.project()
+        self.drawing.apply(self.part.mesh, None)
+        set_cells(self.parts[1].mesh, **face_cells(np.arange(len(self.tau))[None] if len(self.tau) else
+                                                   np.zeros((0, 0), np.int64)))
+        if len(self.tau) == 2:  # an edge: its end points too, so it reads at any zoom
+            set_cells(self.parts[1].mesh, verts=np.array([[0], [1]]), lines=np.array([[0, 1]]))
+        self.layer.count = len(ids)
+
+    def project(self) -> None:
+        rec = self.model.rec
+        if rec is None or self.drawing is None:
+            return
+        proj = self.model.projection.project(rec.points)
+        set_points(self.part.mesh, self.drawing.points(proj))
+        set_points(self.parts[1].mesh, proj[self.tau] if len(self.tau) else np.zeros((0, 3)))
+
+    def restyle(self) -> None:
+        lines = self.model.rec is not None and self.model.rec.d == 1
+        self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=lines)
+        self.parts[1].style("#000000", 1.0, self.layer.size * 1.5, lines=True, spheres=False)
+        self.parts[1].actor.prop.point_size = self.layer.size * 2.5
+        for p, off in ((self.part, -1), (self.parts[1], -5)):
+            p.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(off, off)
+            p.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(off, off)

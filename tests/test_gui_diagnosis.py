@@ -1,0 +1,144 @@
+"""The window says why: epsilon colouring and histogram, holes of T_S, cascades, extraction mode."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pytestqt")
+
+KNIGHT = Path(__file__).resolve().parents[1] / "resources" / "decimated-knight.off"
+
+
+def knight_points() -> np.ndarray:
+    import meshio
+
+    return np.asarray(meshio.read(KNIGHT).points, dtype=float)
+
+
+def run(qtbot, window, pts, mode):
+    window.run_panel.set_mode(mode)
+    assert window.start_reconstruction(pts, 2, source="knight")
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    assert window.model.rec is not None, window.last_error
+    return window.model.rec
+
+
+def test_epsilon_colouring_marks_the_paper_bounds_and_the_histogram_counts_every_sample(qtbot, window):
+    from crustview.core.quality import sampling_quality
+
+    pts = knight_points()
+    rec = run(qtbot, window, pts, "robust")
+    points = window.model.layers["points"]
+    points.colorby = "epsilon"
+    a = window.view.adapters["points"]
+    q = sampling_quality(rec)  # recomputed here, independently of the window's cache
+    values = np.asarray(a.part.mesh.point_data["values"])
+    assert np.allclose(values, q.epsilon, equal_nan=True)
+    lut = a.part.mapper.lookup_table
+    assert 0.25 in [round(float(k), 6) for k in lut.annotations]  # the bound is a labelled tick
+    # colours change at the bound: just below is not the colour just above
+    below, above = (np.array(lut.map_value(v)[:3]) for v in (0.24, 0.26))
+    assert np.abs(below - above).sum() > 0.3
+    assert any("estimated epsilon" in t for t in window.view._bars)
+    hist = window.info_panel.diagnosis.histogram
+    assert hist.counts.sum() == int(np.isfinite(q.epsilon).sum()) == rec.n
+    assert hist.counts[-1] == int((q.epsilon >= hist.edges[-1]).sum())
+    beyond = int(q.beyond(0.25).sum())
+    assert f"<b>{beyond:,}</b> of {rec.n:,}" in window.info_panel.diagnosis.quality_label.text()
+
+
+def test_holes_layer_counts_the_single_simplex_faces_of_t_s(qtbot, window):
+    from crustview.scene import geometry as geo
+
+    rec = run(qtbot, window, knight_points(), "paper")
+    layer = window.model.layers["holes"]
+    # independent count: (d-1)-faces of T_S (the test's candidates at theta) in one simplex
+    faces, inc = geo.facets(rec.candidates.select(rec.test, rec.theta))
+    expected = int((np.bincount(inc.ravel(), minlength=len(faces)) == 1).sum())
+    assert expected > 0 and layer.count == expected
+    layer.visible = True
+    assert window.view.adapters["holes"].part.mesh.n_lines == expected  # one thick line per hole edge
+
+
+def test_clicking_a_cascade_frames_its_origin_and_highlights_every_simplex_it_removed(qtbot, window):
+    from PySide6.QtCore import Qt
+
+    rec = run(qtbot, window, knight_points(), "paper")
+    panel = window.info_panel.diagnosis
+    assert panel.cascades.count() > 0 and not panel.to_paper.isVisible()
+    ext = rec.extraction
+    first = panel.list[0]
+    assert panel.cascades.item(0).text().startswith(("hole at", "resolve at", "sharp face at"))
+    assert f"{first.removed:,} simplices" in panel.cascades.item(0).text()
+    # every step in the cascade follows its cause chain back to the origin
+    for i in first.steps:
+        j = int(i)
+        while ext.steps[j].cause >= 0:
+            j = ext.steps[j].cause
+        assert j == first.origin
+    cam_before = np.array(window.plotter.camera.position)
+    rect = panel.cascades.visualItemRect(panel.cascades.item(0))
+    qtbot.mouseClick(panel.cascades.viewport(), Qt.MouseButton.LeftButton, pos=rect.center())
+    assert window.model.cascade is first
+    removed = sum(len(ext.steps[int(i)].removed) for i in first.steps)
+    assert window.model.layers["cascade"].count == removed == first.removed
+    cascade = window.view.adapters["cascade"]
+    assert cascade.part.mesh.n_cells == removed and cascade.parts[0].actor in window.view.top_renderer.GetActors()
+    assert not np.allclose(np.array(window.plotter.camera.position), cam_before)  # framed
+    # the origin face is on screen, near the centre of the view
+    p = window.model.projection.project(rec.points[list(first.tau)]).mean(axis=0)
+    ren = window.plotter.renderer
+    ren.SetWorldPoint(*p, 1.0)
+    ren.WorldToDisplay()
+    x, y, _ = ren.GetDisplayPoint()
+    w, h = ren.GetSize()
+    assert 0.2 * w < x < 0.8 * w and 0.2 * h < y < 0.8 * h
+
+
+def test_extraction_mode_option_switches_the_verdict_and_back(qtbot, window):
+    rec = run(qtbot, window, knight_points(), "robust")
+    panel, info = window.run_panel, window.info_panel
+    assert rec.mode == "robust" and not rec.topology.closed_manifold
+    assert "robust extraction" in info.banner.text() and "abandoned" in info.banner.text()
+    assert info.diagnosis.to_paper.isVisible() and info.diagnosis.cascades.count() == 0
+    words = info.banner.text()
+
+    info.diagnosis.to_paper.click()  # "look at the paper's run": re-extracts with Algorithm 3
+    qtbot.waitUntil(lambda: window.model.rec is not rec and not window.runner.busy, timeout=60_000)
+    paper = window.model.rec
+    assert paper.mode == "paper" and panel.mode == "paper"
+    assert paper.delaunay_simplices is rec.delaunay_simplices  # only Algorithm 3 ran again
+    assert paper.topology.closed_manifold and paper.topology.unused_samples > 0  # a tiny closed blob
+    assert "the paper's Algorithm 3" in info.banner.text() and info.banner.text() != words
+    assert "closed but skips" in info.banner.text() and "paper" in panel.progress.format()
+    assert info.diagnosis.cascades.count() > 0 and panel.prune.isEnabled()
+
+    panel.set_mode("robust")
+    qtbot.waitUntil(lambda: window.model.rec is not paper and not window.runner.busy, timeout=60_000)
+    back = window.model.rec
+    assert back.mode == "robust" and info.banner.text() == words
+    assert len(back.manifold) == len(rec.manifold) and not panel.prune.isEnabled()
+
+
+def test_step_overlay_shows_added_simplices_and_removed_so_far_ignores_not_yet_added(qtbot, window):
+    rec = run(qtbot, window, knight_points(), "robust")
+    ext = rec.extraction
+    grow = next(s for s in ext.steps if s.added and not s.removed)
+    player = window.model.player
+    player.set_step(grow.index + 1)
+    step = window.view.adapters["step"]
+    kinds = np.asarray(step.part.mesh.cell_data["values"])
+    assert (kinds == 3).sum() == len(grow.added) and not (kinds == 2).any()
+    assert ("added now (robust extension)", "#1f5fd6") in window.view.legend_entries()
+    row = window.steps_panel.log.data(window.steps_panel.log.index(grow.index, 5))
+    assert row and str(grow.added[0]) in row
+    # at step 0 M_S is T_S only (nothing added yet) and nothing counts as removed
+    player.set_step(0)
+    assert window.model.layers["manifold"].count == int(ext.added_at.__eq__(0).sum())
+    window.model.layers["removed"].visible = True
+    assert window.model.layers["removed"].count == 0
+    player.last()
+    assert window.model.layers["removed"].count == int((ext.removed_at < ext.n_steps).sum())
