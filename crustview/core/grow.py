@@ -14,6 +14,7 @@ All per-candidate arrays are laid out in the CSR order of
 from __future__ import annotations
 
 import heapq
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -27,6 +28,9 @@ SIZE_MAX = 6.0
 #: relaxed pass for creases of real scans (phi > pi/3).
 COS_PAPER = 0.0
 COS_CREASE = 0.5
+#: weight of the candidate score (radians) in the growing order
+import os as _os
+COST_SCORE = float(_os.environ.get("CV_COST_SCORE", "1"))
 
 
 def size_ratio(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -83,6 +87,9 @@ class Grower:
         self.n = len(points)
         self.dp1 = faces.shape[1]
         self.size = size_ratio(points, faces)
+        #: priority of each face (smaller first): its size, doubled outside T_S and
+        #: raised with its candidate score (see module docstring of ``robust``)
+        self.cost = self.size * (1.0 + self.tier) * (1.0 + COST_SCORE * np.minimum(scores, np.pi / 2))
         self.facets, self.facet_of, self.ptr, _ = facet_structure(faces)
         order = np.argsort(self.facet_of.ravel(), kind="stable")
         self.inc = order // self.dp1
@@ -92,11 +99,23 @@ class Grower:
         self.apex = faces[self.inc, pos]
         self.fg = np.repeat(np.arange(len(self.facets)), np.diff(self.ptr))
         f = len(faces)
-        self.alive = np.zeros(f, dtype=bool)
-        self.count = np.zeros(len(self.facets), dtype=np.int64)
-        self.xor = np.zeros(len(self.facets), dtype=np.int64)  # xor of (id + 1) of alive simplices
-        self.vcount = np.zeros(self.n, dtype=np.int64)
-        self.vfront = np.zeros(self.n, dtype=np.int64)
+        # the hot loop runs on Python lists: scalar access to them is several times
+        # cheaper than to numpy arrays
+        self._ptr = self.ptr.tolist()
+        self._inc = self.inc.tolist()
+        self._fg = self.fg.tolist()
+        self._apex = self.apex.tolist()
+        self._fo = self.facet_of.tolist()
+        self._fverts = self.facets.tolist()
+        self._verts = faces.tolist()
+        self._fits = (self.size <= SIZE_MAX).tolist()
+        self._in_ts = (self.tier == 0).tolist()
+        self._cost = self.cost.tolist()
+        self.alive = bytearray(f)
+        self.count = [0] * len(self.facets)
+        self.xor = [0] * len(self.facets)  # xor of (id + 1) of the alive simplices at each facet
+        self.vcount = [0] * self.n
+        self.vfront = [0] * self.n
         self.heap: list[tuple[int, float, int]] = []
         self.cos_limit = COS_PAPER
         #: (face id, rule, facet id or -1, angle) per step, in order
@@ -105,76 +124,91 @@ class Grower:
     # -- bookkeeping --------------------------------------------------------
     def owner(self, g: int) -> int:
         """The one alive simplex at a boundary facet."""
-        return int(self.xor[g]) - 1
+        return self.xor[g] - 1
 
     def _u_at(self, f: int, h: int) -> np.ndarray:
-        return self.u[f, int(np.flatnonzero(self.facet_of[f] == h)[0])]
+        return self.u[f, self._fo[f].index(h)]
 
     def add(self, f: int, rule: str, g: int, angle: float) -> None:
-        self.alive[f] = True
-        for h in self.facet_of[f]:
-            self.count[h] += 1
-            self.xor[h] ^= f + 1
-            self.vfront[self.facets[h]] += 1 if self.count[h] == 1 else -1
-        self.vcount[self.faces[f]] += 1
+        self.alive[f] = 1
+        count, xor, vfront = self.count, self.xor, self.vfront
+        for h in self._fo[f]:
+            count[h] += 1
+            xor[h] ^= f + 1
+            delta = 1 if count[h] == 1 else -1
+            for v in self._fverts[h]:
+                vfront[v] += delta
+        for v in self._verts[f]:
+            self.vcount[v] += 1
         self.log.append((f, rule, g, angle))
-        for h in self.facet_of[f]:
-            if self.count[h] == 1:
-                self.push_front(int(h))
+        for h in self._fo[f]:
+            if count[h] == 1:
+                self.push_front(h)
 
     # -- candidates ---------------------------------------------------------
     def push_front(self, g: int) -> None:
         """Queue the admissible simplices across boundary facet ``g``."""
-        lo, hi = self.ptr[g], self.ptr[g + 1]
-        cand = self.inc[lo:hi]
-        s = self.owner(g)
-        us = self.ucsr[lo:hi][cand == s][0]
-        ok = ~self.alive[cand] & (self.size[cand] <= SIZE_MAX)
-        cos = self.ucsr[lo:hi] @ us
-        ok &= cos < self.cos_limit
-        if not ok.any():
-            return
-        j = np.flatnonzero(ok) + lo
-        cand = self.inc[j]
-        fo = self.facet_of[cand]
-        cnt = np.where(fo == g, 0, self.count[fo])
-        ok = (cnt < 2).all(axis=1)
-        c = self.apex[j]
-        ok &= ~((self.vcount[c] > 0) & (self.vfront[c] == 0))
-        closing = (cnt == 1).any(axis=1)
-        glue = (self.vcount[c] > 0) & ~closing
-        cost = self.size[cand] * (1.0 + self.tier[cand])
-        for jj, gl, co in zip(j[ok].tolist(), glue[ok].tolist(), cost[ok].tolist()):
-            heapq.heappush(self.heap, (int(gl), co, jj))
+        lo, hi = self._ptr[g], self._ptr[g + 1]
+        cand = self._inc[lo:hi]
+        s = self.xor[g] - 1
+        u = self.ucsr[lo:hi]
+        cos = (u @ u[cand.index(s)]).tolist()
+        lim = self.cos_limit
+        alive, fits, fo, count = self.alive, self._fits, self._fo, self.count
+        vcount, vfront, apex = self.vcount, self.vfront, self._apex
+        for t, f in enumerate(cand):
+            if f == s or alive[f] or not fits[f] or cos[t] >= lim:
+                continue
+            closing = False
+            full = False
+            for h in fo[f]:
+                if h != g:
+                    ch = count[h]
+                    if ch >= 2:
+                        full = True
+                        break
+                    if ch == 1:
+                        closing = True
+            if full:
+                continue
+            c = apex[lo + t]
+            used = vcount[c] > 0
+            if used and vfront[c] == 0:
+                continue  # c is inside the surface
+            glue = used and not closing
+            if glue and not self._in_ts[f]:
+                continue  # handles only where T_S vouches for them
+            heapq.heappush(self.heap, (int(glue), self._cost[f], lo + t))
 
     def valid(self, j: int) -> tuple[bool, bool, float]:
         """(valid, gluing, cos phi at the facet) of candidate entry ``j`` now."""
-        f, g = int(self.inc[j]), int(self.fg[j])
+        f, g = self._inc[j], self._fg[j]
         if self.alive[f] or self.count[g] != 1:
             return False, False, 1.0
-        cos = float(self.ucsr[j] @ self._u_at(self.owner(g), g))
+        cos = float(self.ucsr[j] @ self._u_at(self.xor[g] - 1, g))
         if cos >= self.cos_limit:
             return False, False, cos
-        c = int(self.apex[j])
+        c = self._apex[j]
         if self.vcount[c] > 0 and self.vfront[c] == 0:
             return False, False, cos
         closing = False
-        for h in self.facet_of[f]:
-            h = int(h)
+        for h in self._fo[f]:
             if h == g:
                 continue
             if self.count[h] >= 2:
                 return False, False, cos
             if self.count[h] == 1:
                 closing = True
-                if float(self._u_at(f, h) @ self._u_at(self.owner(h), h)) >= self.cos_limit:
+                if float(self._u_at(f, h) @ self._u_at(self.xor[h] - 1, h)) >= self.cos_limit:
                     return False, False, cos  # folded onto an existing simplex
         return True, bool(self.vcount[c] > 0 and not closing), cos
 
     # -- phases -------------------------------------------------------------
     def seed(self) -> bool:
         """Start a new component at the best T_S face whose vertices are all unused."""
-        free = (self.vcount[self.faces] == 0).all(axis=1) & ~self.alive & (self.size <= SIZE_MAX)
+        vcount = np.array(self.vcount)
+        alive = np.frombuffer(bytes(self.alive), dtype=np.uint8).astype(bool)
+        free = (vcount[self.faces] == 0).all(axis=1) & ~alive & (self.size <= SIZE_MAX)
         cand = np.flatnonzero(free)
         if len(cand) == 0:
             return False
@@ -192,18 +226,19 @@ class Grower:
             if not ok:
                 continue
             if now_glue and not glue:  # became a gluing move since it was queued
-                heapq.heappush(heap, (1, cost, j))
+                if self._in_ts[self._inc[j]]:
+                    heapq.heappush(heap, (1, cost, j))
                 continue
-            f = int(self.inc[j])
-            self.add(f, rule_of(f, cos), int(self.fg[j]), float(np.arccos(np.clip(cos, -1, 1))))
-            if len(self.log) % 512 == 0:
+            f = self._inc[j]
+            self.add(f, rule_of(f, cos), self._fg[j], math.acos(max(-1.0, min(1.0, cos))))
+            if len(self.log) % 1024 == 0:
                 if cancel is not None and cancel.is_set():
                     raise Cancelled("reconstruction cancelled")
                 if progress is not None:
-                    progress(float((self.vcount > 0).sum()) / max(self.n, 1))
+                    progress(len(self.log) / max(2 * self.n, 1))
 
     def requeue_front(self) -> None:
         """Queue every boundary facet again (after the angle limit changed)."""
         self.heap = []
-        for g in np.flatnonzero(self.count == 1):
-            self.push_front(int(g))
+        for g in np.flatnonzero(np.array(self.count) == 1).tolist():
+            self.push_front(g)

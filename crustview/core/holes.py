@@ -62,6 +62,9 @@ class Patcher:
         self.simp: list[Simplex] = []
         self.alive: list[bool] = []
         self.fmap: dict[Simplex, list[int]] = {}
+        self.bset: set[Simplex] = set()  # facets with exactly one simplex
+        self.index: dict[Simplex, int] = {}  # alive simplex -> id
+        self.star: dict[int, set[int]] = {}  # vertex -> alive simplex ids
         self.log: list[tuple[str, Simplex, tuple[int, ...], tuple[int, ...], float, str]] = []
         for s in simplices:
             self._insert(s)
@@ -80,26 +83,41 @@ class Patcher:
         i = len(self.simp)
         self.simp.append(s)
         self.alive.append(True)
+        self.index[s] = i
+        for v in s:
+            self.star.setdefault(v, set()).add(i)
         for f in _facets(s):
-            self.fmap.setdefault(f, []).append(i)
+            ids = self.fmap.setdefault(f, [])
+            ids.append(i)
+            self._mark(f, ids)
         return i
 
     def _delete(self, i: int) -> None:
         self.alive[i] = False
-        for f in _facets(self.simp[i]):
-            self.fmap[f].remove(i)
+        s = self.simp[i]
+        del self.index[s]
+        for v in s:
+            self.star[v].discard(i)
+        for f in _facets(s):
+            ids = self.fmap[f]
+            ids.remove(i)
+            self._mark(f, ids)
+
+    def _mark(self, f: Simplex, ids: list[int]) -> None:
+        if len(ids) == 1:
+            self.bset.add(f)
+        else:
+            self.bset.discard(f)
 
     def at(self, f: Simplex) -> list[int]:
         return self.fmap.get(f, [])
 
     def boundary(self) -> list[Simplex]:
-        return [f for f, ids in self.fmap.items() if len(ids) == 1]
+        return sorted(self.bset)
 
     def used(self) -> np.ndarray:
         mask = np.zeros(len(self.points), dtype=bool)
-        for s, a in zip(self.simp, self.alive):
-            if a:
-                mask[list(s)] = True
+        mask[[v for v, ids in self.star.items() if ids]] = True
         return mask
 
     # -- geometry -----------------------------------------------------------
@@ -208,8 +226,7 @@ class Patcher:
                 deg[v] = deg.get(v, 0) + 1
         touched = set(v for e in edges for v in e)
         for v in [v for v, c in deg.items() if c > 2]:
-            tris = [i for f, ids in self.fmap.items() if v in f and len(f) == 2 for i in ids]
-            tris = sorted(set(tris))
+            tris = sorted(self.star.get(v, ()))
             # fans: triangles at v connected through the edges at v that they share
             parent = {i: i for i in tris}
 
@@ -218,9 +235,11 @@ class Patcher:
                     a = parent[a]
                 return a
 
-            for f, ids in self.fmap.items():
-                if v in f and len(ids) == 2:
-                    parent[find(ids[0])] = find(ids[1])
+            for i in tris:
+                for f in _facets(self.simp[i]):
+                    ids = self.fmap[f]
+                    if v in f and len(ids) == 2:
+                        parent[find(ids[0])] = find(ids[1])
             fans: dict[int, list[int]] = {}
             for i in tris:
                 fans.setdefault(find(i), []).append(i)
@@ -242,7 +261,7 @@ class Patcher:
                 row = tuple(int(x) for x in self.delaunay[fi])
                 if all(x in verts for x in row):
                     cand.add(row)
-        cand -= {s for s, a in zip(self.simp, self.alive) if a}
+        cand = {s for s in cand if s not in self.index}
         while cand:
             best = None
             for s in cand:
@@ -364,17 +383,12 @@ class Patcher:
         missing = np.flatnonzero(~used)
         if len(missing) == 0:
             return []
-        by_vertex: dict[int, list[int]] = {}
-        for i, (s, a) in enumerate(zip(self.simp, self.alive)):
-            if a:
-                for v in s:
-                    by_vertex.setdefault(v, []).append(i)
         ids = np.flatnonzero(used)
         tree = cKDTree(self.points[ids])
         left = []
         for x in missing.tolist():
             _, near = tree.query(self.points[x], k=min(8, len(ids)))
-            cand = {i for v in np.atleast_1d(near) for i in by_vertex.get(int(ids[v]), []) if self.alive[i]}
+            cand = {i for v in np.atleast_1d(near) for i in self.star.get(int(ids[v]), ())}
             best = None
             for i in cand:
                 dist, inside = self._project(x, self.simp[i])
@@ -387,9 +401,6 @@ class Patcher:
             old = self.simp[i]
             self._delete(i)
             new = [self._insert(tuple(sorted(f + (x,)))) for f in _facets(old)]
-            for j in new:
-                for v in self.simp[j]:
-                    by_vertex.setdefault(v, []).append(j)
             self.log.append(("insert-sample", (x,), tuple(new), (i,), float("nan"),
                              f"sample {x} was no vertex; it lies {dist / self.spacing:.2f} spacings from "
                              f"a simplex, which is split into {len(new)} around it"))

@@ -182,15 +182,17 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
             rows.append(tuple(int(v) for v in F[f]))
     patch_rows = list(grown_rows)
     ts_index = None
+    taken = set(grown_rows)  # a row is added at most once; a re-added simplex gets a new row
     for i in range(len(grown), len(pt.simp)):
         s = pt.simp[i]
         if ts_index is None:
             ts_index = {r: j for j, r in enumerate(rows[:n_ts])}
         r = ts_index.get(s, row_of.get(s))
-        if r is None:
+        if r is None or r in taken:
             r = len(rows)
             rows.append(s)
             row_of[s] = r
+        taken.add(r)
         patch_rows.append(r)
     steps: list[Step] = []
     for (f, rule, g, angle) in gr.log:
@@ -219,8 +221,11 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
     bnd = len(pt.boundary())
     alive_any = any(pt.alive)
     stopped = "empty" if not alive_any else ("closed" if bnd == 0 else "open")
+    in_ts = np.arange(len(rows)) < n_ts
+    if ts_index:
+        in_ts[n_ts:] = [r in ts_index for r in rows[n_ts:]]
     ext = Extraction(simplices, steps, removed_at, stopped, added_at=added_at, mode="robust",
-                     in_candidates=np.arange(len(rows)) < n_ts)
+                     in_candidates=in_ts)
     if left:
         shown = ", ".join(str(x) for x in left[:10]) + (" ..." if len(left) > 10 else "")
         ext.notes.append(f"{len(left)} samples are farther than the insertion limit from M_S and were left "
