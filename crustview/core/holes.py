@@ -374,9 +374,52 @@ class Patcher:
             pts.remove(a)
             pts.remove(b)
 
+    # -- pinched vertices -----------------------------------------------------
+    def fans(self, v: int) -> list[list[int]]:
+        """The simplices at vertex v, grouped by connection through (d-1)-faces at v."""
+        tris = sorted(self.star.get(v, ()))
+        parent = {i: i for i in tris}
+
+        def find(a: int) -> int:
+            while parent[a] != a:
+                a = parent[a]
+            return a
+
+        for i in tris:
+            for f in _facets(self.simp[i]):
+                ids = self.fmap[f]
+                if v in f and len(ids) == 2:
+                    parent[find(ids[0])] = find(ids[1])
+        groups: dict[int, list[int]] = {}
+        for i in tris:
+            groups.setdefault(find(i), []).append(i)
+        return list(groups.values())
+
+    def unpinch_all(self) -> int:
+        """Drop all but the largest fan at every vertex with several; returns how many vertices."""
+        fixed = 0
+        for v in sorted(self.star):
+            fans = self.fans(v)
+            if len(fans) < 2:
+                continue
+            fixed += 1
+            for fan in sorted(fans, key=len)[:-1]:
+                for i in fan:
+                    self._delete(i)
+                self.log.append(("fill-hole", (v,), (), tuple(fan), float("nan"),
+                                 f"M_S pinches at sample {v} (its simplices form {len(fans)} fans); removed "
+                                 f"a fan of {len(fan)} so the hole it leaves can be closed"))
+        return fixed
+
     # -- left-out samples ---------------------------------------------------
     def insert_unused(self) -> list[int]:
-        """Insert left-out samples by stellar subdivision; returns those left out still."""
+        """Insert left-out samples by stellar subdivision; returns those left out still.
+
+        The face of M_S nearest to the sample (a simplex, or a lower face of
+        it, never a single vertex) is subdivided: every simplex sigma that
+        contains that face tau is replaced by the simplices
+        (sigma - {v}) + {x} for v in tau.  This keeps a manifold a manifold.
+        """
         from scipy.spatial import cKDTree
 
         used = self.used()
@@ -391,20 +434,42 @@ class Patcher:
             cand = {i for v in np.atleast_1d(near) for i in self.star.get(int(ids[v]), ())}
             best = None
             for i in cand:
-                dist, inside = self._project(x, self.simp[i])
-                if inside and (best is None or dist < best[0]):
-                    best = (dist, i)
-            if best is None or best[0] > INSERT_MAX * self.spacing:
+                dist, tau = self._nearest_face(x, self.simp[i])
+                if best is None or dist < best[0]:
+                    best = (dist, tau)
+            limit = INSERT_MAX * max(self.spacing, float(self.nn[x]))
+            if best is None or best[0] > limit:
                 left.append(x)
                 continue
-            dist, i = best
-            old = self.simp[i]
-            self._delete(i)
-            new = [self._insert(tuple(sorted(f + (x,)))) for f in _facets(old)]
-            self.log.append(("insert-sample", (x,), tuple(new), (i,), float("nan"),
-                             f"sample {x} was no vertex; it lies {dist / self.spacing:.2f} spacings from "
-                             f"a simplex, which is split into {len(new)} around it"))
+            dist, tau = best
+            star = [i for i in self.star.get(tau[0], ()) if set(tau) <= set(self.simp[i])]
+            plan = [(i, tuple(sorted([w for w in self.simp[i] if w != v] + [x]))) for i in star for v in tau]
+            news = [t for _, t in plan]
+            if len(set(news)) != len(news) or any(t in self.index for t in news):
+                left.append(x)  # the split would duplicate a simplex: leave the sample out
+                continue
+            removed = list(star)
+            for i in star:
+                self._delete(i)
+            added = [self._insert(t) for t in news]
+            self.log.append(("insert-sample", (x,), tuple(added), tuple(removed), float("nan"),
+                             f"sample {x} was no vertex; it lies {dist / self.spacing:.2f} spacings from the "
+                             f"face {tau}, which is split around it ({len(removed)} simplices become "
+                             f"{len(added)})"))
         return left
+
+    def _nearest_face(self, x: int, s: Simplex) -> tuple[float, Simplex]:
+        """Distance from sample x to simplex s, and the face of s (>= an edge) nearest to it."""
+        verts = list(s)
+        while True:
+            p = self.points[verts]
+            a = (p[1:] - p[0]).T
+            lam, *_ = np.linalg.lstsq(a, self.points[x] - p[0], rcond=None)
+            bary = np.concatenate([[1 - lam.sum()], lam])
+            if (bary >= -1e-12).all() or len(verts) == 2:
+                foot = p[0] + a @ np.clip(lam, 0, None) if len(verts) > 2 else p[0] + a @ np.clip(lam, 0, 1)
+                return float(np.linalg.norm(self.points[x] - foot)), tuple(sorted(verts))
+            verts.pop(int(np.argmin(bary)))
 
     def _project(self, x: int, s: Simplex) -> tuple[float, bool]:
         """Distance from sample x to aff(s), and whether its projection lies in s."""

@@ -63,7 +63,7 @@ import numpy as np
 
 from .errors import Cancelled
 from .extraction import extract
-from .grow import COS_CREASE, COS_PAPER, Grower
+from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 from .holes import Patcher
 from .result import RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
 from .topology import analyse
@@ -143,11 +143,14 @@ def extract_robust(
 
 def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) -> Extraction:
     """Phases 2 and 3 of the module docstring, assembled into one replayable Extraction."""
-    order = np.concatenate([np.flatnonzero(admitted), np.flatnonzero(~admitted)])
+    # faces too large to be grown never enter the grower (T_S is kept whole for its row ids)
+    size = size_ratio(points, faces)
+    fits = size <= SIZE_MAX
+    order = np.concatenate([np.flatnonzero(admitted), np.flatnonzero(~admitted & fits)])
     F, S = faces[order], scores[order]
     n_ts = int(admitted.sum())
     tier = (np.arange(len(F)) >= n_ts).astype(np.int8)
-    gr = Grower(points, F, S, tier)
+    gr = Grower(points, F, S, tier, size[order])
 
     def rule_of(f: int, cos: float) -> str:
         return RULE_GROW if tier[f] == 0 and cos < COS_PAPER else RULE_RELAX
@@ -163,13 +166,16 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
         raise Cancelled("reconstruction cancelled")
     grown = [f for f, *_ in gr.log]
     pt = Patcher(points, [tuple(int(v) for v in F[f]) for f in grown], F, spacing)
-    for _ in range(4):  # eroding one hole can reach another: repeat while something closes
-        before = len(pt.boundary())
-        for hole in pt.holes():
-            pt.fill(hole)
-        if len(pt.boundary()) in (0, before):
+    for _ in range(3):  # closing holes, unpinching and inserting can each leave work for the others
+        for _ in range(4):  # eroding one hole can reach another: repeat while something closes
+            before = len(pt.boundary())
+            for hole in pt.holes():
+                pt.fill(hole)
+            if len(pt.boundary()) in (0, before):
+                break
+        left = pt.insert_unused()
+        if not pt.unpinch_all():
             break
-    left = pt.insert_unused()
     # rows: T_S first, then every other simplex in the order it first appeared
     rows: list[tuple[int, ...]] = [tuple(r) for r in F[:n_ts].tolist()] if n_ts else []
     row_of: dict[tuple[int, ...], int] = {}
