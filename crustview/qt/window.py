@@ -69,9 +69,11 @@ def _comparing(job, truth, points):
         return job
 
     def run(progress, cancel):
-        rec = job(progress, cancel)
+        out = job(progress, cancel)  # a Reconstruction, or a dict holding one under "rec"
         progress("compare", 0.0)
-        return {"rec": rec, "truth": truth.compared(rec), "points": points}
+        if isinstance(out, dict):
+            return {**out, "truth": truth.compared(out["rec"])}
+        return {"rec": out, "truth": truth.compared(out), "points": points}
 
     return run
 
