@@ -154,8 +154,10 @@ class Patcher:
 
     # -- holes --------------------------------------------------------------
     def holes(self) -> list[list[Simplex]]:
-        """Boundary facets grouped by shared vertices."""
+        """Boundary facets grouped by shared vertices (for curves: all ends in one group)."""
         bnd = self.boundary()
+        if bnd and len(bnd[0]) == 1:
+            return [bnd]
         parent = list(range(len(bnd)))
 
         def find(a: int) -> int:
@@ -182,6 +184,9 @@ class Patcher:
         p = self.points[verts]
         span = float(np.sqrt(((p[:, None] - p[None]) ** 2).sum(-1).max())) if len(verts) > 1 else 0.0
         local = max(float(self.nn[verts].mean()), self.spacing)
+        if len(hole[0]) == 1:  # curves: the ends of all paths, joined in pairs below
+            self._join_ends(hole, "gap between two ends of the curve")
+            return all(len(self.at(f)) != 1 for f in hole)
         if len(hole) > FILL_MAX_FACES or span > FILL_MAX_SPAN * local:
             return False
         why = f"hole of {len(hole)} boundary faces spanning {span / local:.1f} local spacings"
@@ -359,20 +364,25 @@ class Patcher:
         return q
 
     def _join_ends(self, ends: list[Simplex], why: str) -> None:
+        """Join curve ends in pairs, closest first, up to FILL_MAX_SPAN local spacings apart."""
         pts = [f[0] for f in ends]
-        while len(pts) >= 2:
-            best = None
-            for a, b in itertools.combinations(pts, 2):
-                dist = float(np.linalg.norm(self.points[a] - self.points[b]))
-                if best is None or dist < best[0]:
-                    best = (dist, a, b)
-            dist, a, b = best
+        pairs = sorted(
+            (float(np.linalg.norm(self.points[a] - self.points[b])), a, b)
+            for a, b in itertools.combinations(pts, 2)
+        )
+        done: set[int] = set()
+        for dist, a, b in pairs:
+            if a in done or b in done:
+                continue
+            local = max(float(self.nn[[a, b]].mean()), self.spacing)
+            if dist > FILL_MAX_SPAN * local:
+                break
             s = (min(a, b), max(a, b))
-            if s in self.fmap.get((a,), []) or not self.fits(s)[0]:
-                return
-            self.add(s, "fill-hole", (a,), float("nan"), f"closing a {why}: joined its ends")
-            pts.remove(a)
-            pts.remove(b)
+            if s in self.index:
+                continue
+            self.add(s, "fill-hole", (a,), float("nan"),
+                     f"closing a {why}: joined ends {a} and {b}, {dist / local:.1f} local spacings apart")
+            done.update((a, b))
 
     # -- pinched vertices -----------------------------------------------------
     def fans(self, v: int) -> list[list[int]]:

@@ -1,0 +1,192 @@
+"""The robust extraction: identity with the paper, hand-made holes and cascades, real scans, bad samples."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from crustview.core import reconstruct, reextract
+from crustview.core.extraction import extract
+from crustview.io import read_mesh
+from crustview.core.result import RULE_FILL, RULE_PRUNE, RULE_RELAX
+from crustview.core.robust import extract_robust
+from crustview.core.sampling import get_manifold
+from crustview.core.topology import analyse
+
+RESOURCES = Path(__file__).resolve().parents[1] / "resources"
+
+
+def scan_points(name):
+    return read_mesh(RESOURCES / name).points
+
+OCTA_PTS = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], float)
+OCTA = np.sort(np.array([[a, b, c] for a in (0, 1) for b in (2, 3) for c in (4, 5)]), axis=1)
+THETA = np.pi / 8
+
+
+def final(ext):
+    return ext.simplices[ext.alive(ext.n_steps)]
+
+
+def same_rows(a, b):
+    return {tuple(r) for r in np.sort(a, axis=1).tolist()} == {tuple(r) for r in np.sort(b, axis=1).tolist()}
+
+
+# -- hand-made cases, checkable on paper -----------------------------------------
+
+
+def test_paper_success_is_returned_unchanged():
+    # the whole octahedron is in T_S: the paper's loop keeps it in 0 steps, and so must robust
+    ext = extract_robust(OCTA_PTS, OCTA, np.zeros(8), THETA, spacing=1.4)
+    assert ext.mode == "robust" and ext.n_steps == 0 and ext.stopped == "closed"
+    assert same_rows(final(ext), OCTA)
+    assert "not needed" in ext.notes[-1]
+
+
+def test_octahedron_with_a_hole_cascades_in_paper_mode():
+    # T_S = the octahedron less face (0, 2, 4): its three edges are holes of T_S
+    tset = OCTA[1:]
+    ext = extract(OCTA_PTS, tset)
+    assert ext.stopped == "empty"
+    assert {tuple(h) for h in ext.holes.tolist()} == {(0, 2), (0, 4), (2, 4)}
+    # every prune step goes back, through its causes, to a prune of one of the holes
+    assert all(s.rule == RULE_PRUNE for s in ext.steps)
+    origins = ext.cascades()
+    assert sum(c.removed for c in origins) == 7
+    assert all(c.hole and c.tau in {(0, 2), (0, 4), (2, 4)} for c in origins)
+    assert sorted(i for c in origins for i in c.steps.tolist()) == list(range(ext.n_steps))
+    for s in ext.steps:
+        if s.cause >= 0:
+            assert s.cause < s.index
+            exposed = set(ext.steps[s.cause].removed)
+            # the exposing step removed a simplex that contained this step's face
+            assert any(set(s.tau) <= set(tset[i]) for i in exposed)
+
+
+def test_hole_closed_with_a_delaunay_face_outside_t_s():
+    # the missing face is a Delaunay face whose score (0.5 rad) fails theta: relaxed growth takes it
+    scores = np.array([0.5] + [0.1] * 7)
+    ext = extract_robust(OCTA_PTS, OCTA, scores, THETA, spacing=1.4)
+    assert ext.stopped == "closed" and same_rows(final(ext), OCTA)
+    added = [s for s in ext.steps if s.rule == RULE_RELAX]
+    assert len(added) == 1 and tuple(ext.simplices[added[0].added[0]]) == (0, 2, 4)
+    assert not ext.in_candidates[added[0].added[0]]
+    assert "abandoned" in ext.notes[0]
+    rep = analyse(final(ext), 6, 2)
+    assert rep.closed_manifold and rep.betti == (1, 0, 1)
+
+
+def test_hole_closed_by_an_ear_when_no_delaunay_face_fits():
+    # the missing face is not offered at all: fill-hole closes the triangular hole itself
+    ext = extract_robust(OCTA_PTS, OCTA[1:], np.full(7, 0.1), THETA, spacing=1.4)
+    assert ext.stopped == "closed" and same_rows(final(ext), OCTA)
+    assert [s.rule for s in ext.steps].count(RULE_FILL) == 1
+
+
+def test_left_out_sample_is_inserted_by_stellar_subdivision():
+    # sample 6 sits just above the centre of face (0, 2, 4), and no offered face uses it
+    pts = np.vstack([OCTA_PTS, [[0.34, 0.34, 0.34]]])
+    ext = extract_robust(pts, OCTA, np.zeros(8), THETA, spacing=1.4)
+    m = final(ext)
+    rep = analyse(m, 7, 2)
+    assert rep.closed_manifold and rep.unused_samples == 0 and rep.betti == (1, 0, 1)
+    assert len(m) == 10 and same_rows(m[(m == 6).any(axis=1)], [[0, 2, 6], [0, 4, 6], [2, 4, 6]])
+
+
+def test_curve_with_a_gap_is_closed_by_joining_its_ends():
+    t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    pts = np.c_[np.cos(t), np.sin(t)]
+    edges = np.array([[i, i + 1] for i in range(39)])  # the edge (39, 0) is missing
+    ext = extract_robust(pts, edges, np.zeros(39), THETA, spacing=0.16)
+    rep = analyse(final(ext), 40, 1)
+    assert rep.closed_manifold and rep.betti == (1, 1)
+    assert any(s.rule == RULE_FILL and set(s.tau) <= {0, 39} for s in ext.steps)
+
+
+def test_real_hole_of_an_open_surface_stays_open():
+    # a flat 10 x 10 grid (an open disc): its rim is 36 edges long, far beyond a gap
+    xs, ys = np.meshgrid(np.arange(10.0), np.arange(10.0))
+    pts = np.c_[xs.ravel(), ys.ravel(), np.zeros(100)]
+    tris = []
+    for i in range(9):
+        for j in range(9):
+            a, b, c, d = i * 10 + j, i * 10 + j + 1, (i + 1) * 10 + j + 1, (i + 1) * 10 + j
+            tris += [[a, b, c], [a, c, d]]
+    ext = extract_robust(pts, np.array(tris), np.zeros(len(tris)), THETA, spacing=1.0)
+    rep = analyse(final(ext), 100, 2)
+    assert ext.stopped == "open" and rep.boundary_faces == 36 and rep.betti == (1, 0, 0)
+    assert not any(s.rule == RULE_FILL for s in ext.steps)
+
+
+# -- built-ins: identity with the paper, and bad samples --------------------------
+
+
+@pytest.mark.parametrize("name", ["torus", "trefoil", "clifford-torus", "s3"])
+def test_builtins_are_identical_to_the_paper(name):
+    m = get_manifold(name)
+    paper = reconstruct(m.sample(m.default_n, seed=0).points, m.d, mode="paper")
+    robust = reextract(paper, paper.test, paper.theta, mode="robust")
+    assert robust.mode == "robust" and robust.topology.closed_manifold
+    assert np.array_equal(robust.manifold, paper.manifold)
+    assert [(s.rule, s.tau, s.removed) for s in robust.extraction.steps] == [
+        (s.rule, s.tau, s.removed) for s in paper.extraction.steps
+    ]
+
+
+def _noisy(name, sigma, seed=1):
+    m = get_manifold(name)
+    pts = m.sample(m.default_n, seed=seed).points
+    size = np.ptp(pts, axis=0).max()
+    return m, pts + np.random.default_rng(seed).normal(scale=sigma * size, size=pts.shape)
+
+
+@pytest.mark.parametrize("name", ["torus", "trefoil", "ellipsoid", "circle-r4"])
+def test_noisy_builtins_fail_in_paper_mode_and_succeed_robustly(name):
+    m, pts = _noisy(name, 0.005)
+    paper = reconstruct(pts, m.d, mode="paper")
+    robust = reextract(paper, paper.test, paper.theta, mode="robust")
+    assert not (paper.topology.closed_manifold and paper.topology.unused_samples == 0)
+    t = robust.topology
+    assert t.closed_manifold and t.unused_samples == 0 and t.betti == m.betti
+
+
+def test_sparse_torus_in_r3():
+    m = get_manifold("torus")
+    rec = reconstruct(m.sample(350, seed=2).points, 2)
+    t = rec.topology
+    assert t.closed_manifold and t.unused_samples == 0 and t.betti == (1, 2, 1)
+
+
+# -- real scans (copies of ../shared/data/scans in resources/) --------------------
+
+
+@pytest.mark.parametrize("name,genus", [("fertility.off", 4), ("horse-quads.obj", 0)])
+def test_scans_the_paper_loses_are_closed_with_the_right_genus(name, genus):
+    pts = scan_points(name)
+    paper = reconstruct(pts, 2, mode="paper")
+    assert len(paper.manifold) == 0  # the prune cascade empties T_S
+    robust = reextract(paper, paper.test, paper.theta, mode="robust")
+    t = robust.topology
+    assert t.closed_manifold and t.unused_samples == 0 and t.betti == (1, 2 * genus, 1)
+    assert robust.extraction.stopped == "closed"
+
+
+@pytest.mark.parametrize("name,genus", [("bumpy.off", 0), ("3holes.off", 3)])
+def test_scans_the_paper_gets_right_are_unchanged(name, genus):
+    pts = scan_points(name)
+    paper = reconstruct(pts, 2, mode="paper")
+    robust = reextract(paper, paper.test, paper.theta, mode="robust")
+    assert np.array_equal(robust.manifold, paper.manifold)
+    assert robust.topology.betti == (1, 2 * genus, 1) and robust.topology.unused_samples == 0
+
+
+def test_knight_is_not_closed_but_says_why():
+    # 502 samples of a spiky figure: too sparse for either extraction to close (CGAL's advancing
+    # front leaves 98 boundary edges on it too); robust keeps a manifold with boundary and says so
+    pts = scan_points("decimated-knight.off")
+    paper = reconstruct(pts, 2, mode="paper")
+    robust = reextract(paper, paper.test, paper.theta, mode="robust")
+    t = robust.topology
+    assert t.nonmanifold_faces == 0 and t.n_simplices > 10 * paper.topology.n_simplices
+    assert t.unused_samples < paper.topology.unused_samples / 50
+    assert any("boundary faces remain" in msg for msg in t.messages)
