@@ -62,6 +62,10 @@ def _angle_degrees(text: str) -> float:
     return value  # the core checks the range (and says so in degrees)
 
 
+_PAPER_HELP = ("extract with the paper's Algorithm 3 exactly as printed (default: the robust extension, "
+               "which returns the paper's result whenever that is a closed manifold through every sample)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (sub-commands view, reconstruct, sample, list)."""
     parser = _Parser(
@@ -76,6 +80,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("view", help="open a point file in the viewer")
     p.add_argument("file", type=Path, help="point file (.npy .npz .csv .txt .xyz .ply ...)")
     p.add_argument("-d", type=_positive_int, default=None, help="intrinsic dimension")
+    p.add_argument("--paper", action="store_true", help=_PAPER_HELP)
 
     p = sub.add_parser("reconstruct", help="reconstruct a manifold and write the result")
     p.add_argument("input", type=Path, help="point file")
@@ -87,9 +92,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="candidate test of Algorithm 2 (default: cocone)")
     p.add_argument("--theta", type=_angle_degrees, default=22.5,
                    help="angle threshold in degrees (default: 22.5 = pi/8)")
+    p.add_argument("--paper", action="store_true", help=_PAPER_HELP)
     p.add_argument("--keep-boundary", action="store_true",
-                   help="do not prune (d-1)-faces with a single d-simplex (the paper prunes them); "
-                        "for looking at scans with holes, which cannot give a closed manifold")
+                   help="paper mode only (implies --paper): do not prune (d-1)-faces with a single "
+                        "d-simplex (the paper prunes them); for looking at scans with holes, which "
+                        "cannot give a closed manifold")
 
     p = sub.add_parser("sample", help="sample a built-in manifold to a point file")
     p.add_argument("name", help="manifold name (see 'crustview list')")
@@ -143,14 +150,14 @@ def _x_display_opens(display: str) -> bool:
     return True
 
 
-def _run_app(*args: object) -> int:
+def _run_app(*args: object, **kwargs: object) -> int:
     _check_display()
     try:
         from crustview.qt.app import run_app
     except ImportError as err:
         print(f"{PROG}: error: the viewer cannot start ({_one_line(err)})", file=sys.stderr)
         return 1
-    return int(run_app(*args) or 0)
+    return int(run_app(*args, **kwargs) or 0)
 
 
 def _summary(rec, seconds: float, output: Path) -> str:
@@ -172,9 +179,40 @@ def _summary(rec, seconds: float, output: Path) -> str:
             f"{top.unused_samples} unused samples"
         )
     text = "; ".join(parts) + f"; {seconds:.2f} s; wrote {output}."
-    if top.messages:
-        text += " Note: " + "; ".join(str(m).rstrip(".") for m in top.messages) + "."
+    notes = set(rec.extraction.notes)  # said on the extraction line
+    messages = [m for m in top.messages if m not in notes]
+    if messages:
+        text += " Note: " + "; ".join(str(m).rstrip(".") for m in messages) + "."
     return text
+
+
+def extraction_summary(rec) -> str:
+    """One sentence: which extraction ran, why, and how many steps of each rule.
+
+    Parameters
+    ----------
+    rec : Reconstruction
+
+    Returns
+    -------
+    str
+        E.g. ``"extraction: robust (the paper's Algorithm 3 was abandoned after
+        127 steps, ...); 2160 steps: seed 1, grow 2068, ..."`` or
+        ``"extraction: paper's Algorithm 3; 12 steps: prune-sharp 0,
+        resolve-nonmanifold 12."``.  A robust run lists only the rules it
+        used; a paper run lists both of the paper's rules.
+    """
+    ext = rec.extraction
+    if rec.mode == "paper":
+        head = "extraction: paper's Algorithm 3"
+        if not rec.prune_boundary:
+            head += " with boundary faces kept (--keep-boundary)"
+    else:
+        why = "; ".join(str(n).rstrip(".") for n in ext.notes)
+        head = "extraction: robust" + (f" ({why})" if why else "")
+    counts = ext.counts_by_rule()
+    shown = [f"{rule} {c['steps']}" for rule, c in counts.items() if c["steps"] or rec.mode == "paper"]
+    return f"{head}; {ext.n_steps} steps" + (": " + ", ".join(shown) if shown else "") + "."
 
 
 def _cmd_reconstruct(args: argparse.Namespace) -> int:
@@ -187,9 +225,13 @@ def _cmd_reconstruct(args: argparse.Namespace) -> int:
     note = cost_warning(points.shape[1], args.d) if 1 <= args.d < points.shape[1] else None
     if note:
         print(f"{PROG}: warning: {note}", file=sys.stderr, flush=True)
+    if args.keep_boundary and not args.paper:
+        print(f"{PROG}: note: --keep-boundary belongs to the paper's Algorithm 3 (the robust extension "
+              "never prunes); running it as with --paper", file=sys.stderr, flush=True)
+    mode = "paper" if args.paper or args.keep_boundary else "robust"
     start = time.perf_counter()
     rec = reconstruct(points, args.d, test=args.test, theta=math.radians(args.theta),
-                      prune_boundary=not args.keep_boundary)
+                      prune_boundary=not args.keep_boundary, mode=mode)
     seconds = time.perf_counter() - start
     comparison = None
     if truth is not None:
@@ -200,6 +242,7 @@ def _cmd_reconstruct(args: argparse.Namespace) -> int:
     if args.report is not None:
         write_report(args.report, rec, comparison)
     print(_summary(rec, seconds, args.output))
+    print(extraction_summary(rec))
     if comparison is not None:
         print(comparison_summary(comparison, args.input.name))
     return 0
@@ -272,7 +315,7 @@ def _dispatch(argv: Sequence[str]) -> int:
             raise _UsageError(f"d must be between 1 and k-1 = {k - 1} for points in R^{k}; got d = {args.d}")
         if mesh is not None and args.d is not None:
             mesh.simplices(args.d)
-        return _run_app(str(args.file), args.d)
+        return _run_app(str(args.file), args.d, mode="paper" if args.paper else None)
     if args.command == "reconstruct":
         return _cmd_reconstruct(args)
     if args.command == "sample":

@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from crustview.core.errors import InputError
+from crustview.core.result import EXTRACTION_MODES
 
 if TYPE_CHECKING:
     from crustview.core.compare import MeshComparison
@@ -357,9 +358,10 @@ def write_result(path: str | os.PathLike, rec: Reconstruction) -> None:
         T_S, the faces admitted by ``rec.test`` at ``rec.theta``.
     ``normals`` (n_in, k, k - d), ``tangents`` (n_in, k, d)
         Estimated orthonormal bases at each input row.
-    ``d``, ``k``, ``test``, ``theta``, ``prune_boundary``
-        Scalars (``theta`` in radians): the run's parameters, so that
-        :func:`read_run_parameters` can redo exactly this run.
+    ``d``, ``k``, ``test``, ``theta``, ``prune_boundary``, ``mode``
+        Scalars (``theta`` in radians, ``mode`` ``"robust"`` or ``"paper"``):
+        the run's parameters, so that :func:`read_run_parameters` can redo
+        exactly this run.
 
     ``.ply``, ``.off`` and ``.noff`` write the input points and M_S in any
     k and d (:mod:`crustview.meshfiles`; :func:`read_mesh` reads them back).
@@ -397,6 +399,7 @@ def write_result(path: str | os.PathLike, rec: Reconstruction) -> None:
                 test=np.str_(rec.test),
                 theta=np.float64(rec.theta),
                 prune_boundary=np.bool_(rec.prune_boundary),
+                mode=np.str_(rec.mode),
             )
         except OSError as err:
             raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
@@ -425,10 +428,18 @@ def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
     Returns
     -------
     dict or None
-        ``d``, ``test``, ``theta`` (radians), ``prune_boundary`` and
+        ``d``, ``test``, ``theta`` (radians), ``prune_boundary``, ``mode`` and
         ``simplices`` (M_S in input rows) when ``path`` is a result written by
         :func:`write_result`; reconstructing its points with these
         parameters gives the same M_S (the pipeline is deterministic).
+        Results saved before the robust extraction existed have no ``mode``
+        and were made by the paper's Algorithm 3: ``mode`` is then
+        ``"paper"``.
+
+    Raises
+    ------
+    InputError
+        For an unreadable archive or a ``mode`` that crustview does not know.
     """
     path = Path(path)
     if path.suffix.lower() != ".npz" or not path.is_file():
@@ -442,10 +453,14 @@ def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
                 "test": str(archive["test"]),
                 "theta": float(archive["theta"]),
                 "prune_boundary": bool(archive["prune_boundary"]) if "prune_boundary" in archive else True,
+                "mode": str(archive["mode"]) if "mode" in archive else "paper",
                 "simplices": np.asarray(archive["simplices"], dtype=np.int64),
             }
     except Exception as err:  # noqa: BLE001
         raise InputError(f"Cannot read '{path}' as a NumPy .npz archive ({_reason(err)}).") from None
+    if out["mode"] not in EXTRACTION_MODES:
+        raise InputError(f"Cannot use '{path}': its extraction mode {out['mode']!r} is not one of "
+                         f"{', '.join(EXTRACTION_MODES)}.")
     return out
 
 
@@ -461,9 +476,60 @@ def _jsonable(obj: Any) -> Any:
     return obj
 
 
-def report_dict(rec: Reconstruction, comparison: MeshComparison | None = None) -> dict[str, Any]:
-    """The content of :func:`write_report` as plain Python objects."""
+#: Number of prune cascades listed in a report (largest first).
+REPORT_CASCADES = 20
+
+
+def holes_of_candidates(rec: Reconstruction) -> int:
+    """Number of (d-1)-faces of T_S that lie in a single d-simplex of T_S (the holes of T_S).
+
+    ``rec.extraction.holes`` when the extraction recorded them, otherwise
+    counted on T_S for ``rec.test`` and ``rec.theta``.
+    """
+    if rec.extraction.holes is not None:
+        return len(rec.extraction.holes)
+    from crustview.core.extraction import facet_structure
+
+    tset = rec.candidates.select(rec.test, rec.theta)
+    if len(tset) == 0:
+        return 0
+    ptr = facet_structure(np.asarray(tset, dtype=np.int64))[2]
+    return int(np.count_nonzero(np.diff(ptr) == 1))
+
+
+def _cascades(rec: Reconstruction) -> dict[str, Any]:
+    cascades = rec.extraction.cascades()
+    return {
+        "n_cascades": len(cascades),
+        "cascades": [
+            {"origin": c.origin, "tau": [int(rec.point_input[v]) for v in c.tau], "rule": c.rule, "hole": c.hole,
+             "steps": len(c.steps), "removed": c.removed}
+            for c in cascades[:REPORT_CASCADES]
+        ],
+    }
+
+
+def report_dict(rec: Reconstruction, comparison: MeshComparison | None = None,
+                quality: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The content of :func:`write_report` as plain Python objects.
+
+    Parameters
+    ----------
+    rec : Reconstruction
+    comparison : MeshComparison, optional
+        M_S against a mesh's faces (key ``ground_truth``).
+    quality : dict, optional
+        :func:`crustview.core.quality.summary` of ``rec`` when already
+        computed; otherwise it is computed here.  Its ``seconds`` are left
+        out, so that the report of a run is the same every time it is made.
+    """
+    from crustview.core.quality import summary
+
+    quality = summary(rec) if quality is None else quality
+    quality = {key: value for key, value in quality.items() if key != "seconds"}
     extra = {} if comparison is None else {"ground_truth": comparison.as_dict()}
+    if rec.mode == "paper":
+        extra.update(_cascades(rec))
     return _jsonable(
         {
             "d": rec.d,
@@ -473,10 +539,15 @@ def report_dict(rec: Reconstruction, comparison: MeshComparison | None = None) -
             "test": rec.test,
             "theta": rec.theta,
             "theta_degrees": math.degrees(rec.theta),
+            "mode": rec.mode,
+            "prune_boundary": rec.prune_boundary,
             "n_candidates": int(rec.candidates.mask(rec.test, rec.theta).sum()),
+            "holes_of_T_S": holes_of_candidates(rec),
             "stopped": rec.extraction.stopped,
+            "notes": list(rec.extraction.notes),
             "topology": rec.topology.as_dict(),
             "rules": rec.extraction.counts_by_rule(),
+            "sampling_quality": quality,
             "timings": dict(rec.timings),
             **extra,
         }
@@ -487,10 +558,20 @@ def write_report(path: str | os.PathLike, rec: Reconstruction,
                  comparison: MeshComparison | None = None) -> None:
     """Write a JSON summary of a reconstruction.
 
-    Keys: ``d k n n_input test theta theta_degrees n_candidates stopped``,
-    ``topology`` (:meth:`TopologyReport.as_dict`), ``rules``
-    (:meth:`Extraction.counts_by_rule`) and ``timings`` (seconds per stage);
-    with a ``comparison``, also ``ground_truth``
+    Keys: ``d k n n_input test theta theta_degrees mode prune_boundary
+    n_candidates stopped``; ``holes_of_T_S`` (the number of (d-1)-faces of
+    T_S in a single simplex before extraction); ``notes`` (how the
+    extraction went, e.g. why the robust extension took over);
+    ``topology`` (:meth:`TopologyReport.as_dict`); ``rules``
+    (:meth:`Extraction.counts_by_rule`); ``sampling_quality``
+    (:func:`crustview.core.quality.summary` without its ``seconds``:
+    estimated epsilon and the samples beyond the paper's bounds);
+    ``timings`` (seconds per stage).
+    Paper runs also have ``n_cascades`` and ``cascades``: the
+    :data:`REPORT_CASCADES` largest prune cascades, each with its
+    ``origin`` step, its face ``tau`` (input rows), the origin's ``rule``, ``hole``
+    (the origin face was a hole of T_S), the number of ``steps`` and of
+    simplices ``removed``.  With a ``comparison``, also ``ground_truth``
     (:meth:`~crustview.core.compare.MeshComparison.as_dict`: recovered and
     extra faces, both topologies, the sampled Hausdorff distance).
 

@@ -144,8 +144,10 @@ def test_sample_then_reconstruct_a_circle(tmp_path):
     proc = run("reconstruct", pts, "-d", 1, "-o", out, "--report", report)
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr == ""
-    summary = proc.stdout.strip()
-    assert "\n" not in summary and "100 points" in summary and "(1, 1)" in summary
+    summary, extraction = proc.stdout.strip().split("\n")  # the result, then how it was extracted
+    assert "100 points" in summary and "(1, 1)" in summary
+    # an evenly sampled circle: the paper's Algorithm 3 succeeds, so the robust default returns it
+    assert extraction.startswith("extraction: robust (the paper's Algorithm 3 gave a closed manifold")
     with np.load(out) as z:
         assert z["points"].shape == (100, 2) and z["simplices"].shape == (100, 2)
         assert int(z["d"]) == 1 and int(z["k"]) == 2 and str(z["test"]) == "cocone"
@@ -232,16 +234,33 @@ def test_cli_without_gui_never_imports_qt_or_vtk(tmp_path):
     assert proc.returncode == 0, proc.stderr
 
 
-def test_keep_boundary_on_a_torus_with_a_hole(capsys, tmp_path):
+@pytest.fixture(scope="module")
+def holed_torus(tmp_path_factory):
     pts = MANIFOLDS["torus"].sample(1500, seed=0).points
-    holed = pts[pts[:, 0] <= 0.6]  # cut the torus open: a tube with two boundary circles
-    src = tmp_path / "holed.npy"
+    holed = pts[pts[:, 0] <= 0.6]  # cut the torus open: the plane x = 0.6 crosses the tube
+    src = tmp_path_factory.mktemp("holed") / "holed.npy"
     np.save(src, holed)
+    return src, holed
+
+
+def test_keep_boundary_on_a_torus_with_a_hole(capsys, tmp_path, holed_torus):
+    src, holed = holed_torus
     strict, kept = tmp_path / "strict.npz", tmp_path / "kept.npz"
     report = tmp_path / "strict.json"
-    assert run_main(capsys, "reconstruct", src, "-d", 2, "-o", strict, "--report", report).returncode == 0
-    assert run_main(capsys, "reconstruct", src, "-d", 2, "-o", kept, "--keep-boundary").returncode == 0
+    proc = run_main(capsys, "reconstruct", src, "-d", 2, "-o", strict, "--report", report, "--paper")
+    assert proc.returncode == 0 and proc.stderr == ""
+    # --keep-boundary is a paper-mode option: alone, it implies --paper and says so
+    proc = run_main(capsys, "reconstruct", src, "-d", 2, "-o", kept, "--keep-boundary")
+    assert proc.returncode == 0
+    assert "--keep-boundary" in proc.stderr and "--paper" in proc.stderr and len(proc.stderr.splitlines()) == 1
+    assert "extraction: paper's Algorithm 3 with boundary faces kept" in proc.stdout
+    proc = run_main(capsys, "reconstruct", src, "-d", 2, "-o", tmp_path / "both.npz", "--keep-boundary", "--paper")
+    assert proc.returncode == 0 and proc.stderr == ""
+    with np.load(kept) as a, np.load(tmp_path / "both.npz") as b:
+        assert str(a["mode"]) == str(b["mode"]) == "paper" and not a["prune_boundary"]
+        assert np.array_equal(a["simplices"], b["simplices"])
     rep = json.loads(report.read_text())
+    assert rep["mode"] == "paper"
     assert not rep["topology"]["closed_manifold"]  # a holed torus is not closed: the paper prunes it away
     with np.load(strict) as a, np.load(kept) as b:
         assert len(a["simplices"]) == 0  # the prune cascade eats the open tube
@@ -339,3 +358,116 @@ def test_view_rejects_bad_mesh_faces_before_a_window_opens(capsys, tmp_path):
     src.write_text("OFF\n5 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n3 0 1 5\n")
     proc = run_main(capsys, "view", src, "-d", 2)
     assert_one_line_error(proc, "refers to vertex 5")
+
+
+# ---------------------------------------------------------------- extraction mode (issue 7)
+def _step_counts(line):
+    """``{"rule": steps}`` and the total from an ``extraction: ...; N steps: rule a, rule b.`` line."""
+    head, _, rules = line.rstrip(".").rpartition(" steps: ")
+    total = int(head.rsplit("; ", 1)[1])
+    return total, {r.rsplit(" ", 1)[0]: int(r.rsplit(" ", 1)[1]) for r in rules.split(", ")}
+
+
+def _holes_of(triangles):
+    """Edges of a triangle list that lie in exactly one triangle, as a set of sorted pairs."""
+    t = np.sort(np.asarray(triangles), axis=1)
+    edges = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [0, 2]]])
+    rows, counts = np.unique(edges, axis=0, return_counts=True)
+    return {tuple(int(v) for v in r) for r in rows[counts == 1]}
+
+
+@pytest.fixture(scope="module")
+def knight_runs(tmp_path_factory):
+    """The decimated knight (502 points) reconstructed by the CLI in both modes, with reports."""
+    out = tmp_path_factory.mktemp("knight")
+    runs = {}
+    for mode, extra in (("robust", ()), ("paper", ("--paper",))):
+        npz, report = out / f"{mode}.npz", out / f"{mode}.json"
+        proc = run("reconstruct", RESOURCES / "decimated-knight.off", "-d", 2, "-o", npz, "--report", report,
+                   *extra)
+        assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+        runs[mode] = (proc.stdout.splitlines(), npz, report)
+    return runs
+
+
+def test_paper_flag_runs_the_papers_algorithm_3(knight_runs):
+    """The issue: on the decimated knight the paper's Algorithm 3 leaves a tiny closed blob; the
+    default does not stop there.  The printed lines say which extraction ran and its steps per rule."""
+    from crustview.core import reconstruct
+    from crustview.io import read_mesh
+
+    points = read_mesh(RESOURCES / "decimated-knight.off").points
+    lines, npz, report = knight_runs["paper"]
+    assert lines[1].startswith("extraction: paper's Algorithm 3; ")
+    total, counts = _step_counts(lines[1])
+    assert set(counts) == {"prune-sharp", "resolve-nonmanifold"} and sum(counts.values()) == total
+    rep = json.loads(report.read_text())
+    assert {r: c["steps"] for r, c in rep["rules"].items()} == counts
+    paper = reconstruct(points, 2, mode="paper")  # the same run in-process
+    assert total == paper.extraction.n_steps
+    with np.load(npz) as z:
+        assert str(z["mode"]) == "paper"
+        assert _rows_set(z["simplices"]) == _rows_set(paper.point_input[paper.manifold])
+        used = np.unique(z["simplices"]).size
+    assert used < 0.1 * len(points)  # the blob: most samples are dropped
+
+    lines, npz, report = knight_runs["robust"]
+    assert lines[1].startswith("extraction: robust (the paper's Algorithm 3 was abandoned after ")
+    total, counts = _step_counts(lines[1])
+    assert sum(counts.values()) == total and 0 not in counts.values()
+    assert counts.get("grow", 0) > 0  # the extension grew M_S instead of pruning it
+    with np.load(npz) as z:
+        assert str(z["mode"]) == "robust"
+        assert np.unique(z["simplices"]).size > 0.9 * len(points)
+
+
+def _rows_set(simplices):
+    return {tuple(r) for r in np.sort(np.asarray(simplices), axis=1).tolist()}
+
+
+def test_report_says_which_extraction_ran_and_why(knight_runs):
+    from crustview.core.quality import summary
+    from crustview.core import reconstruct
+    from crustview.io import read_mesh
+
+    _, npz, report = knight_runs["paper"]
+    assert report.stat().st_size < 20_000  # small: the top cascades only
+    rep = json.loads(report.read_text())
+    assert rep["mode"] == "paper" and rep["notes"] == [] and rep["prune_boundary"] is True
+    with np.load(npz) as z:
+        holes = _holes_of(z["candidates"])  # T_S, counted here from the saved candidates
+    assert rep["holes_of_T_S"] == len(holes) > 0
+    cascades = rep["cascades"]
+    assert 0 < len(cascades) <= 20 and rep["n_cascades"] >= len(cascades)
+    removed = [c["removed"] for c in cascades]
+    assert removed == sorted(removed, reverse=True)
+    assert sum(removed) <= rep["n_candidates"]
+    assert sum(c["steps"] for c in cascades) <= sum(r["steps"] for r in rep["rules"].values())
+    for c in cascades:
+        assert c["rule"] in ("prune-sharp", "resolve-nonmanifold") and len(c["tau"]) == 2
+        if c["hole"]:  # a hole of T_S: its edge lies in a single candidate triangle
+            assert c["rule"] == "prune-sharp" and tuple(sorted(c["tau"])) in holes
+    assert any(c["hole"] for c in cascades)
+    q = rep["sampling_quality"]
+    points = read_mesh(RESOURCES / "decimated-knight.off").points
+    expected = summary(reconstruct(points, 2, mode="paper"))
+    assert {k: v for k, v in q.items() if k != "seconds"} == \
+        {k: v for k, v in expected.items() if k != "seconds"}
+    assert all(0 <= b <= rep["n"] for b in q["beyond"].values())
+
+    rep = json.loads(knight_runs["robust"][2].read_text())
+    assert rep["mode"] == "robust" and "cascades" not in rep
+    assert rep["notes"][0].startswith("the paper's Algorithm 3 was abandoned after ")
+    assert rep["holes_of_T_S"] == len(holes)  # the same T_S, whichever extraction ran
+    assert set(rep["sampling_quality"]["beyond"]) == set(q["beyond"])
+
+
+def test_view_takes_paper_and_keep_boundary_stays_with_reconstruct():
+    from crustview.__main__ import build_parser
+
+    parser = build_parser()
+    assert parser.parse_args(["view", "x.npy", "--paper"]).paper
+    assert not parser.parse_args(["view", "x.npy"]).paper
+    assert parser.parse_args(["reconstruct", "x.npy", "-d", "2", "-o", "y.npz", "--paper"]).paper
+    proc = run("reconstruct", "--help")
+    assert "--paper" in proc.stdout and "implies --paper" in " ".join(proc.stdout.split())

@@ -585,6 +585,34 @@ def test_saved_result_with_another_d_keeps_its_test_and_theta(qtbot, window, tmp
     assert rec.d == 1 and rec.test == "literal" and np.isclose(rec.theta, np.radians(30))
 
 
+def test_saved_result_reopens_in_its_mode_unless_told_otherwise(qtbot, window, tmp_path):
+    """Issue 7: a result saved by the paper's Algorithm 3 reopens in paper mode although the
+    window's default is robust; ``open_file(..., mode=)`` (``crustview view --paper``) wins."""
+    from pathlib import Path
+
+    from crustview import io
+    from crustview.core import reconstruct
+
+    knight = Path(__file__).resolve().parents[1] / "resources" / "decimated-knight.off"
+    points = io.read_mesh(knight).points
+    saved = reconstruct(points, 2, mode="paper")
+    path = tmp_path / "knight.npz"
+    io.write_result(path, saved)
+    assert window.run_panel.mode == "robust"
+    assert window.open_file(path)
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec is not None, timeout=60_000)
+    rec = window.model.rec
+    assert rec.mode == "paper" and window.run_panel.mode == "paper"
+    assert len(rec.manifold) == len(saved.manifold)
+    assert "Same M_S as saved in knight.npz" in window.statusBar().currentMessage()
+
+    assert window.open_file(path, mode="robust")
+    assert "saved in paper mode; reconstructing in robust mode" in window.statusBar().currentMessage()
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec is not rec, timeout=60_000)
+    assert window.model.rec.mode == "robust" and window.run_panel.mode == "robust"
+    assert len(window.model.rec.manifold) != len(saved.manifold)
+
+
 def test_keys_in_a_floating_dock_and_a_busy_window(qtbot, window, tmp_path):
     load(qtbot, window)
     dock = window.docks["run"]

@@ -163,12 +163,13 @@ def _check_npz(path, rec):
     with np.load(path, allow_pickle=False) as z:
         data = {key: z[key] for key in z.files}
     assert set(data) == {"points", "simplices", "candidates", "normals", "tangents",
-                         "d", "k", "test", "theta", "prune_boundary"}  # fmt: skip
+                         "d", "k", "test", "theta", "prune_boundary", "mode"}  # fmt: skip
     n_in, k, d = len(rec.input_points), rec.k, rec.d
     np.testing.assert_array_equal(data["points"], rec.input_points)
     assert int(data["d"]) == d and int(data["k"]) == k
     assert str(data["test"]) == rec.test and float(data["theta"]) == rec.theta
     assert bool(data["prune_boundary"]) == rec.prune_boundary
+    assert str(data["mode"]) == rec.mode
     simp, cand = data["simplices"], data["candidates"]
     assert simp.shape == (len(rec.manifold), d + 1) and cand.shape[1] == d + 1
     assert simp.min() >= 0 and simp.max() < n_in
@@ -272,14 +273,64 @@ def test_report(tmp_path, sphere_rec):
 
 def test_run_parameters_round_trip_and_plain_files_have_none(tmp_path):
     pts = get_manifold("circle").sample(60, seed=0).points
-    rec = reconstruct(pts, 1, test="cocone-all", theta=0.3, prune_boundary=False)
+    # prune_boundary is an option of the paper's Algorithm 3
+    rec = reconstruct(pts, 1, test="cocone-all", theta=0.3, prune_boundary=False, mode="paper")
     write_result(tmp_path / "r.npz", rec)
     got = read_run_parameters(tmp_path / "r.npz")
-    assert (got["d"], got["test"], got["theta"], got["prune_boundary"]) == (1, "cocone-all", 0.3, False)
+    assert (got["d"], got["test"], got["theta"], got["prune_boundary"], got["mode"]) == \
+        (1, "cocone-all", 0.3, False, "paper")
     again = reconstruct(read_points(tmp_path / "r.npz"), got["d"], test=got["test"], theta=got["theta"],
-                        prune_boundary=got["prune_boundary"])
+                        prune_boundary=got["prune_boundary"], mode=got["mode"])
     assert _rows(again.point_input[again.manifold]) == _rows(got["simplices"])  # the same M_S
     np.savez(tmp_path / "plain.npz", points=pts)
     np.save(tmp_path / "plain.npy", pts)
     assert read_run_parameters(tmp_path / "plain.npz") is None
     assert read_run_parameters(tmp_path / "plain.npy") is None
+
+
+def test_saved_mode_round_trip(tmp_path):
+    """Issue 7: a result remembers which extraction made it.  On the decimated knight the two
+    modes give different M_S (the paper's is a small blob), so the mode must come back."""
+    from pathlib import Path
+
+    from crustview.io import read_mesh
+
+    points = read_mesh(Path(__file__).resolve().parents[1] / "resources" / "decimated-knight.off").points
+    robust = reconstruct(points, 2)
+    paper = reconstruct(points, 2, mode="paper")
+    assert _rows(robust.point_input[robust.manifold]) != _rows(paper.point_input[paper.manifold])
+    for rec in (robust, paper):
+        path = tmp_path / f"{rec.mode}.npz"
+        write_result(path, rec)
+        got = read_run_parameters(path)
+        assert got["mode"] == rec.mode
+        again = reconstruct(read_points(path), got["d"], test=got["test"], theta=got["theta"],
+                            prune_boundary=got["prune_boundary"], mode=got["mode"])
+        assert _rows(again.point_input[again.manifold]) == _rows(got["simplices"])
+
+    # a result saved before the robust extraction existed has no mode: the paper's loop made it
+    with np.load(tmp_path / "paper.npz") as z:
+        old = {key: z[key] for key in z.files if key != "mode"}
+    np.savez(tmp_path / "old.npz", **old)
+    assert read_run_parameters(tmp_path / "old.npz")["mode"] == "paper"
+    np.savez(tmp_path / "odd.npz", **old, mode=np.str_("magic"))
+    with pytest.raises(InputError, match="magic"):
+        read_run_parameters(tmp_path / "odd.npz")
+
+
+def test_report_of_a_paper_run_lists_its_cascades(tmp_path):
+    """A holed torus in paper mode: the prune cascades start at holes of T_S."""
+    pts = get_manifold("torus").sample(1500, seed=0).points
+    rec = reconstruct(pts[pts[:, 0] <= 0.6], 2, mode="paper")
+    data = report_dict(rec)
+    assert data["mode"] == "paper" and data["stopped"] == "empty"
+    assert json.loads(json.dumps(data)) == data  # plain JSON
+    holes = {tuple(sorted(int(rec.point_input[v]) for v in h)) for h in rec.extraction.holes}
+    assert data["holes_of_T_S"] == len(holes) > 0
+    listed = data["cascades"]
+    assert len(listed) == min(20, data["n_cascades"]) > 0
+    assert listed[0]["removed"] >= listed[-1]["removed"]
+    for c in listed:  # a hole origin is a prune of a face in a single candidate (tau in input rows)
+        if c["hole"]:
+            assert c["rule"] == "prune-sharp" and tuple(sorted(c["tau"])) in holes
+    assert any(c["hole"] for c in listed)

@@ -25,7 +25,8 @@ def _excepthook(window):
     return hook
 
 
-def run_app(path: str | os.PathLike | None = None, d: int | None = None, demo: bool = True) -> int:
+def run_app(path: str | os.PathLike | None = None, d: int | None = None, demo: bool = True,
+            mode: str | None = None) -> int:
     """Open the main window and run the Qt event loop.
 
     Parameters
@@ -37,6 +38,10 @@ def run_app(path: str | os.PathLike | None = None, d: int | None = None, demo: b
     demo : bool
         Without ``path``, start on the built-in demo (a torus in R^3,
         reconstructed, replay at step 0).
+    mode : {"robust", "paper"}, optional
+        Extraction mode for ``path`` (``crustview view --paper``); it also
+        overrides the mode saved in a result ``.npz``.  None: the Run panel's
+        mode, or the saved one.
 
     Returns
     -------
@@ -55,7 +60,9 @@ def run_app(path: str | os.PathLike | None = None, d: int | None = None, demo: b
     window.show()
     sys.excepthook = _excepthook(window)
     if path is not None:
-        QTimer.singleShot(0, lambda: window.open_file(path, d))
+        if mode is not None:
+            window.run_panel.set_mode(mode)
+        QTimer.singleShot(0, lambda: window.open_file(path, d, mode=mode))
     elif demo:
         QTimer.singleShot(0, window.load_demo)
     return int(app.exec())

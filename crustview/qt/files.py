@@ -43,10 +43,12 @@ class FileActions:
         if path:
             self.open_file(path)
 
-    def open_file(self, path: str | os.PathLike, d: int | None = None) -> bool:
+    def open_file(self, path: str | os.PathLike, d: int | None = None, mode: str | None = None) -> bool:
         """Read a point file and start its reconstruction.
 
         When ``d`` is None the user is asked, with a local-PCA suggestion.
+        ``mode`` ("robust" or "paper") overrides the Run panel's extraction
+        mode and the one saved in a result ``.npz``.
         Returns False when the file could not be used (the error is shown and
         the current result stays).
         """
@@ -82,13 +84,17 @@ class FileActions:
             # a saved result: redo its run (deterministic), no question; a d given
             # on top changes only d
             params = {"test": saved["test"], "theta": saved["theta"], "prune_boundary": saved["prune_boundary"]}
-            if saved.get("mode") is not None:  # files saved before the robust extraction have none
+            if saved.get("mode") is not None:  # "paper" for files saved before the robust extraction
                 params["mode"] = str(saved["mode"])
             if d is None:
                 d = saved["d"]
             elif d != saved["d"]:
                 note = (f"{name} was saved with d = {saved['d']}; reconstructing with d = {d}, "
                         f"keeping its test ({saved['test']}) and θ = {np.degrees(saved['theta']):.1f}°.")
+        if mode is not None:
+            if saved is not None and saved.get("mode") not in (None, mode) and not note:
+                note = f"{name} was saved in {saved['mode']} mode; reconstructing in {mode} mode as asked."
+            params["mode"] = mode
         if d is not None and not 1 <= d < k:
             self.statusBar().showMessage(f"d = {d} is not possible for points in R^{k}; choose 1 … {k - 1}.", 10000)
             d = None
@@ -111,7 +117,7 @@ class FileActions:
             return False
         if note:
             self.statusBar().showMessage(note, 20000)
-        elif params:
+        elif saved is not None:
             self._pending["saved"] = (saved["simplices"], name)
         return True
 
