@@ -149,6 +149,8 @@ class Grower:
         self.vfront = [0] * self.n
         self.heap: list[tuple[int, float, int]] = []
         self.cos_limit = COS_PAPER
+        #: apexes of gluing moves: the only vertices where the grown complex can pinch
+        self.glued: list[int] = []
         #: (face id, rule, facet id or -1, angle) per step, in order
         self.log: list[tuple[int, str, int, float]] = []
 
@@ -268,6 +270,8 @@ class Grower:
                     heapq.heappush(heap, (1, cost, j))
                 continue
             f = self._inc[j]
+            if now_glue:
+                self.glued.append(self._apex[j])
             self.add(f, rule_of(f, cos), self._fg[j], math.acos(max(-1.0, min(1.0, cos))))
             if len(self.log) % 1024 == 0:
                 if cancel is not None and cancel.is_set():

@@ -65,6 +65,8 @@ class Patcher:
         self.bset: set[Simplex] = set()  # facets with exactly one simplex
         self.index: dict[Simplex, int] = {}  # alive simplex -> id
         self.star: dict[int, set[int]] = {}  # vertex -> alive simplex ids
+        #: vertices whose star changed since the last :meth:`unpinch_all` (where pinches can appear)
+        self.suspects: set[int] = set()
         self.log: list[tuple[str, Simplex, tuple[int, ...], tuple[int, ...], float, str]] = []
         for s in simplices:
             self._insert(s)
@@ -86,6 +88,7 @@ class Patcher:
         self.index[s] = i
         for v in s:
             self.star.setdefault(v, set()).add(i)
+        self.suspects.update(s)
         for f in _facets(s):
             ids = self.fmap.setdefault(f, [])
             ids.append(i)
@@ -98,6 +101,7 @@ class Patcher:
         del self.index[s]
         for v in s:
             self.star[v].discard(i)
+        self.suspects.update(s)
         for f in _facets(s):
             ids = self.fmap[f]
             ids.remove(i)
@@ -406,9 +410,14 @@ class Patcher:
         return list(groups.values())
 
     def unpinch_all(self) -> int:
-        """Drop all but the largest fan at every vertex with several; returns how many vertices."""
+        """Drop all but the largest fan at every suspect vertex with several; returns how many.
+
+        Suspects are the vertices whose star changed since the last call
+        (initially the ones the caller names in :attr:`suspects`).
+        """
         fixed = 0
-        for v in sorted(self.star):
+        suspects, self.suspects = sorted(self.suspects), set()
+        for v in suspects:
             fans = self.fans(v)
             if len(fans) < 2:
                 continue

@@ -57,6 +57,7 @@ replayed in paper mode.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -166,6 +167,8 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
         raise Cancelled("reconstruction cancelled")
     grown = [f for f, *_ in gr.log]
     pt = Patcher(points, [tuple(int(v) for v in F[f]) for f in grown], F, spacing)
+    # only gluing moves leave pinched vertices behind in the grown complex
+    pt.suspects = set(gr.glued)
     for _ in range(3):  # closing holes, unpinching and inserting can each leave work for the others
         for _ in range(4):  # eroding one hole can reach another: repeat while something closes
             before = len(pt.boundary())
@@ -201,16 +204,21 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
         taken.add(r)
         patch_rows.append(r)
     steps: list[Step] = []
-    for (f, rule, g, angle) in gr.log:
-        idx = len(steps)
-        tau = tuple(int(v) for v in (gr.facets[g] if g >= 0 else F[f]))
+    log_f = [e[0] for e in gr.log]
+    score_deg = np.degrees(S[log_f]).tolist() if log_f else []
+    sizes = gr.size[log_f].tolist() if log_f else []
+    dp1 = F.shape[1]
+    fv = gr._fverts  # flat facet vertex lists
+    for idx, (f, rule, g, angle) in enumerate(gr.log):
+        tau = tuple(fv[g * (dp1 - 1):(g + 1) * (dp1 - 1)]) if g >= 0 else tuple(F[f].tolist())
         if rule == RULE_SEED:
-            why = (f"new component started at the best free candidate (score {np.degrees(S[f]):.1f} deg, "
-                   f"size {gr.size[f]:.2f})")
+            why = (f"new component started at the best free candidate (score {score_deg[idx]:.1f} deg, "
+                   f"size {sizes[idx]:.2f})")
         else:
-            where = "a face of T_S" if tier[f] == 0 else f"a Delaunay face outside T_S (score {np.degrees(S[f]):.1f} deg)"
-            why = (f"added {where} across a boundary face, meeting its neighbour at {np.degrees(angle):.1f} deg "
-                   f"(180 = flat), size {gr.size[f]:.2f}")
+            where = ("a face of T_S" if f < n_ts
+                     else f"a Delaunay face outside T_S (score {score_deg[idx]:.1f} deg)")
+            why = (f"added {where} across a boundary face, meeting its neighbour at "
+                   f"{math.degrees(angle):.1f} deg (180 = flat), size {sizes[idx]:.2f}")
         steps.append(Step(idx, rule, tau, (), (), angle, why, added=(grown_rows[idx],)))
     for rule, tau, added, removed, angle, why in pt.log:
         steps.append(Step(len(steps), rule, tau, (), tuple(patch_rows[i] for i in removed), angle, why,
