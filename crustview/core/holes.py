@@ -11,6 +11,9 @@ triangulation can be added where no Delaunay face fits:
   first, creases up to 120 deg allowed), then -- for d = 2 -- by clipping
   ears off each boundary loop (triangles need not be Delaunay), for d = 1 by
   joining its two ends.  Larger holes are real boundary and stay open.
+* ``drop-stray``: a component far smaller than the largest (a seed that
+  closed three or four samples into a tiny loop or bubble) is removed, and
+  its samples go to ``insert-sample``.
 * ``insert-sample``: a sample that is no vertex of M_S and lies within
   :data:`INSERT_MAX` spacings of a simplex whose projection contains it is
   made a vertex by a stellar subdivision of that simplex (one simplex is
@@ -30,6 +33,9 @@ FILL_MAX_FACES = 30
 FILL_MAX_SPAN = 14.0
 #: Largest distance, in median spacings, from a left-out sample to the simplex it is inserted in.
 INSERT_MAX = 2.0
+#: Components with fewer simplices than this, and under STRAY_SHARE of the largest, are stray.
+STRAY_MAX = 64
+STRAY_SHARE = 0.05
 #: A closing simplex may meet its neighbours at phi > 60 deg (creases up to 120 deg).
 COS_FILL = 0.5
 #: An ear may meet its neighbours at phi > 25 deg: a hole's rim leaves no other choice.
@@ -387,6 +393,47 @@ class Patcher:
             self.add(s, "fill-hole", (a,), float("nan"),
                      f"closing a {why}: joined ends {a} and {b}, {dist / local:.1f} local spacings apart")
             done.update((a, b))
+
+    # -- stray components ------------------------------------------------------
+    def drop_small_components(self) -> int:
+        """Remove components far smaller than the largest; returns how many.
+
+        A component with fewer than :data:`STRAY_MAX` simplices and under
+        :data:`STRAY_SHARE` of the largest one is a stray piece that a seed
+        grew in an undersampled spot (three samples closed into a tiny loop,
+        four into a tetrahedron).  Its samples go back to ``insert-sample``.
+        """
+        ids = [i for i, a in enumerate(self.alive) if a]
+        parent = {i: i for i in ids}
+
+        def find(a: int) -> int:
+            while parent[a] != a:
+                parent[a] = parent[parent[a]]
+                a = parent[a]
+            return a
+
+        for i in ids:
+            for f in _facets(self.simp[i]):
+                for j in self.fmap[f]:
+                    ra, rb = find(i), find(j)
+                    if ra != rb:
+                        parent[ra] = rb
+        comps: dict[int, list[int]] = {}
+        for i in ids:
+            comps.setdefault(find(i), []).append(i)
+        if len(comps) < 2:
+            return 0
+        largest = max(len(c) for c in comps.values())
+        dropped = 0
+        for comp in comps.values():
+            if len(comp) < STRAY_MAX and len(comp) < STRAY_SHARE * largest:
+                for i in comp:
+                    self._delete(i)
+                self.log.append(("drop-stray", self.simp[comp[0]], (), tuple(comp), float("nan"),
+                                 f"a stray component of {len(comp)} simplices (the largest has {largest}) "
+                                 "was removed; its samples are inserted into the rest"))
+                dropped += 1
+        return dropped
 
     # -- pinched vertices -----------------------------------------------------
     def fans(self, v: int) -> list[list[int]]:

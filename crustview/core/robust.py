@@ -21,33 +21,40 @@ The extension
    simplex in T_S at all.
 2. **Growing a manifold instead of pruning one** (the direction the paper's
    closing section names: Cocone's "walk on the outer boundary").  Starting
-   from the best-scored candidate (rule ``seed``), d-simplices are added
-   across the current boundary, one per step, always keeping a manifold with
-   boundary.  A Delaunay d-face f may be added across a boundary (d-1)-face
-   tau of simplex sigma when
+   from the best-scored candidate (rule ``seed``), Delaunay d-faces are
+   added across the current boundary, one per step, always keeping a
+   manifold with boundary (:mod:`crustview.core.grow`).  A face f may be
+   added across a boundary (d-1)-face tau of simplex sigma when
 
    * f and sigma meet at phi > pi/2 at tau (the paper's line 4: a pair
      meeting within pi/2 of flat), and likewise at every other face of f
-     that already has a simplex;
+     that already has a simplex; a second pass allows phi > pi/3, for the
+     creases of real objects;
    * every (d-1)-face of f lies in at most one simplex so far (no
      non-manifold face ever appears);
    * f's new vertex is either not yet used, or lies on the boundary (a
-     vertex inside the surface is never touched again).
+     vertex inside the surface is never touched again);
+   * if f is a *gluing* move (it touches the surface only at tau and one
+     distant boundary vertex -- the only way handles form), f is in T_S,
+     and it waits until no other move is left.
 
-   Candidates are taken in the order (tier, gluing, deviation from flat):
-   tier 0 are the faces of T_S (rule ``grow``), tier 1 Delaunay d-faces
-   whose candidate score is below the 45 deg limit of exact scores (rule
-   ``grow-relaxed``: theta relaxed only where the boundary needs it);
-   *gluing* (a face that touches the surface only at tau and a distant
-   boundary vertex -- the only way a growing disc acquires handles) comes
-   after every non-gluing choice of the same tier.
-3. **Closing small holes** (rule ``fill-hole``).  Boundary components left
-   after growing are holes.  One with at most :data:`FILL_MAX_FACES`
-   (d-1)-faces, whose vertices all lie within :data:`FILL_MAX_SPAN` sample
-   spacings of each other, is an undersampling gap and is closed with
-   Delaunay d-faces of any score among its own vertices, flattest first.
-   Larger holes are real boundary (an open scan) and stay open, so no ribbon
-   is drawn across a real gap; the report names them.
+   Candidates are taken smallest first, by size (circumradius over the mean
+   nearest-neighbour distance of the vertices, about 1 for a good face;
+   never above :data:`~crustview.core.grow.SIZE_MAX`), doubled outside T_S
+   and weighted by the candidate score.  Faces of T_S at phi > pi/2 are rule
+   ``grow``; the others are ``grow-relaxed`` (theta, or the angle, relaxed
+   only where the boundary needs it).
+3. **Closing gaps, keeping holes** (:mod:`crustview.core.holes`).  Stray
+   components far smaller than the largest are dropped (``drop-stray``).
+   A boundary component with at most
+   :data:`~crustview.core.holes.FILL_MAX_FACES` faces spanning at most
+   :data:`~crustview.core.holes.FILL_MAX_SPAN` local spacings is an
+   undersampling gap, closed by Delaunay faces, ears in the hole's plane
+   (d = 2) or joined ends (d = 1) (``fill-hole``).  Larger holes are real
+   boundary (an open scan) and stay open, so no ribbon is drawn across a
+   real gap; the report names them.  A sample that is no vertex is inserted
+   by a stellar subdivision of the nearest face (``insert-sample``), and a
+   vertex where M_S pinches keeps only its largest fan.
 
 The run is one replayable sequence of steps over :attr:`Extraction.simplices`
 (T_S followed by the Delaunay faces the extension added); the paper's
@@ -169,6 +176,7 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
     pt = Patcher(points, [tuple(int(v) for v in F[f]) for f in grown], F, spacing)
     # only gluing moves leave pinched vertices behind in the grown complex
     pt.suspects = set(gr.glued)
+    pt.drop_small_components()
     for _ in range(3):  # closing holes, unpinching and inserting can each leave work for the others
         for _ in range(4):  # eroding one hole can reach another: repeat while something closes
             before = len(pt.boundary())

@@ -29,7 +29,8 @@ from ..scene.model import SceneModel
 COLUMNS = ("#", "rule", "τ", "kept", "removed", "added", "angle")
 
 #: Short rule names in the step table.
-RULE_SHORT = {"prune-sharp": "prune", "resolve-nonmanifold": "resolve", "grow-relaxed": "relax", "fill-hole": "fill"}
+RULE_SHORT = {"prune-sharp": "prune", "resolve-nonmanifold": "resolve", "grow-relaxed": "relax", "fill-hole": "fill",
+              "insert-sample": "insert", "drop-stray": "stray"}
 
 
 def _ids(t) -> str:
@@ -123,7 +124,8 @@ class StepsPanel(QWidget):
         self.rule = QComboBox(self)
         self.rule.addItems(list(RULES))
         self.rule.setToolTip("prune-sharp: line 2 of Algorithm 3; resolve-nonmanifold: lines 3-5; seed, grow, "
-                             "grow-relaxed, fill-hole: the robust extension, which adds simplices")
+                             "grow-relaxed, fill-hole, drop-stray, insert-sample: the robust extension, which "
+                             "mostly adds simplices")
         self.to_rule = QPushButton("Run to next step of rule", self)
         self.to_rule.setToolTip("Jump to just after the next step that applied the chosen rule")
         self.to_rule.clicked.connect(self._run_to_rule)

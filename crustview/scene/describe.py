@@ -52,7 +52,8 @@ def step_words(step: Step | None, position: int, n_steps: int) -> str:
     kept = f"; kept {fmt_tuple(step.kept)}" if step.kept else ""
     if step.added and not step.removed:
         words = {"seed": "Seed M_S", "grow": "Grow across a boundary face",
-                 "grow-relaxed": "Grow across a boundary face (θ relaxed)", "fill-hole": "Fill a hole"}
+                 "grow-relaxed": "Grow across a boundary face (θ relaxed)", "fill-hole": "Fill a hole",
+                 "insert-sample": "Insert a left-out sample"}
         return (
             f"Step {position} / {n_steps} — {words.get(step.rule, step.rule)} at τ = {fmt_tuple(step.tau)}: added "
             f"{len(step.added)} simplex{'es' if len(step.added) != 1 else ''} "
@@ -177,7 +178,7 @@ def interpretation_rows(rec: Reconstruction) -> list[tuple[str, str, str]]:
         "extraction",
         "robust (the paper's Algorithm 3, extended)" if rec.mode == "robust" else "the paper's Algorithm 3",
         "robust: the paper's loop first; if it cannot give a closed manifold through every sample, M_S is "
-        "grown across boundaries instead (rules seed, grow, grow-relaxed, fill-hole)" if rec.mode == "robust"
+        "grown across boundaries instead (rules seed, grow, grow-relaxed, fill-hole, drop-stray, insert-sample)" if rec.mode == "robust"
         else "exactly as printed: prune sharp and boundary faces, resolve non-manifold faces",
     ))
     rows.append((
