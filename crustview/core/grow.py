@@ -27,7 +27,7 @@ SIZE_MAX = 6.0
 #: cos(phi) limits at a boundary face: the paper's line 4 (phi > pi/2), then a
 #: relaxed pass for creases of real scans (phi > pi/3).
 COS_PAPER = 0.0
-COS_CREASE = 0.5
+COS_CREASE = float(__import__("os").environ.get("CV_CREASE", "0.5"))
 #: weight of the candidate score (radians) in the growing order
 COST_SCORE = 1.0
 
@@ -151,6 +151,11 @@ class Grower:
         self.cos_limit = COS_PAPER
         #: apexes of gluing moves: the only vertices where the grown complex can pinch
         self.glued: list[int] = []
+        #: orientation (+1/-1 relative to the sorted vertex order) of each grown simplex
+        self.orient = [0] * f
+        #: codimension 1: every closed hypersurface is orientable, so no move may
+        #: join two simplices with opposite orientations
+        self.orientable = points.shape[1] - (self.dp1 - 1) == 1 and __import__("os").environ.get("CV_NOORIENT") != "1"
         #: (face id, rule, facet id or -1, angle) per step, in order
         self.log: list[tuple[int, str, int, float]] = []
 
@@ -166,8 +171,16 @@ class Grower:
     def _u_at(self, f: int, h: int) -> np.ndarray:
         return self.u[f, self._facets_of(f).index(h)]
 
+    def _induced_orientation(self, f: int, g: int) -> int:
+        """Orientation simplex f must take to agree with the owner of facet g."""
+        s = self.xor[g] - 1
+        a = self._facets_of(f).index(g)
+        b = self._facets_of(s).index(g)
+        return -self.orient[s] * (-1 if (a + b) % 2 else 1)
+
     def add(self, f: int, rule: str, g: int, angle: float) -> None:
         self.alive[f] = 1
+        self.orient[f] = self._induced_orientation(f, g) if g >= 0 else 1
         count, xor, vfront = self.count, self.xor, self.vfront
         d, dp1 = self.dp1 - 1, self.dp1
         hs = self._fo[f * dp1:(f + 1) * dp1]
@@ -241,6 +254,8 @@ class Grower:
                 closing = True
                 if float(self._u_at(f, h) @ self._u_at(self.xor[h] - 1, h)) >= self.cos_limit:
                     return False, False, cos  # folded onto an existing simplex
+                if self.orientable and self._induced_orientation(f, h) != self._induced_orientation(f, g):
+                    return False, False, cos  # would close a Moebius band: impossible in codimension 1
         return True, bool(self.vcount[c] > 0 and not closing), cos
 
     # -- phases -------------------------------------------------------------

@@ -28,9 +28,9 @@ import itertools
 import numpy as np
 
 #: Largest hole, in boundary (d-1)-faces, that ``fill-hole`` closes.
-FILL_MAX_FACES = 30
+FILL_MAX_FACES = 50
 #: Largest hole span, in median sample spacings, that ``fill-hole`` closes.
-FILL_MAX_SPAN = 14.0
+FILL_MAX_SPAN = 18.0
 #: Largest distance, in median spacings, from a left-out sample to the simplex it is inserted in.
 INSERT_MAX = 2.0
 #: Components with fewer simplices than this, and under STRAY_SHARE of the largest, are stray.
@@ -62,8 +62,13 @@ class Patcher:
         Median nearest-neighbour distance.
     """
 
-    def __init__(self, points: np.ndarray, simplices: list[Simplex], delaunay: np.ndarray, spacing: float) -> None:
+    def __init__(self, points: np.ndarray, simplices: list[Simplex], delaunay: np.ndarray, spacing: float,
+                 orient: list[int] | None = None, orientable: bool = False) -> None:
         self.points = points
+        #: +1/-1 per simplex (relative to its sorted vertex order); 0 when unknown
+        self.orient: list[int] = []
+        #: codimension 1: refuse every addition that would make M_S non-orientable
+        self.orientable = orientable
         self.spacing = float(spacing)
         self.simp: list[Simplex] = []
         self.alive: list[bool] = []
@@ -74,8 +79,8 @@ class Patcher:
         #: vertices whose star changed since the last :meth:`unpinch_all` (where pinches can appear)
         self.suspects: set[int] = set()
         self.log: list[tuple[str, Simplex, tuple[int, ...], tuple[int, ...], float, str]] = []
-        for s in simplices:
-            self._insert(s)
+        for i, s in enumerate(simplices):
+            self._insert(s, orient[i] if orient is not None else 0)
         self.delaunay = delaunay
         from scipy.spatial import cKDTree
 
@@ -87,9 +92,10 @@ class Patcher:
         self.vfaces = order // delaunay.shape[1] if delaunay.size else order
 
     # -- editing ------------------------------------------------------------
-    def _insert(self, s: Simplex) -> int:
+    def _insert(self, s: Simplex, orient: int = 0) -> int:
         i = len(self.simp)
         self.simp.append(s)
+        self.orient.append(orient)
         self.alive.append(True)
         self.index[s] = i
         for v in s:
@@ -146,6 +152,8 @@ class Patcher:
 
         Returns (ok, largest cos phi with an existing neighbour).
         """
+        if s in self.index or not self.consistent(s):
+            return False, 2.0
         worst = -1.0
         touching = 0
         for f in _facets(s):
@@ -158,8 +166,25 @@ class Patcher:
                 worst = max(worst, c)
         return touching > 0 and worst < COS_FILL, worst
 
+    def induced(self, s: Simplex) -> set[int]:
+        """Orientations that the neighbours of ``s`` (across its facets) ask it to take."""
+        out = set()
+        for a, f in enumerate(_facets(s)):
+            ids = self.at(f)
+            if len(ids) == 1 and self.orient[ids[0]]:
+                t = self.simp[ids[0]]
+                (apex,) = set(t) - set(f)
+                b = t.index(apex)
+                out.add(-self.orient[ids[0]] * (-1 if (a + b) % 2 else 1))
+        return out
+
+    def consistent(self, s: Simplex) -> bool:
+        """Whether ``s`` can be oriented to agree with all its neighbours (or need not)."""
+        return not self.orientable or len(self.induced(s)) <= 1
+
     def add(self, s: Simplex, rule: str, tau: Simplex, angle: float, why: str) -> None:
-        i = self._insert(s)
+        ind = self.induced(s)
+        i = self._insert(s, ind.pop() if len(ind) == 1 else 0)
         self.log.append((rule, tau, (i,), (), angle, why))
 
     # -- holes --------------------------------------------------------------
@@ -343,7 +368,9 @@ class Patcher:
                     diag = tuple(sorted((loop[a], loop[c])))
                     if m > 3 and self.at(diag):
                         continue  # the diagonal is already an edge of M_S elsewhere
-                    if any(len(self.at(f)) >= 2 for f in _facets(tri)):
+                    if tri in self.index or any(len(self.at(f)) >= 2 for f in _facets(tri)):
+                        continue
+                    if not self.consistent(tri):
                         continue
                     shape = _min_angle(q[a], q[b], q[c])
                     if best is None or shape > best[0]:
@@ -509,7 +536,11 @@ class Patcher:
                 continue
             dist, tau = best
             star = [i for i in self.star.get(tau[0], ()) if set(tau) <= set(self.simp[i])]
-            plan = [(i, tuple(sorted([w for w in self.simp[i] if w != v] + [x]))) for i in star for v in tau]
+            plan = []
+            for i in star:
+                for v in tau:
+                    ordered = [x if w == v else w for w in self.simp[i]]  # same orientation as simplex i
+                    plan.append((self.orient[i] * _parity(ordered), tuple(sorted(ordered))))
             news = [t for _, t in plan]
             if len(set(news)) != len(news) or any(t in self.index for t in news):
                 left.append(x)  # the split would duplicate a simplex: leave the sample out
@@ -517,7 +548,7 @@ class Patcher:
             removed = list(star)
             for i in star:
                 self._delete(i)
-            added = [self._insert(t) for t in news]
+            added = [self._insert(t, o) for o, t in plan]
             self.log.append(("insert-sample", (x,), tuple(added), tuple(removed), float("nan"),
                              f"sample {x} was no vertex; it lies {dist / self.spacing:.2f} spacings from the "
                              f"face {tau}, which is split around it ({len(removed)} simplices become "
@@ -545,6 +576,18 @@ class Patcher:
         bary = np.concatenate([[1 - lam.sum()], lam])
         foot = p[0] + a @ lam
         return float(np.linalg.norm(self.points[x] - foot)), bool((bary >= -1e-9).all())
+
+
+def _parity(seq: list[int]) -> int:
+    """+1 if sorting ``seq`` takes an even number of swaps, else -1."""
+    seq = list(seq)
+    sign = 1
+    for i in range(len(seq)):
+        for j in range(len(seq) - 1 - i):
+            if seq[j] > seq[j + 1]:
+                seq[j], seq[j + 1] = seq[j + 1], seq[j]
+                sign = -sign
+    return sign
 
 
 def _cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:

@@ -173,11 +173,12 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
     if cancel is not None and cancel.is_set():
         raise Cancelled("reconstruction cancelled")
     grown = [f for f, *_ in gr.log]
-    pt = Patcher(points, [tuple(int(v) for v in F[f]) for f in grown], F, spacing)
+    pt = Patcher(points, [tuple(int(v) for v in F[f]) for f in grown], F, spacing,
+                 orient=[gr.orient[f] for f in grown], orientable=gr.orientable)
     # only gluing moves leave pinched vertices behind in the grown complex
     pt.suspects = set(gr.glued)
-    pt.drop_small_components()
     for _ in range(3):  # closing holes, unpinching and inserting can each leave work for the others
+        pt.drop_small_components()
         for _ in range(4):  # eroding one hole can reach another: repeat while something closes
             before = len(pt.boundary())
             for hole in pt.holes():
