@@ -27,7 +27,7 @@ SIZE_MAX = 6.0
 #: cos(phi) limits at a boundary face: the paper's line 4 (phi > pi/2), then a
 #: relaxed pass for creases of real scans (phi > pi/3).
 COS_PAPER = 0.0
-COS_CREASE = float(__import__("os").environ.get("CV_CREASE", "0.5"))
+COS_CREASE = 0.5
 #: weight of the candidate score (radians) in the growing order
 COST_SCORE = 1.0
 
@@ -155,7 +155,7 @@ class Grower:
         self.orient = [0] * f
         #: codimension 1: every closed hypersurface is orientable, so no move may
         #: join two simplices with opposite orientations
-        self.orientable = points.shape[1] - (self.dp1 - 1) == 1 and __import__("os").environ.get("CV_NOORIENT") != "1"
+        self.orientable = points.shape[1] - (self.dp1 - 1) == 1
         #: (face id, rule, facet id or -1, angle) per step, in order
         self.log: list[tuple[int, str, int, float]] = []
 
