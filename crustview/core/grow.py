@@ -147,7 +147,7 @@ class Grower:
         self.xor = [0] * len(self.facets)  # xor of (id + 1) of the alive simplices at each facet
         self.vcount = [0] * self.n
         self.vfront = [0] * self.n
-        self.heap: list[tuple[int, float, int]] = []
+        self.heap: list[tuple[int, float, int, float]] = []
         self.cos_limit = COS_PAPER
         #: apexes of gluing moves: the only vertices where the grown complex can pinch
         self.glued: list[int] = []
@@ -231,14 +231,17 @@ class Grower:
             glue = used and not closing
             if glue and not self._in_ts[f]:
                 continue  # handles only where T_S vouches for them
-            heapq.heappush(self.heap, (int(glue), self._cost[f], lo + t))
+            heapq.heappush(self.heap, (int(glue), self._cost[f], lo + t, cos[t]))
 
-    def valid(self, j: int) -> tuple[bool, bool, float]:
-        """(valid, gluing, cos phi at the facet) of candidate entry ``j`` now."""
+    def valid(self, j: int, cos: float) -> tuple[bool, bool, float]:
+        """(valid, gluing, cos phi at the facet) of candidate entry ``j`` now.
+
+        ``cos`` was computed when ``j`` was queued; it is still exact, because a
+        boundary facet keeps its one simplex until a second one closes it.
+        """
         f, g = self._inc[j], self._fg[j]
         if self.alive[f] or self.count[g] != 1:
             return False, False, 1.0
-        cos = float(self.ucsr[j] @ self._u_at(self.xor[g] - 1, g))
         if cos >= self.cos_limit:
             return False, False, cos
         c = self._apex[j]
@@ -276,13 +279,13 @@ class Grower:
         """Pop candidates until none is valid; ``rule_of(face, cos)`` names each step."""
         heap = self.heap
         while heap:
-            glue, cost, j = heapq.heappop(heap)
-            ok, now_glue, cos = self.valid(j)
+            glue, cost, j, cos0 = heapq.heappop(heap)
+            ok, now_glue, cos = self.valid(j, cos0)
             if not ok:
                 continue
             if now_glue and not glue:  # became a gluing move since it was queued
                 if self._in_ts[self._inc[j]]:
-                    heapq.heappush(heap, (1, cost, j))
+                    heapq.heappush(heap, (1, cost, j, cos0))
                 continue
             f = self._inc[j]
             if now_glue:
