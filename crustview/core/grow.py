@@ -23,7 +23,7 @@ from .errors import Cancelled
 from .extraction import facet_structure
 
 #: Largest size ratio (circumradius over the local spacing) of a grown simplex.
-SIZE_MAX = 6.0
+SIZE_MAX = 3.0
 #: cos(phi) limits at a boundary face: the paper's line 4 (phi > pi/2), then a
 #: relaxed pass for creases of real scans (phi > pi/3).
 COS_PAPER = 0.0
