@@ -111,9 +111,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _add_demo_commands(sub) -> None:
     """Sub-commands kept in their own modules (render, compare)."""
-    from crustview import cli_render
+    from crustview import cli_compare, cli_render
 
     cli_render.add_parser(sub)
+    cli_compare.add_parser(sub)
 
 
 def _check_display() -> None:
@@ -289,6 +290,10 @@ def _dispatch(argv: Sequence[str]) -> int:
         from crustview import cli_render
 
         return cli_render.run(args)
+    if args.command == "compare":
+        from crustview import cli_compare
+
+        return cli_compare.run(args)
     return _cmd_list()
 
 

@@ -53,7 +53,7 @@ DENSE = {1: 200_000, 2: 400_000, 3: 1_500_000}
 #: Theorem 10's constant.
 THEOREM10_FACTOR = 2.65
 #: Points of the dense set used by :func:`numeric_reach`, by intrinsic dimension.
-REACH_POINTS = {1: 6_000, 2: 14_000, 3: 20_000}
+REACH_POINTS = {1: 6_000, 2: 8_000, 3: 12_000}
 
 LfsFunction = Callable[[np.ndarray], np.ndarray]
 
