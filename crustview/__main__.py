@@ -112,7 +112,16 @@ def build_parser() -> argparse.ArgumentParser:
                    help="point file (.npy .npz .csv .txt .xyz .ply .vtk)")
 
     sub.add_parser("list", help="list the built-in manifolds")
+    _add_demo_commands(sub)
     return parser
+
+
+def _add_demo_commands(sub) -> None:
+    """Sub-commands kept in their own modules (render, compare)."""
+    from crustview import cli_compare, cli_render
+
+    cli_render.add_parser(sub)
+    cli_compare.add_parser(sub)
 
 
 def _check_display() -> None:
@@ -320,6 +329,14 @@ def _dispatch(argv: Sequence[str]) -> int:
         return _cmd_reconstruct(args)
     if args.command == "sample":
         return _cmd_sample(args)
+    if args.command == "render":
+        from crustview import cli_render
+
+        return cli_render.run(args)
+    if args.command == "compare":
+        from crustview import cli_compare
+
+        return cli_compare.run(args)
     return _cmd_list()
 
 

@@ -29,6 +29,7 @@ from ..scene.describe import (
 )
 from ..scene.model import SceneModel
 from .diagnosis import DiagnosisPanel
+from .theorems_panel import TheoremPanel
 
 #: At most this many open faces are listed.
 MAX_FACES = 2000
@@ -109,6 +110,8 @@ class InfoPanel(QWidget):
         self.diagnosis.cascade_clicked.connect(self.cascade_clicked)
         self.diagnosis.paper_requested.connect(self.paper_requested)
         lay.addWidget(self.diagnosis)
+        self.theorems = TheoremPanel(model, self)
+        lay.addWidget(self.theorems)
         interp = self.interpretation_box = QGroupBox("Interpretation", self)
         il = QVBoxLayout(interp)
         self.interpretation = QLabel(interp)

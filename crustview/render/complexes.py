@@ -174,6 +174,13 @@ class ManifoldAdapter(ComplexAdapter):
 
     uses_step = True
 
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self.scalar_title: str | None = None
+        self.clim = (0.0, 1.0)
+        self.layer.events.colorby.connect(lambda *_: self.update_cells())
+        self.model.theorems_changed.connect(lambda *_: self.update_cells())
+
     def table(self):
         return self.model.rec.extraction.simplices
 
@@ -182,6 +189,22 @@ class ManifoldAdapter(ComplexAdapter):
 
     def step(self) -> None:
         self.update_cells()
+
+    def update_cells(self, *_) -> None:
+        super().update_cells()
+        if self.model.rec is None or self.drawing is None:
+            return
+        got = self.model.manifold_values(self.layer.colorby) if self.layer.colorings else None
+        if got is None:
+            self.scalar_title = None
+            self.part.solid()
+            return
+        values, title = got
+        set_cell_scalars(self.part.mesh, np.repeat(values[self.rows], self.drawing.per))
+        ok = values[np.isfinite(values)]
+        self.clim = (0.0, max(float(ok.max()) if len(ok) else 1.0, 1e-12))
+        self.scalar_title = title
+        self.part.colormap("inferno_r", self.clim, cell=True)
 
     def pick(self, part, cell_id):
         row = self.model.candidate_row(self.row_of(cell_id))
@@ -194,6 +217,9 @@ class RemovedAdapter(ManifoldAdapter):
     ``removed_by(i)``, not ``~alive(i)``: in a robust run a simplex that is not
     yet added is not alive either, but it was never removed.
     """
+
+    def update_cells(self, *_) -> None:
+        ComplexAdapter.update_cells(self)
 
     def mask(self):
         return self.model.rec.extraction.removed_by(self.model.player.position)

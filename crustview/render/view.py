@@ -77,6 +77,7 @@ class SceneView:
         model.player.step_changed.connect(self.on_step)
         model.selection.changed.connect(self.on_selection)
         model.candidates_changed.connect(lambda *_: self._after_colour())
+        model.theorems_changed.connect(lambda *_: (self.adapters["points"].recolor(), self._after_colour()))
         model.cascade_changed.connect(lambda *_: (self.update_legend(), self.render()))
 
     def _on_top(self, names: tuple[str, ...]) -> None:
@@ -222,7 +223,7 @@ class SceneView:
     def update_bars(self) -> None:
         """One scalar bar per visible scalar colouring (points, candidates)."""
         want = {}
-        for name in ("points", "candidates"):
+        for name in ("points", "candidates", "manifold"):
             a = self.adapters[name]
             title = getattr(a, "scalar_title", None)
             if self.model.layers[name].visible and title:

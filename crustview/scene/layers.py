@@ -7,7 +7,10 @@ from dataclasses import dataclass, field
 from psygnal import evented
 
 #: Colourings the points layer offers.
-POINT_COLORINGS = ("none", "epsilon", "normal error", "pole distance", "local spacing")
+POINT_COLORINGS = ("none", "epsilon", "normal error", "pole distance", "local spacing", "true epsilon",
+                   "Thm 2 error / bound")
+#: Colourings of the M_S layer.
+MANIFOLD_COLORINGS = ("none", "distance to M")
 #: Which poles to show.
 POLE_MODES = ("selected", "all")
 
@@ -103,6 +106,7 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
         ),
         Layer(
             "manifold", "M_S at this step", True, "#e9b872", 1.0, 3.0, shrink=0.8 if d >= 3 else 1.0,
+            colorings=MANIFOLD_COLORINGS,
             tooltip=f"The complex after the current number of extraction steps, drawn as {simplex}.",
         ),
         Layer(

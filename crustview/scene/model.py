@@ -10,6 +10,7 @@ from psygnal import Signal
 
 from ..core.quality import SamplingQuality, sampling_quality
 from ..core.result import Cascade, Reconstruction
+from ..core.theorems import TheoremChecks, check_theorems
 from . import geometry as geo
 from .layers import Layer, default_layers
 from .player import StepPlayer
@@ -46,6 +47,8 @@ class SceneModel:
     candidates_changed = Signal()
     #: Emitted when the highlighted prune cascade changes (None: none).
     cascade_changed = Signal(object)
+    #: Emitted when the theorem checks (:meth:`check_theorems`) were computed.
+    theorems_changed = Signal()
 
     def __init__(self) -> None:
         self.rec: Reconstruction | None = None
@@ -63,6 +66,8 @@ class SceneModel:
         self._quality: tuple[int, SamplingQuality] | None = None
         #: The prune cascade highlighted by the cascade layer (from ``rec.extraction.cascades()``).
         self.cascade: Cascade | None = None
+        #: Theorems 2 and 10 measured on the shown reconstruction (built-ins only, on request).
+        self.theorems: TheoremChecks | None = None
 
     # -- setting data ----------------------------------------------------
     def set_reconstruction(self, rec: Reconstruction, truth=None, source: str = "", keep_view: bool = False,
@@ -85,6 +90,7 @@ class SceneModel:
         self.theta = float(rec.theta)
         self._cache = {}
         self.cascade = None
+        self.theorems = None
         if not keep_view:
             self.selection.sample = self.selection.simplex = None
             self.selection.face = None
@@ -206,7 +212,47 @@ class SceneModel:
             return self.spacing, "local spacing"
         if colorby == "epsilon":
             return self.quality.epsilon, "estimated epsilon"
+        if colorby in ("true epsilon", "Thm 2 error / bound"):
+            th = self.theorems
+            if th is None:
+                return None
+            if colorby == "true epsilon":
+                return th.epsilon, "true epsilon"
+            with np.errstate(divide="ignore", invalid="ignore"):
+                return th.normal_error / th.bound, "normal error / Thm 2 bound"
         return None
+
+    @property
+    def builtin(self):
+        """The built-in manifold the samples came from (noise-free), or None."""
+        t = self.truth
+        if t is None or getattr(t, "manifold", None) is None or getattr(t, "noise", 0.0):
+            return None
+        return t.manifold
+
+    def check_theorems(self) -> TheoremChecks | None:
+        """Measure Theorems 2 and 10 (:mod:`crustview.core.theorems`) for a built-in; None otherwise."""
+        if self.rec is None or self.builtin is None:
+            return None
+        if self.theorems is None:
+            self.theorems = check_theorems(self.rec, self.builtin, getattr(self.truth, "tangents", None))
+            self.theorems_changed.emit()
+        return self.theorems
+
+    def manifold_values(self, colorby: str) -> tuple[np.ndarray, str] | None:
+        """Scalar per row of ``extraction.simplices`` for a colouring of M_S (NaN: none), with its label."""
+        rec, th = self.rec, self.theorems
+        if rec is None or th is None or colorby != "distance to M":
+            return None
+
+        def compute():
+            rows = geo.find_rows(rec.extraction.simplices, np.asarray(rec.manifold))
+            out = np.full(len(rec.extraction.simplices), np.nan)
+            ok = rows >= 0
+            out[rows[ok]] = th.ms_distance[ok]
+            return out
+
+        return self._cached("ms_distance", compute), "distance of M_S to M"
 
     def candidate_mask(self) -> np.ndarray:
         """Rows of ``candidates.faces`` the candidates layer shows."""

@@ -1,0 +1,102 @@
+"""crustview render: frame plans, captions and the written files (off-screen, no display)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from crustview.animation import caption_band, output_kind, parse_steps, plan_replay
+
+
+def test_plan_keeps_every_step_within_budget_and_spreads_longer_ranges():
+    p = plan_replay(10, (0, 10), budget=20)
+    assert p.positions == list(range(11)) and not p.subsampled
+    q = plan_replay(1000, (100, 900), budget=50)
+    assert q.positions[0] == 100 and q.positions[-1] == 900 and len(q.positions) == 50
+    assert np.all(np.diff(q.positions) > 0) and q.subsampled
+    assert "50 frames" in q.note() and "100-900 of 1000" in q.note()
+
+
+def test_parse_steps():
+    assert parse_steps(None, 40) == (0, 40)
+    assert parse_steps("5:", 40) == (5, 40)
+    assert parse_steps(":-10", 40) == (0, 30)
+    assert parse_steps("0:999", 40) == (0, 40)
+    with pytest.raises(ValueError):
+        parse_steps("20:10", 40)
+    with pytest.raises(ValueError):
+        parse_steps("7", 40)
+
+
+def test_output_kind(tmp_path):
+    assert output_kind(tmp_path / "a.gif") == "gif"
+    assert output_kind(tmp_path / "a.MP4") == "mp4"
+    assert output_kind(tmp_path / "frames") == "folder"
+    with pytest.raises(ValueError):
+        output_kind(tmp_path / "a.avi")
+
+
+def test_caption_band_draws_text():
+    band = caption_band("step 3 of 9: prune-sharp", 300, 38)
+    assert band.shape == (38, 300, 3)
+    assert (band < 100).any() and (band == 255).mean() > 0.7  # dark text on white
+
+
+def _decode(path, w, h) -> np.ndarray:
+    """Frames of a video decoded by the ffmpeg binary of imageio-ffmpeg (subprocess.run closes its pipes)."""
+    import subprocess
+
+    import imageio_ffmpeg
+
+    raw = subprocess.run([imageio_ffmpeg.get_ffmpeg_exe(), "-v", "error", "-i", str(path), "-f", "rawvideo",
+                          "-pix_fmt", "rgb24", "-"], capture_output=True, check=True).stdout
+    return np.frombuffer(raw, np.uint8).reshape(-1, h, w, 3)
+
+
+def _run_cli(args, capsys):
+    from crustview.__main__ import main
+
+    code = main(args)
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    return out
+
+
+def test_render_replay_gif_has_the_planned_frames_and_differs_between_steps(tmp_path, capsys, monkeypatch):
+    import imageio.v3 as iio
+
+    monkeypatch.delenv("DISPLAY", raising=False)  # headless: EGL, no X server
+    out = tmp_path / "c.gif"
+    got = _run_cli(["render", "torus", "--replay", "-o", str(out), "--frames", "5", "--size", "200x160"], capsys)
+    frames = iio.imread(out, index=None)
+    assert frames.shape[0] == 5 and frames.shape[1:3] == (160, 200)
+    assert "rendering [" in got.err and "5/5" in got.err
+    # the caption band differs from frame to frame (it names the step)
+    assert np.abs(frames[0, :38].astype(int) - frames[-1, :38].astype(int)).sum() > 0
+
+
+def test_render_tour_mp4_and_png_folder(tmp_path, capsys, monkeypatch):
+    import imageio.v3 as iio
+
+    monkeypatch.delenv("DISPLAY", raising=False)
+    mp4 = tmp_path / "t.mp4"
+    _run_cli(["render", "circle-r4", "--tour", "-o", str(mp4), "--frames", "6", "--size", "203x161"], capsys)
+    import imageio_ffmpeg
+
+    assert imageio_ffmpeg.count_frames_and_secs(str(mp4))[0] == 6
+    video = _decode(mp4, 200, 160)  # 6 frames of exactly 200 x 160 bytes each: the size was rounded
+    assert video.shape[0] == 6 and video.shape[1:3] == (160, 200)  # rounded to multiples of 8
+    # the tour moves the projection: the first and last 3-D views differ
+    assert np.abs(video[0, 40:].astype(int) - video[-1, 40:].astype(int)).mean() > 1
+    folder = tmp_path / "frames"
+    _run_cli(["render", "circle", "--replay", "-o", str(folder), "--frames", "3", "--size", "120x100"], capsys)
+    assert len(list(folder.glob("frame-*.png"))) == 1  # the circle needs no step: T_S is M_S
+
+
+def test_render_reports_bad_arguments_in_one_line(tmp_path, capsys):
+    from crustview.__main__ import main
+
+    assert main(["render", "circle", "--replay", "-o", str(tmp_path / "x.avi")]) == 2
+    assert "use .gif, .mp4 or a folder" in capsys.readouterr().err
+    assert main(["render", "circle", "--replay", "--steps", "9:2", "-o", str(tmp_path / "x.gif")]) == 2
+    assert "range is empty" in capsys.readouterr().err
