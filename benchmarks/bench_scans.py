@@ -1,6 +1,6 @@
 """crustview on real scans, robust (default) and paper mode, optionally against CGAL.
 
-Every mesh in the scans folder (default ``/work/shared/data/scans``) is read
+Every mesh in the scans folder (default ``../shared/data/scans`` beside the repository) is read
 with crustview's own reader; its vertices are the sample and ``truth.json``
 gives the true shape: a closed surface of genus g has the Z/2 Betti numbers
 (1, 2g, 1); an open one is judged by its number of boundary edges.
@@ -38,7 +38,8 @@ from crustview.core.result import TopologyReport
 from crustview.core.topology import analyse
 from crustview.io import read_mesh
 
-SCANS = Path("/work/shared/data/scans")
+#: ``../shared/data/scans`` beside the repository
+SCANS = Path(__file__).resolve().parents[2] / "shared" / "data" / "scans"
 
 
 @dataclass
