@@ -26,6 +26,10 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from .extraction import facet_structure
 
 #: Largest hole, in boundary (d-1)-faces, that ``fill-hole`` closes.
 FILL_MAX_FACES = 50
@@ -79,8 +83,7 @@ class Patcher:
         #: vertices whose star changed since the last :meth:`unpinch_all` (where pinches can appear)
         self.suspects: set[int] = set()
         self.log: list[tuple[str, Simplex, tuple[int, ...], tuple[int, ...], float, str]] = []
-        for i, s in enumerate(simplices):
-            self._insert(s, orient[i] if orient is not None else 0)
+        self._bulk_insert(simplices, orient)
         self.delaunay = delaunay
         from scipy.spatial import cKDTree
 
@@ -92,6 +95,29 @@ class Patcher:
         self.vfaces = order // delaunay.shape[1] if delaunay.size else order
 
     # -- editing ------------------------------------------------------------
+    def _bulk_insert(self, simplices: list[Simplex], orient: list[int] | None) -> None:
+        """The state :meth:`_insert` would build for ``simplices``, built with array operations."""
+        m = len(simplices)
+        self.simp = list(simplices)
+        self.alive = [True] * m
+        self.orient = list(orient) if orient is not None else [0] * m
+        self.index = {t: i for i, t in enumerate(self.simp)}
+        if m == 0:
+            return
+        arr = np.array(self.simp, dtype=np.int64)
+        facets, _, ptr, inc = facet_structure(arr)
+        ft = [tuple(r) for r in facets.tolist()]
+        ptrl, incl = ptr.tolist(), inc.tolist()
+        self.fmap = {f: incl[ptrl[g]:ptrl[g + 1]] for g, f in enumerate(ft)}
+        self.bset = {ft[g] for g in np.flatnonzero(np.diff(ptr) == 1).tolist()}
+        flat = arr.ravel()
+        order = np.argsort(flat, kind="stable")
+        verts, starts = np.unique(flat[order], return_index=True)
+        owners = (order // arr.shape[1]).tolist()
+        bounds = starts.tolist() + [len(flat)]
+        self.star = {v: set(owners[bounds[i]:bounds[i + 1]]) for i, v in enumerate(verts.tolist())}
+
+
     def _insert(self, s: Simplex, orient: int = 0) -> int:
         i = len(self.simp)
         self.simp.append(s)
@@ -430,24 +456,19 @@ class Patcher:
         grew in an undersampled spot (three samples closed into a tiny loop,
         four into a tetrahedron).  Its samples go back to ``insert-sample``.
         """
-        ids = [i for i, a in enumerate(self.alive) if a]
-        parent = {i: i for i in ids}
-
-        def find(a: int) -> int:
-            while parent[a] != a:
-                parent[a] = parent[parent[a]]
-                a = parent[a]
-            return a
-
-        for i in ids:
-            for f in _facets(self.simp[i]):
-                for j in self.fmap[f]:
-                    ra, rb = find(i), find(j)
-                    if ra != rb:
-                        parent[ra] = rb
+        ids = np.array([i for i, a in enumerate(self.alive) if a], dtype=np.int64)
+        if len(ids) == 0:
+            return 0
+        simp = np.array([self.simp[i] for i in ids.tolist()], dtype=np.int64)
+        _, _, ptr, inc = facet_structure(simp)
+        cnt = np.diff(ptr)
+        two = np.flatnonzero(cnt == 2)
+        a, b = inc[ptr[two]], inc[ptr[two] + 1]
+        graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(len(ids), len(ids)))
+        _, label = connected_components(graph, directed=False)
         comps: dict[int, list[int]] = {}
-        for i in ids:
-            comps.setdefault(find(i), []).append(i)
+        for i, lab in zip(ids.tolist(), label.tolist()):
+            comps.setdefault(lab, []).append(i)
         if len(comps) < 2:
             return 0
         largest = max(len(c) for c in comps.values())
