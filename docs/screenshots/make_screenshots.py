@@ -126,13 +126,13 @@ def s3(app, win) -> None:
     win.model.selection.select_sample(front_sample(win))
 
 
-def look_from(win, direction, zoom: float = 1.0) -> None:
-    """Camera for scans with y up (spot, the bunny), from ``direction``."""
+def look_from(win, direction, zoom: float = 1.0, up=(0.0, 1.0, 0.0)) -> None:
+    """Camera for scans with y up (spot, the bunny; ``up`` for others), from ``direction``."""
     cam = win.plotter.camera
     r = win.model.radius
     cam.focal_point = (0.0, 0.0, 0.0)
     cam.position = tuple(r * np.asarray(direction, float))
-    cam.up = (0.0, 1.0, 0.0)
+    cam.up = tuple(up)
     win.plotter.reset_camera(bounds=tuple(np.ravel(np.stack([-np.full(3, r), np.full(3, r)], axis=1))))
     cam.zoom(zoom)
 
@@ -196,19 +196,22 @@ def epsilon_and_cascade(app, win, name: str, direction, zoom: float) -> None:
     scroll_info_to_diagnosis(app, win)
 
 
-def fertility_robust(app, win) -> None:
-    scan(app, win, "fertility.off", "robust")
+def robust_result(app, win, name: str, direction, zoom: float, up=(0.0, 1.0, 0.0)) -> None:
+    """The robust extraction's final M_S of a real scan, step log at the end."""
+    scan(app, win, name, "robust")
     m = win.model
     m.player.last()
     m.layers["normals"].visible = False
     m.layers["points"].visible = False
-    look_from(win, (0.3, 0.4, 3.0), 2.0)
+    look_from(win, direction, zoom, up)
 
 
 CASES = {
     "fertility-epsilon": lambda app, win: epsilon_and_cascade(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
     "nefertiti-epsilon": lambda app, win: epsilon_and_cascade(app, win, "nefertiti.obj", (0.3, 0.4, 3.0), 1.6),
-    "fertility-robust": fertility_robust,
+    "fertility-robust": lambda app, win: robust_result(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
+    "nefertiti-robust": lambda app, win: robust_result(app, win, "nefertiti.obj", (-0.6, 3.0, 0.5), 1.5,
+                                                       up=(0.0, 0.0, 1.0)),
     "torus-step": torus_step,
     "torus-framed": torus_framed,
     "trefoil-r3": trefoil,
