@@ -122,7 +122,11 @@ class _Extractor:
         c = len(self.simplices)
         self.facets, self.facet_of, self.ptr, self.inc = facet_structure(self.simplices)
         self.u = opposite_vectors(points, self.simplices)
-        # position of each facet inside each incident simplex, for u lookup
+        # facets of each simplex as Python lists: finding a facet's position in a
+        # simplex (for u lookup) is a list search, much cheaper than a numpy one
+        self._facet_of = self.facet_of.tolist()
+        self._inc = self.inc.tolist()
+        self._ptr = self.ptr.tolist()
         self.alive = np.ones(c, dtype=bool)
         self.count = np.diff(self.ptr).copy()
         self.removed_at = np.full(c, -1, dtype=np.int64)
@@ -135,11 +139,11 @@ class _Extractor:
 
     # -- geometry ---------------------------------------------------------
     def _u(self, s: int, g: int) -> np.ndarray:
-        a = int(np.flatnonzero(self.facet_of[s] == g)[0])
-        return self.u[s, a]
+        return self.u[s, self._facet_of[s].index(g)]
 
     def alive_at(self, g: int) -> list[int]:
-        return [int(s) for s in self.inc[self.ptr[g] : self.ptr[g + 1]] if self.alive[s]]
+        alive = self.alive
+        return [s for s in self._inc[self._ptr[g]:self._ptr[g + 1]] if alive[s]]
 
     def pair_angles(self, g: int, simp: list[int]) -> np.ndarray:
         vec = np.array([self._u(s, g) for s in simp])
@@ -162,9 +166,9 @@ class _Extractor:
                 continue
             self.alive[s] = False
             self.removed_at[s] = step
-            for g in self.facet_of[s]:
+            for g in self._facet_of[s]:
                 self.count[g] -= 1
-                touched.add(int(g))
+                touched.add(g)
             for v in self.simplices[s]:
                 self.vcount[v] -= 1
                 if self.vcount[v] == 0 and self.lost is None:
@@ -354,7 +358,7 @@ def _cascade_loss(ex: _Extractor, drop: list[int], limit: int) -> int:
     opened: set[int] = set()
     queue = deque()
     for s in drop:
-        queue.extend(int(h) for h in ex.facet_of[s])
+        queue.extend(ex._facet_of[s])
     while queue and len(gone) + len(opened) < limit:
         h = queue.popleft()
         simp = [s for s in ex.alive_at(h) if s not in gone]
@@ -369,7 +373,7 @@ def _cascade_loss(ex: _Extractor, drop: list[int], limit: int) -> int:
                 continue
         for s in simp:
             gone.add(s)
-            queue.extend(int(g) for g in ex.facet_of[s] if g != h)
+            queue.extend(g for g in ex._facet_of[s] if g != h)
     return len(gone) + len(opened)
 
 
