@@ -149,6 +149,17 @@ def extract_robust(
     return ext
 
 
+def _row_keys(rows: np.ndarray, base: int) -> np.ndarray:
+    """One int64 (or byte-string) key per sorted row of vertex ids below ``base``."""
+    from .rows import row_keys
+
+    rows = np.asarray(rows, dtype=np.int64).reshape(len(rows), -1)
+    keys = row_keys(rows, base)
+    if keys is None:
+        keys = np.array([r.tobytes() for r in np.ascontiguousarray(rows)])
+    return keys
+
+
 def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) -> Extraction:
     """Phases 2 and 3 of the module docstring, assembled into one replayable Extraction."""
     # faces too large to be grown never enter the grower (T_S is kept whole for its row ids)
@@ -172,9 +183,9 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
                 break
     if cancel is not None and cancel.is_set():
         raise Cancelled("reconstruction cancelled")
-    grown = [f for f, *_ in gr.log]
-    pt = Patcher(points, [tuple(int(v) for v in F[f]) for f in grown], F, spacing,
-                 orient=[gr.orient[f] for f in grown], orientable=gr.orientable)
+    grown = np.array([f for f, *_ in gr.log], dtype=np.int64)
+    pt = Patcher(points, list(map(tuple, F[grown].tolist())), F, spacing,
+                 orient=[gr.orient[f] for f in grown.tolist()], orientable=gr.orientable)
     # only gluing moves leave pinched vertices behind in the grown complex
     pt.suspects = set(gr.glued)
     for _ in range(3):  # closing holes, unpinching and inserting can each leave work for the others
@@ -188,30 +199,33 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
         left = pt.insert_unused()
         if not pt.unpinch_all():
             break
-    # rows: T_S first, then every other simplex in the order it first appeared
-    rows: list[tuple[int, ...]] = [tuple(r) for r in F[:n_ts].tolist()] if n_ts else []
-    row_of: dict[tuple[int, ...], int] = {}
-    grown_rows = []
-    for f in grown:
-        if f < n_ts:
-            grown_rows.append(f)
-        else:
-            grown_rows.append(len(rows))
-            rows.append(tuple(int(v) for v in F[f]))
-    patch_rows = list(grown_rows)
-    ts_index = None
-    taken = set(grown_rows)  # a row is added at most once; a re-added simplex gets a new row
-    for i in range(len(grown), len(pt.simp)):
-        s = pt.simp[i]
-        if ts_index is None:
-            ts_index = {r: j for j, r in enumerate(rows[:n_ts])}
-        r = ts_index.get(s, row_of.get(s))
-        if r is None or r in taken:
-            r = len(rows)
-            rows.append(s)
-            row_of[s] = r
-        taken.add(r)
-        patch_rows.append(r)
+    # rows: T_S first (as in paper mode), then every other simplex in the order it first appeared
+    outside = grown[grown >= n_ts]
+    grown_rows = grown.copy()
+    grown_rows[grown >= n_ts] = n_ts + np.arange(len(outside))
+    extra: list[tuple[int, ...]] = []  # rows beyond T_S and the grown faces outside it
+    grown_rows_l = grown_rows.tolist()
+    patch_rows = list(grown_rows_l)
+    n_base = n_ts + len(outside)
+    if len(pt.simp) > len(grown):
+        keys = _row_keys(F[:n_ts], len(points))
+        order = np.argsort(keys, kind="stable")
+        row_of: dict[tuple[int, ...], int] = {}
+        taken = set(grown_rows_l)  # a row is added at most once; a re-added simplex gets a new row
+        for i in range(len(grown), len(pt.simp)):
+            t = pt.simp[i]
+            r = row_of.get(t)
+            if r is None:
+                k = _row_keys(np.array([t]), len(points))[0]
+                j = int(np.searchsorted(keys[order], k))
+                if j < len(order) and keys[order[j]] == k:
+                    r = int(order[j])
+            if r is None or r in taken:
+                r = n_base + len(extra)
+                extra.append(t)
+                row_of[t] = r
+            taken.add(r)
+            patch_rows.append(r)
     steps: list[Step] = []
     log_f = [e[0] for e in gr.log]
     score_deg = np.degrees(S[log_f]).tolist() if log_f else []
@@ -228,15 +242,17 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
                      else f"a Delaunay face outside T_S (score {score_deg[idx]:.1f} deg)")
             why = (f"added {where} across a boundary face, meeting its neighbour at "
                    f"{math.degrees(angle):.1f} deg (180 = flat), size {sizes[idx]:.2f}")
-        steps.append(Step(idx, rule, tau, (), (), angle, why, added=(grown_rows[idx],)))
+        steps.append(Step(idx, rule, tau, (), (), angle, why, added=(grown_rows_l[idx],)))
     for rule, tau, added, removed, angle, why in pt.log:
         steps.append(Step(len(steps), rule, tau, (), tuple(patch_rows[i] for i in removed), angle, why,
                           added=tuple(patch_rows[i] for i in added)))
     n_steps = len(steps)
-    simplices = np.array(rows, dtype=np.int64).reshape(-1, F.shape[1])
-    added_at = np.full(len(rows), n_steps + 1, dtype=np.int64)
-    removed_at = np.full(len(rows), n_steps, dtype=np.int64)
-    for st in steps:
+    dp1 = F.shape[1]
+    simplices = np.vstack([F[:n_ts], F[outside], np.array(extra, dtype=np.int64).reshape(-1, dp1)])
+    added_at = np.full(len(simplices), n_steps + 1, dtype=np.int64)
+    removed_at = np.full(len(simplices), n_steps, dtype=np.int64)
+    added_at[grown_rows] = np.arange(len(grown)) + 1  # one grown simplex per step, in order
+    for st in steps[len(grown):]:
         for r in st.added:
             added_at[r] = min(added_at[r], st.index + 1)
         for r in st.removed:
@@ -244,9 +260,9 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
     bnd = len(pt.boundary())
     alive_any = any(pt.alive)
     stopped = "empty" if not alive_any else ("closed" if bnd == 0 else "open")
-    in_ts = np.arange(len(rows)) < n_ts
-    if ts_index:
-        in_ts[n_ts:] = [r in ts_index for r in rows[n_ts:]]
+    in_ts = np.arange(len(simplices)) < n_ts
+    if extra:  # a simplex the patch added may be a face of T_S, re-added under a new row
+        in_ts[n_base:] = np.isin(_row_keys(simplices[n_base:], len(points)), _row_keys(F[:n_ts], len(points)))
     ext = Extraction(simplices, steps, removed_at, stopped, added_at=added_at, mode="robust",
                      in_candidates=in_ts)
     if left:
