@@ -313,8 +313,8 @@ def cocone_angles(
 
     def score(task: tuple) -> tuple[np.ndarray, np.ndarray]:
         nv, sel, subsets = task
-        cell_ids = cell_simplices[cell_ptr[sel][:, None] + np.arange(nv)]
-        return sel, _score_chunk(work, normals, tangents, centres, faces[sel], cell_ids, simplices,
+        cell_ids = np.take(cell_simplices, np.take(cell_ptr, sel)[:, None] + np.arange(nv))
+        return sel, _score_chunk(work, normals, tangents, centres, np.take(faces, sel, axis=0), cell_ids, simplices,
                                  subsets, tree, limit)
 
     done = 0

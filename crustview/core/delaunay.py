@@ -116,7 +116,7 @@ def delaunay(work: np.ndarray, bounds: np.ndarray, backend: str = "auto") -> np.
 
 
 #: Simplices per block in :func:`circumcenters` (bounds its temporary memory).
-CIRCUM_BLOCK = 1 << 19
+CIRCUM_BLOCK = 1 << 17
 
 
 def circumcenters(pts: np.ndarray, simplices: np.ndarray) -> np.ndarray:
@@ -140,10 +140,13 @@ def circumcenters(pts: np.ndarray, simplices: np.ndarray) -> np.ndarray:
     is many times faster than a batched LAPACK call on millions of r x r
     systems; blocks of :data:`CIRCUM_BLOCK` simplices bound the memory.
     """
+    from .parallel import chunks, run_in_order
+
     r = pts.shape[1]
     out = np.empty((len(simplices), r))
-    for lo in range(0, len(simplices), CIRCUM_BLOCK):
-        block = simplices[lo : lo + CIRCUM_BLOCK]
+
+    def block_centres(sl: slice) -> None:
+        block = simplices[sl]
         p0 = np.take(pts, block[:, 0], axis=0)
         a = [np.take(pts, block[:, i + 1], axis=0) - p0 for i in range(r)]  # rows a_i, each (t, r)
         b = [0.5 * np.einsum("tr,tr->t", ai, ai) for ai in a]
@@ -154,7 +157,10 @@ def circumcenters(pts: np.ndarray, simplices: np.ndarray) -> np.ndarray:
         for i in np.flatnonzero(~ok):
             mat = np.stack(a, axis=1)[i]
             cen[i] = np.linalg.lstsq(mat, np.array([bi[i] for bi in b]), rcond=None)[0]
-        out[lo : lo + len(block)] = cen + p0
+        out[sl] = cen + p0
+
+    for _ in run_in_order(block_centres, chunks(len(simplices), CIRCUM_BLOCK)):
+        pass
     return out
 
 

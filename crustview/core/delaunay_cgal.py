@@ -123,13 +123,21 @@ def _read_triangulation(fh) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
 
 
 def _match_rows(written: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """``perm`` with ``written[i] == points[perm[i]]`` (exact coordinates)."""
+    """``perm`` with ``written[i] == points[perm[i]]`` (exact coordinates).
+
+    Sorting by the first coordinate alone is enough when it has no ties
+    (checked on the whole rows afterwards); otherwise all coordinates are
+    sorted lexicographically.
+    """
     if written.shape != points.shape:
         raise RuntimeError("CGAL wrote a different number of vertices")
-    ow = np.lexsort(written.T[::-1])
-    op = np.lexsort(points.T[::-1])
+    ow = np.argsort(written[:, 0], kind="stable")
+    op = np.argsort(points[:, 0], kind="stable")
     if not np.array_equal(written[ow], points[op]):
-        raise RuntimeError("CGAL's vertices do not read back to the input points")
+        ow = np.lexsort(written.T[::-1])
+        op = np.lexsort(points.T[::-1])
+        if not np.array_equal(written[ow], points[op]):
+            raise RuntimeError("CGAL's vertices do not read back to the input points")
     perm = np.empty(len(points), dtype=np.int64)
     perm[ow] = op
     return perm
