@@ -342,6 +342,8 @@ def _score_chunk(
     nv = cell_ids.shape[1]
     m = normals.shape[2]
     sin_lim = np.sin(limit)
+    if m == 1 and nv == 2:
+        return _score_segments(work, normals, tangents, centres, fc, cell_ids, subsets, tree, limit)
     cells = np.take(centres, cell_ids, axis=0)  # (F, nv, r)
     simp_rows = np.take(simplices, cell_ids, axis=0) if simplices is not None and m in (2, 3) else None
     # the cells' own edges/polygons replace subset enumeration where known
@@ -371,6 +373,61 @@ def _score_chunk(
             best[todo] = _exact_min(
                 x[todo], nrm[todo], np.take(tangents, fc[todo, a], axis=0), np.take(work, fc[todo], axis=0),
                 s[todo], best[todo], subsets, m, tree, sin_lim**2, cell_faces, todo,
+            )
+        out[:, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
+    return out
+
+
+def _score_segments(
+    work: np.ndarray,
+    normals: np.ndarray,
+    tangents: np.ndarray,
+    centres: np.ndarray,
+    fc: np.ndarray,
+    cell_ids: np.ndarray,
+    subsets: list[np.ndarray],
+    tree: cKDTree,
+    limit: float,
+) -> np.ndarray:
+    """:func:`_score_chunk` for codimension 1, where every dual cell is a segment.
+
+    The same steps (vertex minimum, one-sided certificate, exact minimum on
+    the rest) on one array per coordinate instead of (F, 2, r) blocks: the
+    normal is a single vector, so the certificate's direction is a sign.
+    """
+    sin_lim = np.sin(limit)
+    r = work.shape[1]
+    c0 = np.take(centres, cell_ids[:, 0], axis=0)
+    c1 = np.take(centres, cell_ids[:, 1], axis=0)
+    out = np.empty(fc.shape)
+    for a in range(fc.shape[1]):
+        s = np.take(work, fc[:, a], axis=0)
+        nrm = np.take(normals, fc[:, a], axis=0)  # (F, r, 1)
+        x0, x1 = c0 - s, c1 - s
+        p0 = x0[:, 0] * nrm[:, 0, 0]
+        p1 = x1[:, 0] * nrm[:, 0, 0]
+        q0 = x0[:, 0] * x0[:, 0]
+        q1 = x1[:, 0] * x1[:, 0]
+        for c in range(1, r):
+            p0 += x0[:, c] * nrm[:, c, 0]
+            p1 += x1[:, c] * nrm[:, c, 0]
+            q0 += x0[:, c] * x0[:, c]
+            q1 += x1[:, c] * x1[:, c]
+        np.maximum(q0, 1e-300, out=q0)
+        np.maximum(q1, 1e-300, out=q1)
+        best = np.minimum(p0 * p0 / q0, p1 * p1 / q1)
+        u0, u1 = p0 / np.sqrt(q0), p1 / np.sqrt(q1)
+        side = u0 + u1
+        side /= np.maximum(np.abs(side), 1e-300)
+        lean = np.minimum(u0 * side, u1 * side)
+        certified = lean >= sin_lim
+        best = np.where(certified, lean**2, best)
+        todo = np.flatnonzero(~certified)
+        if len(todo):
+            x = np.stack([x0[todo], x1[todo]], axis=1)
+            best[todo] = _exact_min(
+                x, nrm[todo], np.take(tangents, fc[todo, a], axis=0), np.take(work, fc[todo], axis=0),
+                s[todo], best[todo], subsets, 1, tree, sin_lim**2, None, todo,
             )
         out[:, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
     return out
