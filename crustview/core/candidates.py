@@ -174,14 +174,27 @@ def _stable_argsort(key: np.ndarray, workers: int | None = None) -> np.ndarray:
     if parts <= 1 or len(key) < 1 << 16:
         return np.argsort(key, kind="stable")
     sample = np.sort(key[:: max(1, len(key) // 4096)])
-    cuts = np.unique(sample[(np.arange(1, parts) * len(sample)) // parts])
-    bucket = np.searchsorted(cuts, key, side="right")
-    members = [np.flatnonzero(bucket == b) for b in range(len(cuts) + 1)]
+    cuts = np.unique(sample[(np.arange(1, parts) * len(sample)) // parts]).tolist()
+    bounds = list(zip([None, *cuts], [*cuts, None]))
 
-    def sort_part(idx: np.ndarray) -> np.ndarray:
+    def sort_part(bound: tuple) -> np.ndarray:
+        lo, hi = bound
+        if lo is None:
+            mask = key < hi
+        elif hi is None:
+            mask = key >= lo
+        else:
+            mask = (key >= lo) & (key < hi)
+        idx = np.flatnonzero(mask)
+        del mask
         return idx[np.argsort(key[idx], kind="stable")]
 
-    return np.concatenate(list(run_in_order(sort_part, members, parts)))
+    order = np.empty(len(key), dtype=np.int64)
+    at = 0
+    for part in run_in_order(sort_part, bounds, parts):
+        order[at : at + len(part)] = part
+        at += len(part)
+    return order
 
 
 def _orthonormal(vectors: np.ndarray) -> np.ndarray:
