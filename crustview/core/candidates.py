@@ -80,9 +80,12 @@ from scipy.spatial import cKDTree
 
 from .conemin import cone_min, dot_rows, lean_bound, over_cell
 from .dualcells import CellFaces, cell_boundary_min
+from .parallel import WORKERS, chunks, run_in_order
 
 #: Cells with more vertices skip the (k-d)-subset enumeration in codim >= 3.
 MAX_SUBSET_VERTICES = 12
+#: Cell vertices per chunk of faces scored at once (keeps temporaries in cache).
+CHUNK_CELL_VERTICES = 1 << 16
 #: Cocone scores below this are exact; larger ones are only known to be >= it.
 SCORE_LIMIT = np.pi / 4
 
@@ -99,28 +102,99 @@ def enumerate_faces(simplices: np.ndarray, n_samples: int, d: int) -> tuple[np.n
         ``cell_simplices[cell_ptr[i]:cell_ptr[i+1]]`` are the Delaunay
         simplices containing face ``i`` (vertices of its dual cell).
     """
-    srt = np.sort(simplices, axis=1)
-    combos = np.array(list(itertools.combinations(range(srt.shape[1]), d + 1)))
-    faces = srt[:, combos].reshape(-1, d + 1)
+    srt = sort_rows(simplices)
+    w = srt.shape[1]
+    combos = list(itertools.combinations(range(w), d + 1))
+    if float(n_samples) ** (d + 1) >= 2**62:
+        return _enumerate_faces_lexsort(srt, n_samples, d, combos)
+    # one int64 key per face instance, face-major within each simplex (the
+    # order of the old srt[:, combos] layout), kept when every vertex is a sample
+    keys = np.empty((len(srt), len(combos)), dtype=np.int64)
+    for q, cols in enumerate(combos):
+        k = np.zeros(len(srt), dtype=np.int64)
+        for c in cols:
+            k *= n_samples
+            k += srt[:, c]
+        keys[:, q] = np.where(srt[:, cols[-1]] < n_samples, k, -1)
+    keys = keys.ravel()
+    inst = np.flatnonzero(keys >= 0)
+    key = keys[inst]
+    del keys
+    if len(key) == 0:
+        return np.empty((0, d + 1), np.int64), np.zeros(1, np.int64), np.empty(0, np.int64)
+    order = _stable_argsort(key)
+    sk = key[order]
+    starts = np.flatnonzero(np.concatenate([[True], sk[1:] != sk[:-1]]))
+    uniq = np.empty((len(starts), d + 1), dtype=np.int64)
+    rest = sk[starts]
+    for c in range(d, -1, -1):
+        uniq[:, c] = rest % n_samples
+        rest //= n_samples
+    ptr = np.concatenate([starts, [len(order)]])
+    return uniq, ptr, inst[order] // len(combos)
+
+
+def _enumerate_faces_lexsort(
+    srt: np.ndarray, n_samples: int, d: int, combos: list[tuple[int, ...]]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`enumerate_faces` when a face does not fit one int64 key."""
+    faces = srt[:, np.array(combos)].reshape(-1, d + 1)
     owner = np.repeat(np.arange(len(srt)), len(combos))
-    keep = faces[:, -1] < n_samples  # rows sorted: the largest index decides
+    keep = faces[:, -1] < n_samples
     faces, owner = faces[keep], owner[keep]
     if len(faces) == 0:
         return np.empty((0, d + 1), np.int64), np.zeros(1, np.int64), np.empty(0, np.int64)
-    if float(n_samples) ** (d + 1) < 2**62:
-        key = np.zeros(len(faces), dtype=np.int64)
-        for c in range(d + 1):
-            key = key * n_samples + faces[:, c]
-        order = np.argsort(key, kind="stable")
-        sk = key[order]
-        starts = np.flatnonzero(np.concatenate([[True], sk[1:] != sk[:-1]]))
-    else:
-        order = np.lexsort(faces.T[::-1])
-        sf = faces[order]
-        starts = np.flatnonzero(np.concatenate([[True], (sf[1:] != sf[:-1]).any(axis=1)]))
-    uniq = faces[order[starts]]
+    order = np.lexsort(faces.T[::-1])
+    sf = faces[order]
+    starts = np.flatnonzero(np.concatenate([[True], (sf[1:] != sf[:-1]).any(axis=1)]))
     ptr = np.concatenate([starts, [len(order)]])
-    return uniq.astype(np.int64), ptr, owner[order]
+    return faces[order[starts]].astype(np.int64), ptr, owner[order]
+
+
+def sort_rows(rows: np.ndarray) -> np.ndarray:
+    """Each row sorted (like ``np.sort(rows, axis=1)``) by compare-exchange on columns."""
+    cols = [np.ascontiguousarray(rows[:, c]) for c in range(rows.shape[1])]
+    w = len(cols)
+    for i in range(w):  # odd-even transposition sort: w rounds of neighbour swaps
+        for j in range(i % 2, w - 1, 2):
+            lo = np.minimum(cols[j], cols[j + 1])
+            cols[j + 1] = np.maximum(cols[j], cols[j + 1])
+            cols[j] = lo
+    return np.stack(cols, axis=1)
+
+
+def _stable_argsort(key: np.ndarray, workers: int | None = None) -> np.ndarray:
+    """``np.argsort(key, kind="stable")``, with key ranges sorted on separate threads.
+
+    The ranges are split at sample quantiles; each range keeps its
+    elements' original order, so concatenating the sorted ranges is exactly
+    the stable order of the whole array.
+    """
+    parts = WORKERS if workers is None else workers
+    if parts <= 1 or len(key) < 1 << 16:
+        return np.argsort(key, kind="stable")
+    sample = np.sort(key[:: max(1, len(key) // 4096)])
+    cuts = np.unique(sample[(np.arange(1, parts) * len(sample)) // parts]).tolist()
+    bounds = list(zip([None, *cuts], [*cuts, None]))
+
+    def sort_part(bound: tuple) -> np.ndarray:
+        lo, hi = bound
+        if lo is None:
+            mask = key < hi
+        elif hi is None:
+            mask = key >= lo
+        else:
+            mask = (key >= lo) & (key < hi)
+        idx = np.flatnonzero(mask)
+        del mask
+        return idx[np.argsort(key[idx], kind="stable")]
+
+    order = np.empty(len(key), dtype=np.int64)
+    at = 0
+    for part in run_in_order(sort_part, bounds, parts):
+        order[at : at + len(part)] = part
+        at += len(part)
+    return order
 
 
 def _orthonormal(vectors: np.ndarray) -> np.ndarray:
@@ -142,7 +216,9 @@ def _orthonormal(vectors: np.ndarray) -> np.ndarray:
     return np.stack([e1, e2], axis=-1)
 
 
-def literal_angles(work: np.ndarray, normals: np.ndarray, faces: np.ndarray) -> np.ndarray:
+def literal_angles(
+    work: np.ndarray, normals: np.ndarray, faces: np.ndarray, workers: int | None = None
+) -> np.ndarray:
     """Paper's test: min over vertices of the angle between aff(sigma) and AT_s.
 
     Parameters
@@ -150,19 +226,30 @@ def literal_angles(work: np.ndarray, normals: np.ndarray, faces: np.ndarray) -> 
     work : ndarray of shape (n, r)
     normals : ndarray of shape (n, r, m)
     faces : ndarray of shape (f, d + 1)
+    workers : int, optional
+        Threads working on chunks of faces; the result does not depend on it.
 
     Returns
     -------
     ndarray of shape (f,), radians in [0, pi/2].
     """
-    p = work[faces]
-    u = _orthonormal(p[:, 1:] - p[:, :1])  # (f, r, d)
-    best = np.full(len(faces), np.pi / 2)
-    for a in range(faces.shape[1]):
-        nt_u = np.einsum("frm,frd->fmd", normals[faces[:, a]], u)
-        s = np.sqrt(_largest_eig(nt_u))
-        best = np.minimum(best, np.arcsin(np.clip(s, 0.0, 1.0)))
-    return best
+    out = np.empty(len(faces))
+
+    def chunk(sl: slice) -> slice:
+        fc = faces[sl]
+        p = np.take(work, fc, axis=0)
+        u = _orthonormal(p[:, 1:] - p[:, :1])  # (F, r, d)
+        best = np.full(len(fc), np.pi / 2)
+        for a in range(fc.shape[1]):
+            nt_u = np.einsum("frm,frd->fmd", np.take(normals, fc[:, a], axis=0), u)
+            s = np.sqrt(_largest_eig(nt_u))
+            best = np.minimum(best, np.arcsin(np.clip(s, 0.0, 1.0)))
+        out[sl] = best
+        return sl
+
+    for _ in run_in_order(chunk, chunks(len(faces), CHUNK_CELL_VERTICES), workers):
+        pass
+    return out
 
 
 def _largest_eig(mat: np.ndarray) -> np.ndarray:
@@ -189,6 +276,7 @@ def cocone_angles(
     limit: float = SCORE_LIMIT,
     simplices: np.ndarray | None = None,
     progress: Callable[[float], None] | None = None,
+    workers: int | None = None,
 ) -> np.ndarray:
     """Cocone angle of every (face, vertex) pair (see module docstring).
 
@@ -209,6 +297,12 @@ def cocone_angles(
         The Delaunay simplices; in codimension 2 and 3 they give the cells'
         true edges and polygons, so the boundary minimum needs no subset
         enumeration (same exact value, much faster on large cells).
+    progress : callable(fraction), optional
+        Called after each chunk of faces, in the calling thread (it may
+        raise to cancel: chunks not started are dropped).
+    workers : int, optional
+        Threads scoring chunks of faces (default :data:`.parallel.WORKERS`).
+        The result does not depend on it.
 
     Returns
     -------
@@ -224,44 +318,131 @@ def cocone_angles(
     out = np.zeros((f, dp1))
     tree = cKDTree(work)
     tangents = np.linalg.qr(normals, mode="complete")[0][:, :, m:]  # (n, r, d)
-    sin_lim = np.sin(limit)
-    done = 0
+    tasks = []
     for nv in np.unique(nv_all):
         sel = np.flatnonzero(nv_all == nv)
-        cell_ids = cell_simplices[cell_ptr[sel][:, None] + np.arange(nv)]
-        cells = centres[cell_ids]  # (F, nv, r)
-        simp_rows = simplices[cell_ids] if simplices is not None and m in (2, 3) else None
-        # the cells' own edges/polygons replace subset enumeration where known
-        use_cells = simp_rows is not None and nv > m + 1
-        subsets = [] if use_cells else _boundary_subsets(int(nv), m)
-        fc = faces[sel]
-        cell_faces = CellFaces(fc, simp_rows, len(work), m) if use_cells else None
-        for a in range(dp1):
-            s = work[fc[:, a]]
-            nrm = normals[fc[:, a]]
-            x = cells - s[:, None, :]
-            xn = x @ nrm
-            xsq = np.maximum(np.einsum("fvr,fvr->fv", x, x), 1e-300)
-            xlen = np.sqrt(xsq)
-            best = over_cell(np.minimum, np.einsum("fvm,fvm->fv", xn, xn) / xsq)
-            # (1) cheap certificate: every cell point leans to one normal side
-            unit = xn / xlen[..., None]
-            lean = lean_bound(unit, iterations=0)
-            if m >= 3:  # exact minima are costly here: tighten the bound first
-                weak = np.flatnonzero(lean < sin_lim)
-                lean[weak] = np.maximum(lean[weak], lean_bound(unit[weak]))
-            certified = lean >= sin_lim
-            todo = np.flatnonzero(~certified)
-            best = np.where(certified, lean**2, best)
-            if len(todo):
-                best[todo] = _exact_min(
-                    x[todo], nrm[todo], tangents[fc[todo, a]], work[fc[todo]], s[todo],
-                    best[todo], subsets, m, tree, sin_lim**2, cell_faces, todo,
-                )
-            out[sel, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
+        subsets = _boundary_subsets(int(nv), m)
+        tasks += [(int(nv), sel[c], subsets) for c in chunks(len(sel), CHUNK_CELL_VERTICES // int(nv))]
+
+    def score(task: tuple) -> tuple[np.ndarray, np.ndarray]:
+        nv, sel, subsets = task
+        cell_ids = np.take(cell_simplices, np.take(cell_ptr, sel)[:, None] + np.arange(nv))
+        return sel, _score_chunk(work, normals, tangents, centres, np.take(faces, sel, axis=0), cell_ids, simplices,
+                                 subsets, tree, limit)
+
+    done = 0
+    for sel, values in run_in_order(score, tasks, workers):
+        out[sel] = values
         done += len(sel)
         if progress is not None:
             progress(done / max(f, 1))
+    return out
+
+
+def _score_chunk(
+    work: np.ndarray,
+    normals: np.ndarray,
+    tangents: np.ndarray,
+    centres: np.ndarray,
+    fc: np.ndarray,
+    cell_ids: np.ndarray,
+    simplices: np.ndarray | None,
+    subsets: list[np.ndarray],
+    tree: cKDTree,
+    limit: float,
+) -> np.ndarray:
+    """Cocone angles (F, d + 1) of a chunk of faces whose cells all have ``nv`` vertices."""
+    nv = cell_ids.shape[1]
+    m = normals.shape[2]
+    sin_lim = np.sin(limit)
+    if m == 1 and nv == 2:
+        return _score_segments(work, normals, tangents, centres, fc, cell_ids, subsets, tree, limit)
+    cells = np.take(centres, cell_ids, axis=0)  # (F, nv, r)
+    simp_rows = np.take(simplices, cell_ids, axis=0) if simplices is not None and m in (2, 3) else None
+    # the cells' own edges/polygons replace subset enumeration where known
+    use_cells = simp_rows is not None and nv > m + 1
+    if use_cells:
+        subsets = []
+    cell_faces = CellFaces(fc, simp_rows, len(work), m) if use_cells else None
+    out = np.empty(fc.shape)
+    for a in range(fc.shape[1]):
+        s = np.take(work, fc[:, a], axis=0)
+        nrm = np.take(normals, fc[:, a], axis=0)
+        x = cells - s[:, None, :]
+        xn = x @ nrm
+        xsq = np.maximum(np.einsum("fvr,fvr->fv", x, x), 1e-300)
+        xlen = np.sqrt(xsq)
+        best = over_cell(np.minimum, np.einsum("fvm,fvm->fv", xn, xn) / xsq)
+        # (1) cheap certificate: every cell point leans to one normal side
+        unit = xn / xlen[..., None]
+        lean = lean_bound(unit, iterations=0)
+        if m >= 3:  # exact minima are costly here: tighten the bound first
+            weak = np.flatnonzero(lean < sin_lim)
+            lean[weak] = np.maximum(lean[weak], lean_bound(unit[weak]))
+        certified = lean >= sin_lim
+        todo = np.flatnonzero(~certified)
+        best = np.where(certified, lean**2, best)
+        if len(todo):
+            best[todo] = _exact_min(
+                x[todo], nrm[todo], np.take(tangents, fc[todo, a], axis=0), np.take(work, fc[todo], axis=0),
+                s[todo], best[todo], subsets, m, tree, sin_lim**2, cell_faces, todo,
+            )
+        out[:, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
+    return out
+
+
+def _score_segments(
+    work: np.ndarray,
+    normals: np.ndarray,
+    tangents: np.ndarray,
+    centres: np.ndarray,
+    fc: np.ndarray,
+    cell_ids: np.ndarray,
+    subsets: list[np.ndarray],
+    tree: cKDTree,
+    limit: float,
+) -> np.ndarray:
+    """:func:`_score_chunk` for codimension 1, where every dual cell is a segment.
+
+    The same steps (vertex minimum, one-sided certificate, exact minimum on
+    the rest) on one array per coordinate instead of (F, 2, r) blocks: the
+    normal is a single vector, so the certificate's direction is a sign.
+    """
+    sin_lim = np.sin(limit)
+    r = work.shape[1]
+    c0 = np.take(centres, cell_ids[:, 0], axis=0)
+    c1 = np.take(centres, cell_ids[:, 1], axis=0)
+    out = np.empty(fc.shape)
+    for a in range(fc.shape[1]):
+        s = np.take(work, fc[:, a], axis=0)
+        nrm = np.take(normals, fc[:, a], axis=0)  # (F, r, 1)
+        x0, x1 = c0 - s, c1 - s
+        p0 = x0[:, 0] * nrm[:, 0, 0]
+        p1 = x1[:, 0] * nrm[:, 0, 0]
+        q0 = x0[:, 0] * x0[:, 0]
+        q1 = x1[:, 0] * x1[:, 0]
+        for c in range(1, r):
+            p0 += x0[:, c] * nrm[:, c, 0]
+            p1 += x1[:, c] * nrm[:, c, 0]
+            q0 += x0[:, c] * x0[:, c]
+            q1 += x1[:, c] * x1[:, c]
+        np.maximum(q0, 1e-300, out=q0)
+        np.maximum(q1, 1e-300, out=q1)
+        best = np.minimum(p0 * p0 / q0, p1 * p1 / q1)
+        u0, u1 = p0 / np.sqrt(q0), p1 / np.sqrt(q1)
+        side = u0 + u1
+        side /= np.maximum(np.abs(side), 1e-300)
+        lean = np.minimum(u0 * side, u1 * side)
+        certified = lean >= sin_lim
+        best = np.where(certified, lean**2, best)
+        todo = np.flatnonzero(~certified)
+        if len(todo):
+            x = np.stack([x0[todo], x1[todo]], axis=1)
+            best[todo] = _exact_min(
+                x, nrm[todo], np.take(tangents, fc[todo, a], axis=0), np.take(work, fc[todo], axis=0),
+                s[todo], best[todo], subsets, 1, tree, sin_lim**2, None, todo,
+            )
+        out[:, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
     return out
 
 

@@ -25,8 +25,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from .delaunay import vertex_simplices
-
 
 def greedy_poles(
     work: np.ndarray,
@@ -74,64 +72,142 @@ def greedy_poles(
     """
     r = work.shape[1]
     t = len(centres)
-    indptr, inc = vertex_simplices(simplices, len(work))
-    indptr = indptr[: n_samples + 1]
-    inc = inc[: indptr[-1]]
-    owner = np.repeat(np.arange(n_samples), np.diff(indptr))
-    vec = centres[inc] - work[owner]
-    # vertices at infinity of hull samples
-    far = (simplices[inc] >= n_samples).any(axis=1)
-    length = np.linalg.norm(vec, axis=1)
-    hull = np.unique(owner[far])
+    inc = _Incidences(work, simplices, centres, n_samples)
+    # vertices at infinity of hull samples: the mean unit direction to the
+    # truncated vertices, longer than any finite vertex (same sums, in the
+    # same order per sample, as a CSR walk)
+    max_len = np.zeros(n_samples)
+    dir_sum = np.zeros((n_samples, r))
+    len_sum = np.zeros(n_samples)
+    far_count = np.zeros(n_samples)
+    for owner, sid, vec in inc.blocks():
+        if len(vec):
+            inc.max_abs = max(inc.max_abs, float(np.abs(vec).max()))
+        length = np.linalg.norm(vec, axis=1)
+        np.maximum.at(max_len, owner, length)
+        far = inc.far[sid]
+        if far.any():
+            of, lf = owner[far], length[far]
+            unit = vec[far] / np.maximum(lf, 1e-300)[:, None]
+            for c in range(r):
+                dir_sum[:, c] += np.bincount(of, weights=unit[:, c], minlength=n_samples)
+            len_sum += np.bincount(of, weights=lf, minlength=n_samples)
+            far_count += np.bincount(of, minlength=n_samples)
+    hull = np.flatnonzero(far_count > 0)
     infinite = np.empty((0, r))
     if len(hull):
-        unit = vec[far] / np.maximum(length[far], 1e-300)[:, None]
-        pos = np.searchsorted(hull, owner[far])
-        mean_dir = np.zeros((len(hull), r))
-        np.add.at(mean_dir, pos, unit)
+        mean_dir = dir_sum[hull]
         mean_dir /= np.maximum(np.linalg.norm(mean_dir, axis=1, keepdims=True), 1e-300)
-        mean_len = np.bincount(pos, weights=length[far]) / np.bincount(pos)
-        max_len = np.zeros(n_samples)
-        np.maximum.at(max_len, owner, length)
+        mean_len = len_sum[hull] / far_count[hull]
         infinite = work[hull] + mean_dir * mean_len[:, None]
-        owner = np.concatenate([owner, hull])
-        vec = np.vstack([vec, mean_dir * (2.0 * max_len[hull] + 1.0)[:, None]])
-        inc = np.concatenate([inc, t + np.arange(len(hull))])
-        order = np.argsort(owner, kind="stable")
-        owner, vec, inc = owner[order], vec[order], inc[order]
-        indptr = np.concatenate([[0], np.cumsum(np.bincount(owner, minlength=n_samples))])
-    resid = vec.copy()
+        inc.add_extra(hull, mean_dir * (2.0 * max_len[hull] + 1.0)[:, None], t + np.arange(len(hull)))
+    del dir_sum, len_sum
     pole_index = np.full((n_samples, n_poles), -1, dtype=np.int64)
     normals = np.zeros((n_samples, r, n_poles))
-    has = np.diff(indptr) > 0
-    starts = indptr[:-1][has]
-    owner_rank = np.repeat(np.arange(has.sum()), np.diff(indptr)[has])
+    has = inc.count > 0
+    norm2 = np.empty(inc.size)
     for j in range(n_poles):
-        norm2 = np.einsum("er,er->e", resid, resid)
-        # entries are grouped by owner (CSR order): segment maxima, then the
-        # first entry attaining each maximum
-        segmax = np.maximum.reduceat(norm2, starts)
-        hit = np.flatnonzero(norm2 == segmax[owner_rank])
-        first = np.concatenate([[True], owner[hit][1:] != owner[hit][:-1]])
-        chosen = hit[first]  # one entry per sample that has incidences
-        who = owner[chosen]
-        u = resid[chosen]
+        # longest residual per sample; the first entry attaining it (in the
+        # order simplex id, then vertex at infinity) is the pole
+        segmax = np.full(n_samples, -np.inf)
+        for owner, sid, vec, pos in inc.blocks(with_pos=True):
+            resid = _residual(vec, normals[owner, :, :j])
+            nb = np.einsum("er,er->e", resid, resid)
+            norm2[pos] = nb
+            np.maximum.at(segmax, owner, nb)
+        first = np.full(n_samples, inc.size)
+        for owner, sid, vec, pos in inc.blocks(with_pos=True, geometry=False):
+            hit = np.flatnonzero(norm2[pos] == segmax[owner])
+            np.minimum.at(first, owner[hit], pos[hit])
+        who = np.flatnonzero(has)
+        chosen = first[who]
+        owner_c, vec_c, index_c = inc.entries(chosen)
+        u = _residual(vec_c, normals[owner_c, :, :j])
         length = np.sqrt((u**2).sum(axis=1))
-        degenerate = length <= 1e-12 * max(1.0, float(np.abs(vec).max()))
+        degenerate = length <= 1e-12 * max(1.0, inc.max_abs)
         u = u / np.where(degenerate, 1.0, length)[:, None]
         if degenerate.any():
             u[degenerate] = _complement_direction(normals[who[degenerate], :, :j])
-        pole_index[who, j] = inc[chosen]
+        pole_index[who, j] = index_c
         normals[who, :, j] = u
-        # remove the new direction from every residual of the same sample
-        uo = np.zeros((n_samples, r))
-        uo[who] = u
-        ue = uo[owner]
-        resid -= (resid * ue).sum(axis=1, keepdims=True) * ue
     if not has.all():
         missing = np.flatnonzero(~has)
         normals[missing] = np.eye(r)[:, :n_poles]
     return pole_index, normals, infinite
+
+
+def _residual(vec: np.ndarray, basis: np.ndarray) -> np.ndarray:
+    """``vec`` with the directions ``basis[e, :, i]`` removed one after another."""
+    resid = vec.copy()
+    for i in range(basis.shape[2]):
+        ue = basis[:, :, i]
+        resid -= (resid * ue).sum(axis=1, keepdims=True) * ue
+    return resid
+
+
+class _Incidences:
+    """(sample, Voronoi vertex) pairs of Algorithm 1, walked in blocks.
+
+    Entry ``e = sid * (r + 1) + a`` is vertex ``a`` of simplex ``sid`` (kept
+    only when that vertex is a sample); entries after ``t * (r + 1)`` are the
+    vertices at infinity of hull samples.  Vectors ``centre - sample`` are
+    recomputed per block rather than stored, so memory stays at a few
+    numbers per entry even for tens of millions of entries.
+    """
+
+    #: Simplices per block.
+    BLOCK = 1 << 18
+
+    def __init__(self, work: np.ndarray, simplices: np.ndarray, centres: np.ndarray, n_samples: int) -> None:
+        self.work, self.simplices, self.centres, self.n = work, simplices, centres, n_samples
+        self.width = simplices.shape[1]
+        self.far = (simplices >= n_samples).any(axis=1)
+        self.count = np.bincount(simplices[simplices < n_samples], minlength=n_samples)
+        self.size = simplices.size
+        self.extra_owner = np.empty(0, np.int64)
+        self.extra_vec = np.empty((0, work.shape[1]))
+        self.extra_index = np.empty(0, np.int64)
+        self.max_abs = 0.0  # largest |coordinate| of any vector, set by the caller
+
+    def add_extra(self, owner: np.ndarray, vec: np.ndarray, index: np.ndarray) -> None:
+        """Append the vertices at infinity (after every simplex entry)."""
+        self.extra_owner, self.extra_vec, self.extra_index = owner, vec, index
+        self.count[owner] += 1
+        self.size = self.simplices.size + len(owner)
+        if len(vec):
+            self.max_abs = max(self.max_abs, float(np.abs(vec).max()))
+
+    def blocks(self, with_pos: bool = False, geometry: bool = True):  # noqa: ANN201
+        """Yield ``(owner, sid, vec[, pos])`` per block; ``vec`` is None without geometry."""
+        t, w = len(self.simplices), self.width
+        for lo in range(0, t, self.BLOCK):
+            flat = self.simplices[lo : lo + self.BLOCK].ravel()
+            keep = np.flatnonzero(flat < self.n)
+            owner = flat[keep]
+            sid = lo + keep // w
+            vec = np.take(self.centres, sid, axis=0) - np.take(self.work, owner, axis=0) if geometry else None
+            yield (owner, sid, vec, lo * w + keep) if with_pos else (owner, sid, vec)
+        if with_pos and len(self.extra_owner):
+            pos = self.simplices.size + np.arange(len(self.extra_owner))
+            sid = np.full(len(pos), -1)
+            yield self.extra_owner, sid, self.extra_vec if geometry else None, pos
+
+    def entries(self, pos: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Owner, vector and Voronoi-vertex index of the entries at ``pos``."""
+        base = self.simplices.size
+        fin = pos < base
+        owner = np.empty(len(pos), np.int64)
+        index = np.empty(len(pos), np.int64)
+        vec = np.empty((len(pos), self.work.shape[1]))
+        sid = pos[fin] // self.width
+        owner[fin] = self.simplices.ravel()[pos[fin]]
+        index[fin] = sid
+        vec[fin] = self.centres[sid] - self.work[owner[fin]]
+        ext = pos[~fin] - base
+        owner[~fin] = self.extra_owner[ext]
+        index[~fin] = self.extra_index[ext]
+        vec[~fin] = self.extra_vec[ext]
+        return owner, vec, index
 
 
 def _complement_direction(basis: np.ndarray) -> np.ndarray:

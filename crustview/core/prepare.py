@@ -165,7 +165,7 @@ def merge_duplicates(pts: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarra
         Median nearest-neighbour distance among distinct points.
     """
     tree = cKDTree(pts)
-    dist, _ = tree.query(pts, k=min(len(pts), 8))
+    dist, _ = tree.query(pts, k=min(len(pts), 8), workers=-1)
     # median NN distance ignoring exact duplicates
     nz = dist[:, 1:]
     positive = nz[nz > 0]

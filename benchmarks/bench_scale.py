@@ -1,0 +1,126 @@
+"""How the pipeline scales: stage times, peak memory and growth between sizes.
+
+Cases: torus samples of 30k, 100k, 300k and 1M points in R^3 and the flat
+Klein bottle with 2.5k, 5k and 10k points in R^4.  Each case runs in a fresh
+subprocess, so its peak RSS (``ru_maxrss``) is its own.  For every case the
+table gives each stage's time, the whole run over the Delaunay stage, peak
+RSS (total and per point) and the growth factor of the total time from the
+previous size of the same manifold.  On the R^4 cases it also times GUDHI's
+tangential complex on the same points in the same subprocess, both as
+computed and with its repair step (``fix_inconsistencies_using_perturbation``,
+which it needs for the right Betti numbers on this input).
+
+Run: ``python benchmarks/bench_scale.py [case ...]``, e.g.
+``python benchmarks/bench_scale.py torus-30k torus-300k klein-10k``.
+"""
+
+from __future__ import annotations
+
+import json
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+#: (manifold, n, sampling method).  The torus samples are i.i.d. by area
+#: (``method="random"``): the default even sampler's farthest-point pass is
+#: quadratic in n and would take longer than the reconstruction itself.
+CASES = {
+    "torus-30k": ("torus", 30_000, "random"),
+    "torus-100k": ("torus", 100_000, "random"),
+    "torus-300k": ("torus", 300_000, "random"),
+    "torus-1M": ("torus", 1_000_000, "random"),
+    "klein-2.5k": ("flat-klein", 2_500, "even"),
+    "klein-5k": ("flat-klein", 5_000, "even"),
+    "klein-10k": ("flat-klein", 10_000, "even"),
+}
+
+
+def _gudhi_seconds(points, d: int, fix: bool) -> float:  # noqa: ANN001
+    import gudhi
+    import numpy as np
+    from scipy.spatial import cKDTree
+
+    t0 = time.perf_counter()
+    tc = gudhi.TangentialComplex(intrinsic_dim=d, points=points)
+    tc.compute_tangential_complex()
+    if fix:
+        spacing = float(np.median(cKDTree(points).query(points, k=2)[0][:, 1]))
+        tc.fix_inconsistencies_using_perturbation(0.1 * spacing, 30.0)
+    tc.create_simplex_tree()
+    return time.perf_counter() - t0
+
+
+def run_one(case: str) -> dict:
+    """Run one case in this process and return its measurements."""
+    from crustview.core import reconstruct
+    from crustview.core.sampling import get_manifold
+
+    name, n, method = CASES[case]
+    m = get_manifold(name)
+    pts = m.sample(n, seed=0, method=method).points
+    t0 = time.perf_counter()
+    rec = reconstruct(pts, m.d)
+    total = time.perf_counter() - t0
+    top = rec.topology
+    out = {
+        "case": case,
+        "n": n,
+        "k": m.k,
+        "timings": dict(rec.timings),
+        "total": total,
+        "delaunay_simplices": int(len(rec.delaunay_simplices)),
+        "correct": bool(top.closed_manifold and top.betti == m.betti and top.unused_samples == 0),
+        "betti": list(top.betti),
+    }
+    del rec
+    if m.k >= 4:
+        out["gudhi"] = _gudhi_seconds(pts, m.d, fix=False)
+        out["gudhi_fix"] = _gudhi_seconds(pts, m.d, fix=True)
+    out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    return out
+
+
+def main(cases: list[str]) -> None:
+    previous: dict[str, dict] = {}
+    for case in cases:
+        proc = subprocess.run(
+            [sys.executable, str(Path(__file__).resolve()), "--one", case],
+            capture_output=True, text=True, check=False,
+        )
+        if proc.returncode != 0:
+            print(f"{case}: failed\n{proc.stderr.strip()[-2000:]}", flush=True)
+            continue
+        r = json.loads(proc.stdout.strip().splitlines()[-1])
+        t = r["timings"]
+        stages = "  ".join(f"{k} {v:6.2f}" for k, v in t.items())
+        name = CASES[case][0]
+        growth = ""
+        if name in previous:
+            p = previous[name]
+            growth = f"  growth x{r['total'] / p['total']:.2f} for x{r['n'] / p['n']:.2f} points"
+        previous[name] = r
+        after = sum(v for k, v in t.items() if k not in ("prepare", "delaunay"))
+        print(f"{case:11s} n={r['n']:8d} | {stages} | total {r['total']:7.2f} s", flush=True)
+        print(
+            f"{'':11s} total/Delaunay {r['total'] / t['delaunay']:5.2f}  "
+            f"normals+candidates/Delaunay {(t['normals'] + t['candidates']) / t['delaunay']:5.2f}  "
+            f"after/Delaunay {after / t['delaunay']:5.2f}  "
+            f"peak RSS {r['peak_rss_mb']:8.0f} MB ({r['peak_rss_mb'] * 1024 / r['n']:5.2f} KB/point)  "
+            f"{r['delaunay_simplices']} simplices  correct {r['correct']} {tuple(r['betti'])}{growth}",
+            flush=True,
+        )
+        if "gudhi" in r:
+            print(
+                f"{'':11s} GUDHI tangential {r['gudhi']:6.2f} s, with repair {r['gudhi_fix']:6.2f} s; "
+                f"crustview/GUDHI {r['total'] / r['gudhi']:5.1f}x, /GUDHI+repair {r['total'] / r['gudhi_fix']:5.1f}x",
+                flush=True,
+            )
+
+
+if __name__ == "__main__":
+    if len(sys.argv) == 3 and sys.argv[1] == "--one":
+        print(json.dumps(run_one(sys.argv[2])))
+    else:
+        main(sys.argv[1:] or list(CASES))

@@ -1,0 +1,143 @@
+"""Delaunay tetrahedralisation in R^3 with CGAL (the ``cgal`` wheel).
+
+Why CGAL for k = 3
+------------------
+``CGAL::Delaunay_triangulation_3`` inserts a point range after a spatial
+sort, with exact predicates (filtered, exact on demand) and symbolic
+perturbation for cospherical points.  On surface samples it is 15-60x faster
+than Qhull (100,000 torus points: about 1 s against 30 s), and Qhull grows
+faster than linearly there.  In general position both give the same
+tetrahedra; on exactly cospherical input each resolves the degeneracy its own
+way (both valid Delaunay triangulations).  The far bounding points of
+:mod:`.delaunay` are inserted with the samples, as for Qhull.
+
+Getting the cells out
+---------------------
+The SWIG bindings hand out cells one Python object at a time (about 1 us per
+call, several calls per cell).  The bulk way is CGAL's own stream output,
+``write_to_file``: the dimension, the n vertices (17 significant digits, so
+each coordinate reads back bit for bit), the cells as four vertex numbers
+(0 = the infinite vertex, i = the i-th vertex written) and then the
+neighbours.  We write it to a RAM-backed temporary file when there is one,
+read the vertices, map them back to our rows by exact coordinates, and parse
+only the cell block, in chunks, with numpy's C integer parser.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+
+import numpy as np
+
+#: Bytes of the cell block parsed per chunk (bounds the parser's memory).
+CHUNK_BYTES = 1 << 25
+
+
+def cgal_available() -> bool:
+    """Whether the ``cgal`` wheel (``CGAL.CGAL_Triangulation_3``) can be imported."""
+    try:
+        from CGAL import CGAL_Triangulation_3  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _temp_dir() -> str | None:
+    """A RAM-backed directory (``/dev/shm``) when writable, else the default."""
+    shm = "/dev/shm"
+    if os.path.isdir(shm) and os.access(shm, os.W_OK):
+        return shm
+    return None
+
+
+def delaunay_3d(points: np.ndarray) -> np.ndarray:
+    """Delaunay tetrahedra of points in R^3 with CGAL.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, 3)
+        Distinct points not all on one plane.
+
+    Returns
+    -------
+    simplices : ndarray of shape (t, 4)
+        Finite tetrahedra as row indices into ``points`` (orientation not
+        normalised, as with Qhull).
+
+    Raises
+    ------
+    RuntimeError
+        If CGAL's triangulation is not 3-dimensional or lost a vertex
+        (duplicates), or its output cannot be read back.
+    """
+    from CGAL.CGAL_Kernel import Point_3
+    from CGAL.CGAL_Triangulation_3 import Delaunay_triangulation_3
+
+    pts = np.ascontiguousarray(points, dtype=np.float64)
+    tri = Delaunay_triangulation_3()
+    tri.insert([Point_3(x, y, z) for x, y, z in pts.tolist()])
+    if tri.dimension() != 3 or tri.number_of_vertices() != len(pts):
+        raise RuntimeError(
+            f"CGAL built a {tri.dimension()}-dimensional triangulation with "
+            f"{tri.number_of_vertices()} of {len(pts)} vertices"
+        )
+    with tempfile.TemporaryDirectory(prefix="crustview-", dir=_temp_dir()) as tmp:
+        path = os.path.join(tmp, "tri.txt")
+        tri.write_to_file(path, 17)
+        del tri
+        with open(path, "rb") as fh:
+            written, cells = _read_triangulation(fh)
+    perm = _match_rows(written, pts)
+    finite = cells[(cells != 0).all(axis=1)]
+    return perm[finite - 1]
+
+
+def _read_triangulation(fh) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
+    """Vertices (n, 3) and cells (m, 4) of CGAL's ASCII ``Triangulation_3`` output."""
+    dim = int(fh.readline())
+    n = int(fh.readline())
+    if dim != 3:
+        raise RuntimeError(f"CGAL wrote a {dim}-dimensional triangulation")
+    written = np.loadtxt(fh, max_rows=n, dtype=np.float64, ndmin=2)
+    m = int(fh.readline())
+    cells = np.empty((m, 4), dtype=np.int64)
+    got, rest = 0, b""
+    while got < m:
+        chunk = fh.read(CHUNK_BYTES)
+        if not chunk:
+            break
+        chunk = rest + chunk
+        cut = chunk.rfind(b"\n") + 1
+        if cut == 0:
+            rest = chunk
+            continue
+        body, rest = chunk[:cut], chunk[cut:]
+        vals = np.fromstring(body, dtype=np.int64, sep=" ")
+        rows = vals[: (len(vals) // 4) * 4].reshape(-1, 4)[: m - got]
+        cells[got : got + len(rows)] = rows
+        got += len(rows)
+    if got < m or written.shape != (n, 3):
+        raise RuntimeError("CGAL's triangulation output was cut short")
+    return written, cells
+
+
+def _match_rows(written: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """``perm`` with ``written[i] == points[perm[i]]`` (exact coordinates).
+
+    Sorting by the first coordinate alone is enough when it has no ties
+    (checked on the whole rows afterwards); otherwise all coordinates are
+    sorted lexicographically.
+    """
+    if written.shape != points.shape:
+        raise RuntimeError("CGAL wrote a different number of vertices")
+    ow = np.argsort(written[:, 0], kind="stable")
+    op = np.argsort(points[:, 0], kind="stable")
+    if not np.array_equal(written[ow], points[op]):
+        ow = np.lexsort(written.T[::-1])
+        op = np.lexsort(points.T[::-1])
+        if not np.array_equal(written[ow], points[op]):
+            raise RuntimeError("CGAL's vertices do not read back to the input points")
+    perm = np.empty(len(points), dtype=np.int64)
+    perm[ow] = op
+    return perm

@@ -1,0 +1,74 @@
+"""The Delaunay backends: CGAL in R^3 against Qhull, and degenerate input."""
+
+import numpy as np
+import pytest
+
+from crustview.core import delaunay_cgal, reconstruct
+from crustview.core.delaunay import backend_for, bounding_points, circumcenters, delaunay
+from crustview.core.prepare import prepare_points
+
+
+
+def _rows(simplices: np.ndarray) -> np.ndarray:
+    return np.unique(np.sort(simplices, axis=1), axis=0)
+
+
+def test_auto_backend_is_cgal_in_r3_only():
+    assert backend_for(3) == "cgal"
+    assert backend_for(2) == backend_for(4) == "qhull"
+
+
+def test_cgal_gives_qhulls_tetrahedra_on_a_generic_sample():
+    rng = np.random.default_rng(3)
+    pts = rng.uniform(-1, 1, size=(700, 3))
+    pts /= np.maximum(1, np.linalg.norm(pts, axis=1, keepdims=True))
+    b = bounding_points(3)
+    cg = delaunay(pts, b, backend="cgal")
+    qh = delaunay(pts, b, backend="qhull")
+    assert cg.shape == qh.shape
+    assert np.array_equal(_rows(cg), _rows(qh))
+
+
+def test_cell_block_read_in_tiny_chunks_is_the_same(monkeypatch):
+    rng = np.random.default_rng(4)
+    pts = rng.normal(size=(200, 3))
+    whole = delaunay_cgal.delaunay_3d(pts)
+    monkeypatch.setattr(delaunay_cgal, "CHUNK_BYTES", 7)
+    assert np.array_equal(delaunay_cgal.delaunay_3d(pts), whole)
+
+
+def test_cgal_resolves_an_exactly_degenerate_lattice_into_a_delaunay_triangulation():
+    # a 5x5x5 grid: every cube's 8 corners are cospherical, so the Delaunay
+    # triangulation is not unique and CGAL may split it unlike Qhull; it must
+    # still fill the hull (volumes add up) and keep every circumsphere empty
+    g = np.arange(5.0)
+    pts = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
+    simp = delaunay_cgal.delaunay_3d(pts)
+    p = pts[simp]
+    vol = np.abs(np.linalg.det(p[:, 1:] - p[:, :1])).sum() / 6
+    assert vol == pytest.approx(64.0)
+    c = circumcenters(pts, simp)
+    rad2 = ((p[:, 0] - c) ** 2).sum(axis=1)
+    d2 = ((pts[None, :, :] - c[:, None, :]) ** 2).sum(axis=2)
+    assert (d2 >= rad2[:, None] - 1e-9).all()
+
+
+def test_a_cospherical_sample_still_reconstructs_with_cgal():
+    # points exactly on a sphere: prepare joggles them, CGAL triangulates
+    rng = np.random.default_rng(5)
+    x = rng.normal(size=(1500, 3))
+    x /= np.linalg.norm(x, axis=1, keepdims=True)
+    prep = prepare_points(x, 2)
+    b = bounding_points(3)
+    assert np.array_equal(_rows(delaunay(prep.work, b, "cgal")), _rows(delaunay(prep.work, b, "qhull")))
+    rec = reconstruct(x, 2)
+    top = rec.topology
+    assert top.closed_manifold and top.betti == (1, 0, 1) and top.unused_samples == 0
+
+
+def test_unknown_backend_and_cgal_outside_r3_are_errors():
+    pts = np.random.default_rng(6).normal(size=(30, 4))
+    with pytest.raises(ValueError, match="unknown Delaunay backend"):
+        delaunay(pts, bounding_points(4), backend="fast")
+    with pytest.raises(ValueError, match="R\\^3 only"):
+        delaunay(pts, bounding_points(4), backend="cgal")

@@ -1,0 +1,70 @@
+"""Algorithm 2 on chunks and threads: same result, and a cancel stops it."""
+
+import numpy as np
+import pytest
+
+from crustview.core import candidates as cand
+from crustview.core import parallel
+from crustview.core.delaunay import bounding_points, circumcenters, delaunay
+from crustview.core.normals import greedy_poles
+from crustview.core.sampling import get_manifold
+
+
+def _stage_inputs(name: str, n: int):
+    from crustview.core.prepare import prepare_points
+
+    m = get_manifold(name)
+    prep = prepare_points(m.sample(n, seed=0).points, m.d)
+    b = bounding_points(prep.r)
+    simp = delaunay(prep.work, b)
+    work = np.vstack([prep.work, b])
+    centres = circumcenters(work, simp)
+    _, normals, _ = greedy_poles(work, simp, centres, len(prep.work), prep.r - m.d)
+    faces, ptr, cs = cand.enumerate_faces(simp, len(prep.work), m.d)
+    return work, normals, centres, faces, ptr, cs, simp
+
+
+@pytest.mark.parametrize("name,n", [("torus", 600), ("flat-klein", 400)])
+def test_chunks_and_threads_give_the_serial_result(monkeypatch, name, n):
+    work, normals, centres, faces, ptr, cs, simp = _stage_inputs(name, n)
+    whole = cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp, workers=1)
+    monkeypatch.setattr(cand, "CHUNK_CELL_VERTICES", 200)  # many small chunks
+    fracs = []
+    threaded = cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp, workers=2,
+                                  progress=fracs.append)
+    assert np.array_equal(threaded, whole)
+    assert len(fracs) > 10 and fracs == sorted(fracs) and fracs[-1] == 1.0
+    lit = cand.literal_angles(work[: len(normals)], normals, faces, workers=1)
+    assert np.array_equal(cand.literal_angles(work[: len(normals)], normals, faces, workers=2), lit)
+
+
+def test_enumerate_faces_matches_a_plain_stable_sort():
+    rng = np.random.default_rng(7)
+    simp = delaunay(rng.normal(size=(3000, 3)), bounding_points(3))
+    faces, ptr, cs = cand.enumerate_faces(simp, 3000, 2)
+    srt = np.sort(simp, axis=1)
+    inst = srt[:, [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]].reshape(-1, 3)
+    owner = np.repeat(np.arange(len(simp)), 4)
+    keep = inst[:, -1] < 3000
+    inst, owner = inst[keep], owner[keep]
+    order = np.lexsort(inst.T[::-1])
+    assert np.array_equal(cs, owner[order])
+    assert np.array_equal(faces, np.unique(inst, axis=0))
+    assert np.array_equal(np.diff(ptr), np.unique(inst, axis=0, return_counts=True)[1])
+
+
+def test_an_exception_in_the_consumer_drops_the_chunks_not_started():
+    started = []
+
+    def work(i: int) -> int:
+        started.append(i)
+        return i
+
+    results = []
+    with pytest.raises(RuntimeError):
+        for r in parallel.run_in_order(work, range(1000), workers=2):
+            results.append(r)
+            if r == 5:
+                raise RuntimeError("cancel")
+    assert results == list(range(6))
+    assert len(started) < 20
