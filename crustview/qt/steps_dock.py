@@ -171,6 +171,7 @@ class StepsPanel(QWidget):
         self.timer.timeout.connect(self._tick)
         self.slider.valueChanged.connect(player.set_step)
         self.table.selectionModel().currentRowChanged.connect(self._row_selected)
+        self.table.clicked.connect(self._cell_clicked)
         self.speed.valueChanged.connect(self._speed)
         player.step_changed.connect(self.sync)
         player.extraction_changed.connect(self._extraction)
@@ -199,6 +200,30 @@ class StepsPanel(QWidget):
     def _row_selected(self, current, _previous) -> None:
         if current.isValid() and not self._syncing:
             self.model.player.set_step(current.row() + 1)
+
+    def _cell_clicked(self, index) -> None:
+        """A click on a τ, kept, removed or added cell selects that face or simplex.
+
+        A cell listing several simplices selects them in turn, one per click.
+        """
+        ext = self.model.player.extraction
+        if ext is None or not index.isValid():
+            return
+        s = ext.steps[index.row()]
+        col = COLUMNS[index.column()]
+        sel = self.model.selection
+        if col == "τ":
+            sel.select_face(s.tau)
+            return
+        ids = {"kept": s.kept, "removed": s.removed, "added": s.added}.get(col, ())
+        if not ids:
+            return
+        rows = [self.model.candidate_row(int(e)) for e in ids]
+        rows = [r for r in rows if r >= 0]
+        if not rows:
+            return
+        turn = (rows.index(sel.simplex) + 1) % len(rows) if sel.simplex in rows else 0
+        sel.select_simplex(rows[turn])
 
     def _run_to_rule(self) -> None:
         rule = self.rule.currentText()

@@ -459,6 +459,8 @@ class MainWindow(FileActions, QMainWindow):
             sel.clear()
         elif got[0] == "sample":
             sel.select_sample(got[1])
+        elif got[0] == "face":
+            sel.select_face(got[1])
         else:
             sel.select_simplex(got[1])
         return got

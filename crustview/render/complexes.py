@@ -206,7 +206,7 @@ class RemovedAdapter(ManifoldAdapter):
 class StepAdapter(LayerAdapter):
     """The step just applied: tau, the kept pair, the removed and the added simplices."""
 
-    parts_spec = (("", False), ("-tau", False))
+    parts_spec = (("", True), ("-tau", True))
     uses_step = True
 
     def rebuild(self) -> None:
@@ -222,6 +222,7 @@ class StepAdapter(LayerAdapter):
         removed = np.array(s.removed if s else (), dtype=np.int64)
         added = np.array(s.added if s else (), dtype=np.int64)
         ids = np.concatenate([kept, removed, added])
+        self.ids = ids
         self.drawing = SimplexDrawing(ext.simplices[ids], rec.d, 0.92 if rec.d >= 2 else 1.0)
         self.kind = np.concatenate([np.ones(len(kept)), 2 * np.ones(len(removed)), 3 * np.ones(len(added))])
         self.tau = np.array(s.tau if s else (), dtype=np.int64)
@@ -243,6 +244,15 @@ class StepAdapter(LayerAdapter):
         else:
             set_cells(self.parts[1].mesh)
         self.layer.count = 0 if s is None else 1
+
+    def pick(self, part, cell_id):
+        """A cell of the step's simplices selects that simplex; tau selects the face."""
+        if part is self.parts[1]:
+            return ("face", tuple(int(v) for v in self.tau)) if len(self.tau) else None
+        if not hasattr(self, "ids") or self.drawing is None:
+            return None
+        row = self.model.candidate_row(int(self.ids[cell_id // self.drawing.per]))
+        return None if row < 0 else ("simplex", row)
 
     def project(self) -> None:
         rec = self.model.rec

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-from vtkmodules.vtkRenderingCore import vtkCellPicker
-
 from ..scene import geometry as geo
 from ..scene.describe import verdict
 from ..scene.layers import CASCADE_COLOR, STEP_COLORS
@@ -13,6 +11,7 @@ from .base import NAN_COLOR, LayerAdapter
 from .complexes import CandidatesAdapter, ManifoldAdapter, RemovedAdapter, StepAdapter
 from .diagnosis import CascadeAdapter, HolesAdapter
 from .overlay import Legend
+from .picking import pick_visible
 from .inspect import SelectionAdapter, VoronoiAdapter
 from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter, lighter
 
@@ -365,33 +364,8 @@ class SceneView:
     def pick(self, x: float, y: float) -> tuple[str, object] | None:
         """Element under display position ``(x, y)`` (VTK pixels, origin bottom-left).
 
-        Samples win over simplices: the points layer is tried first with a
-        small tolerance, then the simplicial layers.
+        The nearest *visible* thing: the current step's own simplices first
+        (they are drawn over everything), then M_S and the other simplicial
+        layers, then samples, compared by depth (:mod:`.picking`).
         """
-        if not self.ready:
-            return None
-        ren = self.plotter.renderer
-        for names, tol in ((("points",), 0.006), (("manifold", "candidates", "removed"), 0.0005)):
-            picker = vtkCellPicker()
-            picker.SetTolerance(tol)
-            picker.PickFromListOn()
-            owners = {}
-            for n in names:
-                if self.model.layers[n].visible:
-                    for part in self.adapters[n].parts:
-                        picker.AddPickList(part.actor)
-                        owners[id(part.actor)] = (self.adapters[n], part)
-            if not owners:
-                continue
-            if picker.Pick(x, y, 0, ren) and picker.GetCellId() >= 0:
-                actor = picker.GetActor()
-                key = next((k for k in owners if k == id(actor)), None)
-                if key is None:  # wrapped object identity differs: match by address
-                    key = next((k for k, (_, p) in owners.items() if p.actor.GetAddressAsString("") ==
-                                actor.GetAddressAsString("")), None)
-                if key is not None:
-                    adapter, part = owners[key]
-                    got = adapter.pick(part, picker.GetCellId())
-                    if got is not None:
-                        return got
-        return None
+        return pick_visible(self, x, y)
