@@ -31,7 +31,7 @@ from ..scene.model import SceneModel
 from .diagnosis import DiagnosisPanel
 
 #: At most this many open faces are listed.
-MAX_FACES = 2000
+MAX_FACES = 300
 
 #: Style of the verdict banner by level.
 BANNER_STYLE = {

@@ -97,6 +97,7 @@ class MainWindow(FileActions, QMainWindow):
         for key in ("q", "e", "v"):  # VTK/pyvista would quit or change style on these keys
             self.plotter.clear_events_for_key(key)
         self.view = SceneView(self.model, self.plotter)
+        self.view.schedule_render = lambda: QWidget.update(self.plotter)
         self.points: np.ndarray | None = None
         self.last_error: str | None = None
         self.error_box: QMessageBox | None = None

@@ -47,6 +47,10 @@ class SceneView:
         self.model = model
         self.plotter = plotter
         self.auto_render = True
+        #: Asks the GUI toolkit for one repaint soon (set by the window); None renders at once.
+        #: Step changes use it: many in one frame cost one render, and the widget's paint
+        #: renders anyway, so an immediate render would be a second, wasted one.
+        self.schedule_render = None
         #: View the data with its Y axis up instead of Z (View ▸ Y axis up).
         self.y_up = False
         plotter.set_background(BACKGROUND[0], top=BACKGROUND[1])
@@ -114,6 +118,15 @@ class SceneView:
     def render(self) -> None:
         if self.auto_render:
             self.plotter.render()
+
+    def request_render(self) -> None:
+        """Render soon, once, however many changes come before the next frame."""
+        if not self.auto_render:
+            return
+        if self.schedule_render is None:
+            self.plotter.render()
+        else:
+            self.schedule_render()
 
     def _on_visible(self, a: LayerAdapter) -> None:
         if a.layer.visible and a in self._stale and self.ready:
@@ -202,7 +215,7 @@ class SceneView:
             if a.uses_step:
                 a.step()
         self.update_legend()
-        self.render()
+        self.request_render()
 
     def on_selection(self) -> None:
         if not self.ready:
