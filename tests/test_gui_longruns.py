@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pytestqt")
-from PySide6.QtCore import Qt  # noqa: E402
+from PySide6.QtCore import QPoint, Qt  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -113,3 +113,34 @@ def test_playing_one_rule_visits_only_its_steps(qtbot, window):
     panel.only_rule.setChecked(False)
     assert player.rule is None
     assert np.all(np.diff(seen) > 0)
+
+
+def test_timeline_click_jumps_and_removed_so_far_is_coloured_by_step(qtbot, window):
+    assert window.load_builtin("torus")
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    rec = window.model.rec
+    ext = rec.extraction
+    tl = window.steps_panel.timeline
+    assert tl.isVisible() and tl.width() > 100
+    player = window.model.player
+    target = ext.n_steps // 2
+    x = tl.x_of(target)
+    qtbot.mouseClick(tl, Qt.MouseButton.LeftButton, pos=QPoint(int(round(x)), tl.height() // 2))
+    per_pixel = ext.n_steps / (tl.width() - 8)
+    assert abs(player.position - target) <= per_pixel + 1
+    # the curves are the model's counts, and the picture changes with them
+    series = window.model.timeline()
+    assert series.size[player.position] == int(ext.alive(player.position).sum())
+    removed = window.model.layers["removed"]
+    removed.visible = True
+    assert removed.colorby == "step"
+    a = window.view.adapters["removed"]
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    values = vtk_to_numpy(a.part.mesh.GetCellData().GetArray("values"))
+    want = np.repeat(ext.removed_at[ext.removed_by(player.position)] + 1, a.drawing.per)
+    assert len(a.rows) > 0 and np.array_equal(values, want)
+    assert a.part.mapper.scalar_visibility and "removed by step" in window.view._bars
+    removed.colorby = "rule"
+    labels = [lab for lab, _ in window.view.legend_entries()]
+    assert any(lab.startswith("removed by prune-sharp") or lab.startswith("removed by resolve") for lab in labels)

@@ -26,6 +26,7 @@ from ..core.result import RULES
 from ..scene.describe import deg, fmt_tuple, step_words
 from ..scene.layers import STEP_COLORS
 from ..scene.model import SceneModel
+from .timeline import TimelineView
 
 COLUMNS = ("#", "rule", "τ", "kept", "removed", "added", "angle")
 
@@ -142,6 +143,8 @@ class StepsPanel(QWidget):
         self.slider = QSlider(Qt.Orientation.Horizontal, self)
         self.slider.setToolTip("Scrub through all steps of Algorithm 3")
         lay.addWidget(self.slider)
+        self.timeline = TimelineView(model, self)
+        lay.addWidget(self.timeline)
         row2 = QHBoxLayout()
         self.rule = QComboBox(self)
         self.rule.addItems(list(RULES))

@@ -188,15 +188,51 @@ class ManifoldAdapter(ComplexAdapter):
         return None if row < 0 else ("simplex", row)
 
 
+#: Colour map of the step that removed each simplex.
+STEP_CMAP = "viridis"
+#: Colours of the rules that remove simplices.
+RULE_COLORS = {"prune-sharp": "#d62728", "resolve-nonmanifold": "#9467bd", "fill-hole": "#8c564b",
+               "insert-sample": "#e377c2"}
+
+
 class RemovedAdapter(ManifoldAdapter):
     """Simplices removed by the steps up to the current position.
 
     ``removed_by(i)``, not ``~alive(i)``: in a robust run a simplex that is not
-    yet added is not alive either, but it was never removed.
+    yet added is not alive either, but it was never removed.  Coloured by the
+    step that removed each simplex (``colorby == "step"``) or by its rule.
     """
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self.scalar_title: str | None = None
+        self.layer.events.colorby.connect(lambda *_: self.update_cells())
 
     def mask(self):
         return self.model.rec.extraction.removed_by(self.model.player.position)
+
+    def update_cells(self, *_) -> None:
+        super().update_cells()
+        rec = self.model.rec
+        if rec is None or self.drawing is None:
+            return
+        ext = rec.extraction
+        how = self.layer.colorby
+        if how == "step":
+            set_cell_scalars(self.part.mesh, np.repeat(ext.removed_at[self.rows] + 1.0, self.drawing.per))
+            self.scalar_title = "removed by step"
+            self.part.colormap(STEP_CMAP, (1.0, float(max(ext.n_steps, 2))), cell=True)
+        elif how == "rule":
+            code = self.model.rule_codes()
+            names = list(RULE_COLORS)
+            rule_of = np.array([names.index(r) if r in names else 0 for r in code.names])
+            values = rule_of[code.codes[np.minimum(ext.removed_at[self.rows], max(ext.n_steps - 1, 0))]] + 1.0
+            set_cell_scalars(self.part.mesh, np.repeat(values, self.drawing.per))
+            self.scalar_title = None
+            self.part.use_lookup_table(_categorical(list(RULE_COLORS.values())), (1, len(names)), cell=True)
+        else:
+            self.scalar_title = None
+            self.part.solid()
 
     def restyle(self) -> None:
         super().restyle()

@@ -8,7 +8,7 @@ from ..scene.describe import verdict
 from ..scene.layers import CASCADE_COLOR, STEP_COLORS
 from ..scene.model import SceneModel
 from .base import NAN_COLOR, LayerAdapter
-from .complexes import CandidatesAdapter, ManifoldAdapter, RemovedAdapter, StepAdapter
+from .complexes import RULE_COLORS, CandidatesAdapter, ManifoldAdapter, RemovedAdapter, StepAdapter
 from .diagnosis import CascadeAdapter, HolesAdapter
 from .overlay import Legend
 from .picking import pick_visible
@@ -234,7 +234,7 @@ class SceneView:
     def update_bars(self) -> None:
         """One scalar bar per visible scalar colouring (points, candidates)."""
         want = {}
-        for name in ("points", "candidates"):
+        for name in ("points", "candidates", "removed"):
             a = self.adapters[name]
             title = getattr(a, "scalar_title", None)
             if self.model.layers[name].visible and title:
@@ -270,6 +270,11 @@ class SceneView:
                 out.append((f"{layer.colorby}: not available here (needs the true manifold "
                             "of a built-in sample)", NAN_COLOR))
             if getattr(a, "scalar_title", None):
+                continue
+            if name == "removed" and layer.colorby == "rule":
+                codes = self.model.rule_codes()
+                used = {codes.names[c] for c in np.unique(codes.codes[:self.model.player.position])}
+                out.extend((f"removed by {r}", c) for r, c in RULE_COLORS.items() if r in used)
                 continue
             if name == "poles" and a.n_infinite:
                 if a.parts[0].n_cells:

@@ -8,6 +8,8 @@ from psygnal import evented
 
 #: Colourings the points layer offers.
 POINT_COLORINGS = ("none", "epsilon", "normal error", "pole distance", "local spacing")
+#: Colourings of the removed simplices: by the step or the rule that removed each.
+REMOVED_COLORINGS = ("step", "rule", "none")
 #: Which poles to show.
 POLE_MODES = ("selected", "all")
 
@@ -107,7 +109,9 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
         ),
         Layer(
             "removed", "Removed so far", False, "#c0392b", 0.3, 2.0, shrink=0.8 if d >= 3 else 1.0,
-            tooltip="Simplices removed by the steps up to the current one.",
+            colorby="step", colorings=REMOVED_COLORINGS,
+            tooltip="Simplices removed by the steps up to the current one, coloured by the step that "
+            "removed each (early dark, late bright) or by its rule.",
         ),
         Layer(
             "step", "Current step", True, STEP_COLORS["tau"], 1.0, 6.0,

@@ -16,6 +16,7 @@ from .player import StepPlayer
 from .projection import Projection
 from .quantities import normal_error, pole_distance
 from .selection import Selection
+from .timeline import RuleCodes, Timeline, rule_codes, timeline
 from .tour import GrandTour
 
 
@@ -218,6 +219,16 @@ class SceneModel:
         """(d-1)-faces of the extraction's simplices and their incidence."""
         assert self.rec is not None
         return self._cached("facets", lambda: geo.facets(self.rec.extraction.simplices))
+
+    def rule_codes(self) -> RuleCodes:
+        """The rule of every recorded step, as small integers."""
+        assert self.rec is not None
+        return self._cached("rules", lambda: rule_codes(self.rec.extraction))
+
+    def timeline(self) -> Timeline:
+        """|M_S|, boundary and non-manifold faces at every step position."""
+        assert self.rec is not None
+        return self._cached("timeline", lambda: timeline(self.rec.extraction, self.extraction_facets[1]))
 
     def open_faces(self, position: int | None = None):
         """(d-1)-faces that are boundary (1 simplex) or non-manifold (> 2).
