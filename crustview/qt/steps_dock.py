@@ -139,6 +139,7 @@ class StepsPanel(QWidget):
         lay.addLayout(row3)
         self.rate = QLabel("", self)
         self.rate.setStyleSheet("QLabel { color: #555; }")
+        self.rate.setWordWrap(True)
         lay.addWidget(self.rate)
         self.slider = QSlider(Qt.Orientation.Horizontal, self)
         self.slider.setToolTip("Scrub through all steps of Algorithm 3")
@@ -174,6 +175,7 @@ class StepsPanel(QWidget):
             f"<span style='color:{STEP_COLORS['added']}'>■</span> added by this step (robust)",
             self,
         )
+        legend.setWordWrap(True)  # narrow docks: wrap rather than widen the dock
         lay.addWidget(legend)
         self._syncing = False
         self.log = StepLog(model)
