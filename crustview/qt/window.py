@@ -141,7 +141,7 @@ class MainWindow(FileActions, QMainWindow):
         self.info_panel.paper_requested.connect(lambda: self.run_panel.set_mode("paper"))
         self.model.player.step_changed.connect(lambda *_: self._update_status())
         self.model.player.step_changed.connect(self._follow_step)
-        self.steps_panel.follow.toggled.connect(lambda on: on and self._follow_step())
+        self.steps_panel.follow.toggled.connect(self._follow_toggled)
         self.model.reconstruction_changed.connect(self._update_status)
 
         self._build_menus()
@@ -484,16 +484,19 @@ class MainWindow(FileActions, QMainWindow):
         self.view.reset_camera()
         self.view.render()
 
+    def _follow_toggled(self, on: bool) -> None:
+        if on:
+            self._follow_step()
+        else:
+            self.view.clear_clip()
+            self.view.render()
+
     def _follow_step(self, *_) -> None:
-        """With "Frame each step" on, zoom onto the step just applied."""
+        """With "Frame each step" on, look at the step just applied from its open side."""
         step = self.model.player.current_step
-        rec = self.model.rec
-        if not self.steps_panel.follow.isChecked() or step is None or rec is None:
+        if not self.steps_panel.follow.isChecked() or step is None or self.model.rec is None:
             return
-        ids = np.concatenate([np.asarray(step.tau, dtype=np.int64),
-                              rec.extraction.simplices[list(step.kept) + list(step.removed)
-                                                       + list(step.added)].ravel()])
-        self.view.frame_points(np.unique(ids))
+        self.view.frame_step(step)
 
     # -- picking ---------------------------------------------------------------------
     def _on_press(self, *_) -> None:

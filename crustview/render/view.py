@@ -11,6 +11,7 @@ from .base import NAN_COLOR, LayerAdapter
 from .complexes import RULE_COLORS, CandidatesAdapter, ManifoldAdapter, RemovedAdapter, StepAdapter
 from .diagnosis import CascadeAdapter, HolesAdapter
 from .overlay import Legend
+from .framing import frame_for, front_plane, place_camera
 from .picking import pick_visible
 from .inspect import SelectionAdapter, VoronoiAdapter
 from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter, lighter
@@ -51,6 +52,8 @@ class SceneView:
         #: Step changes use it: many in one frame cost one render, and the widget's paint
         #: renders anyway, so an immediate render would be a second, wasted one.
         self.schedule_render = None
+        #: The plane cutting away what lies in front of a framed step (None: no cut).
+        self.clip_plane = None
         #: View the data with its Y axis up instead of Z (View ▸ Y axis up).
         self.y_up = False
         plotter.set_background(BACKGROUND[0], top=BACKGROUND[1])
@@ -188,6 +191,7 @@ class SceneView:
         if rec is None:
             return
         self.show_preview(None)
+        self.clear_clip()
         self._built_for = id(rec)
         self._stale.clear()
         for a in self.adapters.values():
@@ -203,6 +207,7 @@ class SceneView:
     def on_projection(self) -> None:
         if not self.ready:
             return
+        self.clear_clip()  # the cut was placed for the old projection
         for a in self._live():
             a.project()
         self.update_basis_text()
@@ -321,7 +326,8 @@ class SceneView:
 
     # -- camera and picking ---------------------------------------------------
     def reset_camera(self) -> None:
-        """Fit the camera to a sphere around the data (stable under rotations)."""
+        """Fit the camera to a sphere around the data (stable under rotations); no clipping."""
+        self.clear_clip()
         if self.model.rec is None:
             return
         r = self.model.radius
@@ -345,6 +351,44 @@ class SceneView:
             bounds = tuple(np.ravel(np.stack([lo, hi], axis=1)))
         self.plotter.reset_camera(bounds=bounds)
         self.plotter.camera.zoom(1.1 if not flat else 1.0)
+
+    def frame_step(self, step) -> None:
+        """Look at ``step``'s tau from its open side and cut away the geometry in front (:mod:`.framing`)."""
+        rec = self.model.rec
+        if rec is None or step is None:
+            return
+        ext = rec.extraction
+        ids = list(step.kept) + list(step.removed) + list(step.added)
+        tau = np.asarray(step.tau, dtype=np.int64)
+        patch = ext.simplices[ids].ravel() if ids else tau
+        if self.model.projection.flat:
+            self.frame_points(np.unique(np.concatenate([tau, patch])))
+            return
+        proj = self.model.projection.project(rec.points)
+        cam = self.plotter.renderer.GetActiveCamera()
+        frame = frame_for(proj, tau, np.asarray(patch, dtype=np.int64), float(np.median(self.model.spacing)),
+                          proj.mean(axis=0), np.asarray(cam.GetViewUp()))
+        self.plotter.disable_parallel_projection()
+        place_camera(cam, frame)
+        self.set_clip(front_plane(frame))
+        self.plotter.renderer.ResetCameraClippingRange()
+        self.request_render()
+
+    def set_clip(self, plane) -> None:
+        """Clip every scene actor (not the overlay) by ``plane``; None removes the clip."""
+        self.clip_plane = plane
+        for name, a in self.adapters.items():
+            if name in ("step", "cascade", "selection"):
+                continue
+            for part in a.parts:
+                part.mapper.RemoveAllClippingPlanes()
+                if plane is not None:
+                    part.mapper.AddClippingPlane(plane)
+
+    def clear_clip(self) -> None:
+        """Show the whole scene again (after framing a step)."""
+        if self.clip_plane is not None:
+            self.set_clip(None)
 
     def frame_points(self, idx) -> None:
         """Zoom the camera onto samples ``idx`` (keeps the view direction)."""

@@ -102,6 +102,18 @@ def torus_framed(app, win) -> None:
     win.steps_panel.to_rule.click()
 
 
+def torus_underside(app, win) -> None:
+    """'Frame each step' on the step whose tau lies lowest: seen from below, the top cut away."""
+    win.load_builtin("torus")
+    wait(app, win)
+    m = win.model
+    ext = m.rec.extraction
+    proj = m.projection.project(m.rec.points)
+    j = min((s.index for s in ext.steps if s.kept), key=lambda i: proj[list(ext.steps[i].tau)].mean(axis=0)[2])
+    win.steps_panel.follow.setChecked(True)
+    m.player.set_step(j + 1)
+
+
 def trefoil(app, win) -> None:
     win.load_builtin("trefoil")
     wait(app, win)
@@ -211,6 +223,7 @@ CASES = {
     "fertility-robust": fertility_robust,
     "torus-step": torus_step,
     "torus-framed": torus_framed,
+    "torus-underside": torus_underside,
     "trefoil-r3": trefoil,
     "clifford-torus-r4": clifford,
     "s3-r4": s3,
