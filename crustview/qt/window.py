@@ -143,6 +143,7 @@ class MainWindow(FileActions, QMainWindow):
         self.model.player.step_changed.connect(self._follow_step)
         self.steps_panel.follow.toggled.connect(self._follow_toggled)
         self.model.reconstruction_changed.connect(self._update_status)
+        self.model.candidates_changed.connect(lambda *_: self._update_status())
 
         self._build_menus()
         self.status_counts = QLabel(self)
@@ -339,6 +340,8 @@ class MainWindow(FileActions, QMainWindow):
                              prune_boundary: bool | None = None, mode: str | None = None) -> bool:
         test = test or self.run_panel.test.currentText()
         theta = self.run_panel.theta_radians if theta is None else theta
+        if prune_boundary is None:
+            self._default_prune()
         prune = self.run_panel.prune.isChecked() if prune_boundary is None else bool(prune_boundary)
         mode = mode or self.run_panel.mode
 
@@ -366,6 +369,7 @@ class MainWindow(FileActions, QMainWindow):
             self.show_error(str(err))
             return False
         n = n or m.default_n
+        self._default_prune()
         test = self.run_panel.test.currentText()
         theta = self.run_panel.theta_radians
         prune = self.run_panel.prune.isChecked()
@@ -386,6 +390,16 @@ class MainWindow(FileActions, QMainWindow):
 
         return self.start_job(job, f"Sampling and reconstructing {name} (n = {n})…", source=f"{name} (n = {n})",
                               keep_view=False)
+
+    def _default_prune(self) -> None:
+        """New data starts with the paper's boundary pruning on again, and says so if it was off."""
+        box = self.run_panel.prune
+        if box.isChecked():
+            return
+        box.blockSignals(True)
+        box.setChecked(True)
+        box.blockSignals(False)
+        self.prune_note = "Prune boundary faces is on again for the new data (it was off for the last one)."
 
     def load_demo(self) -> bool:
         return self.load_builtin(DEMO)
@@ -445,6 +459,9 @@ class MainWindow(FileActions, QMainWindow):
             same = _same_simplices(rec, saved[0])
             message += (f" Same M_S as saved in {saved[1]}." if same else
                         f" M_S DIFFERS from the one saved in {saved[1]} (other crustview version?).")
+        if getattr(self, "prune_note", None):
+            message += " " + self.prune_note
+            self.prune_note = None
         self.statusBar().showMessage(message, 20000)
         self.setWindowTitle(f"crustview — {self.model.source}: d = {rec.d} in R^{rec.k}")
 
@@ -474,9 +491,11 @@ class MainWindow(FileActions, QMainWindow):
         if rec is None:
             return
         alive = int(rec.extraction.alive(self.model.player.position).sum())
+        shown = int(self.model.candidate_mask().sum())  # the candidates layer's count
+        pending = (self.model.test, self.model.theta) != (rec.test, float(rec.theta))
         self.status_counts.setText(
-            f"n = {rec.n} · candidates {len(rec.extraction.simplices):,} · M_S now {alive:,} · "
-            f"step {self.model.player.position}/{rec.extraction.n_steps}"
+            f"n = {rec.n} · candidates {shown:,}" + (" (pending change)" if pending else "")
+            + f" · M_S now {alive:,} · step {self.model.player.position}/{rec.extraction.n_steps}"
         )
 
     def _set_y_up(self, *_) -> None:
