@@ -26,6 +26,7 @@ from pyvistaqt import QtInteractor
 from ..core import cost_warning, reconstruct, reextract
 from ..render import SceneView
 from ..scene.model import SceneModel
+from ..scene.shapes import name_of
 from .files import FileActions
 from .info_dock import InfoPanel
 from .layers_dock import LayersPanel
@@ -463,7 +464,7 @@ class MainWindow(FileActions, QMainWindow):
             message += " " + self.prune_note
             self.prune_note = None
         self.statusBar().showMessage(message, 20000)
-        self.setWindowTitle(f"crustview — {self.model.source}: d = {rec.d} in R^{rec.k}")
+        self.setWindowTitle(f"crustview — {self.model.source}: {name_of(t, rec.d)} (d = {rec.d} in R^{rec.k})")
 
     def _job_failed(self, message: str) -> None:
         self.run_panel.sync_prune()

@@ -118,9 +118,8 @@ class ComplexAdapter(LayerAdapter):
     def restyle(self) -> None:
         lines = self.model.rec is not None and self.model.rec.d == 1
         self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=lines)
-        self.part.actor.prop.show_edges = (
-            (not lines) and self.layer.opacity >= 0.99 and self.layer.size > 0 and self.part.n_cells <= EDGE_LIMIT
-        )
+        # translucent surfaces keep their edges: without them a see-through M_S has no shape
+        self.part.actor.prop.show_edges = (not lines) and self.layer.size > 0 and self.part.n_cells <= EDGE_LIMIT
         self.part.actor.prop.edge_color = "#5a4a32"
         # push surfaces slightly back so samples and highlights on them stay visible
         self.part.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(2, 2)
