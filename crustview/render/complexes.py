@@ -6,13 +6,17 @@ import numpy as np
 
 from ..scene import geometry as geo
 from ..scene.layers import STEP_COLORS
-from .base import LayerAdapter, set_cell_scalars, set_cells, set_points
+from ..scene.coloring import coordinate_values
+from ..scene.slicing import slice_complex
+from .base import LayerAdapter, set_cell_scalars, set_cells, set_point_scalars, set_points
 
 #: Above this many triangles, M_S is drawn without edges (they cost a render pass).
 EDGE_LIMIT = 20_000
 
 #: Colour map of the candidate angle.
 ANGLE_CMAP = "plasma"
+#: Colour map of positions (a coordinate, the hidden depth).
+COORD_CMAP = "coolwarm"
 
 
 class SimplexDrawing:
@@ -119,7 +123,12 @@ class ComplexAdapter(LayerAdapter):
         lines = self.model.rec is not None and self.model.rec.d == 1
         self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=lines)
         # translucent surfaces keep their edges: without them a see-through M_S has no shape
-        self.part.actor.prop.show_edges = (not lines) and self.layer.size > 0 and self.part.n_cells <= EDGE_LIMIT
+        # (d >= 3 draws every simplex's boundary: there, edges on see-through cells are clutter)
+        d = self.model.rec.d if self.model.rec is not None else 2
+        self.part.actor.prop.show_edges = (
+            (not lines) and self.layer.size > 0 and self.part.n_cells <= EDGE_LIMIT
+            and (d <= 2 or self.layer.opacity >= 0.99)
+        )
         self.part.actor.prop.edge_color = "#5a4a32"
         # push surfaces slightly back so samples and highlights on them stay visible
         self.part.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(2, 2)
@@ -169,15 +178,55 @@ class CandidatesAdapter(ComplexAdapter):
 
 
 class ManifoldAdapter(ComplexAdapter):
-    """M_S as it stands at the current step: ``extraction.alive(i)``."""
+    """M_S as it stands at the current step: ``extraction.alive(i)``.
+
+    Optionally coloured by a coordinate or by the depth the projection hides
+    (:mod:`crustview.scene.coloring`), interpolated over each simplex.
+    """
 
     uses_step = True
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self.scalar_title: str | None = None
+        self.clim = (0.0, 1.0)
+        if type(self) is ManifoldAdapter:
+            self.layer.events.colorby.connect(lambda *_: self.recolor())
+            self.model.slice_changed.connect(lambda *_: self.update_cells())
+            self.model.layers["slice"].events.visible.connect(lambda *_: self.update_cells())
+
+    def project(self) -> None:
+        super().project()
+        if type(self) is ManifoldAdapter:
+            self.recolor()
+            if self.model.slicing and self.model.slice_cut:  # the hyperplane turned with the view
+                self.update_cells()
+
+    def recolor(self) -> None:
+        """Point scalars from the layer's colouring (one value per drawn vertex)."""
+        rec = self.model.rec
+        if rec is None or self.drawing is None:
+            return
+        got = coordinate_values(rec.points, self.model.projection, self.layer.colorby)
+        if got is None:
+            self.scalar_title = None
+            self.part.solid()
+            return
+        values, self.scalar_title = got
+        per_vertex = values[self.drawing.table].ravel() if self.drawing.dup else values
+        set_point_scalars(self.part.mesh, per_vertex)
+        self.clim = (float(values.min()), float(max(values.max(), values.min() + 1e-12)))
+        self.part.colormap(COORD_CMAP, self.clim, cell=False)
 
     def table(self):
         return self.model.rec.extraction.simplices
 
     def mask(self):
-        return self.model.rec.extraction.alive(self.model.player.position)
+        alive = self.model.rec.extraction.alive(self.model.player.position)
+        if type(self) is ManifoldAdapter and self.model.slicing and self.model.slice_cut:
+            below = self.model.slice_values() <= 0  # the half-space cut: keep what lies below the slice
+            alive = alive & below[self.model.rec.extraction.simplices].all(axis=1)
+        return alive
 
     def step(self) -> None:
         self.update_cells()
@@ -236,6 +285,48 @@ class RemovedAdapter(ManifoldAdapter):
     def restyle(self) -> None:
         super().restyle()
         self.part.actor.prop.show_edges = False
+
+
+class SliceAdapter(LayerAdapter):
+    """The cross-section of M_S (at the current step) by the slicing hyperplane."""
+
+    uses_step = True
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self.model.slice_changed.connect(lambda *_: self.layer.visible and self.rebuild())
+
+    def rebuild(self) -> None:
+        rec = self.model.rec
+        if rec is None:
+            return
+        ext = rec.extraction
+        simp = ext.simplices[ext.alive(self.model.player.position)]
+        if rec.d > 3 or len(simp) == 0:
+            self.xk, cells = np.zeros((0, rec.k)), np.zeros((0, rec.d), dtype=np.int64)
+        else:
+            u = self.model.slice_normal()
+            c = self.model.slice_offset + float(self.model.projection.origin @ u)
+            self.xk, cells = slice_complex(rec.points, simp, u, c)
+        set_points(self.part.mesh, self.model.projection.project(self.xk) if len(self.xk) else np.zeros((0, 3)))
+        if rec.d == 1:
+            set_cells(self.part.mesh, verts=cells)
+        elif rec.d == 2:
+            set_cells(self.part.mesh, lines=cells)
+        else:
+            set_cells(self.part.mesh, polys=cells)
+        self.layer.count = len(cells)
+
+    def project(self) -> None:
+        self.rebuild()  # the hyperplane is orthogonal to the hidden direction, which turns with the view
+
+    def step(self) -> None:
+        self.rebuild()
+
+    def restyle(self) -> None:
+        d = self.model.rec.d if self.model.rec is not None else 2
+        self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=d == 2, spheres=d == 1)
+        self.part.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(-2, -2)
 
 
 class StepAdapter(LayerAdapter):

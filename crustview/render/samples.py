@@ -6,6 +6,7 @@ import numpy as np
 import pyvista as pv
 
 from ..scene import geometry as geo
+from ..scene.coloring import COORDINATE_COLORINGS
 from ..scene.quantities import POLE_FINITE, POLE_INFINITE, pole_kinds
 from .base import NAN_COLOR, LayerAdapter, set_cells, set_point_scalars, set_points
 
@@ -82,12 +83,18 @@ class PointsAdapter(LayerAdapter):
             self.clim = (0.0, 4.0 * max(bounds.values()))
             self.part.use_lookup_table(epsilon_lut(bounds, self.clim[1]), self.clim, cell=False)
             return
-        hi = float(np.percentile(ok, 98)) if len(ok) else 1.0
+        by_place = self.layer.colorby in COORDINATE_COLORINGS  # positions: the whole range, no outliers
+        hi = float(np.percentile(ok, 100 if by_place else 98)) if len(ok) else 1.0
         lo = float(ok.min()) if len(ok) else 0.0
         self.clim = (lo, max(hi, lo + 1e-12))
         self.n_missing = len(values) - len(ok)
         self.scalar_title = title
         self.part.colormap(POINT_CMAPS.get(self.layer.colorby, "viridis"), self.clim, cell=False)
+
+    def project(self) -> None:
+        super().project()
+        if self.layer.colorby == "hidden depth":  # the hidden direction turns with the view
+            self.recolor()
 
     def restyle(self) -> None:
         self.part.style(self.layer.color, self.layer.opacity, self.layer.size, spheres=False)

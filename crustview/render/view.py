@@ -8,7 +8,14 @@ from ..scene.describe import verdict
 from ..scene.layers import CASCADE_COLOR, STEP_COLORS
 from ..scene.model import SceneModel
 from .base import NAN_COLOR, LayerAdapter
-from .complexes import RULE_COLORS, CandidatesAdapter, ManifoldAdapter, RemovedAdapter, StepAdapter
+from .complexes import (
+    RULE_COLORS,
+    CandidatesAdapter,
+    ManifoldAdapter,
+    RemovedAdapter,
+    SliceAdapter,
+    StepAdapter,
+)
 from .diagnosis import CascadeAdapter, HolesAdapter
 from .overlay import Legend
 from .framing import frame_for, front_plane, place_camera
@@ -22,6 +29,7 @@ ADAPTERS: dict[str, type[LayerAdapter]] = {
     "candidates": CandidatesAdapter,
     "removed": RemovedAdapter,
     "manifold": ManifoldAdapter,
+    "slice": SliceAdapter,
     "voronoi": VoronoiAdapter,
     "normals": NormalsAdapter,
     "poles": PolesAdapter,
@@ -84,6 +92,7 @@ class SceneView:
         model.selection.changed.connect(self.on_selection)
         model.candidates_changed.connect(lambda *_: self._after_colour())
         model.cascade_changed.connect(lambda *_: (self.update_legend(), self.render()))
+        model.slice_changed.connect(lambda *_: (self.update_legend(), self.render()))
 
     def _on_top(self, names: tuple[str, ...]) -> None:
         """Draw these layers in a second renderer layer over the scene.
@@ -239,7 +248,7 @@ class SceneView:
     def update_bars(self) -> None:
         """One scalar bar per visible scalar colouring (points, candidates)."""
         want = {}
-        for name in ("points", "candidates", "removed"):
+        for name in ("points", "manifold", "candidates", "removed"):
             a = self.adapters[name]
             title = getattr(a, "scalar_title", None)
             if self.model.layers[name].visible and title:
@@ -264,7 +273,8 @@ class SceneView:
         """(label, colour) of the visible solid-colour layers and the step highlight."""
         out = []
         layers = self.model.layers
-        for name in ("points", "manifold", "removed", "holes", "candidates", "normals", "poles", "voronoi", "truth"):
+        for name in ("points", "manifold", "slice", "removed", "holes", "candidates", "normals", "poles", "voronoi",
+                     "truth"):
             layer = layers[name]
             a = self.adapters[name]
             if not layer.visible or a.shown_cells() == 0:
@@ -272,8 +282,10 @@ class SceneView:
             if name == "points" and getattr(a, "scalar_title", None) and a.n_missing:
                 out.append((f"{a.scalar_title}: none (pole at infinity)", NAN_COLOR))
             if name == "points" and layer.colorby != "none" and not getattr(a, "scalar_title", None):
-                out.append((f"{layer.colorby}: not available here (needs the true manifold "
-                            "of a built-in sample)", NAN_COLOR))
+                why = ("needs points in R^4 or more" if layer.colorby == "hidden depth" else
+                       "no such coordinate" if layer.colorby.startswith("x") else
+                       "needs the true manifold of a built-in sample")
+                out.append((f"{layer.colorby}: not available here ({why})", NAN_COLOR))
             if getattr(a, "scalar_title", None):
                 continue
             if name == "removed" and layer.colorby == "rule":

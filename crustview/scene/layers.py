@@ -6,8 +6,10 @@ from dataclasses import dataclass, field
 
 from psygnal import evented
 
+from .coloring import COORDINATE_COLORINGS
+
 #: Colourings the points layer offers.
-POINT_COLORINGS = ("none", "epsilon", "normal error", "pole distance", "local spacing")
+POINT_COLORINGS = ("none", "epsilon", "normal error", "pole distance", "local spacing") + COORDINATE_COLORINGS
 #: Colourings of the removed simplices: by the step or the rule that removed each.
 REMOVED_COLORINGS = ("step", "rule", "none")
 #: Which poles to show.
@@ -19,6 +21,8 @@ STEP_COLORS = {"tau": "#ffb000", "kept": "#2ca02c", "removed": "#d62728", "added
 CASCADE_COLOR = "#00a0a0"
 #: Colour of the holes of T_S.
 HOLES_COLOR = "#d4006a"
+#: Colour of the slice of M_S.
+SLICE_COLOR = "#0b6e4f"
 #: Colour of the selection highlight.
 SELECTION_COLOR = "#ff00ff"
 
@@ -105,6 +109,7 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
         ),
         Layer(
             "manifold", "M_S at this step", True, "#e9b872", 1.0, 3.0, shrink=0.8 if d >= 3 else 1.0,
+            colorings=("none",) + COORDINATE_COLORINGS,
             tooltip=f"The complex after the current number of extraction steps, drawn as {simplex}.",
         ),
         Layer(
@@ -133,6 +138,12 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
         Layer(
             "selection", "Selection", True, "#ff00ff", 1.0, 6.0,
             tooltip="The selected sample, simplex or (d-1)-face with its incident simplices.",
+        ),
+        Layer(
+            "slice", "Slice of M_S", False, "#0b6e4f", 1.0, 4.0,
+            tooltip="The cross-section of M_S by a hyperplane orthogonal to the direction the view hides "
+            "(R^4 and up; the view's depth axis in R^3): closed curves for a surface, 2-spheres for S^3. "
+            "Move it and cut M_S to one side in the Projection panel.",
         ),
         Layer(
             "truth", "Ground truth", False, "#5d6d7e", 0.25, 2.0,

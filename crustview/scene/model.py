@@ -11,6 +11,7 @@ from psygnal import Signal
 from ..core.quality import SamplingQuality, sampling_quality
 from ..core.result import Cascade, Reconstruction
 from . import geometry as geo
+from .coloring import coordinate_values, default_coloring
 from .layers import Layer, default_layers
 from .player import StepPlayer
 from .projection import Projection
@@ -47,6 +48,8 @@ class SceneModel:
     candidates_changed = Signal()
     #: Emitted when the highlighted prune cascade changes (None: none).
     cascade_changed = Signal(object)
+    #: Emitted when the slicing hyperplane moves or its half-space cut is switched.
+    slice_changed = Signal()
 
     def __init__(self) -> None:
         self.rec: Reconstruction | None = None
@@ -64,6 +67,10 @@ class SceneModel:
         self._quality: tuple[int, SamplingQuality] | None = None
         #: The prune cascade highlighted by the cascade layer (from ``rec.extraction.cascades()``).
         self.cascade: Cascade | None = None
+        #: Offset of the slicing hyperplane along :meth:`slice_normal`, from the projection origin.
+        self.slice_offset = 0.0
+        #: Whether M_S is cut to the half-space below the slicing hyperplane (while the slice is shown).
+        self.slice_cut = False
 
     # -- setting data ----------------------------------------------------
     def set_reconstruction(self, rec: Reconstruction, truth=None, source: str = "", keep_view: bool = False,
@@ -87,6 +94,8 @@ class SceneModel:
         self._cache = {}
         self.cascade = None
         if not keep_view:
+            self.slice_offset = 0.0
+        if not keep_view:
             self.selection.sample = self.selection.simplex = None
             self.selection.face = None
         if not (keep_view and same_space):
@@ -96,6 +105,7 @@ class SceneModel:
         if not keep_view:
             m = self.layers["manifold"]
             m.shrink = 0.8 if rec.d >= 3 else 1.0
+            m.colorby = default_coloring(rec.k)  # in R^4: the depth the projection drops
             # a curve is thin: a darker, wider line keeps it visible on the light background
             m.color, m.size = ("#b35806", 4.0) if rec.d == 1 else ("#e9b872", 3.0)
             self.layers["removed"].shrink = m.shrink
@@ -107,6 +117,31 @@ class SceneModel:
         self.player.set_extraction(rec.extraction, position)
         self.reconstruction_changed.emit()
         self.selection.changed.emit()
+
+    def slice_normal(self) -> np.ndarray:
+        """Normal of the slicing hyperplane: the direction the view hides (k >= 4), else the view's depth axis."""
+        p = self.projection
+        if p.k >= 4:
+            return p.hidden
+        return p.basis[:, min(2, p.k - 1)] / max(np.linalg.norm(p.basis[:, min(2, p.k - 1)]), 1e-12)
+
+    @property
+    def slicing(self) -> bool:
+        """Whether the slice is shown (its layer is visible)."""
+        return bool(self.layers["slice"].visible) and self.rec is not None
+
+    def slice_values(self) -> np.ndarray:
+        """Signed distance of every sample from the slicing hyperplane."""
+        assert self.rec is not None
+        return (self.rec.points - self.projection.origin) @ self.slice_normal() - self.slice_offset
+
+    def set_slice(self, offset: float | None = None, cut: bool | None = None) -> None:
+        """Move the slicing hyperplane to ``offset`` and/or switch the half-space cut."""
+        if offset is not None:
+            self.slice_offset = float(offset)
+        if cut is not None:
+            self.slice_cut = bool(cut)
+        self.slice_changed.emit()
 
     def set_cascade(self, cascade: Cascade | None) -> None:
         """Highlight ``cascade`` (one of :meth:`cascades`), or nothing."""
@@ -207,7 +242,7 @@ class SceneModel:
             return self.spacing, "local spacing"
         if colorby == "epsilon":
             return self.quality.epsilon, "estimated epsilon"
-        return None
+        return coordinate_values(rec.points, self.projection, colorby)
 
     def candidate_mask(self) -> np.ndarray:
         """Rows of ``candidates.faces`` the candidates layer shows."""

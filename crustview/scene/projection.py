@@ -71,6 +71,8 @@ class Projection:
         self._angles: dict[tuple[int, int], float] = {}
         self._basis = self._base.copy()
         self.source = "coordinates (1, 2, 3)" if k >= 3 else "plane (1, 2)"
+        #: Radius of the 3-sphere (about :attr:`origin`) of the stereographic view; 0: linear view.
+        self.stereo_radius = 0.0
 
     def reset(self, k: int, origin: np.ndarray | None = None) -> None:
         """Start over in R^k: first three coordinates, given origin."""
@@ -96,11 +98,49 @@ class Projection:
         return self.k < 3
 
     def project(self, x: np.ndarray) -> np.ndarray:
-        """Project points of shape ``(..., k)`` to ``(..., 3)`` view coordinates."""
+        """Project points of shape ``(..., k)`` to ``(..., 3)`` view coordinates.
+
+        Linear (``(x - origin) @ basis``), or, with :attr:`stereographic` on,
+        the stereographic projection of the 4-space spanned by the basis and
+        the :attr:`hidden` direction, from the pole ``origin + r * hidden``.
+        """
         x = np.asarray(x, dtype=float)
         if x.shape[-1] != self.k:
             raise ValueError(f"expected points with {self.k} coordinates, got shape {x.shape}")
-        return (x - self.origin) @ self._basis
+        y = (x - self.origin) @ self._basis
+        if not self.stereographic:
+            return y
+        r = self.stereo_radius
+        h = (x - self.origin) @ self.hidden
+        # points at the pole go to infinity: stop at 20 radii
+        return y * (r / np.maximum(r - h, r / 20.0))[..., None]
+
+    @property
+    def stereographic(self) -> bool:
+        """Whether the view is the stereographic projection (k >= 4 only)."""
+        return self.stereo_radius > 0 and self.k >= 4
+
+    def set_stereographic(self, radius: float) -> None:
+        """Stereographic view of a 3-sphere of ``radius`` about :attr:`origin` (0: linear view)."""
+        if radius and self.k < 4:
+            raise ValueError("the stereographic view needs points in R^4 or more")
+        self.stereo_radius = float(max(radius, 0.0))
+        self.changed.emit()
+
+    @property
+    def hidden(self) -> np.ndarray:
+        """The unit direction the view drops: orthogonal to the basis (k >= 4; zeros otherwise).
+
+        For k > 4 it is the complement direction along which the basis was last
+        rotated least, taken from an orthonormal completion of the basis.
+        """
+        if self.k < 4:
+            return np.zeros(self.k)
+        q, _ = np.linalg.qr(np.column_stack([self._basis, np.eye(self.k)]))
+        u = q[:, 3]
+        u = u - self._basis @ (self._basis.T @ u)
+        u /= np.linalg.norm(u)
+        return u if u[np.argmax(np.abs(u))] > 0 else -u
 
     def axis_labels(self, digits: int = 2, tol: float = 0.005) -> list[str]:
         """Each view axis as a combination of the ambient coordinates.
