@@ -120,3 +120,29 @@ def test_rotation_sliders_show_their_angle(qtbot, window):
     assert panel.readouts[(0, 3)].text() == "45°"
     window.model.projection.set_angle(1, 2, np.radians(-30))
     assert panel.readouts[(1, 2)].text() == "-30°" and panel.sliders[(1, 2)].value() == -30
+
+
+def test_rotation_sliders_follow_the_grand_tour(qtbot, window):
+    load(qtbot, window, "clifford-torus")
+    m = window.model
+    panel = window.projection_panel
+    tour = m.tour
+    tour.speed = 1.0
+    seen = []
+    for _ in range(8):
+        tour.advance(0.05)
+        angles = m.projection.angles
+        # the sliders' angles are the view: rotating the coordinate basis by them gives the tour's basis
+        r = np.eye(4)
+        for (i, j), a in sorted(angles.items()):
+            from crustview.scene.projection import givens
+
+            r = givens(4, i, j, a) @ r
+        assert np.allclose(r[:, :3], m.projection.basis, atol=1e-6)
+        for key, s in panel.sliders.items():
+            deg = np.degrees(angles.get(key, 0.0))
+            assert abs(s.value() - deg) <= 0.51 and panel.readouts[key].text() == f"{deg:.0f}°"
+        seen.append(np.array([angles.get(p, 0.0) for p in m.projection.planes()]))
+    assert np.abs(seen[-1] - seen[0]).max() > np.radians(1)  # the sliders moved
+    jumps = [np.abs(np.angle(np.exp(1j * (b - a)))).max() for a, b in zip(seen, seen[1:])]
+    assert max(jumps) < np.radians(20)  # and moved continuously

@@ -175,6 +175,8 @@ class Projection:
     @property
     def description(self) -> str:
         """The base of the projection, and the planes it is rotated in (for labels)."""
+        if self.source == "grand tour":
+            return "grand tour (its angles are on the rotation sliders)"
         planes = [f"x{i + 1}-x{j + 1}" for (i, j), a in sorted(self._angles.items()) if a]
         return self.source + (", rotated in " + ", ".join(planes) if planes else "")
 
@@ -219,11 +221,51 @@ class Projection:
         sign = 1.0 if i < j else -1.0
         self.set_angle(key[0], key[1], self._angles.get(key, 0.0) + sign * angle)
 
-    def _update(self) -> None:
+    def planes(self) -> list[tuple[int, int]]:
+        """Every coordinate plane ``(i, j)``, ``i < j``, in the order rotations are applied."""
+        return [(i, j) for i in range(self.k) for j in range(i + 1, self.k)]
+
+    def _rotation(self, angles: dict[tuple[int, int], float]) -> np.ndarray:
         r = np.eye(self.k)
-        for (i, j), a in sorted(self._angles.items()):
+        for (i, j), a in sorted(angles.items()):
             if a:
                 r = givens(self.k, i, j, a) @ r
+        return r
+
+    def follow_basis(self, basis: np.ndarray, source: str = "custom", max_planes: int = 15) -> None:
+        """Show ``basis`` as plane rotations of the coordinate basis, so the angles follow it.
+
+        The angles are fitted (least squares, from the current angles, so a
+        moving basis such as the grand tour's gives continuous angles).  With
+        more than ``max_planes`` planes, or when the fit misses, this is
+        :meth:`set_base`.
+        """
+        from scipy.optimize import least_squares
+
+        target = _orthonormal_columns(basis, self.k)
+        planes = self.planes()
+        if self.k < 3 or len(planes) > max_planes:
+            self.set_base(target, source)
+            return
+        start = np.array([self._angles.get(p, 0.0) for p in planes]) if np.allclose(
+            self._base, np.eye(self.k, 3)) else np.zeros(len(planes))
+        e = np.eye(self.k, 3)
+
+        def residual(a: np.ndarray) -> np.ndarray:
+            return (self._rotation(dict(zip(planes, a))) @ e - target).ravel()
+
+        fit = least_squares(residual, start, xtol=1e-12, ftol=1e-12, gtol=1e-12)
+        if np.abs(residual(fit.x)).max() > 1e-6:
+            self.set_base(target, source)
+            return
+        wrapped = (fit.x + np.pi) % (2 * np.pi) - np.pi
+        self._base = e.copy()
+        self._angles = dict(zip(planes, (float(a) for a in wrapped)))
+        self.source = source
+        self._update()
+
+    def _update(self) -> None:
+        r = self._rotation(self._angles)
         b = r @ self._base
         if self.k < 3:
             b[:, self.k :] = 0.0
