@@ -146,3 +146,20 @@ def test_rotation_sliders_follow_the_grand_tour(qtbot, window):
     assert np.abs(seen[-1] - seen[0]).max() > np.radians(1)  # the sliders moved
     jumps = [np.abs(np.angle(np.exp(1j * (b - a)))).max() for a, b in zip(seen, seen[1:])]
     assert max(jumps) < np.radians(20)  # and moved continuously
+
+
+def test_all_poles_in_r4_are_short_ticks(qtbot, window):
+    rec = load(qtbot, window, "clifford-torus")
+    m = window.model
+    poles = m.layers["poles"]
+    poles.mode = "all"
+    poles.visible = True
+    a = window.view.adapters["poles"]
+    half = len(a.xk) // 2
+    assert half >= rec.n  # every sample has its poles drawn
+    seg = np.linalg.norm(a.xk[half:] - a.xk[:half], axis=1)
+    from crustview.render.samples import TICK_SPACINGS
+
+    assert seg.max() <= TICK_SPACINGS * m.spacing.max() + 1e-9
+    assert np.median(seg) < 0.15 * np.ptp(rec.points, axis=0).max()  # not lines across the whole view
+    assert a.parts[1].n_cells == 0  # no end dots
