@@ -83,7 +83,7 @@ class SceneModel:
         if quality is not None:
             self._quality = (id(rec.delaunay_simplices), quality)
         same_space = self.rec is not None and self.rec.k == rec.k
-        position = self.player.position if keep_view else 0
+        position = self._kept_position(rec) if keep_view else 0
         #: Whether the last result kept the view (a re-extraction): the camera stays too.
         self.kept_view = bool(keep_view and same_space)
         self.rec = rec
@@ -142,6 +142,14 @@ class SceneModel:
         if cut is not None:
             self.slice_cut = bool(cut)
         self.slice_changed.emit()
+
+    def _kept_position(self, rec: Reconstruction) -> int:
+        """Where a re-extraction starts: the same step if the new run has it, its end if the
+        old one was at its end (showing M_S), else step 0 (never a clamped, arbitrary last step)."""
+        old, n_old, n_new = self.player.position, self.player.n_steps, rec.extraction.n_steps
+        if old == n_old and old > 0:
+            return n_new
+        return old if old <= n_new else 0
 
     def set_cascade(self, cascade: Cascade | None) -> None:
         """Highlight ``cascade`` (one of :meth:`cascades`), or nothing."""
