@@ -71,7 +71,7 @@ def test_clipped_cell_of_a_cube():
     # in R^4: a tesseract has 32 edges
     c4 = np.array([[a, b, c, d] for a in (-1, 1) for b in (-1, 1) for c in (-1, 1) for d in (-1, 1)], float)
     verts, edges, tris = clipped_cell(c4, np.zeros(4), np.full(4, -2.0), np.full(4, 2.0))
-    assert len(verts) == 16 and len(edges) == 32 and len(tris) == 0
+    assert len(verts) == 16 and len(edges) == 32 and len(tris) == 48  # its 24 square 2-faces, as patches
 
 
 def test_planar_voronoi_edges_match_scipy():

@@ -101,3 +101,25 @@ def test_model_without_truth_has_no_normal_error(torus_run):
     m = SceneModel()
     m.set_reconstruction(rec, truth=None, source="file")
     assert m.point_values("normal error") is None
+
+
+def test_a_reextraction_keeps_the_step_or_the_end_never_a_clamped_last_step(torus_run):
+    from crustview.core import reextract
+
+    rec, sample = torus_run
+    other = reextract(rec, "cocone", rec.theta, mode="paper", prune_boundary=False)
+    n, n_other = rec.extraction.n_steps, other.extraction.n_steps
+    assert n_other < n - 2
+    m = SceneModel()
+    m.set_reconstruction(rec, truth=sample)
+    m.player.set_step(n - 1)  # beyond the other run's steps
+    m.set_reconstruction(other, truth=sample, keep_view=True)
+    assert m.player.position == 0
+    m.set_reconstruction(rec, truth=sample, keep_view=True)
+    m.player.set_step(3)
+    m.set_reconstruction(other, truth=sample, keep_view=True)
+    assert m.player.position == 3
+    m.set_reconstruction(rec, truth=sample, keep_view=True)
+    m.player.last()
+    m.set_reconstruction(other, truth=sample, keep_view=True)
+    assert m.player.position == n_other

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -154,13 +155,28 @@ class FileActions:
     def _last_dir(self) -> str:
         return str(self.settings.value("last_dir", str(Path.home())))
 
+    def suggested_path(self, ending: str) -> str:
+        """A file name for saving, in the last folder used: the data's name plus ``ending``."""
+        stem = re.sub(r"\s*\(.*\)$", "", self.model.source or "crustview")  # "torus (n = 1500)" -> "torus"
+        stem = Path(stem).stem or "crustview"
+        stem = re.sub(r"[^\w.-]+", "-", stem).strip("-") or "crustview"
+        return str(Path(self._last_dir()) / f"{stem}{ending}")
+
+    def pending_change(self) -> str:
+        """What the run panel would change on Re-extract, in words ('' when nothing)."""
+        rec = self.model.rec
+        if rec is None or (self.model.test, self.model.theta) == (rec.test, float(rec.theta)):
+            return ""
+        return (f"the shown test {self.model.test}, θ = {np.degrees(self.model.theta):.1f}° is not extracted yet; "
+                f"the saved result is {rec.test}, θ = {np.degrees(rec.theta):.1f}° (press Re-extract to save the other)")
+
     # -- saving ---------------------------------------------------------------------
     def save_result_dialog(self) -> None:
         if self.model.rec is None:
             self.show_error("There is no result to save yet.")
             return
         filters = ";;".join(f"{s[1:].upper()} (*{s})" for s in _result_suffixes())
-        path, _ = QFileDialog.getSaveFileName(self, "Save result", self._last_dir(), filters)
+        path, _ = QFileDialog.getSaveFileName(self, "Save result", self.suggested_path("-crust.npz"), filters)
         if path:
             self.save_result(path)
 
@@ -175,11 +191,18 @@ class FileActions:
         except OSError as err:
             self.show_error(f"Cannot write '{path}': {err.strerror or err}.")
             return False
-        self.statusBar().showMessage(f"Saved {path}", 5000)
+        self.settings.setValue("last_dir", str(Path(path).parent))
+        pending = self.pending_change()
+        if pending:
+            self.statusBar().showMessage(f"Saved {path}, but {pending}.", 30000)
+        else:
+            self.statusBar().showMessage(f"Saved {path}", 5000)
         return True
 
     def save_screenshot_dialog(self) -> None:
-        path, _ = QFileDialog.getSaveFileName(self, "Save screenshot", self._last_dir(), "PNG image (*.png)")
+        path, _ = QFileDialog.getSaveFileName(self, "Save screenshot",
+                                              self.suggested_path(f"-step{self.model.player.position}.png"),
+                                              "PNG image (*.png)")
         if path:
             self.save_screenshot(path)
 
@@ -191,6 +214,7 @@ class FileActions:
         except Exception as err:  # noqa: BLE001 - e.g. no OpenGL context
             self.show_error(f"Cannot save the screenshot: {err}.")
             return False
+        self.settings.setValue("last_dir", str(Path(path).parent))
         self.statusBar().showMessage(f"Saved {path}", 5000)
         return True
 

@@ -32,7 +32,7 @@ from .diagnosis import DiagnosisPanel
 from .theorems_panel import TheoremPanel
 
 #: At most this many open faces are listed.
-MAX_FACES = 2000
+MAX_FACES = 300
 
 #: Style of the verdict banner by level.
 BANNER_STYLE = {

@@ -20,7 +20,7 @@ from PySide6.QtWidgets import (
 from ..scene.layers import POLE_MODES, Layer
 
 #: Order of the rows in the panel.
-ORDER = ("points", "manifold", "step", "removed", "holes", "cascade", "candidates", "normals", "poles", "voronoi",
+ORDER = ("points", "manifold", "slice", "step", "removed", "holes", "cascade", "candidates", "normals", "poles", "voronoi",
          "selection", "truth")
 
 

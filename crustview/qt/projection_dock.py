@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtWidgets import (
+    QCheckBox,
     QComboBox,
     QGridLayout,
     QHBoxLayout,
@@ -17,6 +18,7 @@ from PySide6.QtWidgets import (
 )
 
 from ..scene.model import SceneModel
+from .slice_panel import SlicePanel
 
 #: At most this many plane sliders are shown (k <= 6 gets all of them).
 MAX_PLANES = 15
@@ -55,15 +57,24 @@ class ProjectionPanel(QWidget):
         row2.addWidget(self.tour)
         row2.addWidget(self.tour_speed)
         self.lay.addLayout(row2)
+        self.stereo = QCheckBox("Stereographic view (k ≥ 4, data on a 3-sphere)", self)
+        self.stereo.setToolTip("Project the 3-sphere through the data from its point in the direction the view "
+                               "drops: the Clifford torus becomes a torus of revolution, S^3 fills R^3. "
+                               "Needs k >= 4.")
+        self.stereo.toggled.connect(self._stereo)
+        self.lay.addWidget(self.stereo)
         self.planes = QGridLayout()
         self.planes.setVerticalSpacing(0)
         self.lay.addLayout(self.planes)
         self.sliders: dict[tuple[int, int], QSlider] = {}
+        self.readouts: dict[tuple[int, int], QLabel] = {}
         self.basis = QLabel(self)
         self.basis.setWordWrap(True)
         self.basis.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
         self.basis.setToolTip("The current basis: each view axis as a combination of ambient coordinates")
         self.lay.addWidget(self.basis)
+        self.slice = SlicePanel(model, self)
+        self.lay.addWidget(self.slice)
         self.lay.addStretch(1)
         self.timer = QTimer(self)
         self.timer.setInterval(40)
@@ -95,6 +106,7 @@ class ProjectionPanel(QWidget):
                 if w is not None:
                     w.deleteLater()
             self.sliders = {}
+            self.readouts = {}
             planes = [(i, j) for i in range(k) for j in range(i + 1, k)][:MAX_PLANES]
             if k >= 3:
                 for r, (i, j) in enumerate(planes):
@@ -103,12 +115,29 @@ class ProjectionPanel(QWidget):
                     s.setRange(-180, 180)
                     s.setToolTip(f"Rotate the projection in the coordinate plane (x{i + 1}, x{j + 1}), degrees")
                     s.valueChanged.connect(lambda v, i=i, j=j: self.model.projection.set_angle(i, j, np.radians(v)))
+                    readout = QLabel("0°", self)
+                    readout.setMinimumWidth(readout.fontMetrics().horizontalAdvance("-180°") + 4)
+                    readout.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
                     self.planes.addWidget(lab, r, 0)
                     self.planes.addWidget(s, r, 1)
+                    self.planes.addWidget(readout, r, 2)
                     self.sliders[(i, j)] = s
+                    self.readouts[(i, j)] = readout
         for w in (self.apply, self.pca, self.tour, self.tour_speed):
             w.setEnabled(k >= 3)
+        self.stereo.setEnabled(k >= 4)
+        self.stereo.blockSignals(True)
+        self.stereo.setChecked(self.model.projection.stereographic)
+        self.stereo.blockSignals(False)
         self._show_basis()
+
+    def _stereo(self, on: bool) -> None:
+        rec = self.model.rec
+        if rec is None or self.model.projection.k < 4:
+            return
+        p = self.model.projection
+        r = float(np.median(np.linalg.norm(rec.points - p.origin, axis=1))) if on else 0.0
+        p.set_stereographic(r)
 
     def _coordinates(self) -> None:
         idx = [c.currentIndex() for c in self.coords[: min(3, self._k)]]
@@ -144,13 +173,21 @@ class ProjectionPanel(QWidget):
         p = self.model.projection
         angles = p.angles
         for key, s in self.sliders.items():
+            deg = float(np.degrees(angles.get(key, 0.0)))
+            deg = (deg + 180.0) % 360.0 - 180.0
             s.blockSignals(True)
-            s.setValue(int(round(np.degrees(angles.get(key, 0.0)))))
+            s.setValue(int(round(deg)))
             s.blockSignals(False)
+            self.readouts[key].setText(f"{deg:.0f}°")
         if p.flat:
             self.basis.setText("2-D data: shown flat in the plane z = 0.")
             return
         lab = p.axis_labels()
+        hidden = ""
+        if p.k >= 4:
+            u = p.hidden
+            terms = " + ".join(f"{c:.2f} x{i + 1}" for i, c in enumerate(u) if abs(c) > 0.005).replace("+ -", "- ")
+            hidden = f"<br>hidden: {terms}" + (" (stereographic pole)" if p.stereographic else "")
         self.basis.setText(
-            f"<b>basis</b> ({p.description})<br>X = {lab[0]}<br>Y = {lab[1]}<br>Z = {lab[2]}"
+            f"<b>basis</b> ({p.description})<br>X = {lab[0]}<br>Y = {lab[1]}<br>Z = {lab[2]}{hidden}"
         )

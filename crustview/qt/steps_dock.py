@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, QTimer
+from PySide6.QtCore import QAbstractTableModel, QElapsedTimer, QModelIndex, Qt, QTimer
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QCheckBox,
@@ -13,6 +13,7 @@ from PySide6.QtWidgets import (
     QLabel,
     QPushButton,
     QSlider,
+    QSpinBox,
     QStyle,
     QTableView,
     QToolButton,
@@ -25,8 +26,14 @@ from ..core.result import RULES
 from ..scene.describe import deg, fmt_tuple, step_words
 from ..scene.layers import STEP_COLORS
 from ..scene.model import SceneModel
+from .timeline import TimelineView
 
 COLUMNS = ("#", "rule", "τ", "kept", "removed", "added", "angle")
+
+#: Playback draws at most this many frames per second; the steps in between are applied undrawn.
+FRAME_RATE = 30
+#: Fastest playback offered (steps per second).
+MAX_SPEED = 20_000
 
 #: Short rule names in the step table.
 RULE_SHORT = {"prune-sharp": "prune", "resolve-nonmanifold": "resolve", "grow-relaxed": "relax", "fill-hole": "fill",
@@ -107,22 +114,43 @@ class StepsPanel(QWidget):
         self.next = button(icon.SP_MediaSeekForward, "Next step (Right)", player.next)
         self.last = button(icon.SP_MediaSkipForward, "Last: the extracted M_S (End)", player.last)
         self.speed = QDoubleSpinBox(self)
-        self.speed.setRange(0.5, 500)
+        self.speed.setRange(0.5, MAX_SPEED)
+        self.speed.setDecimals(1)
         self.speed.setValue(player.speed)
         self.speed.setSuffix(" steps/s")
-        self.speed.setToolTip("Playback speed")
+        self.speed.setToolTip(f"Playback speed. The view is drawn at most {FRAME_RATE} times a second; "
+                              "faster playback applies the steps in between without drawing them.")
         row.addWidget(self.speed)
         self.counter = QLabel("step 0 / 0", self)
         self.counter.setMinimumWidth(110)
         self.counter.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
         row.addWidget(self.counter)
         lay.addLayout(row)
+        row3 = QHBoxLayout()
+        row3.addWidget(QLabel("Go to step", self))
+        self.goto = QSpinBox(self)
+        self.goto.setKeyboardTracking(False)  # typing 1234 goes to 1234, not to 1, 12, 123 first
+        self.goto.setToolTip("Type a step number and press Enter")
+        self.goto.valueChanged.connect(player.set_step)
+        row3.addWidget(self.goto)
+        self.only_rule = QCheckBox("Play only the rule below", self)
+        self.only_rule.setToolTip("Playback and the step buttons' run visit only steps of the chosen rule")
+        self.only_rule.toggled.connect(self._rule_filter)
+        row3.addWidget(self.only_rule, 1)
+        lay.addLayout(row3)
+        self.rate = QLabel("", self)
+        self.rate.setStyleSheet("QLabel { color: #555; }")
+        self.rate.setWordWrap(True)
+        lay.addWidget(self.rate)
         self.slider = QSlider(Qt.Orientation.Horizontal, self)
         self.slider.setToolTip("Scrub through all steps of Algorithm 3")
         lay.addWidget(self.slider)
+        self.timeline = TimelineView(model, self)
+        lay.addWidget(self.timeline)
         row2 = QHBoxLayout()
         self.rule = QComboBox(self)
         self.rule.addItems(list(RULES))
+        self.rule.currentTextChanged.connect(lambda *_: self._rule_filter(self.only_rule.isChecked()))
         self.rule.setToolTip("prune-sharp: line 2 of Algorithm 3; resolve-nonmanifold: lines 3-5; seed, grow, "
                              "grow-relaxed, fill-hole, drop-stray, insert-sample: the robust extension, which "
                              "mostly adds simplices")
@@ -149,6 +177,7 @@ class StepsPanel(QWidget):
             f"<span style='color:{STEP_COLORS['added']}'>■</span> added by this step (robust)",
             self,
         )
+        legend.setWordWrap(True)  # narrow docks: wrap rather than widen the dock
         lay.addWidget(legend)
         self._syncing = False
         self.log = StepLog(model)
@@ -170,9 +199,13 @@ class StepsPanel(QWidget):
         self.table.setToolTip("Event log: every recorded step; selecting a row jumps there")
         lay.addWidget(self.table, 1)
         self.timer = QTimer(self)
+        self.timer.setTimerType(Qt.TimerType.PreciseTimer)
         self.timer.timeout.connect(self._tick)
+        self.clock = QElapsedTimer()
+        self.play_clock = QElapsedTimer()
         self.slider.valueChanged.connect(player.set_step)
         self.table.selectionModel().currentRowChanged.connect(self._row_selected)
+        self.table.clicked.connect(self._cell_clicked)
         self.speed.valueChanged.connect(self._speed)
         player.step_changed.connect(self.sync)
         player.extraction_changed.connect(self._extraction)
@@ -196,11 +229,38 @@ class StepsPanel(QWidget):
         self.slider.blockSignals(True)
         self.slider.setRange(0, n)
         self.slider.blockSignals(False)
+        self.goto.blockSignals(True)
+        self.goto.setRange(0, n)
+        self.goto.blockSignals(False)
         self.sync(self.model.player.position)
 
     def _row_selected(self, current, _previous) -> None:
         if current.isValid() and not self._syncing:
             self.model.player.set_step(current.row() + 1)
+
+    def _cell_clicked(self, index) -> None:
+        """A click on a τ, kept, removed or added cell selects that face or simplex.
+
+        A cell listing several simplices selects them in turn, one per click.
+        """
+        ext = self.model.player.extraction
+        if ext is None or not index.isValid():
+            return
+        s = ext.steps[index.row()]
+        col = COLUMNS[index.column()]
+        sel = self.model.selection
+        if col == "τ":
+            sel.select_face(s.tau)
+            return
+        ids = {"kept": s.kept, "removed": s.removed, "added": s.added}.get(col, ())
+        if not ids:
+            return
+        rows = [self.model.candidate_row(int(e)) for e in ids]
+        rows = [r for r in rows if r >= 0]
+        if not rows:
+            return
+        turn = (rows.index(sel.simplex) + 1) % len(rows) if sel.simplex in rows else 0
+        sel.select_simplex(rows[turn])
 
     def _run_to_rule(self) -> None:
         rule = self.rule.currentText()
@@ -217,19 +277,43 @@ class StepsPanel(QWidget):
         self.model.player.speed = v
         self._playing(self.model.player.playing)
 
+    def _rule_filter(self, on: bool) -> None:
+        self.model.player.rule = self.rule.currentText() if on else None
+
     def _playing(self, playing: bool) -> None:
         sp = QStyle.StandardPixmap.SP_MediaPause if playing else QStyle.StandardPixmap.SP_MediaPlay
         self.play.setIcon(self.style().standardIcon(sp))
         if playing:
             sps = self.model.player.speed
-            self.timer.start(max(16, int(1000 / sps)))
+            self.clock.start()
+            self.play_clock.start()
+            self._frames = 0
+            self.timer.start(max(1000 // FRAME_RATE, int(1000 / sps)))
         else:
             self.timer.stop()
+            self._show_rate(final=True)
 
     def _tick(self) -> None:
-        # above ~60 steps/s advance several steps per tick
-        per_tick = max(1, round(self.model.player.speed * self.timer.interval() / 1000))
-        self.model.player.tick(per_tick)
+        """Apply the steps due since the last frame; only the last of them is drawn."""
+        elapsed = self.clock.restart() / 1000.0
+        self.model.player.advance(elapsed)
+        self._frames += 1
+        if self._frames % 10 == 0:
+            self._show_rate()
+
+    def _show_rate(self, final: bool = False) -> None:
+        """Say how fast playback really goes and how many steps each frame skips."""
+        player = self.model.player
+        secs = self.play_clock.elapsed() / 1000.0 if self.play_clock.isValid() else 0.0
+        frames = getattr(self, "_frames", 0)
+        if secs <= 0 or frames == 0 or player.applied == 0:
+            self.rate.setText("")
+            return
+        per_frame = player.applied / frames
+        text = f"{player.applied / secs:,.0f} steps/s, {frames / secs:.0f} frames/s"
+        if per_frame > 1.5:
+            text += f": drawing 1 step in {per_frame:.0f}, the others applied undrawn"
+        self.rate.setText(("last playback: " if final else "") + text)
 
     def sync(self, i: int) -> None:
         player = self.model.player
@@ -237,6 +321,9 @@ class StepsPanel(QWidget):
         self.slider.blockSignals(True)
         self.slider.setValue(i)
         self.slider.blockSignals(False)
+        self.goto.blockSignals(True)
+        self.goto.setValue(i)
+        self.goto.blockSignals(False)
         self.counter.setText(f"step {i} / {n}")
         self.words.setText(step_words(player.current_step, i, n) if player.extraction else "No reconstruction yet.")
         # the selection model's signals stay on (the view repaints from them, so
@@ -253,5 +340,6 @@ class StepsPanel(QWidget):
             else:
                 sm.clearSelection()
                 sm.setCurrentIndex(QModelIndex(), sm.SelectionFlag.Clear)
+                self.table.scrollToTop()  # the first step comes next: show it, not old rows
         finally:
             self._syncing = False

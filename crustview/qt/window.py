@@ -25,7 +25,9 @@ from pyvistaqt import QtInteractor
 from ..core import cost_warning, reconstruct, reextract
 from ..render import SceneView
 from ..scene.model import SceneModel
+from ..scene.shapes import name_of
 from .files import FileActions
+from .layout import DockLayout
 from .info_dock import InfoPanel
 from .layers_dock import LayersPanel
 from .projection_dock import ProjectionPanel
@@ -34,6 +36,7 @@ from .steps_dock import StepsPanel
 from .worker import Runner
 
 DEMO = "torus"
+
 
 #: How the window names each extraction mode.
 MODE_WORDS = {"robust": "robust extraction", "paper": "the paper's Algorithm 3"}
@@ -78,7 +81,7 @@ def _comparing(job, truth, points):
     return run
 
 
-class MainWindow(FileActions, QMainWindow):
+class MainWindow(DockLayout, FileActions, QMainWindow):
     """crustview's main window.
 
     Parameters
@@ -97,10 +100,13 @@ class MainWindow(FileActions, QMainWindow):
         for key in ("q", "e", "v"):  # VTK/pyvista would quit or change style on these keys
             self.plotter.clear_events_for_key(key)
         self.view = SceneView(self.model, self.plotter)
+        self.view.schedule_render = lambda: QWidget.update(self.plotter)
         self.points: np.ndarray | None = None
         self.last_error: str | None = None
         self.error_box: QMessageBox | None = None
         self._pending: dict = {}
+        #: Whether the docks share one tabbed column (see :meth:`keep_view_share`).
+        self.compact = False
 
         self.run_panel = RunPanel(self.model)
         self.layers_panel = LayersPanel(self.model.layers)
@@ -109,9 +115,9 @@ class MainWindow(FileActions, QMainWindow):
         self.info_panel = InfoPanel(self.model)
         left, right = Qt.DockWidgetArea.LeftDockWidgetArea, Qt.DockWidgetArea.RightDockWidgetArea
         self.docks = {
-            "run": self._dock("Run", self.run_panel, left),
+            "run": self._dock("Run", _scrolled(self.run_panel), left),
             "layers": self._dock("Layers", self.layers_panel, left),
-            "projection": self._dock("Projection", self.projection_panel, left),
+            "projection": self._dock("Projection", _scrolled(self.projection_panel), left),
             "steps": self._dock("Steps of Algorithm 3", self.steps_panel, right),
             "info": self._dock("Information", _scrolled(self.info_panel), right),
         }
@@ -134,8 +140,9 @@ class MainWindow(FileActions, QMainWindow):
         self.info_panel.paper_requested.connect(lambda: self.run_panel.set_mode("paper"))
         self.model.player.step_changed.connect(lambda *_: self._update_status())
         self.model.player.step_changed.connect(self._follow_step)
-        self.steps_panel.follow.toggled.connect(lambda on: on and self._follow_step())
+        self.steps_panel.follow.toggled.connect(self._follow_toggled)
         self.model.reconstruction_changed.connect(self._update_status)
+        self.model.candidates_changed.connect(lambda *_: self._update_status())
 
         self._build_menus()
         self.status_counts = QLabel(self)
@@ -193,29 +200,6 @@ class MainWindow(FileActions, QMainWindow):
                 fn()
                 return True
         return False
-
-    def fit_to_screen(self, width: int, height: int) -> None:
-        """Size the window for a screen of ``width`` x ``height`` pixels.
-
-        Below 1400 pixels of width all docks share one tabbed column on the
-        right (Steps first) and get narrower, so the 3-D view keeps more than
-        half of the window.
-        """
-        w, h = min(1600, int(width * 0.95)), min(1000, int(height * 0.92))
-        self.resize(w, h)
-        if width < 1400:
-            # one column of tabbed docks on the right; narrow panels scroll sideways
-            self.layers_panel.setMinimumWidth(0)
-            self.layers_panel.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAsNeeded)
-            self.steps_panel.compact()
-            right = Qt.DockWidgetArea.RightDockWidgetArea
-            order = ["steps", "run", "layers", "projection", "info"]
-            for name in order:
-                self.addDockWidget(right, self.docks[name])
-            for name in order[1:]:
-                self.tabifyDockWidget(self.docks["steps"], self.docks[name])
-            self.docks["steps"].raise_()
-            self.resizeDocks([self.docks["steps"]], [max(300, int(w * 0.36))], Qt.Orientation.Horizontal)
 
     # -- construction helpers ---------------------------------------------------
     def _dock(self, title: str, widget: QWidget, area) -> QDockWidget:
@@ -285,6 +269,8 @@ class MainWindow(FileActions, QMainWindow):
                              prune_boundary: bool | None = None, mode: str | None = None) -> bool:
         test = test or self.run_panel.test.currentText()
         theta = self.run_panel.theta_radians if theta is None else theta
+        if prune_boundary is None:
+            self._default_prune()
         prune = self.run_panel.prune.isChecked() if prune_boundary is None else bool(prune_boundary)
         mode = mode or self.run_panel.mode
 
@@ -312,6 +298,7 @@ class MainWindow(FileActions, QMainWindow):
             self.show_error(str(err))
             return False
         n = n or m.default_n
+        self._default_prune()
         test = self.run_panel.test.currentText()
         theta = self.run_panel.theta_radians
         prune = self.run_panel.prune.isChecked()
@@ -332,6 +319,16 @@ class MainWindow(FileActions, QMainWindow):
 
         return self.start_job(job, f"Sampling and reconstructing {name} (n = {n})…", source=f"{name} (n = {n})",
                               keep_view=False)
+
+    def _default_prune(self) -> None:
+        """New data starts with the paper's boundary pruning on again, and says so if it was off."""
+        box = self.run_panel.prune
+        if box.isChecked():
+            return
+        box.blockSignals(True)
+        box.setChecked(True)
+        box.blockSignals(False)
+        self.prune_note = "Prune boundary faces is on again for the new data (it was off for the last one)."
 
     def load_demo(self) -> bool:
         return self.load_builtin(DEMO)
@@ -391,8 +388,11 @@ class MainWindow(FileActions, QMainWindow):
             same = _same_simplices(rec, saved[0])
             message += (f" Same M_S as saved in {saved[1]}." if same else
                         f" M_S DIFFERS from the one saved in {saved[1]} (other crustview version?).")
+        if getattr(self, "prune_note", None):
+            message += " " + self.prune_note
+            self.prune_note = None
         self.statusBar().showMessage(message, 20000)
-        self.setWindowTitle(f"crustview — {self.model.source}: d = {rec.d} in R^{rec.k}")
+        self.setWindowTitle(f"crustview — {self.model.source}: {name_of(t, rec.d)} (d = {rec.d} in R^{rec.k})")
 
     def _job_failed(self, message: str) -> None:
         self.run_panel.sync_prune()
@@ -420,9 +420,11 @@ class MainWindow(FileActions, QMainWindow):
         if rec is None:
             return
         alive = int(rec.extraction.alive(self.model.player.position).sum())
+        shown = int(self.model.candidate_mask().sum())  # the candidates layer's count
+        pending = (self.model.test, self.model.theta) != (rec.test, float(rec.theta))
         self.status_counts.setText(
-            f"n = {rec.n} · candidates {len(rec.extraction.simplices):,} · M_S now {alive:,} · "
-            f"step {self.model.player.position}/{rec.extraction.n_steps}"
+            f"n = {rec.n} · candidates {shown:,}" + (" (pending change)" if pending else "")
+            + f" · M_S now {alive:,} · step {self.model.player.position}/{rec.extraction.n_steps}"
         )
 
     def _set_y_up(self, *_) -> None:
@@ -430,16 +432,19 @@ class MainWindow(FileActions, QMainWindow):
         self.view.reset_camera()
         self.view.render()
 
+    def _follow_toggled(self, on: bool) -> None:
+        if on:
+            self._follow_step()
+        else:
+            self.view.clear_clip()
+            self.view.render()
+
     def _follow_step(self, *_) -> None:
-        """With "Frame each step" on, zoom onto the step just applied."""
+        """With "Frame each step" on, look at the step just applied from its open side."""
         step = self.model.player.current_step
-        rec = self.model.rec
-        if not self.steps_panel.follow.isChecked() or step is None or rec is None:
+        if not self.steps_panel.follow.isChecked() or step is None or self.model.rec is None:
             return
-        ids = np.concatenate([np.asarray(step.tau, dtype=np.int64),
-                              rec.extraction.simplices[list(step.kept) + list(step.removed)
-                                                       + list(step.added)].ravel()])
-        self.view.frame_points(np.unique(ids))
+        self.view.frame_step(step)
 
     # -- picking ---------------------------------------------------------------------
     def _on_press(self, *_) -> None:
@@ -459,6 +464,8 @@ class MainWindow(FileActions, QMainWindow):
             sel.clear()
         elif got[0] == "sample":
             sel.select_sample(got[1])
+        elif got[0] == "face":
+            sel.select_face(got[1])
         else:
             sel.select_simplex(got[1])
         return got

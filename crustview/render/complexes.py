@@ -5,14 +5,21 @@ from __future__ import annotations
 import numpy as np
 
 from ..scene import geometry as geo
+from ..scene.coloring import coordinate_values
 from ..scene.layers import STEP_COLORS
-from .base import LayerAdapter, set_cell_scalars, set_cells, set_points
+from ..scene.slicing import slice_complex
+from .base import LayerAdapter, set_cell_scalars, set_cells, set_point_scalars, set_points
+
+#: Colourings of M_S given per simplex by the model (the others are per vertex).
+CELL_COLORINGS = ("distance to M",)
 
 #: Above this many triangles, M_S is drawn without edges (they cost a render pass).
 EDGE_LIMIT = 20_000
 
 #: Colour map of the candidate angle.
 ANGLE_CMAP = "plasma"
+#: Colour map of positions (a coordinate, the hidden depth).
+COORD_CMAP = "coolwarm"
 
 
 class SimplexDrawing:
@@ -118,8 +125,12 @@ class ComplexAdapter(LayerAdapter):
     def restyle(self) -> None:
         lines = self.model.rec is not None and self.model.rec.d == 1
         self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=lines)
+        # translucent surfaces keep their edges: without them a see-through M_S has no shape
+        # (d >= 3 draws every simplex's boundary: there, edges on see-through cells are clutter)
+        d = self.model.rec.d if self.model.rec is not None else 2
         self.part.actor.prop.show_edges = (
-            (not lines) and self.layer.opacity >= 0.99 and self.layer.size > 0 and self.part.n_cells <= EDGE_LIMIT
+            (not lines) and self.layer.size > 0 and self.part.n_cells <= EDGE_LIMIT
+            and (d <= 2 or self.layer.opacity >= 0.99)
         )
         self.part.actor.prop.edge_color = "#5a4a32"
         # push surfaces slightly back so samples and highlights on them stay visible
@@ -170,7 +181,11 @@ class CandidatesAdapter(ComplexAdapter):
 
 
 class ManifoldAdapter(ComplexAdapter):
-    """M_S as it stands at the current step: ``extraction.alive(i)``."""
+    """M_S as it stands at the current step: ``extraction.alive(i)``.
+
+    Optionally coloured by a coordinate or by the depth the projection hides
+    (:mod:`crustview.scene.coloring`), interpolated over each simplex.
+    """
 
     uses_step = True
 
@@ -178,14 +193,68 @@ class ManifoldAdapter(ComplexAdapter):
         super().__init__(*args)
         self.scalar_title: str | None = None
         self.clim = (0.0, 1.0)
-        self.layer.events.colorby.connect(lambda *_: self.update_cells())
-        self.model.theorems_changed.connect(lambda *_: self.update_cells())
+        if type(self) is ManifoldAdapter:
+            self.layer.events.colorby.connect(lambda *_: self.recolor())
+            self.model.theorems_changed.connect(lambda *_: self.recolor())
+            self.model.slice_changed.connect(lambda *_: self.update_cells())
+            self.model.layers["slice"].events.visible.connect(lambda *_: self.update_cells())
+
+    def project(self) -> None:
+        super().project()
+        if type(self) is ManifoldAdapter:
+            self.recolor()
+            if self.model.slicing and self.model.slice_cut:  # the hyperplane turned with the view
+                self.update_cells()
+
+    def recolor(self) -> None:
+        """Point scalars from the layer's colouring (one value per drawn vertex)."""
+        rec = self.model.rec
+        if rec is None or self.drawing is None:
+            return
+        if self.layer.colorby in CELL_COLORINGS:
+            self._color_cells()
+            return
+        got = coordinate_values(rec.points, self.model.projection, self.layer.colorby)
+        if got is None:
+            self.scalar_title = None
+            self.part.solid()
+            return
+        values, self.scalar_title = got
+        per_vertex = values[self.drawing.table].ravel() if self.drawing.dup else values
+        set_point_scalars(self.part.mesh, per_vertex)
+        self.clim = (float(values.min()), float(max(values.max(), values.min() + 1e-12)))
+        self.part.colormap(COORD_CMAP, self.clim, cell=False)
+
+    def update_cells(self, *_) -> None:
+        super().update_cells()
+        if type(self) is ManifoldAdapter and self.layer.colorby in CELL_COLORINGS:
+            self._color_cells()
+
+    def _color_cells(self) -> None:
+        """Cell scalars from the model (the distance of each simplex to M, for built-ins)."""
+        if self.model.rec is None or self.drawing is None:
+            return
+        got = self.model.manifold_values(self.layer.colorby)
+        if got is None:
+            self.scalar_title = None
+            self.part.solid()
+            return
+        values, title = got
+        set_cell_scalars(self.part.mesh, np.repeat(values[self.rows], self.drawing.per))
+        ok = values[np.isfinite(values)]
+        self.clim = (0.0, max(float(ok.max()) if len(ok) else 1.0, 1e-12))
+        self.scalar_title = title
+        self.part.colormap("inferno_r", self.clim, cell=True)
 
     def table(self):
         return self.model.rec.extraction.simplices
 
     def mask(self):
-        return self.model.rec.extraction.alive(self.model.player.position)
+        alive = self.model.rec.extraction.alive(self.model.player.position)
+        if type(self) is ManifoldAdapter and self.model.slicing and self.model.slice_cut:
+            below = self.model.slice_values() <= 0  # the half-space cut: keep what lies below the slice
+            alive = alive & below[self.model.rec.extraction.simplices].all(axis=1)
+        return alive
 
     def step(self) -> None:
         self.update_cells()
@@ -211,28 +280,103 @@ class ManifoldAdapter(ComplexAdapter):
         return None if row < 0 else ("simplex", row)
 
 
+#: Colour map of the step that removed each simplex.
+STEP_CMAP = "viridis"
+#: Colours of the rules that remove simplices.
+RULE_COLORS = {"prune-sharp": "#d62728", "resolve-nonmanifold": "#9467bd", "fill-hole": "#8c564b",
+               "insert-sample": "#e377c2"}
+
+
 class RemovedAdapter(ManifoldAdapter):
     """Simplices removed by the steps up to the current position.
 
     ``removed_by(i)``, not ``~alive(i)``: in a robust run a simplex that is not
-    yet added is not alive either, but it was never removed.
+    yet added is not alive either, but it was never removed.  Coloured by the
+    step that removed each simplex (``colorby == "step"``) or by its rule.
     """
 
-    def update_cells(self, *_) -> None:
-        ComplexAdapter.update_cells(self)
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self.scalar_title: str | None = None
+        self.layer.events.colorby.connect(lambda *_: self.update_cells())
 
     def mask(self):
         return self.model.rec.extraction.removed_by(self.model.player.position)
+
+    def update_cells(self, *_) -> None:
+        super().update_cells()
+        rec = self.model.rec
+        if rec is None or self.drawing is None:
+            return
+        ext = rec.extraction
+        how = self.layer.colorby
+        if how == "step":
+            set_cell_scalars(self.part.mesh, np.repeat(ext.removed_at[self.rows] + 1.0, self.drawing.per))
+            self.scalar_title = "removed by step"
+            self.part.colormap(STEP_CMAP, (1.0, float(max(ext.n_steps, 2))), cell=True)
+        elif how == "rule":
+            code = self.model.rule_codes()
+            names = list(RULE_COLORS)
+            rule_of = np.array([names.index(r) if r in names else 0 for r in code.names])
+            values = rule_of[code.codes[np.minimum(ext.removed_at[self.rows], max(ext.n_steps - 1, 0))]] + 1.0
+            set_cell_scalars(self.part.mesh, np.repeat(values, self.drawing.per))
+            self.scalar_title = None
+            self.part.use_lookup_table(_categorical(list(RULE_COLORS.values())), (1, len(names)), cell=True)
+        else:
+            self.scalar_title = None
+            self.part.solid()
 
     def restyle(self) -> None:
         super().restyle()
         self.part.actor.prop.show_edges = False
 
 
+class SliceAdapter(LayerAdapter):
+    """The cross-section of M_S (at the current step) by the slicing hyperplane."""
+
+    uses_step = True
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self.model.slice_changed.connect(lambda *_: self.layer.visible and self.rebuild())
+
+    def rebuild(self) -> None:
+        rec = self.model.rec
+        if rec is None:
+            return
+        ext = rec.extraction
+        simp = ext.simplices[ext.alive(self.model.player.position)]
+        if rec.d > 3 or len(simp) == 0:
+            self.xk, cells = np.zeros((0, rec.k)), np.zeros((0, rec.d), dtype=np.int64)
+        else:
+            u = self.model.slice_normal()
+            c = self.model.slice_offset + float(self.model.projection.origin @ u)
+            self.xk, cells = slice_complex(rec.points, simp, u, c)
+        set_points(self.part.mesh, self.model.projection.project(self.xk) if len(self.xk) else np.zeros((0, 3)))
+        if rec.d == 1:
+            set_cells(self.part.mesh, verts=cells)
+        elif rec.d == 2:
+            set_cells(self.part.mesh, lines=cells)
+        else:
+            set_cells(self.part.mesh, polys=cells)
+        self.layer.count = len(cells)
+
+    def project(self) -> None:
+        self.rebuild()  # the hyperplane is orthogonal to the hidden direction, which turns with the view
+
+    def step(self) -> None:
+        self.rebuild()
+
+    def restyle(self) -> None:
+        d = self.model.rec.d if self.model.rec is not None else 2
+        self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=d == 2, spheres=d == 1)
+        self.part.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(-2, -2)
+
+
 class StepAdapter(LayerAdapter):
     """The step just applied: tau, the kept pair, the removed and the added simplices."""
 
-    parts_spec = (("", False), ("-tau", False))
+    parts_spec = (("", True), ("-tau", True))
     uses_step = True
 
     def rebuild(self) -> None:
@@ -248,6 +392,7 @@ class StepAdapter(LayerAdapter):
         removed = np.array(s.removed if s else (), dtype=np.int64)
         added = np.array(s.added if s else (), dtype=np.int64)
         ids = np.concatenate([kept, removed, added])
+        self.ids = ids
         self.drawing = SimplexDrawing(ext.simplices[ids], rec.d, 0.92 if rec.d >= 2 else 1.0)
         self.kind = np.concatenate([np.ones(len(kept)), 2 * np.ones(len(removed)), 3 * np.ones(len(added))])
         self.tau = np.array(s.tau if s else (), dtype=np.int64)
@@ -269,6 +414,15 @@ class StepAdapter(LayerAdapter):
         else:
             set_cells(self.parts[1].mesh)
         self.layer.count = 0 if s is None else 1
+
+    def pick(self, part, cell_id):
+        """A cell of the step's simplices selects that simplex; tau selects the face."""
+        if part is self.parts[1]:
+            return ("face", tuple(int(v) for v in self.tau)) if len(self.tau) else None
+        if not hasattr(self, "ids") or self.drawing is None:
+            return None
+        row = self.model.candidate_row(int(self.ids[cell_id // self.drawing.per]))
+        return None if row < 0 else ("simplex", row)
 
     def project(self) -> None:
         rec = self.model.rec

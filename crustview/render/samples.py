@@ -6,6 +6,7 @@ import numpy as np
 import pyvista as pv
 
 from ..scene import geometry as geo
+from ..scene.coloring import COORDINATE_COLORINGS
 from ..scene.quantities import POLE_FINITE, POLE_INFINITE, pole_kinds
 from .base import NAN_COLOR, LayerAdapter, set_cells, set_point_scalars, set_points
 
@@ -82,12 +83,18 @@ class PointsAdapter(LayerAdapter):
             self.clim = (0.0, 4.0 * max(bounds.values()))
             self.part.use_lookup_table(epsilon_lut(bounds, self.clim[1]), self.clim, cell=False)
             return
-        hi = float(np.percentile(ok, 98)) if len(ok) else 1.0
+        by_place = self.layer.colorby in COORDINATE_COLORINGS  # positions: the whole range, no outliers
+        hi = float(np.percentile(ok, 100 if by_place else 98)) if len(ok) else 1.0
         lo = float(ok.min()) if len(ok) else 0.0
         self.clim = (lo, max(hi, lo + 1e-12))
         self.n_missing = len(values) - len(ok)
         self.scalar_title = title
         self.part.colormap(POINT_CMAPS.get(self.layer.colorby, "viridis"), self.clim, cell=False)
+
+    def project(self) -> None:
+        super().project()
+        if self.layer.colorby == "hidden depth":  # the hidden direction turns with the view
+            self.recolor()
 
     def restyle(self) -> None:
         self.part.style(self.layer.color, self.layer.opacity, self.layer.size, spheres=False)
@@ -102,6 +109,17 @@ def lighter(color, amount: float = 0.4) -> tuple[float, float, float]:
     return tuple(float(v) for v in rgb + amount * (1.0 - rgb))
 
 
+#: Length of the pole ticks drawn for every sample in R^4 and up, in local spacings.
+TICK_SPACINGS = 1.5
+
+
+def _tick(a: np.ndarray, b: np.ndarray, length: np.ndarray) -> np.ndarray:
+    """Points at most ``length`` from ``a`` towards ``b`` (row-wise)."""
+    v = b - a
+    n = np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
+    return a + v / n * np.minimum(n, length[:, None])
+
+
 class PolesAdapter(LayerAdapter):
     """Poles of every sample or of the selected sample, joined to the sample.
 
@@ -109,6 +127,8 @@ class PolesAdapter(LayerAdapter):
     on the convex hull is a vertex at infinity: it is drawn, in a lighter
     colour, as a ray in its direction up to the edge of the clipping box.
     Poles that do not exist (flat input, ``pole_index == -1``) are skipped.
+    With every sample's poles in R^4 and up, each is a short tick towards
+    its pole (:data:`TICK_SPACINGS` local spacings), without end dots.
     """
 
     parts_spec = (("", False), ("-ends", False), ("-inf", False))
@@ -140,7 +160,10 @@ class PolesAdapter(LayerAdapter):
         fin = kind == POLE_FINITE
         a = rec.points[owner[fin]]
         b = rec.voronoi_vertices[pole[fin]]
-        inside = np.all((b >= lo) & (b <= hi), axis=1)
+        ticks = self.layer.mode == "all" and rec.k >= 4
+        if ticks:  # R^4 and up: thousands of long lines hide everything; short ticks show the directions
+            b = _tick(a, b, TICK_SPACINGS * self.model.spacing[owner[fin]])
+        inside = np.all((b >= lo) & (b <= hi), axis=1) & (not ticks)
         a2, b2, _ = geo.clip_segments(a, b, lo, hi)
         self.xk = np.vstack([a2, b2]) if len(a2) else np.zeros((0, rec.k))
         m = len(a2)
@@ -153,6 +176,8 @@ class PolesAdapter(LayerAdapter):
         u = rec.voronoi_vertices[pole[inf]] - s
         u /= np.maximum(np.linalg.norm(u, axis=1, keepdims=True), 1e-300)
         reach = 2.0 * float(np.linalg.norm(hi - lo))
+        if ticks:
+            reach = TICK_SPACINGS * self.model.spacing[owner[inf]][:, None]
         a3, b3, _ = geo.clip_segments(s, s + reach * u, lo, hi)
         self.rays = np.vstack([a3, b3]) if len(a3) else np.zeros((0, rec.k))
         r = len(a3)

@@ -3,16 +3,23 @@
 from __future__ import annotations
 
 import numpy as np
-from vtkmodules.vtkRenderingCore import vtkCellPicker
-
 from ..scene import geometry as geo
 from ..scene.describe import verdict
 from ..scene.layers import CASCADE_COLOR, STEP_COLORS
 from ..scene.model import SceneModel
 from .base import NAN_COLOR, LayerAdapter
-from .complexes import CandidatesAdapter, ManifoldAdapter, RemovedAdapter, StepAdapter
+from .complexes import (
+    RULE_COLORS,
+    CandidatesAdapter,
+    ManifoldAdapter,
+    RemovedAdapter,
+    SliceAdapter,
+    StepAdapter,
+)
 from .diagnosis import CascadeAdapter, HolesAdapter
 from .overlay import Legend
+from .framing import frame_for, front_plane, place_camera
+from .picking import pick_visible
 from .inspect import SelectionAdapter, VoronoiAdapter
 from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter, lighter
 
@@ -22,6 +29,7 @@ ADAPTERS: dict[str, type[LayerAdapter]] = {
     "candidates": CandidatesAdapter,
     "removed": RemovedAdapter,
     "manifold": ManifoldAdapter,
+    "slice": SliceAdapter,
     "voronoi": VoronoiAdapter,
     "normals": NormalsAdapter,
     "poles": PolesAdapter,
@@ -48,6 +56,12 @@ class SceneView:
         self.model = model
         self.plotter = plotter
         self.auto_render = True
+        #: Asks the GUI toolkit for one repaint soon (set by the window); None renders at once.
+        #: Step changes use it: many in one frame cost one render, and the widget's paint
+        #: renders anyway, so an immediate render would be a second, wasted one.
+        self.schedule_render = None
+        #: The plane cutting away what lies in front of a framed step (None: no cut).
+        self.clip_plane = None
         #: View the data with its Y axis up instead of Z (View ▸ Y axis up).
         self.y_up = False
         plotter.set_background(BACKGROUND[0], top=BACKGROUND[1])
@@ -79,6 +93,7 @@ class SceneView:
         model.candidates_changed.connect(lambda *_: self._after_colour())
         model.theorems_changed.connect(lambda *_: (self.adapters["points"].recolor(), self._after_colour()))
         model.cascade_changed.connect(lambda *_: (self.update_legend(), self.render()))
+        model.slice_changed.connect(lambda *_: (self.update_legend(), self.render()))
 
     def _on_top(self, names: tuple[str, ...]) -> None:
         """Draw these layers in a second renderer layer over the scene.
@@ -116,6 +131,15 @@ class SceneView:
     def render(self) -> None:
         if self.auto_render:
             self.plotter.render()
+
+    def request_render(self) -> None:
+        """Render soon, once, however many changes come before the next frame."""
+        if not self.auto_render:
+            return
+        if self.schedule_render is None:
+            self.plotter.render()
+        else:
+            self.schedule_render()
 
     def _on_visible(self, a: LayerAdapter) -> None:
         if a.layer.visible and a in self._stale and self.ready:
@@ -177,6 +201,7 @@ class SceneView:
         if rec is None:
             return
         self.show_preview(None)
+        self.clear_clip()
         self._built_for = id(rec)
         self._stale.clear()
         for a in self.adapters.values():
@@ -192,6 +217,7 @@ class SceneView:
     def on_projection(self) -> None:
         if not self.ready:
             return
+        self.clear_clip()  # the cut was placed for the old projection
         for a in self._live():
             a.project()
         self.update_basis_text()
@@ -204,7 +230,7 @@ class SceneView:
             if a.uses_step:
                 a.step()
         self.update_legend()
-        self.render()
+        self.request_render()
 
     def on_selection(self) -> None:
         if not self.ready:
@@ -223,7 +249,7 @@ class SceneView:
     def update_bars(self) -> None:
         """One scalar bar per visible scalar colouring (points, candidates)."""
         want = {}
-        for name in ("points", "candidates", "manifold"):
+        for name in ("points", "manifold", "candidates", "removed"):
             a = self.adapters[name]
             title = getattr(a, "scalar_title", None)
             if self.model.layers[name].visible and title:
@@ -248,7 +274,8 @@ class SceneView:
         """(label, colour) of the visible solid-colour layers and the step highlight."""
         out = []
         layers = self.model.layers
-        for name in ("points", "manifold", "removed", "holes", "candidates", "normals", "poles", "voronoi", "truth"):
+        for name in ("points", "manifold", "slice", "removed", "holes", "candidates", "normals", "poles", "voronoi",
+                     "truth"):
             layer = layers[name]
             a = self.adapters[name]
             if not layer.visible or a.shown_cells() == 0:
@@ -256,9 +283,16 @@ class SceneView:
             if name == "points" and getattr(a, "scalar_title", None) and a.n_missing:
                 out.append((f"{a.scalar_title}: none (pole at infinity)", NAN_COLOR))
             if name == "points" and layer.colorby != "none" and not getattr(a, "scalar_title", None):
-                out.append((f"{layer.colorby}: not available here (needs the true manifold "
-                            "of a built-in sample)", NAN_COLOR))
+                why = ("needs points in R^4 or more" if layer.colorby == "hidden depth" else
+                       "no such coordinate" if layer.colorby.startswith("x") else
+                       "needs the true manifold of a built-in sample")
+                out.append((f"{layer.colorby}: not available here ({why})", NAN_COLOR))
             if getattr(a, "scalar_title", None):
+                continue
+            if name == "removed" and layer.colorby == "rule":
+                codes = self.model.rule_codes()
+                used = {codes.names[c] for c in np.unique(codes.codes[:self.model.player.position])}
+                out.extend((f"removed by {r}", c) for r, c in RULE_COLORS.items() if r in used)
                 continue
             if name == "poles" and a.n_infinite:
                 if a.parts[0].n_cells:
@@ -305,7 +339,8 @@ class SceneView:
 
     # -- camera and picking ---------------------------------------------------
     def reset_camera(self) -> None:
-        """Fit the camera to a sphere around the data (stable under rotations)."""
+        """Fit the camera to a sphere around the data (stable under rotations); no clipping."""
+        self.clear_clip()
         if self.model.rec is None:
             return
         r = self.model.radius
@@ -329,6 +364,44 @@ class SceneView:
             bounds = tuple(np.ravel(np.stack([lo, hi], axis=1)))
         self.plotter.reset_camera(bounds=bounds)
         self.plotter.camera.zoom(1.1 if not flat else 1.0)
+
+    def frame_step(self, step) -> None:
+        """Look at ``step``'s tau from its open side and cut away the geometry in front (:mod:`.framing`)."""
+        rec = self.model.rec
+        if rec is None or step is None:
+            return
+        ext = rec.extraction
+        ids = list(step.kept) + list(step.removed) + list(step.added)
+        tau = np.asarray(step.tau, dtype=np.int64)
+        patch = ext.simplices[ids].ravel() if ids else tau
+        if self.model.projection.flat:
+            self.frame_points(np.unique(np.concatenate([tau, patch])))
+            return
+        proj = self.model.projection.project(rec.points)
+        cam = self.plotter.renderer.GetActiveCamera()
+        frame = frame_for(proj, tau, np.asarray(patch, dtype=np.int64), float(np.median(self.model.spacing)),
+                          proj.mean(axis=0), np.asarray(cam.GetViewUp()))
+        self.plotter.disable_parallel_projection()
+        place_camera(cam, frame)
+        self.set_clip(front_plane(frame))
+        self.plotter.renderer.ResetCameraClippingRange()
+        self.request_render()
+
+    def set_clip(self, plane) -> None:
+        """Clip every scene actor (not the overlay) by ``plane``; None removes the clip."""
+        self.clip_plane = plane
+        for name, a in self.adapters.items():
+            if name in ("step", "cascade", "selection"):
+                continue
+            for part in a.parts:
+                part.mapper.RemoveAllClippingPlanes()
+                if plane is not None:
+                    part.mapper.AddClippingPlane(plane)
+
+    def clear_clip(self) -> None:
+        """Show the whole scene again (after framing a step)."""
+        if self.clip_plane is not None:
+            self.set_clip(None)
 
     def frame_points(self, idx) -> None:
         """Zoom the camera onto samples ``idx`` (keeps the view direction)."""
@@ -366,33 +439,8 @@ class SceneView:
     def pick(self, x: float, y: float) -> tuple[str, object] | None:
         """Element under display position ``(x, y)`` (VTK pixels, origin bottom-left).
 
-        Samples win over simplices: the points layer is tried first with a
-        small tolerance, then the simplicial layers.
+        The nearest *visible* thing: the current step's own simplices first
+        (they are drawn over everything), then M_S and the other simplicial
+        layers, then samples, compared by depth (:mod:`.picking`).
         """
-        if not self.ready:
-            return None
-        ren = self.plotter.renderer
-        for names, tol in ((("points",), 0.006), (("manifold", "candidates", "removed"), 0.0005)):
-            picker = vtkCellPicker()
-            picker.SetTolerance(tol)
-            picker.PickFromListOn()
-            owners = {}
-            for n in names:
-                if self.model.layers[n].visible:
-                    for part in self.adapters[n].parts:
-                        picker.AddPickList(part.actor)
-                        owners[id(part.actor)] = (self.adapters[n], part)
-            if not owners:
-                continue
-            if picker.Pick(x, y, 0, ren) and picker.GetCellId() >= 0:
-                actor = picker.GetActor()
-                key = next((k for k in owners if k == id(actor)), None)
-                if key is None:  # wrapped object identity differs: match by address
-                    key = next((k for k, (_, p) in owners.items() if p.actor.GetAddressAsString("") ==
-                                actor.GetAddressAsString("")), None)
-                if key is not None:
-                    adapter, part = owners[key]
-                    got = adapter.pick(part, picker.GetCellId())
-                    if got is not None:
-                        return got
-        return None
+        return pick_visible(self, x, y)

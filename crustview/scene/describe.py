@@ -7,6 +7,7 @@ import numpy as np
 from ..core.result import CANDIDATE_TESTS, Reconstruction, Step
 from .model import SceneModel
 from .quantities import POLE_INFINITE, POLE_NONE, hull_samples, pole_direction, pole_kinds
+from .shapes import name_of, shape_name
 
 #: One line per candidate test: what it asks of a d-face (for tool tips and the inspector).
 TEST_WORDS = {
@@ -212,6 +213,7 @@ def topology_rows(rec: Reconstruction, expected=None) -> list[tuple[str, str, st
     t = rec.topology
     exp = expected
     rows = [
+        ("shape", name_of(t, rec.d), shape_name(exp.d, exp.betti, exp.orientable) if exp else ""),
         ("closed manifold", "yes" if t.closed_manifold else "no", "yes" if exp is not None else ""),
         ("simplices", str(t.n_simplices), ""),
         ("Betti numbers (Z/2)", ", ".join(map(str, t.betti)), ", ".join(map(str, exp.betti)) if exp else ""),

@@ -6,11 +6,15 @@ from dataclasses import dataclass, field
 
 from psygnal import evented
 
+from .coloring import COORDINATE_COLORINGS
+
 #: Colourings the points layer offers.
 POINT_COLORINGS = ("none", "epsilon", "normal error", "pole distance", "local spacing", "true epsilon",
-                   "Thm 2 error / bound")
-#: Colourings of the M_S layer.
-MANIFOLD_COLORINGS = ("none", "distance to M")
+                   "Thm 2 error / bound") + COORDINATE_COLORINGS
+#: Colourings of the M_S layer: per simplex (the distance to M) or per vertex (coordinates).
+MANIFOLD_COLORINGS = ("none", "distance to M") + COORDINATE_COLORINGS
+#: Colourings of the removed simplices: by the step or the rule that removed each.
+REMOVED_COLORINGS = ("step", "rule", "none")
 #: Which poles to show.
 POLE_MODES = ("selected", "all")
 
@@ -20,6 +24,8 @@ STEP_COLORS = {"tau": "#ffb000", "kept": "#2ca02c", "removed": "#d62728", "added
 CASCADE_COLOR = "#00a0a0"
 #: Colour of the holes of T_S.
 HOLES_COLOR = "#d4006a"
+#: Colour of the slice of M_S.
+SLICE_COLOR = "#0b6e4f"
 #: Colour of the selection highlight.
 SELECTION_COLOR = "#ff00ff"
 
@@ -111,7 +117,9 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
         ),
         Layer(
             "removed", "Removed so far", False, "#c0392b", 0.3, 2.0, shrink=0.8 if d >= 3 else 1.0,
-            tooltip="Simplices removed by the steps up to the current one.",
+            colorby="step", colorings=REMOVED_COLORINGS,
+            tooltip="Simplices removed by the steps up to the current one, coloured by the step that "
+            "removed each (early dark, late bright) or by its rule.",
         ),
         Layer(
             "step", "Current step", True, STEP_COLORS["tau"], 1.0, 6.0,
@@ -133,6 +141,12 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
         Layer(
             "selection", "Selection", True, "#ff00ff", 1.0, 6.0,
             tooltip="The selected sample, simplex or (d-1)-face with its incident simplices.",
+        ),
+        Layer(
+            "slice", "Slice of M_S", False, "#0b6e4f", 1.0, 4.0,
+            tooltip="The cross-section of M_S by a hyperplane orthogonal to the direction the view hides "
+            "(R^4 and up; the view's depth axis in R^3): closed curves for a surface, 2-spheres for S^3. "
+            "Move it and cut M_S to one side in the Projection panel.",
         ),
         Layer(
             "truth", "Ground truth", False, "#5d6d7e", 0.25, 2.0,

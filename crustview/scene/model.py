@@ -12,11 +12,13 @@ from ..core.quality import SamplingQuality, sampling_quality
 from ..core.result import Cascade, Reconstruction
 from ..core.theorems import TheoremChecks, check_theorems
 from . import geometry as geo
+from .coloring import coordinate_values, default_coloring
 from .layers import Layer, default_layers
 from .player import StepPlayer
 from .projection import Projection
 from .quantities import normal_error, pole_distance
 from .selection import Selection
+from .timeline import RuleCodes, Timeline, rule_codes, timeline
 from .tour import GrandTour
 
 
@@ -49,6 +51,8 @@ class SceneModel:
     cascade_changed = Signal(object)
     #: Emitted when the theorem checks (:meth:`check_theorems`) were computed.
     theorems_changed = Signal()
+    #: Emitted when the slicing hyperplane moves or its half-space cut is switched.
+    slice_changed = Signal()
 
     def __init__(self) -> None:
         self.rec: Reconstruction | None = None
@@ -68,6 +72,10 @@ class SceneModel:
         self.cascade: Cascade | None = None
         #: Theorems 2 and 10 measured on the shown reconstruction (built-ins only, on request).
         self.theorems: TheoremChecks | None = None
+        #: Offset of the slicing hyperplane along :meth:`slice_normal`, from the projection origin.
+        self.slice_offset = 0.0
+        #: Whether M_S is cut to the half-space below the slicing hyperplane (while the slice is shown).
+        self.slice_cut = False
 
     # -- setting data ----------------------------------------------------
     def set_reconstruction(self, rec: Reconstruction, truth=None, source: str = "", keep_view: bool = False,
@@ -80,7 +88,7 @@ class SceneModel:
         if quality is not None:
             self._quality = (id(rec.delaunay_simplices), quality)
         same_space = self.rec is not None and self.rec.k == rec.k
-        position = self.player.position if keep_view else 0
+        position = self._kept_position(rec) if keep_view else 0
         #: Whether the last result kept the view (a re-extraction): the camera stays too.
         self.kept_view = bool(keep_view and same_space)
         self.rec = rec
@@ -92,6 +100,8 @@ class SceneModel:
         self.cascade = None
         self.theorems = None
         if not keep_view:
+            self.slice_offset = 0.0
+        if not keep_view:
             self.selection.sample = self.selection.simplex = None
             self.selection.face = None
         if not (keep_view and same_space):
@@ -101,6 +111,7 @@ class SceneModel:
         if not keep_view:
             m = self.layers["manifold"]
             m.shrink = 0.8 if rec.d >= 3 else 1.0
+            m.colorby = default_coloring(rec.k)  # in R^4: the depth the projection drops
             # a curve is thin: a darker, wider line keeps it visible on the light background
             m.color, m.size = ("#b35806", 4.0) if rec.d == 1 else ("#e9b872", 3.0)
             self.layers["removed"].shrink = m.shrink
@@ -112,6 +123,39 @@ class SceneModel:
         self.player.set_extraction(rec.extraction, position)
         self.reconstruction_changed.emit()
         self.selection.changed.emit()
+
+    def slice_normal(self) -> np.ndarray:
+        """Normal of the slicing hyperplane: the direction the view hides (k >= 4), else the view's depth axis."""
+        p = self.projection
+        if p.k >= 4:
+            return p.hidden
+        return p.basis[:, min(2, p.k - 1)] / max(np.linalg.norm(p.basis[:, min(2, p.k - 1)]), 1e-12)
+
+    @property
+    def slicing(self) -> bool:
+        """Whether the slice is shown (its layer is visible)."""
+        return bool(self.layers["slice"].visible) and self.rec is not None
+
+    def slice_values(self) -> np.ndarray:
+        """Signed distance of every sample from the slicing hyperplane."""
+        assert self.rec is not None
+        return (self.rec.points - self.projection.origin) @ self.slice_normal() - self.slice_offset
+
+    def set_slice(self, offset: float | None = None, cut: bool | None = None) -> None:
+        """Move the slicing hyperplane to ``offset`` and/or switch the half-space cut."""
+        if offset is not None:
+            self.slice_offset = float(offset)
+        if cut is not None:
+            self.slice_cut = bool(cut)
+        self.slice_changed.emit()
+
+    def _kept_position(self, rec: Reconstruction) -> int:
+        """Where a re-extraction starts: the same step if the new run has it, its end if the
+        old one was at its end (showing M_S), else step 0 (never a clamped, arbitrary last step)."""
+        old, n_old, n_new = self.player.position, self.player.n_steps, rec.extraction.n_steps
+        if old == n_old and old > 0:
+            return n_new
+        return old if old <= n_new else 0
 
     def set_cascade(self, cascade: Cascade | None) -> None:
         """Highlight ``cascade`` (one of :meth:`cascades`), or nothing."""
@@ -221,6 +265,7 @@ class SceneModel:
             with np.errstate(divide="ignore", invalid="ignore"):
                 return th.normal_error / th.bound, "normal error / Thm 2 bound"
         return None
+        return coordinate_values(rec.points, self.projection, colorby)
 
     @property
     def builtin(self):
@@ -264,6 +309,16 @@ class SceneModel:
         """(d-1)-faces of the extraction's simplices and their incidence."""
         assert self.rec is not None
         return self._cached("facets", lambda: geo.facets(self.rec.extraction.simplices))
+
+    def rule_codes(self) -> RuleCodes:
+        """The rule of every recorded step, as small integers."""
+        assert self.rec is not None
+        return self._cached("rules", lambda: rule_codes(self.rec.extraction))
+
+    def timeline(self) -> Timeline:
+        """|M_S|, boundary and non-manifold faces at every step position."""
+        assert self.rec is not None
+        return self._cached("timeline", lambda: timeline(self.rec.extraction, self.extraction_facets[1]))
 
     def open_faces(self, position: int | None = None):
         """(d-1)-faces that are boundary (1 simplex) or non-manifold (> 2).

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 from psygnal import Signal
 
 from ..core.result import Extraction, Step
@@ -15,8 +16,12 @@ class StepPlayer:
     ``extraction.alive(i)`` and the *current step* is ``steps[i - 1]``, the
     step that has just been applied (none at position 0).
 
-    A Qt timer calls :meth:`tick` while :attr:`playing`; :attr:`speed` is in
-    steps per second.
+    A Qt timer calls :meth:`advance` while :attr:`playing`, at most at the
+    display rate, with the time since the last call; :attr:`speed` is in
+    steps per second.  Steps between two frames are applied without being
+    drawn (the complex at any position is one comparison away).  With
+    :attr:`rule` set, playback and :meth:`advance` visit only steps of that
+    rule.
     """
 
     #: Emitted with the new position.
@@ -31,6 +36,12 @@ class StepPlayer:
         self.position = 0
         self.playing = False
         self.speed = float(speed)
+        #: Play only the steps of this rule (None: every step).
+        self.rule: str | None = None
+        self._rules: np.ndarray = np.zeros(0, dtype=object)
+        self._owed = 0.0
+        #: Steps applied by playback since :meth:`play` (for the "drawing 1 in N" readout).
+        self.applied = 0
         self.set_extraction(extraction)
 
     # -- data ------------------------------------------------------------
@@ -49,6 +60,7 @@ class StepPlayer:
         """Replace the recorded extraction and go to ``position``."""
         self.pause()
         self.extraction = extraction
+        self._rules = np.array([st.rule for st in extraction.steps] if extraction else [], dtype=object)
         self.position = max(0, min(int(position), self.n_steps))
         self.extraction_changed.emit(self.n_steps)
         self.step_changed.emit(self.position)
@@ -73,17 +85,18 @@ class StepPlayer:
     def prev(self) -> None:
         self.set_step(self.position - 1)
 
-    def next_of_rule(self, rule: str) -> int | None:
-        """Position just after the next step (from here on) that used ``rule``.
+    def next_of_rule(self, rule: str, count: int = 1) -> int | None:
+        """Position just after the ``count``-th next step (from here on) that used ``rule``.
 
-        Returns None when there is no such step; does not move.
+        Returns None when there is no such step; does not move.  With fewer
+        than ``count`` such steps left, the last of them.
         """
         if self.extraction is None:
             return None
-        for j in range(self.position, self.n_steps):
-            if self.extraction.steps[j].rule == rule:
-                return j + 1
-        return None
+        later = np.flatnonzero(self._rules[self.position:] == rule)
+        if len(later) == 0:
+            return None
+        return self.position + int(later[min(count, len(later)) - 1]) + 1
 
     def run_to_rule(self, rule: str) -> bool:
         """Jump to :meth:`next_of_rule`; returns False when there is none."""
@@ -97,8 +110,10 @@ class StepPlayer:
     def play(self) -> None:
         if self.n_steps == 0:
             return
-        if self.position >= self.n_steps:
+        if self.position >= self.n_steps or (self.rule and self.next_of_rule(self.rule) is None):
             self.set_step(0)
+        self._owed = 0.0
+        self.applied = 0
         if not self.playing:
             self.playing = True
             self.playing_changed.emit(True)
@@ -112,9 +127,37 @@ class StepPlayer:
         self.pause() if self.playing else self.play()
 
     def tick(self, n: int = 1) -> None:
-        """Advance ``n`` steps while playing; stops at the end."""
-        if not self.playing:
+        """Advance ``n`` steps (of :attr:`rule`, when set) while playing; stops at the end."""
+        if not self.playing or n <= 0:
+            return
+        before = self.position
+        if self.rule:
+            j = self.next_of_rule(self.rule, n)
+            if j is None:
+                self.pause()
+                return
+            self.set_step(j)
+            self.applied += int(np.count_nonzero(self._rules[before:j] == self.rule))
+            if self.next_of_rule(self.rule) is None:
+                self.pause()
             return
         self.set_step(self.position + n)
+        self.applied += self.position - before
         if self.position >= self.n_steps:
             self.pause()
+
+    def advance(self, seconds: float) -> int:
+        """Play on by ``seconds`` of wall time at :attr:`speed`; returns the steps applied.
+
+        Fractions of a step are carried to the next call, so the rate is
+        exact whatever the frame rate: at 1,000 steps/s and 20 frames/s each
+        frame applies 50 steps and draws only the last.
+        """
+        if not self.playing:
+            return 0
+        self._owed += max(0.0, float(seconds)) * self.speed
+        n = int(self._owed)
+        self._owed -= n
+        before = self.applied
+        self.tick(n)
+        return self.applied - before

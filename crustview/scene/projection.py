@@ -71,6 +71,8 @@ class Projection:
         self._angles: dict[tuple[int, int], float] = {}
         self._basis = self._base.copy()
         self.source = "coordinates (1, 2, 3)" if k >= 3 else "plane (1, 2)"
+        #: Radius of the 3-sphere (about :attr:`origin`) of the stereographic view; 0: linear view.
+        self.stereo_radius = 0.0
 
     def reset(self, k: int, origin: np.ndarray | None = None) -> None:
         """Start over in R^k: first three coordinates, given origin."""
@@ -96,11 +98,49 @@ class Projection:
         return self.k < 3
 
     def project(self, x: np.ndarray) -> np.ndarray:
-        """Project points of shape ``(..., k)`` to ``(..., 3)`` view coordinates."""
+        """Project points of shape ``(..., k)`` to ``(..., 3)`` view coordinates.
+
+        Linear (``(x - origin) @ basis``), or, with :attr:`stereographic` on,
+        the stereographic projection of the 4-space spanned by the basis and
+        the :attr:`hidden` direction, from the pole ``origin + r * hidden``.
+        """
         x = np.asarray(x, dtype=float)
         if x.shape[-1] != self.k:
             raise ValueError(f"expected points with {self.k} coordinates, got shape {x.shape}")
-        return (x - self.origin) @ self._basis
+        y = (x - self.origin) @ self._basis
+        if not self.stereographic:
+            return y
+        r = self.stereo_radius
+        h = (x - self.origin) @ self.hidden
+        # points at the pole go to infinity: stop at 20 radii
+        return y * (r / np.maximum(r - h, r / 20.0))[..., None]
+
+    @property
+    def stereographic(self) -> bool:
+        """Whether the view is the stereographic projection (k >= 4 only)."""
+        return self.stereo_radius > 0 and self.k >= 4
+
+    def set_stereographic(self, radius: float) -> None:
+        """Stereographic view of a 3-sphere of ``radius`` about :attr:`origin` (0: linear view)."""
+        if radius and self.k < 4:
+            raise ValueError("the stereographic view needs points in R^4 or more")
+        self.stereo_radius = float(max(radius, 0.0))
+        self.changed.emit()
+
+    @property
+    def hidden(self) -> np.ndarray:
+        """The unit direction the view drops: orthogonal to the basis (k >= 4; zeros otherwise).
+
+        For k > 4 it is the complement direction along which the basis was last
+        rotated least, taken from an orthonormal completion of the basis.
+        """
+        if self.k < 4:
+            return np.zeros(self.k)
+        q, _ = np.linalg.qr(np.column_stack([self._basis, np.eye(self.k)]))
+        u = q[:, 3]
+        u = u - self._basis @ (self._basis.T @ u)
+        u /= np.linalg.norm(u)
+        return u if u[np.argmax(np.abs(u))] > 0 else -u
 
     def axis_labels(self, digits: int = 2, tol: float = 0.005) -> list[str]:
         """Each view axis as a combination of the ambient coordinates.
@@ -135,6 +175,8 @@ class Projection:
     @property
     def description(self) -> str:
         """The base of the projection, and the planes it is rotated in (for labels)."""
+        if self.source == "grand tour":
+            return "grand tour (its angles are on the rotation sliders)"
         planes = [f"x{i + 1}-x{j + 1}" for (i, j), a in sorted(self._angles.items()) if a]
         return self.source + (", rotated in " + ", ".join(planes) if planes else "")
 
@@ -179,11 +221,51 @@ class Projection:
         sign = 1.0 if i < j else -1.0
         self.set_angle(key[0], key[1], self._angles.get(key, 0.0) + sign * angle)
 
-    def _update(self) -> None:
+    def planes(self) -> list[tuple[int, int]]:
+        """Every coordinate plane ``(i, j)``, ``i < j``, in the order rotations are applied."""
+        return [(i, j) for i in range(self.k) for j in range(i + 1, self.k)]
+
+    def _rotation(self, angles: dict[tuple[int, int], float]) -> np.ndarray:
         r = np.eye(self.k)
-        for (i, j), a in sorted(self._angles.items()):
+        for (i, j), a in sorted(angles.items()):
             if a:
                 r = givens(self.k, i, j, a) @ r
+        return r
+
+    def follow_basis(self, basis: np.ndarray, source: str = "custom", max_planes: int = 15) -> None:
+        """Show ``basis`` as plane rotations of the coordinate basis, so the angles follow it.
+
+        The angles are fitted (least squares, from the current angles, so a
+        moving basis such as the grand tour's gives continuous angles).  With
+        more than ``max_planes`` planes, or when the fit misses, this is
+        :meth:`set_base`.
+        """
+        from scipy.optimize import least_squares
+
+        target = _orthonormal_columns(basis, self.k)
+        planes = self.planes()
+        if self.k < 3 or len(planes) > max_planes:
+            self.set_base(target, source)
+            return
+        start = np.array([self._angles.get(p, 0.0) for p in planes]) if np.allclose(
+            self._base, np.eye(self.k, 3)) else np.zeros(len(planes))
+        e = np.eye(self.k, 3)
+
+        def residual(a: np.ndarray) -> np.ndarray:
+            return (self._rotation(dict(zip(planes, a))) @ e - target).ravel()
+
+        fit = least_squares(residual, start, xtol=1e-12, ftol=1e-12, gtol=1e-12)
+        if np.abs(residual(fit.x)).max() > 1e-6:
+            self.set_base(target, source)
+            return
+        wrapped = (fit.x + np.pi) % (2 * np.pi) - np.pi
+        self._base = e.copy()
+        self._angles = dict(zip(planes, (float(a) for a in wrapped)))
+        self.source = source
+        self._update()
+
+    def _update(self) -> None:
+        r = self._rotation(self._angles)
         b = r @ self._base
         if self.k < 3:
             b[:, self.k :] = 0.0

@@ -121,7 +121,7 @@ class GrandTour:
         frame = expm(self._t * self._log) @ self._start
         basis = np.zeros((self.projection.k, 3))
         basis[:, : self.m] = frame
-        self.projection.set_base(basis, "grand tour")
+        self.projection.follow_basis(basis, "grand tour")  # the rotation sliders follow the tour
         self._last = self.projection.basis[:, : self.m]
         return basis
 

@@ -34,7 +34,8 @@ def clipped_cell(vertices: np.ndarray, site: np.ndarray, lo: np.ndarray, hi: np.
     edges : ndarray of shape (e, 2)
         Its edges (pairs of rows of ``verts``).
     triangles : ndarray of shape (t, 3)
-        A triangulation of its boundary when k = 3 (empty otherwise).
+        A triangulation of its boundary when k = 3, of its 2-faces when
+        k = 4 (drawn as translucent patches), empty otherwise.
 
     Returns ``None`` when the cell is degenerate.
     """
@@ -67,11 +68,51 @@ def clipped_cell(vertices: np.ndarray, site: np.ndarray, lo: np.ndarray, hi: np.
     shared = active.astype(np.int32) @ active.T.astype(np.int32)
     i, j = np.nonzero(np.triu(shared >= k - 1, 1))
     edges = np.stack([i, j], axis=1)
-    tris = hull2.simplices if k == 3 else np.zeros((0, 3), dtype=np.int64)
+    if k == 3:
+        tris = hull2.simplices
+    elif k == 4:
+        tris = two_face_triangles(verts, active)
+    else:
+        tris = np.zeros((0, 3), dtype=np.int64)
     if k == 2:
         order = hull2.vertices
         edges = np.stack([order, np.roll(order, -1)], axis=1)
     return verts, edges.astype(np.int64), np.asarray(tris, dtype=np.int64)
+
+
+def two_face_triangles(verts: np.ndarray, active: np.ndarray) -> np.ndarray:
+    """Fan triangulations of the 2-faces of a 4-polytope.
+
+    Parameters
+    ----------
+    verts : ndarray of shape (w, 4)
+        Its vertices.
+    active : ndarray of shape (w, f) of bool
+        Which facet planes each vertex lies on.
+
+    A 2-face is where two facets meet in three or more vertices; its
+    vertices are put in order around their centroid in the face's plane.
+    """
+    on = active.astype(np.int32)
+    shared = on.T @ on  # vertices common to each pair of facets
+    a, b = np.nonzero(np.triu(shared >= 3, 1))
+    seen: set[tuple[int, ...]] = set()
+    tris: list[np.ndarray] = []
+    for fa, fb in zip(a, b):
+        idx = np.flatnonzero(active[:, fa] & active[:, fb])
+        key = tuple(idx)
+        if key in seen:
+            continue
+        seen.add(key)
+        p = verts[idx]
+        c = p.mean(axis=0)
+        _, sv, vt = np.linalg.svd(p - c, full_matrices=False)
+        if len(sv) < 2 or sv[1] < 1e-9 * max(sv[0], 1e-300):
+            continue  # not a polygon
+        xy = (p - c) @ vt[:2].T
+        ring = idx[np.argsort(np.arctan2(xy[:, 1], xy[:, 0]))]
+        tris.append(np.stack([np.full(len(ring) - 2, ring[0]), ring[1:-1], ring[2:]], axis=1))
+    return np.vstack(tris).astype(np.int64) if tris else np.zeros((0, 3), dtype=np.int64)
 
 
 def planar_voronoi_edges(

@@ -102,6 +102,18 @@ def torus_framed(app, win) -> None:
     win.steps_panel.to_rule.click()
 
 
+def torus_underside(app, win) -> None:
+    """'Frame each step' on the step whose tau lies lowest: seen from below, the top cut away."""
+    win.load_builtin("torus")
+    wait(app, win)
+    m = win.model
+    ext = m.rec.extraction
+    proj = m.projection.project(m.rec.points)
+    j = min((s.index for s in ext.steps if s.kept), key=lambda i: proj[list(ext.steps[i].tau)].mean(axis=0)[2])
+    win.steps_panel.follow.setChecked(True)
+    m.player.set_step(j + 1)
+
+
 def trefoil(app, win) -> None:
     win.load_builtin("trefoil")
     wait(app, win)
@@ -124,6 +136,63 @@ def s3(app, win) -> None:
     win.model.player.last()
     win.model.layers["manifold"].shrink = 0.55
     win.model.selection.select_sample(front_sample(win))
+
+
+def s3_sliced(app, win) -> None:
+    """S^3 cut by the hyperplane x4 = -0.4: the cross-section is a 2-sphere (green), and the cap of
+    S^3 below it (kept by the half-space cut, coloured by x4) is the 3-ball it bounds."""
+    win.load_builtin("s3")
+    wait(app, win)
+    m = win.model
+    m.player.last()
+    m.layers["points"].visible = False
+    m.layers["normals"].visible = False
+    m.layers["manifold"].shrink = 0.6
+    win.docks["projection"].raise_()
+    panel = win.projection_panel.slice
+    panel.show_slice.setChecked(True)
+    panel.cut.setChecked(True)
+    panel.set_offset(-0.4)
+    m.layers["slice"].opacity = 0.45  # the cap inside shows through
+    win.view.reset_camera()
+    win.plotter.camera.azimuth = 35
+
+
+def projective_plane_points(n: int = 1000) -> np.ndarray:
+    """RP^2 in R^4: even points of the upper half sphere under (xy, xz, y^2 - z^2, 2yz)."""
+    i = np.arange(2 * n) + 0.5
+    z = 1 - 2 * i / (2 * n)
+    r = np.sqrt(1 - z * z)
+    phi = np.pi * (1 + 5 ** 0.5) * i
+    v = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
+    x, y, z = v[v[:, 2] > 0].T
+    return np.stack([x * y, x * z, y * y - z * z, 2 * y * z], axis=1)
+
+
+def projective_plane(app, win) -> None:
+    """The projective plane in R^4, M_S coloured by its 4th coordinate (the one the view drops)."""
+    win.start_reconstruction(projective_plane_points(), 2, source="projective plane in R^4 (n = 1000)")
+    wait(app, win)
+    m = win.model
+    m.player.last()
+    m.layers["points"].visible = False
+    m.layers["normals"].visible = False
+    m.layers["manifold"].colorby = "x4"
+    win.docks["info"].raise_()
+    win.view.reset_camera()
+
+
+def clifford_stereographic(app, win) -> None:
+    """The Clifford torus in R^4 under stereographic projection: a torus of revolution."""
+    win.load_builtin("clifford-torus")
+    wait(app, win)
+    m = win.model
+    m.player.last()
+    m.layers["points"].visible = False
+    m.layers["normals"].visible = False
+    win.docks["projection"].raise_()
+    win.projection_panel.stereo.setChecked(True)
+    win.view.reset_camera()
 
 
 def look_from(win, direction, zoom: float = 1.0, up=(0.0, 1.0, 0.0)) -> None:
@@ -214,9 +283,13 @@ CASES = {
                                                        up=(0.0, 0.0, 1.0)),
     "torus-step": torus_step,
     "torus-framed": torus_framed,
+    "torus-underside": torus_underside,
     "trefoil-r3": trefoil,
     "clifford-torus-r4": clifford,
     "s3-r4": s3,
+    "s3-sliced": s3_sliced,
+    "projective-plane-x4": projective_plane,
+    "clifford-stereographic": clifford_stereographic,
     "spot": spot,
     "bunny": lambda app, win: bunny(app, win, True),
     "bunny-open": lambda app, win: bunny(app, win, False),

@@ -1,0 +1,87 @@
+"""The window's dock layout: the 3-D view keeps at least 60 % of the width."""
+
+from __future__ import annotations
+
+from PySide6.QtCore import Qt, QTimer
+from PySide6.QtWidgets import QTabBar
+
+#: Share of the window's width the 3-D view keeps; below it the docks collapse to tabs.
+VIEW_SHARE = 0.6
+
+
+class DockLayout:
+    """Mixin of :class:`~crustview.qt.window.MainWindow` (needs ``plotter``, ``docks``,
+    ``layers_panel``, ``steps_panel`` and ``compact``): collapse the docks to one tabbed
+    column whenever the view would get less than :data:`VIEW_SHARE` of the window.
+    """
+
+    def fit_to_screen(self, width: int, height: int) -> None:
+        """Size the window for a screen of ``width`` x ``height`` pixels.
+
+        The docks then collapse to one tabbed column if the 3-D view would
+        otherwise get less than :data:`VIEW_SHARE` of the window (as on any
+        later resize).
+        """
+        w, h = min(1600, int(width * 0.95)), min(1000, int(height * 0.92))
+        if width < 1400:  # surely too narrow for docks side by side: collapse before sizing
+            self.resize(w, h)
+            self.compact_docks()
+        self.resize(w, h)
+        self.keep_view_share()
+
+    @property
+    def view_share(self) -> float:
+        """The 3-D view's share of the window's width."""
+        return self.plotter.width() / max(1, self.width())
+
+    def resizeEvent(self, event) -> None:  # noqa: N802 - Qt API
+        super().resizeEvent(event)
+        if self.isVisible():
+            QTimer.singleShot(0, self.keep_view_share)
+
+    def showEvent(self, event) -> None:  # noqa: N802 - Qt API
+        super().showEvent(event)
+        QTimer.singleShot(0, self.keep_view_share)
+
+    def keep_view_share(self) -> None:
+        """Collapse the docks to one tabbed column when the view would drop below :data:`VIEW_SHARE`.
+
+        Once collapsed, the column is sized again at every resize so the view keeps its share.
+        """
+        if not self.isVisible():
+            return
+        if self.compact:
+            if self.view_share < VIEW_SHARE - 0.02:
+                self._size_column()
+            return
+        self.layout().activate()  # the docks' real widths at this window size
+        if self.view_share < VIEW_SHARE:
+            self.compact_docks()
+
+    def compact_docks(self) -> None:
+        """All docks in one tabbed column on the right (Steps in front), narrow enough for the view."""
+        if self.compact:
+            return
+        self.compact = True
+        self.layers_panel.setMinimumWidth(0)  # narrow panels scroll sideways
+        self.layers_panel.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAsNeeded)
+        self.steps_panel.compact()
+        self.docks["steps"].setWindowTitle("Steps")
+        right = Qt.DockWidgetArea.RightDockWidgetArea
+        order = ["steps", "run", "layers", "projection", "info"]
+        for name in order:
+            self.addDockWidget(right, self.docks[name])
+        for name in order[1:]:
+            self.tabifyDockWidget(self.docks["steps"], self.docks[name])
+        self.docks["steps"].raise_()
+        self._size_column()
+        QTimer.singleShot(0, self._size_column)  # again once the tabbed layout has settled
+        for bar in self.findChildren(QTabBar):  # whole titles, scrolled when they do not fit
+            bar.setElideMode(Qt.TextElideMode.ElideNone)
+            bar.setUsesScrollButtons(True)
+            bar.setExpanding(False)
+
+    def _size_column(self) -> None:
+        column = int(self.width() * (1.0 - VIEW_SHARE) - 12)
+        self.resizeDocks([self.docks["steps"]], [max(240, column)], Qt.Orientation.Horizontal)
+

@@ -1,0 +1,58 @@
+"""Frame each step: tau seen from its open side, the geometry in front cut away."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pytestqt")
+
+
+def load(qtbot, win, name="torus"):
+    assert win.load_builtin(name)
+    qtbot.waitUntil(lambda: not win.runner.busy, timeout=60_000)
+    assert win.model.rec is not None, win.last_error
+    return win.model.rec
+
+
+def display_xy(win, xyz):
+    ren = win.plotter.renderer
+    ren.SetWorldPoint(*xyz, 1.0)
+    ren.WorldToDisplay()
+    x, y, _ = ren.GetDisplayPoint()
+    return x, y
+
+
+def test_a_step_on_the_underside_of_the_torus_is_seen_without_the_top_in_front(qtbot, window):
+    rec = load(qtbot, window)
+    m = window.model
+    ext = rec.extraction
+    proj = m.projection.project(rec.points)
+    # the step whose tau lies lowest: on the underside, below the tube's top surface
+    j = min(range(ext.n_steps), key=lambda i: proj[list(ext.steps[i].tau)].mean(axis=0)[2])
+    step = ext.steps[j]
+    focus = proj[list(step.tau)].mean(axis=0)
+    assert focus[2] < -0.5 * np.ptp(proj[:, 2]) / 2
+    window.steps_panel.follow.setChecked(True)
+    m.player.set_step(j + 1)
+    window.view.render()
+    cam = window.plotter.camera
+    assert np.linalg.norm(np.array(cam.focal_point) - focus) < 1e-6
+    # seen from below: the camera is under the surface it looks at, so the top is not in between
+    assert cam.position[2] < focus[2]
+    plane = window.view.clip_plane
+    assert plane is not None
+    manifold = window.view.adapters["manifold"].part.mapper
+    assert manifold.GetClippingPlanes().GetNumberOfItems() == 1
+    step_mapper = window.view.adapters["step"].part.mapper
+    assert step_mapper.GetClippingPlanes() is None or step_mapper.GetClippingPlanes().GetNumberOfItems() == 0
+    # a click on tau (step layer hidden) hits M_S next to tau, not a far surface
+    m.layers["step"].visible = False
+    window.view.render()
+    x, y = display_xy(window, focus)
+    got = window.pick_at(int(round(x)), int(round(y)))
+    assert got is not None and got[0] == "simplex", got
+    tri = proj[rec.candidates.faces[got[1]]]
+    assert np.linalg.norm(tri.mean(axis=0) - focus) < 3 * float(np.median(m.spacing))
+    # R (reset) removes the cut
+    window.view.reset_camera()
+    assert window.view.clip_plane is None
+    assert manifold.GetClippingPlanes() is None or manifold.GetClippingPlanes().GetNumberOfItems() == 0

@@ -1,0 +1,64 @@
+"""The window's layout at 1024 x 700: the view keeps 60 %, tabs are readable, nothing overlaps."""
+
+import pytest
+
+pytest.importorskip("pytestqt")
+from PySide6.QtWidgets import QLabel, QTabBar, QWidget  # noqa: E402
+
+
+def overlapping(panel: QWidget) -> list[tuple[str, str]]:
+    """Pairs of visible sibling widgets of ``panel`` whose rectangles intersect."""
+    bad = []
+    parents = [panel] + panel.findChildren(QWidget)
+    for parent in parents:
+        kids = [w for w in parent.children() if isinstance(w, QWidget) and w.isVisible() and not w.isWindow()]
+        for i, a in enumerate(kids):
+            for b in kids[i + 1:]:
+                if a.geometry().intersected(b.geometry()).width() > 1 and \
+                        a.geometry().intersected(b.geometry()).height() > 1:
+                    bad.append((a.objectName() or type(a).__name__, b.objectName() or type(b).__name__))
+    return bad
+
+
+def test_at_1024_by_700_the_view_keeps_sixty_percent_with_readable_tabs(qtbot, window):
+    assert window.load_builtin("torus")
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    window.resize(1024, 700)
+    qtbot.waitUntil(lambda: window.compact, timeout=2000)
+    qtbot.wait(100)
+    assert window.width() == 1024 and window.height() <= 700
+    share = window.view_share
+    print(f"view share at 1024x700: {share:.2f}")
+    assert share >= 0.58
+    bars = [b for b in window.findChildren(QTabBar) if b.isVisible() and b.count() >= 5]
+    assert len(bars) == 1
+    bar = bars[0]
+    titles = [bar.tabText(i) for i in range(bar.count())]
+    assert set(titles) == {"Steps", "Run", "Layers", "Projection", "Information"}
+    fm = bar.fontMetrics()
+    for i in range(bar.count()):  # each title fits its tab: no "La…"
+        assert bar.tabRect(i).width() >= fm.horizontalAdvance(bar.tabText(i)), bar.tabText(i)
+
+
+def test_no_dock_widgets_overlap_at_1024_by_700_also_with_a_pending_change(qtbot, window):
+    assert window.load_builtin("torus")
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    window.resize(1024, 700)
+    qtbot.waitUntil(lambda: window.compact, timeout=2000)
+    run = window.run_panel
+    run.test.setCurrentText("cocone-all")  # the out-of-date note appears
+    run.theta.setValue(run.theta.value() - 5)
+    for name in ("run", "layers", "projection", "steps", "info"):
+        window.docks[name].raise_()
+        qtbot.wait(60)
+        panel = window.docks[name].widget()
+        assert overlapping(panel) == [], name
+    assert run.stale.isVisible()
+    labels = [w for w in run.findChildren(QLabel) if w.isVisible() and w.text()]
+    assert all(w.height() >= w.sizeHint().height() - 2 for w in labels if not w.wordWrap())
+
+
+def test_a_wide_window_keeps_the_view_at_sixty_percent_too(qtbot, window):
+    window.resize(1440, 900)
+    qtbot.wait(100)
+    assert window.view_share >= 0.58

@@ -1,0 +1,165 @@
+"""Reading shapes in R^4 in the real window: names, colours by coordinate, slices, stereographic view."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pytestqt")
+
+
+def load(qtbot, win, name, n=None):
+    assert win.load_builtin(name, n)
+    qtbot.waitUntil(lambda: not win.runner.busy, timeout=120_000)
+    assert win.model.rec is not None, win.last_error
+    return win.model.rec
+
+
+def topology_row(win, name):
+    table = win.info_panel.topology
+    for r in range(table.rowCount()):
+        if table.item(r, 0).text() == name:
+            return table.item(r, 1).text(), table.item(r, 2).text()
+    raise KeyError(name)
+
+
+@pytest.mark.parametrize("name, words", [("hopf-link", "2 circles"), ("flat-klein", "Klein bottle")])
+def test_the_window_names_the_shape_and_checks_it_against_the_truth(qtbot, window, name, words):
+    load(qtbot, window, name)
+    assert words in window.windowTitle()
+    assert topology_row(window, "shape") == (words, words)
+
+
+def test_a_translucent_m_s_keeps_its_edges(qtbot, window):
+    load(qtbot, window, "torus")
+    window.model.layers["manifold"].opacity = 0.4
+    prop = window.view.adapters["manifold"].part.actor.prop
+    assert prop.show_edges and prop.opacity == pytest.approx(0.4)
+
+
+def mesh_scalars(adapter):
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    return vtk_to_numpy(adapter.part.mesh.GetPointData().GetArray("values"))
+
+
+def test_m_s_is_coloured_by_the_hidden_coordinate_and_follows_the_view(qtbot, window):
+    rec = load(qtbot, window, "flat-klein")
+    m = window.model
+    layer = m.layers["manifold"]
+    a = window.view.adapters["manifold"]
+    assert layer.colorby == "hidden depth"  # the default in R^4: the coordinate the view drops
+    assert np.allclose(mesh_scalars(a), rec.points[:, 3] - m.projection.origin[3])
+    assert a.part.mapper.scalar_visibility and a.scalar_title in window.view._bars
+    m.projection.set_angle(2, 3, np.pi / 2)  # now x3 is hidden
+    assert np.allclose(np.abs(mesh_scalars(a)), np.abs(rec.points[:, 2] - m.projection.origin[2]), atol=1e-9)
+    layer.colorby = "x1"
+    assert np.allclose(mesh_scalars(a), rec.points[:, 0])
+    m.layers["points"].colorby = "x2"
+    assert np.allclose(mesh_scalars(window.view.adapters["points"]), rec.points[:, 1])
+
+
+def test_slicing_s3_gives_a_2_sphere_and_cuts_m_s_in_half(qtbot, window):
+    rec = load(qtbot, window, "s3", 600)
+    m = window.model
+    panel = window.projection_panel.slice
+    before = m.layers["manifold"].count
+    panel.show_slice.setChecked(True)
+    panel.set_offset(0.2)
+    a = window.view.adapters["slice"]
+    u = m.slice_normal()
+    assert np.allclose(u, [0, 0, 0, 1])
+    assert np.allclose((a.xk - m.projection.origin) @ u, m.slice_offset, atol=1e-9)
+    assert abs(m.slice_offset - 0.2) < 0.02
+    # the cross-section is a closed surface with the Euler characteristic of a sphere
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    polys = vtk_to_numpy(a.part.mesh.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    _, vid = np.unique(np.round(a.xk, 9), axis=0, return_inverse=True)
+    tris = np.sort(vid.ravel()[polys], axis=1)
+    tris = tris[(tris[:, 0] != tris[:, 1]) & (tris[:, 1] != tris[:, 2])]
+    edges = np.unique(np.vstack([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [0, 2]]]), axis=0)
+    assert len(np.unique(tris)) - len(edges) + len(tris) == 2
+    # the half-space cut keeps only what lies below the hyperplane
+    panel.cut.setChecked(True)
+    cut = m.layers["manifold"].count
+    assert 0 < cut < before
+    ext = rec.extraction
+    shown = ext.simplices[window.view.adapters["manifold"].rows]
+    assert (m.slice_values()[shown] <= 0).all()
+    panel.show_slice.setChecked(False)
+    assert m.layers["manifold"].count == before
+
+
+def test_stereographic_view_of_the_clifford_torus(qtbot, window):
+    rec = load(qtbot, window, "clifford-torus")
+    m = window.model
+    linear = m.projection.project(rec.points)
+    window.projection_panel.stereo.setChecked(True)
+    p = m.projection
+    assert p.stereographic
+    y = rec.points - p.origin
+    r = p.stereo_radius
+    want = y[:, :3] * (r / (r - y[:, 3]))[:, None]
+    got = p.project(rec.points)
+    assert np.allclose(got, want)
+    # drawn: the samples layer holds the stereographic positions
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    pts = vtk_to_numpy(window.view.adapters["points"].part.mesh.GetPoints().GetData())
+    assert np.allclose(pts, want) and not np.allclose(pts, linear)
+    # the Clifford torus |x12| = |x34| becomes a torus of revolution about the view's z axis:
+    # the distance from that axis is spread out, not constant as in the linear view's annulus
+    assert np.ptp(np.hypot(got[:, 0], got[:, 1])) > 1.5 * np.ptp(np.hypot(linear[:, 0], linear[:, 1]))
+    window.projection_panel.stereo.setChecked(False)
+    assert np.allclose(m.projection.project(rec.points), linear)
+
+
+def test_rotation_sliders_show_their_angle(qtbot, window):
+    load(qtbot, window, "clifford-torus")
+    panel = window.projection_panel
+    panel.sliders[(0, 3)].setValue(45)
+    assert panel.readouts[(0, 3)].text() == "45°"
+    window.model.projection.set_angle(1, 2, np.radians(-30))
+    assert panel.readouts[(1, 2)].text() == "-30°" and panel.sliders[(1, 2)].value() == -30
+
+
+def test_rotation_sliders_follow_the_grand_tour(qtbot, window):
+    load(qtbot, window, "clifford-torus")
+    m = window.model
+    panel = window.projection_panel
+    tour = m.tour
+    tour.speed = 1.0
+    seen = []
+    for _ in range(8):
+        tour.advance(0.05)
+        angles = m.projection.angles
+        # the sliders' angles are the view: rotating the coordinate basis by them gives the tour's basis
+        r = np.eye(4)
+        for (i, j), a in sorted(angles.items()):
+            from crustview.scene.projection import givens
+
+            r = givens(4, i, j, a) @ r
+        assert np.allclose(r[:, :3], m.projection.basis, atol=1e-6)
+        for key, s in panel.sliders.items():
+            deg = np.degrees(angles.get(key, 0.0))
+            assert abs(s.value() - deg) <= 0.51 and panel.readouts[key].text() == f"{deg:.0f}°"
+        seen.append(np.array([angles.get(p, 0.0) for p in m.projection.planes()]))
+    assert np.abs(seen[-1] - seen[0]).max() > np.radians(1)  # the sliders moved
+    jumps = [np.abs(np.angle(np.exp(1j * (b - a)))).max() for a, b in zip(seen, seen[1:])]
+    assert max(jumps) < np.radians(20)  # and moved continuously
+
+
+def test_all_poles_in_r4_are_short_ticks(qtbot, window):
+    rec = load(qtbot, window, "clifford-torus")
+    m = window.model
+    poles = m.layers["poles"]
+    poles.mode = "all"
+    poles.visible = True
+    a = window.view.adapters["poles"]
+    half = len(a.xk) // 2
+    assert half >= rec.n  # every sample has its poles drawn
+    seg = np.linalg.norm(a.xk[half:] - a.xk[:half], axis=1)
+    from crustview.render.samples import TICK_SPACINGS
+
+    assert seg.max() <= TICK_SPACINGS * m.spacing.max() + 1e-9
+    assert np.median(seg) < 0.15 * np.ptp(rec.points, axis=0).max()  # not lines across the whole view
+    assert a.parts[1].n_cells == 0  # no end dots
