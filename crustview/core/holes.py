@@ -292,26 +292,10 @@ class Patcher:
                 deg[v] = deg.get(v, 0) + 1
         touched = set(v for e in edges for v in e)
         for v in [v for v, c in deg.items() if c > 2]:
-            tris = sorted(self.star.get(v, ()))
-            # fans: triangles at v connected through the edges at v that they share
-            parent = {i: i for i in tris}
-
-            def find(a: int) -> int:
-                while parent[a] != a:
-                    a = parent[a]
-                return a
-
-            for i in tris:
-                for f in _facets(self.simp[i]):
-                    ids = self.fmap[f]
-                    if v in f and len(ids) == 2:
-                        parent[find(ids[0])] = find(ids[1])
-            fans: dict[int, list[int]] = {}
-            for i in tris:
-                fans.setdefault(find(i), []).append(i)
+            fans = self.fans(v)
             if len(fans) < 2:
                 continue
-            for fan in sorted(fans.values(), key=len)[:-1]:
+            for fan in sorted(fans, key=len)[:-1]:
                 for i in fan:
                     touched.update(self.simp[i])
                     self._delete(i)

@@ -259,22 +259,6 @@ class ManifoldAdapter(ComplexAdapter):
     def step(self) -> None:
         self.update_cells()
 
-    def update_cells(self, *_) -> None:
-        super().update_cells()
-        if self.model.rec is None or self.drawing is None:
-            return
-        got = self.model.manifold_values(self.layer.colorby) if self.layer.colorings else None
-        if got is None:
-            self.scalar_title = None
-            self.part.solid()
-            return
-        values, title = got
-        set_cell_scalars(self.part.mesh, np.repeat(values[self.rows], self.drawing.per))
-        ok = values[np.isfinite(values)]
-        self.clim = (0.0, max(float(ok.max()) if len(ok) else 1.0, 1e-12))
-        self.scalar_title = title
-        self.part.colormap("inferno_r", self.clim, cell=True)
-
     def pick(self, part, cell_id):
         row = self.model.candidate_row(self.row_of(cell_id))
         return None if row < 0 else ("simplex", row)

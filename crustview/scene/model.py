@@ -264,7 +264,6 @@ class SceneModel:
                 return th.epsilon, "true epsilon"
             with np.errstate(divide="ignore", invalid="ignore"):
                 return th.normal_error / th.bound, "normal error / Thm 2 bound"
-        return None
         return coordinate_values(rec.points, self.projection, colorby)
 
     @property
