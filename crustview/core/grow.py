@@ -55,12 +55,20 @@ def size_ratio(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
     dist, _ = cKDTree(points).query(points, k=2)
     nn = dist[:, 1]
     p = points[faces]
-    a = p[:, 1:] - p[:, :1]  # (f, d, k)
-    gram = a @ np.swapaxes(a, 1, 2)
-    rhs = 0.5 * np.einsum("fdd->fd", gram)
-    reg = 1e-12 * np.maximum(np.einsum("fdd->f", gram), 1e-300)[:, None, None] * np.eye(gram.shape[1])
-    lam = np.linalg.solve(gram + reg, rhs[..., None])[..., 0]
-    radius = np.linalg.norm(np.einsum("fd,fdk->fk", lam, a), axis=1)
+    if faces.shape[1] == 3:  # triangles: R = abc / (4 area), in closed form
+        a = np.linalg.norm(p[:, 1] - p[:, 2], axis=1)
+        b = np.linalg.norm(p[:, 0] - p[:, 2], axis=1)
+        c = np.linalg.norm(p[:, 0] - p[:, 1], axis=1)
+        s = 0.5 * (a + b + c)
+        area4 = 4.0 * np.sqrt(np.maximum(s * (s - a) * (s - b) * (s - c), 0.0))
+        radius = a * b * c / np.maximum(area4, 1e-300)
+    else:
+        a = p[:, 1:] - p[:, :1]  # (f, d, k)
+        gram = a @ np.swapaxes(a, 1, 2)
+        rhs = 0.5 * np.einsum("fdd->fd", gram)
+        reg = 1e-12 * np.maximum(np.einsum("fdd->f", gram), 1e-300)[:, None, None] * np.eye(gram.shape[1])
+        lam = np.linalg.solve(gram + reg, rhs[..., None])[..., 0]
+        radius = np.linalg.norm(np.einsum("fd,fdk->fk", lam, a), axis=1)
     return radius / np.maximum(nn[faces].mean(axis=1), 1e-300)
 
 
@@ -278,8 +286,11 @@ class Grower:
              progress: Callable[[float], None] | None = None) -> None:
         """Pop candidates until none is valid; ``rule_of(face, cos)`` names each step."""
         heap = self.heap
+        alive, count, inc, fg = self.alive, self.count, self._inc, self._fg
         while heap:
             glue, cost, j, cos0 = heapq.heappop(heap)
+            if alive[inc[j]] or count[fg[j]] != 1:
+                continue  # taken, or its boundary face closed since it was queued
             ok, now_glue, cos = self.valid(j, cos0)
             if not ok:
                 continue
