@@ -159,6 +159,8 @@ class Grower:
         self.cos_limit = COS_PAPER
         #: apexes of gluing moves: the only vertices where the grown complex can pinch
         self.glued: list[int] = []
+        #: candidate entries found invalid at each boundary facet (under the current angle limit)
+        self.rejected: dict[int, set[int]] = {}
         #: orientation (+1/-1 relative to the sorted vertex order) of each grown simplex
         self.orient = [0] * f
         #: codimension 1: every closed hypersurface is orientable, so no move may
@@ -207,7 +209,14 @@ class Grower:
 
     # -- candidates ---------------------------------------------------------
     def push_front(self, g: int) -> None:
-        """Queue the admissible simplices across boundary facet ``g``."""
+        """Queue the best admissible simplex across boundary facet ``g``.
+
+        Only the best (gluing last, then smallest cost) is queued; when it
+        turns out to be taken or invalid, :meth:`grow` asks again, so the next
+        best is queued then.  Validity only ever gets stricter as the surface
+        grows, so this pops the same candidates as queueing them all, with a
+        third of the heap traffic.
+        """
         lo, hi = self._ptr[g], self._ptr[g + 1]
         cand = self._inc[lo:hi]
         s = self.xor[g] - 1
@@ -217,8 +226,10 @@ class Grower:
         alive, fits, fo, count = self.alive, self._fits, self._fo, self.count
         vcount, vfront, apex = self.vcount, self.vfront, self._apex
         dp1 = self.dp1
+        rejected = self.rejected.get(g, ())
+        best = None
         for t, f in enumerate(cand):
-            if f == s or alive[f] or not fits[f] or cos[t] >= lim:
+            if f == s or alive[f] or not fits[f] or cos[t] >= lim or lo + t in rejected:
                 continue
             closing = False
             full = False
@@ -239,7 +250,11 @@ class Grower:
             glue = used and not closing
             if glue and not self._in_ts[f]:
                 continue  # handles only where T_S vouches for them
-            heapq.heappush(self.heap, (int(glue), self._cost[f], lo + t, cos[t]))
+            key = (int(glue), self._cost[f], lo + t, cos[t])
+            if best is None or key < best:
+                best = key
+        if best is not None:
+            heapq.heappush(self.heap, best)
 
     def valid(self, j: int, cos: float) -> tuple[bool, bool, float]:
         """(valid, gluing, cos phi at the facet) of candidate entry ``j`` now.
@@ -289,14 +304,19 @@ class Grower:
         alive, count, inc, fg = self.alive, self.count, self._inc, self._fg
         while heap:
             glue, cost, j, cos0 = heapq.heappop(heap)
-            if alive[inc[j]] or count[fg[j]] != 1:
-                continue  # taken, or its boundary face closed since it was queued
+            g = fg[j]
+            if count[g] != 1:
+                continue  # its boundary face closed since it was queued
+            if alive[inc[j]]:
+                self.push_front(g)  # taken across another face: queue this face's next best
+                continue
             ok, now_glue, cos = self.valid(j, cos0)
             if not ok:
+                self.rejected.setdefault(g, set()).add(j)
+                self.push_front(g)
                 continue
-            if now_glue and not glue:  # became a gluing move since it was queued
-                if self._in_ts[self._inc[j]]:
-                    heapq.heappush(heap, (1, cost, j, cos0))
+            if now_glue and not glue:  # became a gluing move since it was queued: rank it again
+                self.push_front(g)
                 continue
             f = self._inc[j]
             if now_glue:
@@ -311,5 +331,6 @@ class Grower:
     def requeue_front(self) -> None:
         """Queue every boundary facet again (after the angle limit changed)."""
         self.heap = []
+        self.rejected = {}
         for g in np.flatnonzero(np.array(self.count) == 1).tolist():
             self.push_front(g)
