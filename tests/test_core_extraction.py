@@ -266,3 +266,26 @@ def test_two_circles_and_pinched_and_open_complexes():
     rep = analyse(np.array([[0, 1, 2], [0, 2, 3]]), 6, 2)
     assert not rep.closed_manifold and rep.boundary_faces == 4 and rep.unused_samples == 2
     assert rep.betti == (1, 0, 0)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_betti_numbers_of_open_surfaces_agree_with_elimination(seed):
+    """With boundary and no non-manifold edge, rank d_2 comes from the dual graph: check it by GF(2)."""
+    rng = np.random.default_rng(seed)
+    closed = [grid_surface(4, 5), grid_surface(4, 5, klein=True), OCTA + 20]
+    tris = np.vstack([closed[0], closed[1] + 20, OCTA + 40])
+    # punch holes: drop random triangles, so some components stay closed and others open
+    keep = np.ones(len(tris), dtype=bool)
+    drop = rng.choice(len(tris) - 8, size=1 + seed, replace=False)
+    keep[drop] = False
+    n_torus = len(closed[0])
+    untouched = 1 + int(not (drop < n_torus).any()) + int(not (drop >= n_torus).any())
+    tris = tris[keep]
+    rep = analyse(tris, 46, 2)
+    faces = all_faces(tris)
+    r2 = boundary_rank_gf2(faces[2], faces[1])
+    r1 = boundary_rank_gf2(faces[1], faces[0])
+    expected = (len(faces[0]) - r1, len(faces[1]) - r1 - r2, len(faces[2]) - r2)
+    assert rep.nonmanifold_faces == 0 and rep.boundary_faces > 0
+    assert rep.betti == expected
+    assert rep.betti[2] == untouched  # the octahedron (last 8 rows) is never punched

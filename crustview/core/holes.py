@@ -24,6 +24,7 @@ triangulation can be added where no Delaunay face fits:
 from __future__ import annotations
 
 import itertools
+from functools import cached_property
 
 import numpy as np
 from scipy.sparse import coo_matrix
@@ -85,14 +86,39 @@ class Patcher:
         self.log: list[tuple[str, Simplex, tuple[int, ...], tuple[int, ...], float, str]] = []
         self._bulk_insert(simplices, orient)
         self.delaunay = delaunay
+
+    # -- lookups built on first use (most runs never need them) ---------------
+    @cached_property
+    def nn(self) -> np.ndarray:
+        """Distance from each sample to its nearest other sample."""
         from scipy.spatial import cKDTree
 
-        dist, _ = cKDTree(points).query(points, k=2)
-        self.nn = dist[:, 1]
-        flat = delaunay.ravel()
+        return cKDTree(self.points).query(self.points, k=2)[0][:, 1]
+
+    @cached_property
+    def _vstar(self) -> tuple[np.ndarray, np.ndarray]:
+        """CSR of the Delaunay faces at each vertex: (pointer, face ids)."""
+        flat = self.delaunay.ravel()
         order = np.argsort(flat, kind="stable")
-        self.vptr = np.concatenate([[0], np.cumsum(np.bincount(flat, minlength=len(points)))])
-        self.vfaces = order // delaunay.shape[1] if delaunay.size else order
+        vptr = np.concatenate([[0], np.cumsum(np.bincount(flat, minlength=len(self.points)))])
+        return vptr, (order // self.delaunay.shape[1] if self.delaunay.size else order)
+
+    @property
+    def vptr(self) -> np.ndarray:
+        return self._vstar[0]
+
+    @property
+    def vfaces(self) -> np.ndarray:
+        return self._vstar[1]
+
+    def _ids(self, f: Simplex) -> list[int]:
+        """The alive simplices at (d-1)-face f, ascending; built from the stars on first use."""
+        ids = self.fmap.get(f)
+        if ids is None:
+            simp = self.simp
+            ids = sorted(i for i in self.star.get(f[0], ()) if all(v in simp[i] for v in f[1:]))
+            self.fmap[f] = ids
+        return ids
 
     # -- editing ------------------------------------------------------------
     def _bulk_insert(self, simplices: list[Simplex], orient: list[int] | None) -> None:
@@ -105,11 +131,9 @@ class Patcher:
         if m == 0:
             return
         arr = np.array(self.simp, dtype=np.int64)
-        facets, _, ptr, inc = facet_structure(arr)
-        ft = [tuple(r) for r in facets.tolist()]
-        ptrl, incl = ptr.tolist(), inc.tolist()
-        self.fmap = {f: incl[ptrl[g]:ptrl[g + 1]] for g, f in enumerate(ft)}
-        self.bset = {ft[g] for g in np.flatnonzero(np.diff(ptr) == 1).tolist()}
+        facets, _, ptr, _ = facet_structure(arr)
+        # the facet -> simplices map is filled lazily by _ids (from the stars)
+        self.bset = set(map(tuple, facets[np.diff(ptr) == 1].tolist()))
         flat = arr.ravel()
         order = np.argsort(flat, kind="stable")
         verts, starts = np.unique(flat[order], return_index=True)
@@ -123,12 +147,12 @@ class Patcher:
         self.simp.append(s)
         self.orient.append(orient)
         self.alive.append(True)
+        at = [(f, self._ids(f)) for f in _facets(s)]  # before i joins the stars
         self.index[s] = i
         for v in s:
             self.star.setdefault(v, set()).add(i)
         self.suspects.update(s)
-        for f in _facets(s):
-            ids = self.fmap.setdefault(f, [])
+        for f, ids in at:
             ids.append(i)
             self._mark(f, ids)
         return i
@@ -136,12 +160,12 @@ class Patcher:
     def _delete(self, i: int) -> None:
         self.alive[i] = False
         s = self.simp[i]
+        at = [(f, self._ids(f)) for f in _facets(s)]
         del self.index[s]
         for v in s:
             self.star[v].discard(i)
         self.suspects.update(s)
-        for f in _facets(s):
-            ids = self.fmap[f]
+        for f, ids in at:
             ids.remove(i)
             self._mark(f, ids)
 
@@ -152,7 +176,7 @@ class Patcher:
             self.bset.discard(f)
 
     def at(self, f: Simplex) -> list[int]:
-        return self.fmap.get(f, [])
+        return self._ids(f)
 
     def boundary(self) -> list[Simplex]:
         return sorted(self.bset)
@@ -480,7 +504,7 @@ class Patcher:
 
         for i in tris:
             for f in _facets(self.simp[i]):
-                ids = self.fmap[f]
+                ids = self._ids(f)
                 if v in f and len(ids) == 2:
                     parent[find(ids[0])] = find(ids[1])
         groups: dict[int, list[int]] = {}

@@ -162,6 +162,27 @@ def singular_vertices(simplices: np.ndarray, faces: list[np.ndarray], pairs: tup
     return verts[bad]
 
 
+def _top_cycle_rank(simplices: np.ndarray, pairs: tuple, d: int) -> int:
+    """dim ker(d_d) over Z/2 when every (d-1)-face has at most two d-simplices.
+
+    A Z/2 d-cycle then takes both simplices at each interior (d-1)-face or
+    neither, so it is a union of whole components of the dual graph (simplices
+    joined across shared faces), and no such component may have a boundary
+    face.  The kernel's dimension is the number of components without one,
+    found in linear time instead of by elimination.
+    """
+    _, inv, cnt = pairs
+    m = len(simplices)
+    order = np.argsort(inv, kind="stable")
+    owner = np.repeat(np.arange(m), d + 1)[order]
+    st = np.concatenate([[0], np.cumsum(cnt)[:-1]])
+    two = cnt == 2
+    ncomp, labels = graph_components(m, np.stack([owner[st[two]], owner[st[two] + 1]], axis=1))
+    open_comp = np.zeros(ncomp, dtype=bool)
+    open_comp[labels[owner[st[cnt == 1]]]] = True
+    return int(ncomp - open_comp.sum())
+
+
 def analyse(simplices: np.ndarray, n_samples: int, d: int) -> TopologyReport:
     """Topology report of a pure d-complex over ``n_samples`` samples."""
     simplices = np.asarray(simplices, dtype=np.int64).reshape(-1, d + 1)
@@ -183,16 +204,10 @@ def analyse(simplices: np.ndarray, n_samples: int, d: int) -> TopologyReport:
     comps, _ = graph_components(nverts, vid)
     ranks = [0] * (d + 2)
     ranks[1] = nverts - comps
-    dual_comps = None
-    if pseudo:
-        _, inv, cnt = pairs
-        order = np.argsort(inv, kind="stable")
-        owner = np.repeat(np.arange(len(simplices)), d + 1)[order]
-        st = np.concatenate([[0], np.cumsum(cnt)[:-1]])
-        dual_comps, _ = graph_components(len(simplices), np.stack([owner[st], owner[st + 1]], axis=1))
+    top_cycles = _top_cycle_rank(simplices, pairs, d) if nonman == 0 else None
     for j in range(2, d + 1):
-        if j == d and pseudo:
-            ranks[j] = len(simplices) - dual_comps
+        if j == d and top_cycles is not None:
+            ranks[j] = len(simplices) - top_cycles
         else:
             ranks[j] = boundary_rank_gf2(faces[j], faces[j - 1])
     betti = tuple(len(faces[j]) - ranks[j] - ranks[j + 1] for j in range(d + 1))
