@@ -207,6 +207,31 @@ class Grower:
             if count[h] == 1:
                 self.push_front(h)
 
+    def add_bulk(self, ids: np.ndarray, orient: np.ndarray, rule: str) -> None:
+        """Add many simplices to the empty complex at once (the manifold core).
+
+        Leaves the state :meth:`add` would leave after adding them one by one;
+        ``ids`` must form a manifold with boundary (see
+        :func:`crustview.core.core_seed.manifold_core`).
+        """
+        if len(ids) == 0:
+            return
+        if any(self.alive):
+            raise ValueError("add_bulk starts a growth: the complex must be empty")
+        ids = np.asarray(ids, dtype=np.int64)
+        for i, o in zip(ids.tolist(), np.asarray(orient).tolist()):
+            self.alive[i] = 1
+            self.orient[i] = int(o)
+        fo = self.facet_of[ids].ravel()
+        cnt = np.bincount(fo, minlength=len(self.facets))
+        xor = np.zeros(len(self.facets), dtype=np.int64)
+        np.bitwise_xor.at(xor, fo, np.repeat(ids + 1, self.dp1))
+        self.count = cnt.tolist()
+        self.xor = xor.tolist()
+        self.vcount = np.bincount(self.faces[ids].ravel(), minlength=self.n).tolist()
+        self.vfront = np.bincount(self.facets[cnt == 1].ravel(), minlength=self.n).tolist()
+        self.log.extend((i, rule, -1, math.nan) for i in ids.tolist())
+
     # -- candidates ---------------------------------------------------------
     def push_front(self, g: int) -> None:
         """Queue the best admissible simplex across boundary facet ``g``.
@@ -221,15 +246,18 @@ class Grower:
         cand = self._inc[lo:hi]
         s = self.xor[g] - 1
         u = self.ucsr[lo:hi]
-        cos = (u @ u[cand.index(s)]).tolist()
+        cosv = u @ u[cand.index(s)]
         lim = self.cos_limit
+        # only candidates within the angle limit (the owner itself, at cos 1, never is)
+        within = np.flatnonzero(cosv < lim)
         alive, fits, fo, count = self.alive, self._fits, self._fo, self.count
         vcount, vfront, apex = self.vcount, self.vfront, self._apex
         dp1 = self.dp1
         rejected = self.rejected.get(g, ())
         best = None
-        for t, f in enumerate(cand):
-            if f == s or alive[f] or not fits[f] or cos[t] >= lim or lo + t in rejected:
+        for t, c_t in zip(within.tolist(), cosv[within].tolist()):
+            f = cand[t]
+            if f == s or alive[f] or not fits[f] or lo + t in rejected:
                 continue
             closing = False
             full = False
@@ -250,7 +278,7 @@ class Grower:
             glue = used and not closing
             if glue and not self._in_ts[f]:
                 continue  # handles only where T_S vouches for them
-            key = (int(glue), self._cost[f], lo + t, cos[t])
+            key = (int(glue), self._cost[f], lo + t, c_t)
             if best is None or key < best:
                 best = key
         if best is not None:

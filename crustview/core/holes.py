@@ -80,7 +80,10 @@ class Patcher:
         self.fmap: dict[Simplex, list[int]] = {}
         self.bset: set[Simplex] = set()  # facets with exactly one simplex
         self.index: dict[Simplex, int] = {}  # alive simplex -> id
-        self.star: dict[int, set[int]] = {}  # vertex -> alive simplex ids
+        self.star: dict[int, set[int]] = {}  # vertex -> alive simplex ids (see _star)
+        self._star_ptr: np.ndarray | None = None
+        self._star_own = np.empty(0, dtype=np.int64)
+        self._used0 = np.zeros(len(points), dtype=bool)
         #: vertices whose star changed since the last :meth:`unpinch_all` (where pinches can appear)
         self.suspects: set[int] = set()
         self.log: list[tuple[str, Simplex, tuple[int, ...], tuple[int, ...], float, str]] = []
@@ -116,7 +119,7 @@ class Patcher:
         ids = self.fmap.get(f)
         if ids is None:
             simp = self.simp
-            ids = sorted(i for i in self.star.get(f[0], ()) if all(v in simp[i] for v in f[1:]))
+            ids = sorted(i for i in self._star(f[0]) if all(v in simp[i] for v in f[1:]))
             self.fmap[f] = ids
         return ids
 
@@ -134,13 +137,25 @@ class Patcher:
         facets, _, ptr, _ = facet_structure(arr)
         # the facet -> simplices map is filled lazily by _ids (from the stars)
         self.bset = set(map(tuple, facets[np.diff(ptr) == 1].tolist()))
+        # vertex stars as CSR; a vertex's set in self.star is made on first use (see _star)
         flat = arr.ravel()
         order = np.argsort(flat, kind="stable")
-        verts, starts = np.unique(flat[order], return_index=True)
-        owners = (order // arr.shape[1]).tolist()
-        bounds = starts.tolist() + [len(flat)]
-        self.star = {v: set(owners[bounds[i]:bounds[i + 1]]) for i, v in enumerate(verts.tolist())}
+        self._star_ptr = np.concatenate([[0], np.cumsum(np.bincount(flat, minlength=len(self.points)))])
+        self._star_own = order // arr.shape[1]
+        self._used0 = np.zeros(len(self.points), dtype=bool)
+        self._used0[flat] = True
 
+
+    def _star(self, v: int) -> set[int]:
+        """The alive simplices at vertex v (made from the initial complex on first use, then kept)."""
+        st = self.star.get(v)
+        if st is None:
+            if self._star_ptr is not None and v < len(self._star_ptr) - 1:
+                st = set(self._star_own[self._star_ptr[v]:self._star_ptr[v + 1]].tolist())
+            else:
+                st = set()
+            self.star[v] = st
+        return st
 
     def _insert(self, s: Simplex, orient: int = 0) -> int:
         i = len(self.simp)
@@ -150,7 +165,7 @@ class Patcher:
         at = [(f, self._ids(f)) for f in _facets(s)]  # before i joins the stars
         self.index[s] = i
         for v in s:
-            self.star.setdefault(v, set()).add(i)
+            self._star(v).add(i)
         self.suspects.update(s)
         for f, ids in at:
             ids.append(i)
@@ -163,7 +178,7 @@ class Patcher:
         at = [(f, self._ids(f)) for f in _facets(s)]
         del self.index[s]
         for v in s:
-            self.star[v].discard(i)
+            self._star(v).discard(i)
         self.suspects.update(s)
         for f, ids in at:
             ids.remove(i)
@@ -182,8 +197,9 @@ class Patcher:
         return sorted(self.bset)
 
     def used(self) -> np.ndarray:
-        mask = np.zeros(len(self.points), dtype=bool)
-        mask[[v for v, ids in self.star.items() if ids]] = True
+        mask = self._used0.copy()
+        for v, ids in self.star.items():  # the stars made so far are the ones that changed
+            mask[v] = bool(ids)
         return mask
 
     # -- geometry -----------------------------------------------------------
@@ -494,7 +510,7 @@ class Patcher:
     # -- pinched vertices -----------------------------------------------------
     def fans(self, v: int) -> list[list[int]]:
         """The simplices at vertex v, grouped by connection through (d-1)-faces at v."""
-        tris = sorted(self.star.get(v, ()))
+        tris = sorted(self._star(v))
         parent = {i: i for i in tris}
 
         def find(a: int) -> int:
@@ -553,7 +569,7 @@ class Patcher:
         left = []
         for x in missing.tolist():
             _, near = tree.query(self.points[x], k=min(8, len(ids)))
-            cand = {i for v in np.atleast_1d(near) for i in self.star.get(int(ids[v]), ())}
+            cand = {i for v in np.atleast_1d(near) for i in self._star(int(ids[v]))}
             best = None
             for i in cand:
                 dist, tau = self._nearest_face(x, self.simp[i])
@@ -564,7 +580,7 @@ class Patcher:
                 left.append(x)
                 continue
             dist, tau = best
-            star = [i for i in self.star.get(tau[0], ()) if set(tau) <= set(self.simp[i])]
+            star = [i for i in self._star(tau[0]) if set(tau) <= set(self.simp[i])]
             plan = []
             for i in star:
                 for v in tau:

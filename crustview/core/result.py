@@ -29,15 +29,16 @@ RULE_PRUNE = "prune-sharp"
 RULE_RESOLVE = "resolve-nonmanifold"
 #: Rules of the robust extension (``core.robust``), never used by the paper's loop.
 RULE_SEED = "seed"
+RULE_CORE = "seed-core"
 RULE_GROW = "grow"
 RULE_RELAX = "grow-relaxed"
 RULE_FILL = "fill-hole"
 RULE_INSERT = "insert-sample"
 RULE_STRAY = "drop-stray"
-RULES = (RULE_PRUNE, RULE_RESOLVE, RULE_SEED, RULE_GROW, RULE_RELAX, RULE_FILL, RULE_INSERT, RULE_STRAY)
+RULES = (RULE_PRUNE, RULE_RESOLVE, RULE_CORE, RULE_SEED, RULE_GROW, RULE_RELAX, RULE_FILL, RULE_INSERT, RULE_STRAY)
 #: Rules that remove simplices (the paper's) and rules that add them (the extension's).
 REMOVING_RULES = (RULE_PRUNE, RULE_RESOLVE)
-ADDING_RULES = (RULE_SEED, RULE_GROW, RULE_RELAX, RULE_FILL, RULE_INSERT)
+ADDING_RULES = (RULE_CORE, RULE_SEED, RULE_GROW, RULE_RELAX, RULE_FILL, RULE_INSERT)
 
 #: Extraction modes: the paper's Algorithm 3 as printed, and the robust extension.
 EXTRACTION_MODES = ("robust", "paper")

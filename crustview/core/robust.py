@@ -20,10 +20,14 @@ The extension
    abandoned there (``stop_when_sample_lost``); so is a sample that has no
    simplex in T_S at all.
 2. **Growing a manifold instead of pruning one** (the direction the paper's
-   closing section names: Cocone's "walk on the outer boundary").  Starting
-   from the best-scored candidate (rule ``seed``), Delaunay d-faces are
-   added across the current boundary, one per step, always keeping a
-   manifold with boundary (:mod:`crustview.core.grow`).  A face f may be
+   closing section names: Cocone's "walk on the outer boundary").  The
+   walk starts from the largest piece of the *manifold core* of T_S, the
+   faces it would take without a choice, added in one step (rule
+   ``seed-core``, :mod:`crustview.core.core_seed`); where there is none,
+   and for every later component, from the best-scored free candidate
+   (rule ``seed``).  Delaunay d-faces are then added across the current
+   boundary, one per step, always keeping a manifold with boundary
+   (:mod:`crustview.core.grow`).  A face f may be
    added across a boundary (d-1)-face tau of simplex sigma when
 
    * f and sigma meet at phi > pi/2 at tau (the paper's line 4: a pair
@@ -73,7 +77,8 @@ from .errors import Cancelled
 from .extraction import extract
 from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 from .holes import Patcher
-from .result import RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
+from .core_seed import manifold_core
+from .result import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
 from .topology import analyse
 
 
@@ -174,6 +179,10 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
     def rule_of(f: int, cos: float) -> str:
         return RULE_GROW if tier[f] == 0 and cos < COS_PAPER else RULE_RELAX
 
+    core, core_orient = manifold_core(F, gr.facet_of, gr.u, tier == 0, gr.size <= SIZE_MAX, gr.cost,
+                                      COS_PAPER, gr.orientable)
+    gr.add_bulk(core, core_orient, RULE_CORE)
+    n_core = len(core)
     for limit in (COS_PAPER, COS_CREASE):
         gr.cos_limit = limit
         gr.requeue_front()
@@ -210,15 +219,17 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
     if len(pt.simp) > len(grown):
         keys = _row_keys(F[:n_ts], len(points))
         order = np.argsort(keys, kind="stable")
+        sorted_keys = keys[order]
+        new_keys = _row_keys(np.array(pt.simp[len(grown):], dtype=np.int64), len(points))
         row_of: dict[tuple[int, ...], int] = {}
         taken = set(grown_rows_l)  # a row is added at most once; a re-added simplex gets a new row
         for i in range(len(grown), len(pt.simp)):
             t = pt.simp[i]
             r = row_of.get(t)
             if r is None:
-                k = _row_keys(np.array([t]), len(points))[0]
-                j = int(np.searchsorted(keys[order], k))
-                if j < len(order) and keys[order[j]] == k:
+                k = new_keys[i - len(grown)]
+                j = int(np.searchsorted(sorted_keys, k))
+                if j < len(order) and sorted_keys[j] == k:
                     r = int(order[j])
             if r is None or r in taken:
                 r = n_base + len(extra)
@@ -227,12 +238,19 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
             taken.add(r)
             patch_rows.append(r)
     steps: list[Step] = []
+    if n_core:
+        steps.append(Step(0, RULE_CORE, tuple(F[core[0]].tolist()), (), (), math.nan,
+                          f"seeded M_S with the manifold core of T_S: {n_core} faces where T_S is already a "
+                          "manifold and the cheapest choice on both sides of every face, which growing "
+                          "would take one by one without a choice",
+                          added=tuple(grown_rows_l[:n_core])))
     log_f = [e[0] for e in gr.log]
     score_deg = np.degrees(S[log_f]).tolist() if log_f else []
     sizes = gr.size[log_f].tolist() if log_f else []
     dp1 = F.shape[1]
     fv = gr._fverts  # flat facet vertex lists
-    for idx, (f, rule, g, angle) in enumerate(gr.log):
+    for idx in range(n_core, len(gr.log)):
+        f, rule, g, angle = gr.log[idx]
         tau = tuple(fv[g * (dp1 - 1):(g + 1) * (dp1 - 1)]) if g >= 0 else tuple(F[f].tolist())
         if rule == RULE_SEED:
             why = (f"new component started at the best free candidate (score {score_deg[idx]:.1f} deg, "
@@ -242,7 +260,7 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
                      else f"a Delaunay face outside T_S (score {score_deg[idx]:.1f} deg)")
             why = (f"added {where} across a boundary face, meeting its neighbour at "
                    f"{math.degrees(angle):.1f} deg (180 = flat), size {sizes[idx]:.2f}")
-        steps.append(Step(idx, rule, tau, (), (), angle, why, added=(grown_rows_l[idx],)))
+        steps.append(Step(len(steps), rule, tau, (), (), angle, why, added=(grown_rows_l[idx],)))
     for rule, tau, added, removed, angle, why in pt.log:
         steps.append(Step(len(steps), rule, tau, (), tuple(patch_rows[i] for i in removed), angle, why,
                           added=tuple(patch_rows[i] for i in added)))
@@ -251,8 +269,10 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
     simplices = np.vstack([F[:n_ts], F[outside], np.array(extra, dtype=np.int64).reshape(-1, dp1)])
     added_at = np.full(len(simplices), n_steps + 1, dtype=np.int64)
     removed_at = np.full(len(simplices), n_steps, dtype=np.int64)
-    added_at[grown_rows] = np.arange(len(grown)) + 1  # one grown simplex per step, in order
-    for st in steps[len(grown):]:
+    # the core in step 1, then one grown simplex per step, in order
+    added_at[grown_rows] = np.maximum(np.arange(len(grown)) + 1 - max(n_core - 1, 0), 1)
+    n_grow_steps = len(grown) - max(n_core - 1, 0)
+    for st in steps[n_grow_steps:]:
         for r in st.added:
             added_at[r] = min(added_at[r], st.index + 1)
         for r in st.removed:

@@ -36,7 +36,7 @@ FRAME_RATE = 30
 MAX_SPEED = 20_000
 
 #: Short rule names in the step table.
-RULE_SHORT = {"prune-sharp": "prune", "resolve-nonmanifold": "resolve", "grow-relaxed": "relax", "fill-hole": "fill",
+RULE_SHORT = {"prune-sharp": "prune", "resolve-nonmanifold": "resolve", "seed-core": "core", "grow-relaxed": "relax", "fill-hole": "fill",
               "insert-sample": "insert", "drop-stray": "stray"}
 
 

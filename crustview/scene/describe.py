@@ -52,7 +52,7 @@ def step_words(step: Step | None, position: int, n_steps: int) -> str:
     )
     kept = f"; kept {fmt_tuple(step.kept)}" if step.kept else ""
     if step.added and not step.removed:
-        words = {"seed": "Seed M_S", "grow": "Grow across a boundary face",
+        words = {"seed-core": "Seed M_S with the manifold core of T_S", "seed": "Seed M_S", "grow": "Grow across a boundary face",
                  "grow-relaxed": "Grow across a boundary face (θ relaxed)", "fill-hole": "Fill a hole",
                  "insert-sample": "Insert a left-out sample"}
         return (
