@@ -141,7 +141,7 @@ class ExportDialog(QDialog):
         if replay:
             lo, hi = sorted((self.first.value(), self.last.value()))
             plan = plan_replay(self.n_steps, (lo, hi), self.frames.value())
-            self.note.setText(f"{len(plan.positions)} frames: {plan.note()}.")
+            self.note.setText(f"{plan.note()}." if plan.subsampled else f"{len(plan.positions)} frames: {plan.note()}.")
         else:
             self.note.setText(f"{self.frames.value()} frames of the grand tour around M_S at step {self.step}, "
                               f"{self.frames.value() / self.fps.value():.1f} s.")
