@@ -74,6 +74,15 @@ def test_compare_with_another_test_through_the_dialog_and_frame_a_listed_simplex
     assert [p.n_cells for p in parts] == [len(ref.both), len(ref.only_a), len(ref.only_b)]
     assert win.model.layers["compare"].count == len(ref.only_a) + len(ref.only_b)
     assert any(label.startswith("only in B") for label, _ in win.view.legend_entries())
+    # and it is seen: hiding it changes the picture
+    win.model.player.last()
+    win.view.render()
+    on = win.plotter.screenshot(return_img=True)
+    win.layers_panel.rows["compare"].visible.click()
+    win.view.render()
+    off = win.plotter.screenshot(return_img=True)
+    win.layers_panel.rows["compare"].visible.click()
+    assert int((np.abs(on.astype(int) - off.astype(int)).sum(axis=2) > 30).sum()) > 100
 
     # a click on a listed simplex frames it: the camera looks at its centroid and it is selected
     item = listed[-1]  # an "only in B" simplex

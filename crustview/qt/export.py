@@ -293,10 +293,10 @@ class ExportActions:
         return job
 
     def _export_finished(self, ok: bool, message: str) -> None:
-        if ok:
-            self.statusBar().showMessage(message, 20000)
-        else:
-            self.show_error(message) if "failed" in message else self.statusBar().showMessage(message, 10000)
+        if not ok and "failed" in message:
+            self.show_error(message)
+        else:  # done, or cancelled by the user: no dialog needed
+            self.statusBar().showMessage(message, 20000 if ok else 10000)
 
     def shutdown_tasks(self) -> None:
         """Cancel an export, a theorem check and a comparison (the window is closing)."""
