@@ -77,8 +77,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
-    p = sub.add_parser("view", help="open a point file in the viewer")
-    p.add_argument("file", type=Path, help="point file (.npy .npz .csv .txt .xyz .ply ...)")
+    p = sub.add_parser("view", help="open a point file or a saved session in the viewer")
+    p.add_argument("file", type=Path, help="point file (.npy .npz .csv .txt .xyz .ply ...) or SESSION.crustview.json")
     p.add_argument("-d", type=_positive_int, default=None, help="intrinsic dimension")
     p.add_argument("--paper", action="store_true", help=_PAPER_HELP)
 
@@ -316,7 +316,15 @@ def _dispatch(argv: Sequence[str]) -> int:
         return _run_app()
     if args.command == "view":
         from crustview.io import read_mesh, read_points
+        from crustview.session import FileSource, is_session_path, read_session, resolve_input
 
+        if is_session_path(args.file):  # a session holds its own input, d and mode
+            if args.d is not None or args.paper:
+                raise _UsageError("a session holds its own d and extraction mode: give no -d or --paper with it")
+            s = read_session(args.file)
+            if isinstance(s.source, FileSource):
+                resolve_input(s.source, args.file)  # moved or changed: one line here, not in a window
+            return _run_app(str(args.file))
         mesh = read_mesh(args.file)  # report a bad file (or bad faces) here, before a window opens
         points = mesh.points if mesh is not None else read_points(args.file)
         k = points.shape[1]

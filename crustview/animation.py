@@ -111,14 +111,14 @@ def clone_scene(model: SceneModel) -> SceneModel:
     assert rec is not None
     out.set_reconstruction(rec, truth=model.truth, source=model.source)
     out.theorems = model.theorems
+    out.comparison = model.comparison
     for name, layer in model.layers.items():
         dst = out.layers[name]
         for f in ("visible", "color", "opacity", "size", "colorby", "mode", "shrink"):
             setattr(dst, f, getattr(layer, f))
     out.set_candidate_display(model.test, model.theta)
-    p = model.projection
-    out.projection.set_origin(np.array(p.origin, copy=True))
-    out.projection.set_base(np.array(p.basis, copy=True), p.source)
+    out.projection.restore(model.projection.state())
+    out.set_slice(model.slice_offset, model.slice_cut)
     out.player.set_step(model.player.position)
     return out
 
@@ -210,57 +210,111 @@ def output_kind(path: str | os.PathLike) -> str:
     return kind
 
 
+class FrameWriter:
+    """Frames appended one at a time to a GIF, an MP4 or a folder of PNGs.
+
+    A GIF or an MP4 is written under a partial name (``NAME.partial.gif``)
+    and renamed when :meth:`finish` is called, so an interrupted export
+    never leaves a file that looks complete; :meth:`abort` removes the
+    partial file (or the PNGs written so far).
+
+    Parameters
+    ----------
+    path : path-like
+        See :func:`output_kind`.
+    fps : float
+    total : int
+        Frames expected (for the PNG numbering).
+    """
+
+    def __init__(self, path: str | os.PathLike, fps: float, total: int) -> None:
+        self.kind = output_kind(path)
+        self.path = Path(path)
+        self.fps = float(fps)
+        self.total = int(total)
+        self.count = 0
+        self._frames: list[np.ndarray] = []
+        self._writer = None
+        self._made_dir = False
+        self._written: list[Path] = []
+        if self.kind == "folder":
+            self._made_dir = not self.path.exists()
+            self.path.mkdir(parents=True, exist_ok=True)
+            self.partial = self.path
+        else:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self.partial = self.path.with_name(f"{self.path.stem}.partial{self.path.suffix}")
+
+    def append(self, img: np.ndarray) -> None:
+        """Add one (h, w, 3) uint8 frame."""
+        import imageio.v3 as iio
+
+        if self.kind == "folder":
+            name = self.path / f"frame-{self.count:0{max(3, len(str(self.total)))}d}.png"
+            iio.imwrite(name, img)
+            self._written.append(name)
+        elif self.kind == "gif":
+            self._frames.append(img)
+        else:
+            if self._writer is None:
+                import imageio
+
+                self._writer = imageio.get_writer(self.partial, format="FFMPEG", mode="I", fps=self.fps,
+                                                  codec="libx264", quality=6, macro_block_size=8,
+                                                  pixelformat="yuv420p", ffmpeg_log_level="error")
+            self._writer.append_data(img)
+        self.count += 1
+
+    def finish(self) -> Path:
+        """Complete the file (rename it from its partial name); returns the path."""
+        import imageio.v3 as iio
+
+        if self.kind == "gif" and self._frames:
+            iio.imwrite(self.partial, np.stack(self._frames), extension=".gif", duration=1000.0 / self.fps, loop=0)
+            self._frames = []
+        elif self.kind == "mp4" and self._writer is not None:
+            self._writer.close()
+            self._writer = None
+        if self.kind != "folder" and self.partial.exists():
+            os.replace(self.partial, self.path)
+        return self.path
+
+    def abort(self) -> None:
+        """Stop and remove what was written (the partial file, or this export's PNGs)."""
+        self._frames = []
+        if self._writer is not None:
+            try:
+                self._writer.close()
+            finally:
+                self._writer = None
+        if self.kind == "folder":
+            for f in self._written:
+                f.unlink(missing_ok=True)
+            if self._made_dir and not any(self.path.iterdir()):
+                self.path.rmdir()
+        else:
+            self.partial.unlink(missing_ok=True)
+
+
 def write_frames(path: str | os.PathLike, frames: Iterator[np.ndarray], total: int, fps: float,
                  progress: Progress | None = None) -> int:
     """Encode ``frames`` to ``path`` (see :func:`output_kind`); returns the number written.
 
     ``progress(done, total)`` is called after every frame; when it returns
-    False, writing stops (a partial file is removed).
+    False, writing stops and what was written is removed (:meth:`FrameWriter.abort`).
     """
-    import imageio.v3 as iio
-
-    kind = output_kind(path)
-    p = Path(path)
-    done = 0
-    if kind == "folder":
-        p.mkdir(parents=True, exist_ok=True)
-        width = max(3, len(str(total)))
+    writer = FrameWriter(path, fps, total)
+    try:
         for img in frames:
-            iio.imwrite(p / f"frame-{done:0{width}d}.png", img)
-            done += 1
-            if progress is not None and progress(done, total) is False:
-                break
-        return done
-    p.parent.mkdir(parents=True, exist_ok=True)
-    cancelled = False
-    if kind == "gif":
-        imgs = []
-        for img in frames:
-            imgs.append(img)
-            done += 1
-            if progress is not None and progress(done, total) is False:
-                cancelled = True
-                break
-        if not cancelled and imgs:
-            iio.imwrite(p, np.stack(imgs), extension=".gif", duration=1000.0 / fps, loop=0)
-    else:
-        import imageio
-
-        writer = imageio.get_writer(p, format="FFMPEG", mode="I", fps=fps, codec="libx264", quality=6,
-                                    macro_block_size=8, pixelformat="yuv420p",
-                                    ffmpeg_log_level="error")
-        try:
-            for img in frames:
-                writer.append_data(img)
-                done += 1
-                if progress is not None and progress(done, total) is False:
-                    cancelled = True
-                    break
-        finally:
-            writer.close()
-    if cancelled:
-        p.unlink(missing_ok=True)
-    return done
+            writer.append(img)
+            if progress is not None and progress(writer.count, total) is False:
+                writer.abort()
+                return writer.count
+        writer.finish()
+    except BaseException:
+        writer.abort()
+        raise
+    return writer.count
 
 
 def text_progress(stream, label: str, width: int = 30) -> Progress:

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pytestqt")
+from PySide6.QtCore import QTimer  # noqa: E402
 
 
 def test_theorem_box_checks_a_builtin_and_colours_samples_and_ms(qtbot, window):
@@ -17,7 +18,16 @@ def test_theorem_box_checks_a_builtin_and_colours_samples_and_ms(qtbot, window):
     panel = window.info_panel.theorems
     assert panel.isVisibleTo(window.info_panel) and panel.button.isEnabled()
     assert window.model.theorems is None
-    panel.button.click()
+    panel.button.click()  # runs in the panel's worker thread: the click returns at once
+    assert panel.runner.busy and panel.progress.isVisible() and panel.cancel.isVisible()
+    assert not panel.button.isEnabled() and window.model.theorems is None
+    ticks = []
+    timer = QTimer()
+    timer.timeout.connect(lambda: ticks.append(1))
+    timer.start(10)  # the GUI thread keeps turning while the check runs
+    qtbot.waitUntil(lambda: window.model.theorems is not None, timeout=60_000)
+    timer.stop()
+    assert len(ticks) >= 2 and not panel.progress.isVisible()
     c = window.model.theorems
     assert c is not None and not panel.button.isEnabled()
     assert f"<b>{len(c.violations)}</b> beyond" in panel.label.text()
@@ -46,3 +56,23 @@ def test_theorem_box_hidden_for_a_file_without_truth(qtbot, window):
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
     assert not window.info_panel.theorems.isVisibleTo(window.info_panel)
     assert window.model.check_theorems() is None
+
+
+def test_theorem_check_cancels_and_can_run_again(qtbot, window):
+    assert window.load_builtin("sphere", n=400)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    panel = window.info_panel.theorems
+    stages = []
+    panel.runner.progress.connect(lambda stage, f: stages.append(stage))
+    assert panel.run()
+    assert not panel.run()  # one check at a time
+    qtbot.waitUntil(lambda: len(stages) > 0, timeout=20_000)  # the worker reports progress
+    panel.cancel.click()
+    qtbot.waitUntil(lambda: not panel.runner.busy, timeout=30_000)
+    assert window.model.theorems is None and "Cancelled" in panel.label.text()
+    assert panel.button.isEnabled() and not panel.cancel.isVisible()
+    # a new result while a check runs: the old check's numbers are not shown on it
+    assert panel.run()
+    assert window.load_builtin("circle", n=100)
+    qtbot.waitUntil(lambda: not window.runner.busy and not panel.runner.busy, timeout=60_000)
+    assert window.model.theorems is None and panel.button.isEnabled()

@@ -182,8 +182,9 @@ def test_toggling_each_layer_changes_pixels(qtbot, window):
     rows = window.layers_panel.rows
     assert set(rows) == set(m.layers)
     # layers with nothing to show on this sample (e.g. no holes in T_S) are checked elsewhere
-    empty = {n for n in ("holes", "cascade") if m.layers[n].count == 0}
-    assert empty <= {"holes", "cascade"}
+    # (the comparison layer is empty until a comparison is made: test_gui_compare_export checks it)
+    empty = {n for n in ("holes", "cascade", "compare") if m.layers[n].count == 0}
+    assert empty <= {"holes", "cascade", "compare"}
     for name in set(m.layers) - empty:
         box = rows[name].visible
         assert box.isChecked()

@@ -311,8 +311,19 @@ def _group_max(owner: np.ndarray, values: np.ndarray, n: int) -> np.ndarray:
     return np.where(np.isfinite(out), out, np.nan)
 
 
+def _query(tree: cKDTree, pts: np.ndarray, report: Callable[[float], None], chunk: int = 100_000):
+    """``tree.query(pts)`` in chunks, calling ``report(fraction)`` after each (it may raise to stop)."""
+    dist = np.empty(len(pts))
+    idx = np.empty(len(pts), dtype=np.intp)
+    for lo in range(0, len(pts), chunk):
+        dist[lo:lo + chunk], idx[lo:lo + chunk] = tree.query(pts[lo:lo + chunk])
+        report(min(1.0, (lo + chunk) / max(len(pts), 1)))
+    return dist, idx
+
+
 def check_theorems(rec: Reconstruction, manifold: TestManifold | str, tangents: np.ndarray | None = None,
-                   *, dense: int | None = None, seed: int = 0) -> TheoremChecks:
+                   *, dense: int | None = None, seed: int = 0,
+                   progress: Callable[[str, float], None] | None = None, cancel=None) -> TheoremChecks:
     """Measure Theorems 2 and 10 on ``rec``, a reconstruction of samples of ``manifold``.
 
     Parameters
@@ -326,22 +337,38 @@ def check_theorems(rec: Reconstruction, manifold: TestManifold | str, tangents: 
     dense : int, optional
         Dense points of M; default :data:`DENSE` for the dimension.
     seed : int
+    progress : callable, optional
+        ``progress(stage, fraction)``, called between and during the stages.
+    cancel : object with ``is_set()``, optional
+        When it becomes set, :class:`~crustview.core.errors.Cancelled` is raised at the next check.
 
     Returns
     -------
     TheoremChecks
     """
+    from .errors import Cancelled
+
+    def report(stage: str, fraction: float) -> None:
+        if cancel is not None and cancel.is_set():
+            raise Cancelled("theorem check cancelled")
+        if progress is not None:
+            progress(stage, fraction)
+
     t0 = time.perf_counter()
+    report("dense sample of M", 0.0)
     m = get_manifold(manifold) if isinstance(manifold, str) else manifold
     if (m.k, m.d) != (rec.k, rec.d):
         raise ValueError(f"{m.name} is a {m.d}-manifold in R^{m.k}; the reconstruction has d={rec.d}, k={rec.k}")
     lfs, exact, how = lfs_function(m.name)
     pts, tan = dense_points(m, dense or DENSE.get(m.d, 1_500_000), seed)
+    report("local feature size", 0.0)
     f = lfs(pts)
-    dist, owner = cKDTree(rec.points).query(pts)
+    dist, owner = _query(cKDTree(rec.points), pts, lambda x: report("true epsilon", x))
     eps = _group_max(owner, dist / f, rec.n)
+    report("covering radius", 0.0)
     probe, _ = dense_points(m, 20_000, seed + 1)
     covering = float(cKDTree(pts).query(probe)[0].max())
+    report("normal error", 0.0)
     if tangents is None:
         true_t = true_tangents_at(rec.points, pts, tan)
     else:
@@ -350,7 +377,9 @@ def check_theorems(rec: Reconstruction, manifold: TestManifold | str, tangents: 
     c = m.k - m.d
     bound = theorem2_bound(np.nan_to_num(eps, nan=np.inf), c)
     eps_g = float(np.nanmax(eps))
+    report("distance of M_S to M", 0.0)
     ms_d, ms_r, step = _ms_distance(rec, pts, tan, f, eps_g)
+    report("done", 1.0)
     notes = []
     if not exact:
         notes.append("f is the reach (a lower bound): ε is an upper bound and the Theorem 2 bound a loose one")

@@ -44,18 +44,25 @@ class FileActions:
         if path:
             self.open_file(path)
 
-    def open_file(self, path: str | os.PathLike, d: int | None = None, mode: str | None = None) -> bool:
+    def open_file(self, path: str | os.PathLike, d: int | None = None, mode: str | None = None,
+                  run: dict | None = None) -> bool:
         """Read a point file and start its reconstruction.
 
         When ``d`` is None the user is asked, with a local-PCA suggestion.
         ``mode`` ("robust" or "paper") overrides the Run panel's extraction
         mode and the one saved in a result ``.npz``.
+        ``run`` (``test``, ``theta``, ``prune_boundary``) overrides the saved
+        or shown run parameters (a session).  A ``*.crustview.json`` path
+        opens that session.
         Returns False when the file could not be used (the error is shown and
         the current result stays).
         """
         from .. import io
+        from ..session import file_source, is_session_path
 
         path = str(path)
+        if is_session_path(path):
+            return self.open_session(path)
         if self.runner.busy:
             self.show_error("A reconstruction is already running; cancel it first.")
             return False
@@ -63,6 +70,7 @@ class FileActions:
             mesh = io.read_mesh(path)  # a mesh with faces: vertices are the sample, faces the truth
             points = mesh.points if mesh is not None else io.read_points(path)
             saved = io.read_run_parameters(path)
+            origin = file_source(path)  # size and SHA-1 as read, for a session
         except CrustviewError as err:
             self.show_error(str(err))
             return False
@@ -92,6 +100,8 @@ class FileActions:
             elif d != saved["d"]:
                 note = (f"{name} was saved with d = {saved['d']}; reconstructing with d = {d}, "
                         f"keeping its test ({saved['test']}) and θ = {np.degrees(saved['theta']):.1f}°.")
+        if run:
+            params.update(run)
         if mode is not None:
             if saved is not None and saved.get("mode") not in (None, mode) and not note:
                 note = f"{name} was saved in {saved['mode']} mode; reconstructing in {mode} mode as asked."
@@ -114,7 +124,7 @@ class FileActions:
                 self.show_error(str(err))
                 return False
             self.model.layers["truth"].visible = True
-        if not self.start_reconstruction(points, int(d), truth=truth, source=name, **params):
+        if not self.start_reconstruction(points, int(d), truth=truth, source=name, origin=origin, **params):
             return False
         if note:
             self.statusBar().showMessage(note, 20000)

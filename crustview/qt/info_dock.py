@@ -29,6 +29,7 @@ from ..scene.describe import (
 )
 from ..scene.model import SceneModel
 from .diagnosis import DiagnosisPanel
+from .compare_panel import ComparePanel
 from .theorems_panel import TheoremPanel
 
 #: At most this many open faces are listed.
@@ -112,6 +113,8 @@ class InfoPanel(QWidget):
         lay.addWidget(self.diagnosis)
         self.theorems = TheoremPanel(model, self)
         lay.addWidget(self.theorems)
+        self.compare = ComparePanel(model, self)
+        lay.addWidget(self.compare)
         interp = self.interpretation_box = QGroupBox("Interpretation", self)
         il = QVBoxLayout(interp)
         self.interpretation = QLabel(interp)

@@ -21,7 +21,7 @@ from ..scene.layers import POLE_MODES, Layer
 
 #: Order of the rows in the panel.
 ORDER = ("points", "manifold", "slice", "step", "removed", "holes", "cascade", "candidates", "normals", "poles", "voronoi",
-         "selection", "truth")
+         "selection", "compare", "truth")
 
 
 def _swatch(button: QToolButton, color: str) -> None:

@@ -3,7 +3,7 @@
 A scatter of each sample's true epsilon against its normal error, with
 Theorem 2's bound ``asin(2 eps sqrt(k - d))`` as a curve and its precondition
 ``eps <= 0.25 / (k - d)`` as a dashed line, and a paragraph of counts.  The
-check runs on request (a few seconds): :meth:`SceneModel.check_theorems`.
+check runs on request (5-60 s) in a worker thread of its own, with progress and Cancel.
 """
 
 from __future__ import annotations
@@ -11,11 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt
-from PySide6.QtGui import QColor, QGuiApplication, QPainter, QPen, QPolygonF
-from PySide6.QtWidgets import QGroupBox, QLabel, QPushButton, QVBoxLayout, QWidget
+from PySide6.QtGui import QColor, QPainter, QPen, QPolygonF
+from PySide6.QtWidgets import QGroupBox, QHBoxLayout, QLabel, QProgressBar, QPushButton, QVBoxLayout, QWidget
 
 from ..core.theorems import TheoremChecks, theorem2_bound
 from ..scene.model import SceneModel
+from .worker import Runner
 
 _MARGIN = (34.0, 8.0, 8.0, 20.0)  # left, right, top, bottom
 
@@ -121,7 +122,7 @@ def theorem_text(c: TheoremChecks) -> str:
 
 
 class TheoremPanel(QGroupBox):
-    """The box in the Information panel; its button runs the check."""
+    """The box in the Information panel; its button runs the check in :attr:`runner` (off the GUI thread)."""
 
     def __init__(self, model: SceneModel, parent: QWidget | None = None) -> None:
         super().__init__("Theorems 2 and 10 on this built-in (true ε, LFS and normals)", parent)
@@ -131,7 +132,24 @@ class TheoremPanel(QGroupBox):
         self.button.setToolTip("Sample M densely, compute every sample's true ε and normal error, and the "
                                "distance of M_S to M (a few seconds)")
         self.button.clicked.connect(self.run)
-        lay.addWidget(self.button)
+        row = QHBoxLayout()
+        row.addWidget(self.button, 1)
+        self.progress = QProgressBar(self)
+        self.progress.setRange(0, 100)
+        self.progress.setVisible(False)
+        row.addWidget(self.progress, 1)
+        self.cancel = QPushButton("Cancel", self)
+        self.cancel.setToolTip("Stop the check (the result shown stays as it is)")
+        self.cancel.setVisible(False)
+        row.addWidget(self.cancel)
+        lay.addLayout(row)
+        self.runner = Runner(self)
+        self.runner.progress.connect(self._progress)
+        self.runner.done.connect(self._done)
+        self.runner.failed.connect(lambda msg: self._ended(f"The check failed: {msg}"))
+        self.runner.cancelled.connect(lambda: self._ended("Cancelled; press the button to check again."))
+        self.cancel.clicked.connect(self.runner.cancel)
+        self._job = None
         self.scatter = TheoremScatter(self)
         lay.addWidget(self.scatter)
         self.label = QLabel(self)
@@ -142,13 +160,40 @@ class TheoremPanel(QGroupBox):
         model.theorems_changed.connect(self.refresh)
         self.refresh()
 
-    def run(self) -> None:
-        QGuiApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
-        try:
-            self.model.check_theorems()
-        finally:
-            QGuiApplication.restoreOverrideCursor()
+    def run(self) -> bool:
+        """Start the check in the worker; False when it cannot run (busy, or not a built-in)."""
+        if self.runner.busy or self.model.builtin is None or self.model.rec is None:
+            return False
+        self._job = self.model.theorem_job()
+        self.runner.start(self._job, "Checking Theorems 2 and 10…")
+        self.button.setEnabled(False)
+        self.progress.setValue(0)
+        self.progress.setFormat("starting…")
+        self.progress.setVisible(True)
+        self.cancel.setVisible(True)
+        self.label.setText("Checking (a few seconds; Cancel stops it)…")
+        return True
+
+    def _progress(self, stage: str, fraction: float) -> None:
+        self.progress.setValue(int(round(100 * fraction)))
+        self.progress.setFormat(f"{stage} %p%")
+
+    def _done(self, checks) -> None:
+        job, self._job = self._job, None
+        self._idle()
+        if job is None or not self.model.set_theorems(job.rec, checks):
+            self.refresh()
+            self.label.setText("The result changed while checking; press the button to check this one.")
+
+    def _ended(self, text: str) -> None:
+        self._job = None
+        self._idle()
         self.refresh()
+        self.label.setText(text)
+
+    def _idle(self) -> None:
+        self.progress.setVisible(False)
+        self.cancel.setVisible(False)
 
     def refresh(self) -> None:
         builtin = self.model.builtin is not None and self.model.rec is not None
@@ -156,7 +201,9 @@ class TheoremPanel(QGroupBox):
         c = self.model.theorems
         self.scatter.set_checks(c)
         self.scatter.setVisible(c is not None)
-        self.button.setEnabled(builtin and c is None)
+        self.button.setEnabled(builtin and c is None and not self.runner.busy)
+        if self.runner.busy:
+            return
         if c is None:
             self.label.setText("Only for noise-free samples of a built-in manifold, where M is known."
                                if not builtin else "Not checked yet (a few seconds).")

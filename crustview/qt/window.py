@@ -26,7 +26,10 @@ from ..core import cost_warning, reconstruct, reextract
 from ..render import SceneView
 from ..scene.model import SceneModel
 from ..scene.shapes import name_of
+from ..session import BuiltinSource
 from .files import FileActions
+from .export import ExportActions
+from .sessions import SessionActions
 from .layout import DockLayout
 from .info_dock import InfoPanel
 from .layers_dock import LayersPanel
@@ -81,7 +84,7 @@ def _comparing(job, truth, points):
     return run
 
 
-class MainWindow(DockLayout, FileActions, QMainWindow):
+class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWindow):
     """crustview's main window.
 
     Parameters
@@ -102,6 +105,8 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
         self.view = SceneView(self.model, self.plotter)
         self.view.schedule_render = lambda: QWidget.update(self.plotter)
         self.points: np.ndarray | None = None
+        #: Where the shown data came from: a FileSource, a BuiltinSource or None (arrays).
+        self.origin = None
         self.last_error: str | None = None
         self.error_box: QMessageBox | None = None
         self._pending: dict = {}
@@ -137,6 +142,7 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
         self.run_panel.cancel_requested.connect(self.runner.cancel)
         self.info_panel.face_clicked.connect(self.view.frame_face)
         self.info_panel.cascade_clicked.connect(self.view.frame_cascade)
+        self.info_panel.compare.simplex_clicked.connect(self.frame_compared)
         self.info_panel.paper_requested.connect(lambda: self.run_panel.set_mode("paper"))
         self.model.player.step_changed.connect(lambda *_: self._update_status())
         self.model.player.step_changed.connect(self._follow_step)
@@ -236,6 +242,9 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
                      "Write M_S and the recorded steps (npz) or the mesh (ply, obj, off, vtk, stl)")
         self._action(f, "Save s&creenshot…", self.save_screenshot_dialog, "Ctrl+P", "Save the 3-D view as PNG")
         f.addSeparator()
+        self.add_session_actions(f)
+        self.add_tool_actions(f)
+        f.addSeparator()
         self._action(f, "&Quit", self.close, QKeySequence.StandardKey.Quit)
         s = bar.addMenu("&Steps")
         p = self.model.player
@@ -266,7 +275,9 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
 
     def start_reconstruction(self, points: np.ndarray, d: int, truth=None, source: str = "",
                              test: str | None = None, theta: float | None = None,
-                             prune_boundary: bool | None = None, mode: str | None = None) -> bool:
+                             prune_boundary: bool | None = None, mode: str | None = None,
+                             origin=None) -> bool:
+        """Reconstruct ``points`` in the worker; ``origin`` is where they came from (for sessions)."""
         test = test or self.run_panel.test.currentText()
         theta = self.run_panel.theta_radians if theta is None else theta
         if prune_boundary is None:
@@ -286,10 +297,15 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
             self.show_error(note + " Cancel stops it at any time.")
 
         return self.start_job(job, f"Reconstructing {source} (d = {d})…", points=points, truth=truth,
-                              source=source, keep_view=False)
+                              source=source, keep_view=False, origin=origin)
 
-    def load_builtin(self, name: str, n: int | None = None, seed: int = 0) -> bool:
-        """Sample a built-in manifold and reconstruct it (in the worker)."""
+    def load_builtin(self, name: str, n: int | None = None, seed: int = 0, test: str | None = None,
+                     theta: float | None = None, prune_boundary: bool | None = None,
+                     mode: str | None = None) -> bool:
+        """Sample a built-in manifold and reconstruct it (in the worker).
+
+        The run's parameters default to the Run panel's (pruning: on).
+        """
         from ..core.sampling import get_manifold
 
         try:
@@ -299,10 +315,10 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
             return False
         n = n or m.default_n
         self._default_prune()
-        test = self.run_panel.test.currentText()
-        theta = self.run_panel.theta_radians
-        prune = self.run_panel.prune.isChecked()
-        mode = self.run_panel.mode
+        test = test or self.run_panel.test.currentText()
+        theta = self.run_panel.theta_radians if theta is None else float(theta)
+        prune = self.run_panel.prune.isChecked() if prune_boundary is None else bool(prune_boundary)
+        mode = mode or self.run_panel.mode
 
         # with nothing on screen yet, sample here (< 0.2 s up to 3000 points) and show the
         # raw points while the reconstruction runs; otherwise all of it runs in the worker
@@ -318,7 +334,7 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
             return {"rec": rec, "truth": sample, "points": sample.points, "quality": _quality(rec, progress)}
 
         return self.start_job(job, f"Sampling and reconstructing {name} (n = {n})…", source=f"{name} (n = {n})",
-                              keep_view=False)
+                              keep_view=False, origin=BuiltinSource(name, int(n), int(seed)))
 
     def _default_prune(self) -> None:
         """New data starts with the paper's boundary pruning on again, and says so if it was off."""
@@ -354,7 +370,7 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
                 self.run_panel.sync_prune()
         else:
             self.start_reconstruction(self.points, d, truth=self.model.truth, source=self.model.source,
-                                      test=test, theta=theta, prune_boundary=prune)
+                                      test=test, theta=theta, prune_boundary=prune, origin=self.origin)
 
     def _job_done(self, result) -> None:
         pending = self._pending
@@ -363,6 +379,8 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
         else:
             rec, truth, points = result, pending.get("truth"), pending.get("points")
         self.points = points
+        if "origin" in pending:  # new data (a re-extraction keeps the origin)
+            self.origin = pending["origin"]
         self.model.set_reconstruction(rec, truth=truth, source=pending.get("source", ""),
                                       keep_view=bool(pending.get("keep_view")),
                                       quality=result.get("quality") if isinstance(result, dict) else None)
@@ -393,6 +411,8 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
             self.prune_note = None
         self.statusBar().showMessage(message, 20000)
         self.setWindowTitle(f"crustview — {self.model.source}: {name_of(t, rec.d)} (d = {rec.d} in R^{rec.k})")
+        if pending.get("session") is not None:
+            self.restore_view(*pending["session"])
 
     def _job_failed(self, message: str) -> None:
         self.run_panel.sync_prune()
@@ -478,5 +498,6 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
         self.model.player.pause()
         self.model.tour.pause()
         self.runner.shutdown()
+        self.shutdown_tasks()
         self.plotter.close()
         super().closeEvent(event)

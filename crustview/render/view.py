@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from ..scene import geometry as geo
 from ..scene.describe import verdict
-from ..scene.layers import CASCADE_COLOR, STEP_COLORS
+from ..scene.layers import CASCADE_COLOR, COMPARE_COLORS, STEP_COLORS
 from ..scene.model import SceneModel
 from .base import NAN_COLOR, LayerAdapter
 from .complexes import (
@@ -16,6 +16,7 @@ from .complexes import (
     SliceAdapter,
     StepAdapter,
 )
+from .compare import CompareAdapter
 from .diagnosis import CascadeAdapter, HolesAdapter
 from .overlay import Legend
 from .framing import frame_for, front_plane, place_camera
@@ -29,6 +30,7 @@ ADAPTERS: dict[str, type[LayerAdapter]] = {
     "candidates": CandidatesAdapter,
     "removed": RemovedAdapter,
     "manifold": ManifoldAdapter,
+    "compare": CompareAdapter,
     "slice": SliceAdapter,
     "voronoi": VoronoiAdapter,
     "normals": NormalsAdapter,
@@ -309,6 +311,11 @@ class SceneView:
                 out.append(("removed now", STEP_COLORS["removed"]))
             if step.added:
                 out.append(("added now (robust extension)", STEP_COLORS["added"]))
+        cmp = self.model.comparison
+        if layers["compare"].visible and cmp is not None and cmp.diff.matched:
+            out.append(("in both A and B", layers["compare"].color))
+            out.append((f"only in A: {len(cmp.diff.only_a):,}", COMPARE_COLORS["A"]))
+            out.append((f"only in B: {len(cmp.diff.only_b):,}", COMPARE_COLORS["B"]))
         c = self.model.cascade
         if layers["cascade"].visible and c is not None:
             out.append((f"cascade from step {c.origin + 1}: {c.removed:,} removed", CASCADE_COLOR))
@@ -414,6 +421,26 @@ class SceneView:
         c = (lo + hi) / 2
         bounds = np.ravel(np.stack([c - pad, c + pad], axis=1))
         self.plotter.reset_camera(bounds=tuple(bounds))
+        self.render()
+
+    def frame_simplex(self, vertices) -> None:
+        """Look at one simplex (sample indices) along its normal, from its open side, cutting away
+        what lies in front (as :meth:`frame_step` does for a step's tau)."""
+        rec = self.model.rec
+        if rec is None:
+            return
+        tau = np.asarray(vertices, dtype=np.int64)
+        if self.model.projection.flat or len(tau) < 2:
+            self.frame_points(tau)
+            return
+        proj = self.model.projection.project(rec.points)
+        cam = self.plotter.renderer.GetActiveCamera()
+        frame = frame_for(proj, tau, tau, float(np.median(self.model.spacing)), proj.mean(axis=0),
+                          np.asarray(cam.GetViewUp()))
+        self.plotter.disable_parallel_projection()
+        place_camera(cam, frame)
+        self.set_clip(front_plane(frame))
+        self.plotter.renderer.ResetCameraClippingRange()
         self.render()
 
     def frame_cascade(self, cascade) -> None:

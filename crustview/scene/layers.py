@@ -26,6 +26,8 @@ CASCADE_COLOR = "#00a0a0"
 HOLES_COLOR = "#d4006a"
 #: Colour of the slice of M_S.
 SLICE_COLOR = "#0b6e4f"
+#: Colours of the comparison layer: simplices in both complexes, only in A (the shown M_S), only in B.
+COMPARE_COLORS = {"both": "#9aa7b0", "A": "#e66101", "B": "#3b6fd6"}
 #: Colour of the selection highlight.
 SELECTION_COLOR = "#ff00ff"
 
@@ -147,6 +149,12 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
             tooltip="The cross-section of M_S by a hyperplane orthogonal to the direction the view hides "
             "(R^4 and up; the view's depth axis in R^3): closed curves for a surface, 2-spheres for S^3. "
             "Move it and cut M_S to one side in the Projection panel.",
+        ),
+        Layer(
+            "compare", "Comparison A / B", True, COMPARE_COLORS["both"], 0.35, 3.0,
+            tooltip="The shown M_S (A) compared with a saved result, a mesh's faces or another run (B), set up "
+            "in the Information panel: simplices in both (grey, this layer's opacity), only in A (orange) "
+            "and only in B (blue).",
         ),
         Layer(
             "truth", "Ground truth", False, "#5d6d7e", 0.25, 2.0,

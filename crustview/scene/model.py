@@ -53,6 +53,8 @@ class SceneModel:
     theorems_changed = Signal()
     #: Emitted when the slicing hyperplane moves or its half-space cut is switched.
     slice_changed = Signal()
+    #: Emitted when a comparison (:meth:`set_comparison`) is set or dropped.
+    comparison_changed = Signal()
 
     def __init__(self) -> None:
         self.rec: Reconstruction | None = None
@@ -76,6 +78,8 @@ class SceneModel:
         self.slice_offset = 0.0
         #: Whether M_S is cut to the half-space below the slicing hyperplane (while the slice is shown).
         self.slice_cut = False
+        #: The shown M_S compared with another complex (:mod:`crustview.scene.comparison`), or None.
+        self.comparison = None
 
     # -- setting data ----------------------------------------------------
     def set_reconstruction(self, rec: Reconstruction, truth=None, source: str = "", keep_view: bool = False,
@@ -99,6 +103,7 @@ class SceneModel:
         self._cache = {}
         self.cascade = None
         self.theorems = None
+        self.comparison = None  # it compared the previous M_S
         if not keep_view:
             self.slice_offset = 0.0
         if not keep_view:
@@ -156,6 +161,15 @@ class SceneModel:
         if old == n_old and old > 0:
             return n_new
         return old if old <= n_new else 0
+
+    def set_comparison(self, comparison) -> bool:
+        """Show ``comparison`` (a :class:`~crustview.scene.comparison.Comparison` of the shown
+        result, or None); one made for another result is ignored (returns False)."""
+        if comparison is not None and comparison.rec is not self.rec:
+            return False
+        self.comparison = comparison
+        self.comparison_changed.emit()
+        return True
 
     def set_cascade(self, cascade: Cascade | None) -> None:
         """Highlight ``cascade`` (one of :meth:`cascades`), or nothing."""
@@ -274,14 +288,40 @@ class SceneModel:
             return None
         return t.manifold
 
-    def check_theorems(self) -> TheoremChecks | None:
-        """Measure Theorems 2 and 10 (:mod:`crustview.core.theorems`) for a built-in; None otherwise."""
+    def check_theorems(self, progress=None, cancel=None) -> TheoremChecks | None:
+        """Measure Theorems 2 and 10 (:mod:`crustview.core.theorems`) for a built-in; None otherwise.
+
+        ``progress`` and ``cancel`` go to :func:`~crustview.core.theorems.check_theorems`.
+        This blocks (seconds); the window runs :meth:`theorem_job` in its worker instead.
+        """
         if self.rec is None or self.builtin is None:
             return None
         if self.theorems is None:
-            self.theorems = check_theorems(self.rec, self.builtin, getattr(self.truth, "tangents", None))
-            self.theorems_changed.emit()
+            self.set_theorems(self.rec, self.theorem_job()(progress, cancel))
         return self.theorems
+
+    def theorem_job(self):
+        """``job(progress, cancel) -> TheoremChecks`` for the shown result, safe to run in another thread.
+
+        It holds the reconstruction it was made for; hand its result to :meth:`set_theorems`.
+        """
+        rec, manifold, tangents = self.rec, self.builtin, getattr(self.truth, "tangents", None)
+        if rec is None or manifold is None:
+            raise ValueError("the theorem checks need a noise-free sample of a built-in manifold")
+
+        def job(progress=None, cancel=None) -> TheoremChecks:
+            return check_theorems(rec, manifold, tangents, progress=progress, cancel=cancel)
+
+        job.rec = rec  # type: ignore[attr-defined]
+        return job
+
+    def set_theorems(self, rec: Reconstruction, checks: TheoremChecks) -> bool:
+        """Show ``checks`` if they were measured on the shown ``rec``; False (ignored) otherwise."""
+        if rec is not self.rec:
+            return False
+        self.theorems = checks
+        self.theorems_changed.emit()
+        return True
 
     def manifold_values(self, colorby: str) -> tuple[np.ndarray, str] | None:
         """Scalar per row of ``extraction.simplices`` for a colouring of M_S (NaN: none), with its label."""

@@ -163,6 +163,42 @@ class Projection:
             labels.append(" + ".join(terms).replace("+ -", "- ") if terms else "0")
         return labels
 
+    def state(self) -> dict:
+        """Everything that fixes the view, as plain lists (for session files).
+
+        ``k``, ``origin``, ``base`` (k x 3), ``angles`` (rows ``[i, j, radians]``),
+        ``source`` and ``stereo_radius``; :meth:`restore` takes it back.
+        """
+        return {"k": self.k, "origin": self.origin.tolist(), "base": self._base.tolist(),
+                "angles": [[i, j, a] for (i, j), a in sorted(self._angles.items())],
+                "source": self.source, "stereo_radius": self.stereo_radius}
+
+    def restore(self, state: dict) -> None:
+        """Show the view of :meth:`state` again (same ``k`` only).
+
+        Raises
+        ------
+        ValueError
+            When the state is for another ambient dimension or malformed.
+        """
+        k = int(state["k"])
+        if k != self.k:
+            raise ValueError(f"the saved projection is for R^{k}, the data is in R^{self.k}")
+        origin = np.asarray(state["origin"], dtype=float).reshape(-1)
+        if origin.shape != (k,):
+            raise ValueError(f"the saved projection origin has {origin.size} coordinates, not {k}")
+        base = _orthonormal_columns(np.asarray(state["base"], dtype=float), k)
+        angles = {}
+        for i, j, a in state.get("angles", []):
+            givens(k, int(i), int(j), 0.0)  # validates the plane
+            angles[(min(int(i), int(j)), max(int(i), int(j)))] = float(a) if i < j else -float(a)
+        self.origin = origin
+        self._base = base
+        self._angles = angles
+        self.source = str(state.get("source", "custom"))
+        self.stereo_radius = float(state.get("stereo_radius", 0.0)) if k >= 4 else 0.0
+        self._update()
+
     # -- changing --------------------------------------------------------
     def set_origin(self, origin: np.ndarray) -> None:
         """Point of R^k that is drawn at the view origin (usually the data centre)."""
