@@ -126,7 +126,7 @@ def test_extraction_mode_option_switches_the_verdict_and_back(qtbot, window):
 def test_step_overlay_shows_added_simplices_and_removed_so_far_ignores_not_yet_added(qtbot, window):
     rec = run(qtbot, window, knight_points(), "robust")
     ext = rec.extraction
-    grow = next(s for s in ext.steps if s.added and not s.removed)
+    grow = next(s for s in ext.steps if s.rule == "grow")
     player = window.model.player
     player.set_step(grow.index + 1)
     step = window.view.adapters["step"]
@@ -135,6 +135,9 @@ def test_step_overlay_shows_added_simplices_and_removed_so_far_ignores_not_yet_a
     assert ("added now (robust extension)", "#1f5fd6") in window.view.legend_entries()
     row = window.steps_panel.log.data(window.steps_panel.log.index(grow.index, 5))
     assert row and str(grow.added[0]) in row
+    core = ext.steps[0]  # the manifold core of T_S, added in one step
+    assert core.rule == "seed-core" and len(core.added) > 4
+    assert window.steps_panel.log.data(window.steps_panel.log.index(0, 5)) == f"{len(core.added)} simplices"
     # at step 0 M_S is T_S only (nothing added yet) and nothing counts as removed
     player.set_step(0)
     assert window.model.layers["manifold"].count == int(ext.added_at.__eq__(0).sum())
