@@ -29,7 +29,7 @@ from .topology import graph_components
 
 def manifold_core(faces: np.ndarray, facet_of: np.ndarray, u: np.ndarray, in_ts: np.ndarray,
                   fits: np.ndarray, cost: np.ndarray, cos_limit: float,
-                  orientable: bool) -> tuple[np.ndarray, np.ndarray]:
+                  orientable: bool, by_facet: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Select the manifold core of T_S and orient it.
 
     Parameters
@@ -48,6 +48,8 @@ def manifold_core(faces: np.ndarray, facet_of: np.ndarray, u: np.ndarray, in_ts:
         A pair is flat enough when cos(phi) is below this.
     orientable : bool
         Codimension 1: drop core components that admit no orientation.
+    by_facet : ndarray of int, optional
+        ``argsort(facet_of.ravel(), kind="stable")`` when the caller has it.
 
     Returns
     -------
@@ -64,22 +66,22 @@ def manifold_core(faces: np.ndarray, facet_of: np.ndarray, u: np.ndarray, in_ts:
     ts = np.flatnonzero(in_ts)
     cnt = np.bincount(facet_of[ts].ravel(), minlength=n_facets)
     ok = in_ts & fits & (cnt[facet_of] == 2).all(axis=1)
-    # every incidence, grouped by facet and cheapest first
-    owner = np.repeat(np.arange(f), dp1)
+    # every incidence, grouped by facet (stable: by face id within a facet)
     fac = facet_of.ravel()
-    c = np.where(fits, cost, np.inf)[owner]
-    order = np.lexsort((owner, c, fac))
-    fac_s, own_s = fac[order], owner[order]
-    first = np.concatenate([[True], fac_s[1:] != fac_s[:-1]])
-    start = np.flatnonzero(first)
-    size = np.diff(np.append(start, len(fac_s)))
-    two = start[size >= 2]
-    cheap_ts = in_ts[own_s[two]] & in_ts[own_s[two + 1]]
+    by_facet = np.argsort(fac, kind="stable") if by_facet is None else by_facet
+    own_s, fac_s = by_facet // dp1, fac[by_facet]
+    starts = np.concatenate([[0], np.cumsum(np.bincount(fac, minlength=n_facets))[:-1]])
+    # the T_S pair of each facet of T_S-count 2 (consecutive once the others are filtered out)
+    pair_entry = in_ts[own_s] & (cnt[fac_s] == 2)
+    pairs = own_s[pair_entry].reshape(-1, 2)
+    g12 = fac_s[pair_entry][::2]
+    s1, s2 = pairs[:, 0], pairs[:, 1]
+    # the pair must be the cheapest there: every other face that fits costs strictly more
+    c_other = np.where(fits[own_s] & ~in_ts[own_s], cost[own_s], np.inf)
+    cheapest_other = np.minimum.reduceat(c_other, starts)
     good = np.zeros(n_facets, dtype=bool)
-    good[fac_s[two][cheap_ts]] = True
+    good[g12] = np.maximum(cost[s1], cost[s2]) < cheapest_other[g12]
     # flatness of the T_S pair at each facet of count 2
-    s1, s2 = own_s[two][cheap_ts], own_s[two + 1][cheap_ts]
-    g12 = fac_s[two][cheap_ts]
     a1 = np.argmax(facet_of[s1] == g12[:, None], axis=1)
     a2 = np.argmax(facet_of[s2] == g12[:, None], axis=1)
     cos = np.einsum("ik,ik->i", u[s1, a1], u[s2, a2])

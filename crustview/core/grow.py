@@ -130,6 +130,8 @@ class Grower:
         self.cost = self.size * (1.0 + self.tier) * (1.0 + COST_SCORE * np.minimum(scores, np.pi / 2))
         self.facets, self.facet_of, self.ptr, _ = facet_structure(faces)
         order = np.argsort(self.facet_of.ravel(), kind="stable")
+        #: incidences (face * (d + 1) + position) grouped by facet, by face id within each
+        self.by_facet = order
         self.inc = order // self.dp1
         pos = order % self.dp1
         self.u = unit_normals_to_facets(points, faces)
@@ -230,7 +232,8 @@ class Grower:
         self.xor = xor.tolist()
         self.vcount = np.bincount(self.faces[ids].ravel(), minlength=self.n).tolist()
         self.vfront = np.bincount(self.facets[cnt == 1].ravel(), minlength=self.n).tolist()
-        self.log.extend((i, rule, -1, math.nan) for i in ids.tolist())
+        m = len(ids)
+        self.log.extend(zip(ids.tolist(), [rule] * m, [-1] * m, [math.nan] * m))
 
     # -- candidates ---------------------------------------------------------
     def push_front(self, g: int) -> None:

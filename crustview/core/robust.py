@@ -70,6 +70,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -128,7 +129,17 @@ def extract_robust(
     d1 = faces.shape[1] if faces.ndim == 2 else 2
     note_paper: str
     if len(tset) and covered.all():
-        paper = extract(points, tset, stop_when_sample_lost=True, cancel=cancel)
+        # the growth's set-up (numpy work that releases the GIL) runs on the
+        # other core while the paper's loop runs here; it is dropped unused
+        # when the paper succeeds
+        pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="crustview-grow")
+        pending = pool.submit(_prepare_growth, points, faces, scores, admitted)
+        pool.shutdown(wait=False)
+        try:
+            paper = extract(points, tset, stop_when_sample_lost=True, cancel=cancel)
+        except BaseException:
+            pending.cancel()
+            raise
         if paper.stopped == "closed":
             final = paper.complex_at(paper.n_steps)
             if analyse(final, n, d1 - 1).closed_manifold:
@@ -144,11 +155,14 @@ def extract_robust(
         else:
             note_paper = f"the paper's Algorithm 3 ended {paper.stopped}"
         holes = paper.holes
+        prepared = pending
     else:
         missing = int((~covered).sum())
         note_paper = f"{missing} samples are in no simplex of T_S, so the paper's Algorithm 3 cannot succeed"
         holes = None
-    ext = _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress)
+        prepared = None
+    ext = _grow_and_patch(points, prepared.result() if prepared is not None
+                          else _prepare_growth(points, faces, scores, admitted), spacing, cancel, progress)
     ext.holes = holes
     ext.notes.insert(0, note_paper + "; the robust extension grew M_S instead")
     return ext
@@ -165,8 +179,12 @@ def _row_keys(rows: np.ndarray, base: int) -> np.ndarray:
     return keys
 
 
-def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) -> Extraction:
-    """Phases 2 and 3 of the module docstring, assembled into one replayable Extraction."""
+def _prepare_growth(points: np.ndarray, faces: np.ndarray, scores: np.ndarray,
+                    admitted: np.ndarray) -> tuple[np.ndarray, np.ndarray, int, Grower, np.ndarray]:
+    """The walk's faces (T_S first), its Grower, and the manifold core added to it.
+
+    Pure array work on its own inputs, so it can run on another thread.
+    """
     # faces too large to be grown never enter the grower (T_S is kept whole for its row ids)
     size = size_ratio(points, faces)
     fits = size <= SIZE_MAX
@@ -175,13 +193,20 @@ def _grow_and_patch(points, faces, scores, admitted, spacing, cancel, progress) 
     n_ts = int(admitted.sum())
     tier = (np.arange(len(F)) >= n_ts).astype(np.int8)
     gr = Grower(points, F, S, tier, size[order])
+    core, core_orient = manifold_core(F, gr.facet_of, gr.u, tier == 0, gr.size <= SIZE_MAX, gr.cost,
+                                      COS_PAPER, gr.orientable, gr.by_facet)
+    gr.add_bulk(core, core_orient, RULE_CORE)
+    return F, S, n_ts, gr, core
+
+
+def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
+    """Phases 2 and 3 of the module docstring, assembled into one replayable Extraction."""
+    F, S, n_ts, gr, core = prepared
+    tier = gr.tier
 
     def rule_of(f: int, cos: float) -> str:
         return RULE_GROW if tier[f] == 0 and cos < COS_PAPER else RULE_RELAX
 
-    core, core_orient = manifold_core(F, gr.facet_of, gr.u, tier == 0, gr.size <= SIZE_MAX, gr.cost,
-                                      COS_PAPER, gr.orientable)
-    gr.add_bulk(core, core_orient, RULE_CORE)
     n_core = len(core)
     for limit in (COS_PAPER, COS_CREASE):
         gr.cos_limit = limit
