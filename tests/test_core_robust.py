@@ -211,3 +211,21 @@ def test_knight_is_wrong_but_a_manifold_that_says_so():
     assert t.nonmanifold_faces == 0 and t.singular_vertices == 0
     assert t.unused_samples <= 0.03 * len(pts)
     assert any("left out" in msg for msg in t.messages) == (t.unused_samples > 0)
+
+
+def test_open_scan_keeps_its_cut_open_and_zips_the_slit_of_a_thin_ear(monkeypatch):
+    # camelhead.off is open (its neck is cut: 56 boundary edges).  The cut stays open, while the
+    # rim of an ear, a thin plate whose two sides were grown but not its edge, is a slit: a long
+    # hole only a spacing or two wide, closed by ears
+    from crustview.core import holes
+
+    pts = scan_points("camelhead.off")
+    rec = reconstruct(pts, 2)
+    t = rec.topology
+    slits = [s for s in rec.extraction.steps if s.rule == RULE_FILL and "slit" in s.reason]
+    assert slits and t.components == 1 and t.unused_samples == 0
+    assert not t.closed_manifold and t.boundary_faces >= 56
+    monkeypatch.setattr(holes, "SLIT_MAX_WIDTH", 0.0)
+    unzipped = reextract(rec, rec.test, rec.theta, mode="robust")
+    assert not any("slit" in s.reason for s in unzipped.extraction.steps)
+    assert unzipped.topology.boundary_faces >= t.boundary_faces + 40

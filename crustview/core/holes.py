@@ -10,7 +10,10 @@ triangulation can be added where no Delaunay face fits:
   closed first with Delaunay d-faces among its own vertices (flattest
   first, creases up to 120 deg allowed), then -- for d = 2 -- by clipping
   ears off each boundary loop (triangles need not be Delaunay), for d = 1 by
-  joining its two ends.  Larger holes are real boundary and stay open.
+  joining its two ends.  Larger holes are real boundary and stay open,
+  except a *slit* (surfaces): one long rim loop only a few spacings wide,
+  the unfinished edge of a thin plate sampled on both sides, which is
+  closed by ears alone (see :meth:`Patcher._slit_width`).
 * ``drop-stray``: a component far smaller than the largest (a seed that
   closed three or four samples into a tiny loop or bubble) is removed, and
   its samples go to ``insert-sample``.
@@ -36,6 +39,12 @@ from .extraction import facet_structure
 FILL_MAX_FACES = 50
 #: Largest hole span, in median sample spacings, that ``fill-hole`` closes.
 FILL_MAX_SPAN = 18.0
+#: A longer hole is still closed when it is a slit (surfaces only): a single rim loop of at most
+#: SLIT_MAX_FACES edges whose median width, measured to rim vertices SLIT_HOPS or more steps away,
+#: is at most SLIT_MAX_WIDTH local spacings.  The real cuts of the open scans measure 7.9-12.
+SLIT_MAX_FACES = 400
+SLIT_HOPS = 8
+SLIT_MAX_WIDTH = 4.0
 #: Largest distance, in median spacings, from a left-out sample to the simplex it is inserted in.
 INSERT_MAX = 2.0
 #: Components with fewer simplices than this, and under STRAY_SHARE of the largest, are stray.
@@ -288,9 +297,17 @@ class Patcher:
         if len(hole[0]) == 1:  # curves: the ends of all paths, joined in pairs below
             self._join_ends(hole, "gap between two ends of the curve")
             return all(len(self.at(f)) != 1 for f in hole)
-        if len(hole) > FILL_MAX_FACES or span > FILL_MAX_SPAN * local:
-            return False
         why = f"hole of {len(hole)} boundary faces spanning {span / local:.1f} local spacings"
+        if len(hole) > FILL_MAX_FACES or span > FILL_MAX_SPAN * local:
+            width = self._slit_width(hole, local) if len(hole[0]) == 2 and len(hole) <= SLIT_MAX_FACES else None
+            if width is None or width > SLIT_MAX_WIDTH:
+                return False
+            why = (f"slit of {len(hole)} boundary faces, {span / local:.1f} local spacings long but only "
+                   f"{width:.1f} wide (a thin part sampled on both sides)")
+            # ears only: a disc across the slit, never Delaunay faces between far parts of its
+            # rim or erosion of its sides (both split long rims into pinched pieces)
+            self._ear_clip(hole, why)
+            return all(len(self.at(f)) != 1 for f in hole)
         self._fill_delaunay(set(verts), why)
         rest = [f for f in hole if len(self.at(f)) == 1]
         dp1 = len(hole[0]) + 1
@@ -309,6 +326,26 @@ class Patcher:
             self._join_ends(rest, why)
             rest = [f for f in rest if len(self.at(f)) == 1]
         return not rest
+
+    def _slit_width(self, hole: list[Simplex], local: float) -> float | None:
+        """Median distance, in local spacings, from each rim vertex across the hole; None if not one loop.
+
+        Across means to the nearest rim vertex at least :data:`SLIT_HOPS`
+        steps away along the rim.  Along a real boundary (the cut of an open
+        scan) that vertex is itself about SLIT_HOPS spacings away; across a
+        slit, the rim of a thin plate whose two sides were grown but not its
+        edge, it is the other side, one or two spacings away.
+        """
+        loops = self._loops(hole)
+        if loops is None or len(loops) != 1 or len(loops[0]) <= 2 * SLIT_HOPS:
+            return None
+        loop = loops[0]
+        m = len(loop)
+        q = self.points[loop]
+        dist = np.sqrt(((q[:, None] - q[None]) ** 2).sum(-1))
+        hop = np.abs(np.arange(m)[:, None] - np.arange(m)[None])
+        dist[np.minimum(hop, m - hop) < SLIT_HOPS] = np.inf
+        return float(np.median(dist.min(axis=1))) / local
 
     def _erode(self, edges: list[Simplex], why: str) -> list[Simplex]:
         """Remove the simplices on the hole's rim (they block every ear); returns the new rim."""
