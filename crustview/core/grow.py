@@ -249,18 +249,18 @@ class Grower:
         cand = self._inc[lo:hi]
         s = self.xor[g] - 1
         u = self.ucsr[lo:hi]
-        cosv = u @ u[cand.index(s)]
+        cos = (u @ u[cand.index(s)]).tolist()
         lim = self.cos_limit
-        # only candidates within the angle limit (the owner itself, at cos 1, never is)
-        within = np.flatnonzero(cosv < lim)
         alive, fits, fo, count = self.alive, self._fits, self._fo, self.count
         vcount, vfront, apex = self.vcount, self.vfront, self._apex
         dp1 = self.dp1
         rejected = self.rejected.get(g, ())
         best = None
-        for t, c_t in zip(within.tolist(), cosv[within].tolist()):
+        for t, c_t in enumerate(cos):
+            if c_t >= lim:  # folded onto the owner (the owner itself, at cos 1, too)
+                continue
             f = cand[t]
-            if f == s or alive[f] or not fits[f] or lo + t in rejected:
+            if alive[f] or not fits[f] or lo + t in rejected:
                 continue
             closing = False
             full = False
