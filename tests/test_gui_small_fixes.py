@@ -49,3 +49,44 @@ def test_save_suggests_a_name_in_the_last_folder_and_says_when_a_change_is_pendi
     assert window.save_result(str(out / "second.npz"))
     msg = window.statusBar().currentMessage()
     assert "not extracted yet" in msg and "Re-extract" in msg
+
+
+def _expected_column(win) -> list[str]:
+    table = win.info_panel.topology
+    return [table.item(r, 2).text() for r in range(table.rowCount())]
+
+
+def test_a_reopened_saved_built_in_shows_its_expected_topology_again(qtbot, window, tmp_path):
+    load(qtbot, window, "circle", 80)
+    assert any(_expected_column(window))
+    path = tmp_path / "circle-crust.npz"
+    assert window.save_result(str(path))
+    load(qtbot, window, "sphere", 300)  # something else in between
+    assert window.open_file(path)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    truth = window.model.truth
+    assert truth is not None and truth.manifold.name == "circle"
+    assert truth.tangents is not None  # drawn again exactly as saved: the true tangents are back
+    assert any(_expected_column(window)) and "expected: circle" in window.info_panel.messages.text()
+    assert "Same M_S as saved" in window.statusBar().currentMessage()
+
+
+def test_text_file_header_is_said_and_a_garbage_first_line_is_refused(qtbot, window, tmp_path):
+    from crustview.core.sampling import get_manifold
+
+    pts = get_manifold("circle").sample(60, seed=0).points
+    good = tmp_path / "named.csv"
+    good.write_text("x,y\n" + "\n".join(f"{a:.17g},{b:.17g}" for a, b in pts) + "\n")
+    assert window.open_file(good, d=1)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    assert window.model.rec.n == 60
+    assert "line 1 was read as column names (x, y)" in window.statusBar().currentMessage()
+    bad = tmp_path / "bad.xyz"
+    bad.write_text("Lorem ipsum dolor!\n" + "\n".join(f"{a:.17g} {b:.17g}" for a, b in pts) + "\n")
+    assert not window.open_file(bad, d=1)
+    assert "line 1" in window.last_error and "neither numbers nor a header" in window.last_error
+    noise = tmp_path / "noise.npy"
+    noise.write_bytes(bytes(range(256)) * 8)
+    assert not window.open_file(noise, d=1)
+    assert "not a NumPy array file" in window.last_error and "pickle" not in window.last_error
+    assert window.model.rec.n == 60  # the shown result stays

@@ -388,6 +388,8 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
             same = _same_simplices(rec, saved[0])
             message += (f" Same M_S as saved in {saved[1]}." if same else
                         f" M_S DIFFERS from the one saved in {saved[1]} (other crustview version?).")
+        for extra in pending.get("notes", ()):
+            message += " " + extra
         if getattr(self, "prune_note", None):
             message += " " + self.prune_note
             self.prune_note = None
