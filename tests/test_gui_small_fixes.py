@@ -5,6 +5,7 @@ from pathlib import Path
 import pytest
 
 pytest.importorskip("pytestqt")
+from PySide6.QtCore import Qt  # noqa: E402
 
 
 def load(qtbot, win, name="torus", n=None):
@@ -90,3 +91,41 @@ def test_text_file_header_is_said_and_a_garbage_first_line_is_refused(qtbot, win
     assert not window.open_file(noise, d=1)
     assert "not a NumPy array file" in window.last_error and "pickle" not in window.last_error
     assert window.model.rec.n == 60  # the shown result stays
+
+
+def test_the_information_dock_does_not_reflow_when_the_selection_or_step_changes(qtbot, window):
+    """Issue 10: the Information dock reflowed under the mouse.  Selecting a sample (a long text)
+    or a face, hovering, and stepping leave every box where it was."""
+    from PySide6.QtCore import QPoint
+    from PySide6.QtTest import QTest
+    from PySide6.QtWidgets import QWidget
+
+    load(qtbot, window)
+    window.docks["info"].raise_()
+    window.model.player.set_step(20)
+    qtbot.wait(300)  # the open faces list refreshes after a short delay
+    panel = window.info_panel
+
+    def layout():
+        return {id(w): w.geometry().getRect() for w in panel.findChildren(QWidget) if w.isVisible()}
+
+    def faces_top():
+        return panel.faces.mapTo(panel, QPoint(0, 0)).y()
+
+    before, top = layout(), faces_top()
+    window.model.selection.select_sample(5)  # a sample's text is many lines long
+    qtbot.wait(50)
+    assert "5" in panel.selection.text() and faces_top() == top
+    item = panel.faces.item(0)
+    qtbot.mouseClick(panel.faces.viewport(), Qt.MouseButton.LeftButton, pos=panel.faces.visualItemRect(item).center())
+    qtbot.wait(50)
+    assert window.model.selection.face is not None and faces_top() == top
+    for w in [w for w in panel.findChildren(QWidget) if w.isVisible()][:60]:
+        QTest.mouseMove(w, w.rect().center())
+    qtbot.wait(50)
+    for _ in range(5):
+        window.model.player.next()
+        qtbot.wait(150)
+    window.model.selection.clear()
+    qtbot.wait(50)
+    assert layout() == before

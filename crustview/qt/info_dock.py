@@ -6,12 +6,14 @@ from html import escape
 
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtWidgets import (
+    QFrame,
     QGroupBox,
     QHeaderView,
     QLabel,
     QListWidget,
     QListWidgetItem,
     QPushButton,
+    QScrollArea,
     QTableWidget,
     QTableWidgetItem,
     QVBoxLayout,
@@ -33,6 +35,8 @@ from .theorems_panel import TheoremPanel
 
 #: At most this many open faces are listed.
 MAX_FACES = 300
+#: Height of the selection text in lines (longer text scrolls).
+SELECTION_LINES = 9
 
 #: Style of the verdict banner by level.
 BANNER_STYLE = {
@@ -124,8 +128,17 @@ class InfoPanel(QWidget):
         sl = QVBoxLayout(sel)
         self.selection = QLabel("Click a sample or a simplex in the view.", sel)
         self.selection.setWordWrap(True)
+        self.selection.setAlignment(Qt.AlignmentFlag.AlignTop | Qt.AlignmentFlag.AlignLeft)
         self.selection.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        sl.addWidget(self.selection)
+        # a fixed height, scrolled when longer: what is selected never moves the boxes below
+        # (the open faces list would slide away from under the mouse)
+        area = QScrollArea(sel)
+        area.setWidget(self.selection)
+        area.setWidgetResizable(True)
+        area.setFrameShape(QFrame.Shape.NoFrame)
+        area.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        area.setFixedHeight(SELECTION_LINES * self.fontMetrics().lineSpacing() + 8)
+        sl.addWidget(area)
         self.jump = QPushButton("Jump to removing step", sel)
         self.jump.setToolTip("Go to the step of Algorithm 3 that removed the selected simplex")
         self.jump.setEnabled(False)
@@ -136,6 +149,8 @@ class InfoPanel(QWidget):
         fl = QVBoxLayout(faces)
         self.faces_label = QLabel(faces)
         self.faces_label.setWordWrap(True)
+        self.faces_label.setAlignment(Qt.AlignmentFlag.AlignTop | Qt.AlignmentFlag.AlignLeft)
+        self.faces_label.setFixedHeight(2 * self.fontMetrics().lineSpacing() + 4)  # one or two lines: no reflow
         fl.addWidget(self.faces_label)
         self.faces = QListWidget(faces)
         self.faces.setMinimumHeight(90)
