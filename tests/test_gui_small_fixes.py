@@ -129,3 +129,31 @@ def test_the_information_dock_does_not_reflow_when_the_selection_or_step_changes
     window.model.selection.clear()
     qtbot.wait(50)
     assert layout() == before
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("source", ["mesh", "built-in"])
+def test_the_ground_truth_shows_over_an_opaque_m_s(qtbot, window, source):
+    """Issue 10: the ground-truth layer was invisible under an opaque M_S.  It is drawn over
+    the scene, faint, like the step highlight: showing it changes the picture of M_S."""
+    import numpy as np
+
+    if source == "mesh":
+        assert window.open_file(Path(__file__).resolve().parents[1] / "resources" / "bumpy.off", d=2)
+        qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    else:
+        load(qtbot, window)
+    layers = window.model.layers
+    assert layers["manifold"].visible and layers["manifold"].opacity == 1.0
+    for name in ("points", "normals", "poles"):
+        layers[name].visible = False
+    layers["truth"].visible = False
+    window.view.render()
+    off = window.plotter.screenshot(return_img=True).astype(int)
+    layers["truth"].visible = True
+    window.view.render()
+    on = window.plotter.screenshot(return_img=True).astype(int)
+    assert window.view.adapters["truth"].part.n_cells > 0
+    surface = (np.abs(off - off[2, -3]).sum(axis=2) > 40)  # M_S, not the background
+    changed = np.abs(on - off).sum(axis=2) > 24
+    assert (changed & surface).sum() > 0.12 * surface.sum(), (changed & surface).sum() / surface.sum()

@@ -76,7 +76,7 @@ class SceneView:
             layer.events.colorby.connect(lambda *_: self._after_colour())
             layer.events.mode.connect(lambda *_: (self.update_legend(), self.render()))
             layer.events.shrink.connect(lambda *_: self.render())
-        self._on_top(("cascade", "step", "selection"))
+        self._on_top(("truth", "cascade", "step", "selection"))
         self._bars: dict[str, object] = {}
         self._stale: set[LayerAdapter] = set()
         self.legend = Legend(plotter)
