@@ -157,3 +157,42 @@ def test_the_ground_truth_shows_over_an_opaque_m_s(qtbot, window, source):
     surface = (np.abs(off - off[2, -3]).sum(axis=2) > 40)  # M_S, not the background
     changed = np.abs(on - off).sum(axis=2) > 24
     assert (changed & surface).sum() > 0.12 * surface.sum(), (changed & surface).sum() / surface.sum()
+
+
+def _run_dialog(qtbot, open_it) -> tuple[str, list[str]]:
+    """Open a real file dialog, read where it starts and what it suggests, then cancel it."""
+    from PySide6.QtCore import QTimer
+    from PySide6.QtWidgets import QApplication, QFileDialog
+
+    seen: dict = {}
+
+    def look():
+        dlg = QApplication.activeModalWidget()
+        if not isinstance(dlg, QFileDialog):
+            QTimer.singleShot(50, look)
+            return
+        seen["dir"] = dlg.directory().absolutePath()
+        seen["files"] = dlg.selectedFiles()
+        dlg.reject()
+
+    QTimer.singleShot(50, look)
+    open_it()
+    assert "dir" in seen
+    return seen["dir"], seen["files"]
+
+
+def test_open_and_save_dialogs_start_in_the_last_folder_with_a_suggested_name(qtbot, window, tmp_path):
+    from crustview.core.sampling import get_manifold
+    from crustview.io import write_points
+
+    folder = tmp_path / "data"
+    folder.mkdir()
+    write_points(folder / "loop.npy", get_manifold("circle").sample(60, seed=0).points)
+    assert window.open_file(folder / "loop.npy", d=1)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    where, _ = _run_dialog(qtbot, window.open_dialog)
+    assert Path(where) == folder
+    where, files = _run_dialog(qtbot, window.save_result_dialog)
+    assert Path(where) == folder and [Path(f).name for f in files] == ["loop-crust.npz"]
+    where, files = _run_dialog(qtbot, window.save_screenshot_dialog)
+    assert Path(where) == folder and Path(files[0]).name == "loop-step0.png"
