@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import numpy as np
+import pyvista as pv
+
 from ..scene import geometry as geo
 from ..scene.describe import verdict
 from ..scene.layers import CASCADE_COLOR, STEP_COLORS
@@ -65,6 +67,10 @@ class SceneView:
         #: View the data with its Y axis up instead of Z (View ▸ Y axis up).
         self.y_up = False
         plotter.set_background(BACKGROUND[0], top=BACKGROUND[1])
+        # one headlight instead of pyvista's five-light kit: software GL (the usual case here)
+        # shades every pixel once per light, and a frame of a large M_S is fill-bound
+        plotter.remove_all_lights()
+        plotter.add_light(pv.Light(light_type="headlight"))
         self.adapters: dict[str, LayerAdapter] = {}
         for name, cls in ADAPTERS.items():
             layer = model.layers[name]
