@@ -12,6 +12,7 @@ from PySide6.QtWidgets import (
     QHeaderView,
     QLabel,
     QPushButton,
+    QScrollArea,
     QSlider,
     QSpinBox,
     QStyle,
@@ -50,6 +51,8 @@ class StepLog(QAbstractTableModel):
     def __init__(self, model: SceneModel) -> None:
         super().__init__()
         self.model = model
+        #: Display texts of the rows painted lately (the view asks for every cell and role on each paint).
+        self._rows: dict[int, tuple[str, ...]] = {}
 
     def rowCount(self, parent=QModelIndex()) -> int:  # noqa: N802 - Qt API
         return 0 if parent.isValid() else self.model.player.n_steps
@@ -63,26 +66,27 @@ class StepLog(QAbstractTableModel):
         return None
 
     def data(self, index, role=Qt.ItemDataRole.DisplayRole):
-        ext = self.model.player.extraction
-        if ext is None or not index.isValid():
-            return None
-        s = ext.steps[index.row()]
         if role == Qt.ItemDataRole.DisplayRole:
-            return (
-                str(s.index + 1),
-                RULE_SHORT.get(s.rule, s.rule),
-                fmt_tuple(s.tau),
-                _ids(s.kept),
-                _ids(s.removed),
-                _ids(s.added),
-                deg(s.angle),
-            )[index.column()]
+            ext = self.model.player.extraction
+            if ext is None or not index.isValid():
+                return None
+            row = index.row()
+            texts = self._rows.get(row)
+            if texts is None:
+                if len(self._rows) > 4096:  # a few screens of rows: enough to scroll without formatting again
+                    self._rows.clear()
+                s = ext.steps[row]
+                texts = self._rows[row] = (str(s.index + 1), RULE_SHORT.get(s.rule, s.rule), fmt_tuple(s.tau),
+                                           _ids(s.kept), _ids(s.removed), _ids(s.added), deg(s.angle))
+            return texts[index.column()]
         if role == Qt.ItemDataRole.ToolTipRole:
-            return s.reason
+            ext = self.model.player.extraction
+            return None if ext is None or not index.isValid() else ext.steps[index.row()].reason
         return None
 
     def reset(self) -> None:
         self.beginResetModel()
+        self._rows = {}
         self.endResetModel()
 
 
@@ -122,7 +126,6 @@ class StepsPanel(QWidget):
                               "faster playback applies the steps in between without drawing them.")
         row.addWidget(self.speed)
         self.counter = QLabel("step 0 / 0", self)
-        self.counter.setMinimumWidth(110)
         self.counter.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
         row.addWidget(self.counter)
         lay.addLayout(row)
@@ -165,11 +168,18 @@ class StepsPanel(QWidget):
         lay.addWidget(self.follow)
         self.words = QLabel(self)
         self.words.setWordWrap(True)
-        self.words.setMinimumHeight(64)
         self.words.setAlignment(Qt.AlignmentFlag.AlignTop | Qt.AlignmentFlag.AlignLeft)
         self.words.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        self.words.setStyleSheet("QLabel { background: #f7f7f2; border: 1px solid #ccc; padding: 4px; }")
-        lay.addWidget(self.words)
+        self.words.setStyleSheet("QLabel { background: #f7f7f2; padding: 4px; }")
+        # a fixed height (scrolled when a step's text is longer): stepping never re-lays out the dock,
+        # which would repaint all of it on every step
+        words_area = QScrollArea(self)
+        words_area.setWidget(self.words)
+        words_area.setWidgetResizable(True)
+        words_area.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        words_area.setStyleSheet("QScrollArea { border: 1px solid #ccc; background: #f7f7f2; }")
+        words_area.setFixedHeight(4 * self.fontMetrics().lineSpacing() + 12)
+        lay.addWidget(words_area)
         legend = QLabel(
             f"<span style='color:{STEP_COLORS['tau']}'>■</span> τ &nbsp; "
             f"<span style='color:{STEP_COLORS['kept']}'>■</span> kept pair &nbsp; "
@@ -214,7 +224,6 @@ class StepsPanel(QWidget):
 
     def compact(self) -> None:
         """Narrower controls for small screens."""
-        self.counter.setMinimumWidth(0)
         self.speed.setSuffix("/s")
         self.follow.setText("Frame each step")
         self.to_rule.setText("Next of rule")
@@ -232,6 +241,8 @@ class StepsPanel(QWidget):
         self.goto.blockSignals(True)
         self.goto.setRange(0, n)
         self.goto.blockSignals(False)
+        # as wide as its longest text: its changing digits never re-lay out the row
+        self.counter.setFixedWidth(self.counter.fontMetrics().horizontalAdvance(f"step {n} / {n}") + 8)
         self.sync(self.model.player.position)
 
     def _row_selected(self, current, _previous) -> None:
