@@ -163,3 +163,19 @@ def test_all_poles_in_r4_are_short_ticks(qtbot, window):
     assert seg.max() <= TICK_SPACINGS * m.spacing.max() + 1e-9
     assert np.median(seg) < 0.15 * np.ptp(rec.points, axis=0).max()  # not lines across the whole view
     assert a.parts[1].n_cells == 0  # no end dots
+
+
+def test_scalar_bars_never_overlap_when_new_data_adds_one(qtbot, window):
+    """xdotool trial: "removed by step" (shown on the torus) and the hidden depth of a shape
+    in R^4 were drawn at the same place, their labels over each other."""
+    assert window.load_builtin("circle", 60)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    window.model.layers["removed"].visible = True
+    assert list(window.view._bars) == ["removed by step"]
+    assert window.load_builtin("circle-r4", 60)
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec.k == 4, timeout=60_000)
+    titles = list(window.view._bars)
+    assert len(titles) >= 2 and "removed by step" in titles
+    bars = window.plotter.scalar_bars
+    heights = [round(bars[t].GetPosition()[1], 3) for t in titles]
+    assert len(set(heights)) == len(heights), dict(zip(titles, heights))

@@ -260,10 +260,11 @@ class SceneView:
             title = getattr(a, "scalar_title", None)
             if self.model.layers[name].visible and title:
                 want[title] = a.part.mapper
-        for title in list(self._bars):
-            if title not in want or self._bars[title] is not want[title]:
+        if list(self._bars.items()) != list(want.items()):
+            # the bars stack in order: one that stays keeps its place only if all before it stay
+            for title in list(self._bars):
                 self.plotter.remove_scalar_bar(title, render=False)
-                del self._bars[title]
+            self._bars = {}
         for j, (title, mapper) in enumerate(want.items()):
             if title not in self._bars:
                 # horizontal, bottom right, below the data: the title fits and stays readable
