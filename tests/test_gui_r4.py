@@ -179,3 +179,15 @@ def test_scalar_bars_never_overlap_when_new_data_adds_one(qtbot, window):
     bars = window.plotter.scalar_bars
     heights = [round(bars[t].GetPosition()[1], 3) for t in titles]
     assert len(set(heights)) == len(heights), dict(zip(titles, heights))
+
+
+def test_the_hidden_depth_bar_names_the_direction_after_a_rotation(qtbot, window):
+    """xdotool trial: after turning x1-x4 the bar still said "hidden depth (1.00 x4)"."""
+    assert window.load_builtin("circle-r4", 60)
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec.k == 4, timeout=60_000)
+    before = [t for t in window.view._bars if t.startswith("hidden depth")]
+    assert before == ["hidden depth (1.00 x4)"]
+    window.model.projection.set_angle(0, 3, 1.0)
+    titles = [t for t in window.view._bars if t.startswith("hidden depth")]
+    assert len(titles) == 1 and titles[0] != before[0] and "x1" in titles[0]
+    assert titles[0] in window.plotter.scalar_bars

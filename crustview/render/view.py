@@ -227,6 +227,7 @@ class SceneView:
         for a in self._live():
             a.project()
         self.update_basis_text()
+        self.update_bars()  # a colouring by the hidden depth names the direction, which turned
         self.render()
 
     def on_step(self, *_) -> None:
