@@ -196,3 +196,9 @@ def test_open_and_save_dialogs_start_in_the_last_folder_with_a_suggested_name(qt
     assert Path(where) == folder and [Path(f).name for f in files] == ["loop-crust.npz"]
     where, files = _run_dialog(qtbot, window.save_screenshot_dialog)
     assert Path(where) == folder and Path(files[0]).name == "loop-step0.png"
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / "junk.npy").write_bytes(b"not numpy at all")
+    assert not window.open_file(other / "junk.npy", d=1)  # refused, but the user was in that folder
+    where, _ = _run_dialog(qtbot, window.open_dialog)
+    assert Path(where) == other

@@ -94,6 +94,8 @@ class FileActions:
         if self.runner.busy:
             self.show_error("A reconstruction is already running; cancel it first.")
             return False
+        if Path(path).parent.is_dir():  # the next dialog starts here, even when this file is refused
+            self.settings.setValue("last_dir", str(Path(path).parent))
         try:
             mesh = io.read_mesh(path)  # a mesh with faces: vertices are the sample, faces the truth
             read_notes: list[str] = []  # e.g. a text file's header line of column names
@@ -111,7 +113,6 @@ class FileActions:
             self.show_error(f"'{path}' holds points with {k} coordinate; at least 2 are needed.")
             return False
         self._add_recent(path)
-        self.settings.setValue("last_dir", str(Path(path).parent))
         name = Path(path).name
         if self.model.rec is None:  # nothing shown yet: the raw points, while d is asked and the run goes
             self.view.show_preview(points)
