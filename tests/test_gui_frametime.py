@@ -11,9 +11,8 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pytestqt")
-from PySide6.QtCore import Qt  # noqa: E402
+from PySide6.QtCore import QEventLoop, Qt  # noqa: E402
 from PySide6.QtTest import QTest  # noqa: E402
-from PySide6.QtWidgets import QApplication  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -30,39 +29,52 @@ def fertility_run():
 
 class FrameClock:
     """Wall time from an action to the end of the frame that shows it (one VTK render, then
-    the window's composition), measured with the render window's own events."""
+    the window's composition), measured with the render window's own events, and the number
+    of renders and of window compositions the action caused."""
 
     def __init__(self, win) -> None:
         self.win = win
         self.renders: list[float] = []
         self.starts = 0
+        self.swaps = 0
+        # QEventLoop.processEvents, not the static QApplication.processEvents: in PySide6 6.12
+        # every call of that static function drops a reference to None, and a few thousand
+        # calls crash the interpreter
+        self.loop = QEventLoop()
         rw = win.plotter.ren_win
         rw.AddObserver("StartEvent", lambda *_: setattr(self, "starts", self.starts + 1))
         rw.AddObserver("EndEvent", lambda *_: self.renders.append(time.perf_counter()))
+        win.plotter.frameSwapped.connect(lambda: setattr(self, "swaps", self.swaps + 1))
 
-    def time(self, action) -> tuple[float, int]:
-        """Seconds until the frame is on screen, and the number of renders it took."""
-        app = QApplication.instance()
+    def time(self, action, settle: float = 0.0) -> tuple[float, int, int]:
+        """Seconds until the frame is on screen; renders and compositions until ``settle`` s later."""
         self.renders.clear()
-        self.starts = 0
+        self.starts = self.swaps = 0
         t0 = time.perf_counter()
         action()
         while not self.renders and time.perf_counter() - t0 < 10:
-            app.processEvents()
-        app.processEvents()  # the composition of the window that follows the render
-        return time.perf_counter() - t0, self.starts
+            self.loop.processEvents()
+        self.loop.processEvents()  # the composition of the window that follows the render
+        took = time.perf_counter() - t0
+        end = time.perf_counter() + settle
+        while time.perf_counter() < end:  # anything the action still causes: more frames
+            self.loop.processEvents()
+            time.sleep(0.002)
+        return took, self.starts, self.swaps
 
 
 @pytest.mark.gl
 @pytest.mark.slow
 def test_steps_and_jumps_cost_little_more_than_a_frame(qtbot, window, fertility_run):
     """Issue 10: Home/End, jumps and steps at <= 100 ms.  Each is one render and one
-    composition of the window, and its time stays within a small factor of a frame in
-    which nothing changed (the floor: what this machine needs to draw the window)."""
+    composition of the window (a label that re-lays out its dock used to cost two or three
+    more), and its time stays within a small factor of a frame in which nothing changed
+    (the floor: what this machine needs to draw the window)."""
     rec = fertility_run
     window.resize(1280, 860)
     window.model.set_reconstruction(rec, source="fertility")
     window.model.layers["points"].visible = True
+    window.docks["steps"].raise_()  # the replay's own dock in front, as when stepping
     qtbot.wait(200)
     view = window.plotter
     view.setFocus()
@@ -79,18 +91,20 @@ def test_steps_and_jumps_cost_little_more_than_a_frame(qtbot, window, fertility_
         "end": lambda: QTest.keyClick(view, Qt.Key.Key_End),
         "jump": lambda: window.model.player.set_step(int(rng.integers(1, n))),
     }
-    window.model.player.set_step(n // 2)
-    clock.time(lambda: None)
+    def middle():
+        window.model.player.set_step(n // 2)
+
+    clock.time(middle, settle=0.3)
     times: dict[str, list[float]] = {name: [] for name in ("floor", *actions)}
     for _ in range(6):
         for name, action in actions.items():
             if name == "end":
-                window.model.player.set_step(n // 2)
-                clock.time(lambda: None)
-            t, renders = clock.time(lambda: QWidgetUpdate(view))
+                clock.time(middle, settle=0.3)
+            t, _, _ = clock.time(view.update, settle=0.05)
             times["floor"].append(t)
-            t, renders = clock.time(action)
-            assert renders == 1, f"{name}: {renders} renders"
+            # settle for less than the open-faces refresh's delay (that dock is hidden here anyway)
+            t, renders, swaps = clock.time(action, settle=0.09)
+            assert (renders, swaps) == (1, 1), f"{name}: {renders} renders, {swaps} window compositions"
             times[name].append(t)
     med = {name: float(np.median(v)) for name, v in times.items()}
     print("medians (ms):", {name: round(1000 * t) for name, t in med.items()})
@@ -100,5 +114,3 @@ def test_steps_and_jumps_cost_little_more_than_a_frame(qtbot, window, fertility_
         assert med[name] <= 1.6 * med["floor"] + 0.015, (name, med)
 
 
-def QWidgetUpdate(widget) -> None:  # noqa: N802 - a frame with nothing changed
-    widget.update()

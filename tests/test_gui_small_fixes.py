@@ -202,3 +202,21 @@ def test_open_and_save_dialogs_start_in_the_last_folder_with_a_suggested_name(qt
     assert not window.open_file(other / "junk.npy", d=1)  # refused, but the user was in that folder
     where, _ = _run_dialog(qtbot, window.open_dialog)
     assert Path(where) == other
+
+
+def test_open_faces_of_a_tabbed_away_information_dock_follow_when_it_is_shown(qtbot, window):
+    """Frame time: the open-faces list is not rebuilt while its dock is out of sight (that cost
+    a frame of the whole window after each step); choosing its tab brings it up to date."""
+    load(qtbot, window)
+    window.compact_docks()
+    window.docks["steps"].raise_()
+    qtbot.wait(100)
+    panel = window.info_panel
+    assert panel.visibleRegion().isEmpty()
+    window.model.player.set_step(20)
+    qtbot.wait(300)
+    faces, _ = window.model.open_faces()
+    assert panel._faces_stale and not panel.faces_label.text().startswith(f"{len(faces)} open faces")
+    window.docks["info"].raise_()
+    qtbot.waitUntil(lambda: panel.faces_label.text().startswith(f"{len(faces)} open faces"), timeout=2000)
+    assert panel.faces.count() == min(len(faces), 300)

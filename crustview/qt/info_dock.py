@@ -31,6 +31,7 @@ from ..scene.describe import (
 )
 from ..scene.model import SceneModel
 from .diagnosis import DiagnosisPanel
+from .steady import SteadyText
 from .theorems_panel import TheoremPanel
 
 #: At most this many open faces are listed.
@@ -147,10 +148,7 @@ class InfoPanel(QWidget):
         lay.addWidget(sel)
         faces = QGroupBox("Open (d-1)-faces at this step", self)
         fl = QVBoxLayout(faces)
-        self.faces_label = QLabel(faces)
-        self.faces_label.setWordWrap(True)
-        self.faces_label.setAlignment(Qt.AlignmentFlag.AlignTop | Qt.AlignmentFlag.AlignLeft)
-        self.faces_label.setFixedHeight(2 * self.fontMetrics().lineSpacing() + 4)  # one or two lines: no reflow
+        self.faces_label = SteadyText(faces)  # a new count never re-lays out the dock (nor moves the list)
         fl.addWidget(self.faces_label)
         self.faces = QListWidget(faces)
         self.faces.setMinimumHeight(90)
@@ -260,6 +258,12 @@ class InfoPanel(QWidget):
     def refresh_faces(self) -> None:
         if self.model.rec is None:
             return
+        if self.visibleRegion().isEmpty():
+            # hidden, or a tabbed-away dock: changing it would still cost a frame of the whole
+            # window; :meth:`catch_up` refreshes it when it is seen again
+            self._faces_stale = True
+            return
+        self._faces_stale = False
         faces, counts = self.model.open_faces()
         self.faces.blockSignals(True)
         self.faces.clear()
@@ -273,7 +277,17 @@ class InfoPanel(QWidget):
             item = QListWidgetItem(f"{fmt_tuple(f)}  — {c} simplices ({kind})")
             item.setData(Qt.ItemDataRole.UserRole, tuple(int(v) for v in f))
             self.faces.addItem(item)
+        self.faces.doItemsLayout()  # now, not on the view's own timer: one repaint of the window, not two
         self.faces.blockSignals(False)
+
+    def showEvent(self, event) -> None:  # noqa: N802 - Qt API
+        super().showEvent(event)
+        self.catch_up()
+
+    def catch_up(self, *_) -> None:
+        """Refresh what changed while the panel was not seen (its dock shown or its tab chosen)."""
+        if getattr(self, "_faces_stale", False):
+            QTimer.singleShot(0, self.refresh_faces)  # once the dock's tab is laid out and visible
 
     def _face_item(self, item) -> None:
         if item is None:

@@ -11,8 +11,9 @@ from PySide6.QtWidgets import (
     QHBoxLayout,
     QHeaderView,
     QLabel,
+    QPlainTextEdit,
     QPushButton,
-    QScrollArea,
+    QSizePolicy,
     QSlider,
     QSpinBox,
     QStyle,
@@ -27,6 +28,7 @@ from ..core.result import RULES
 from ..scene.describe import deg, fmt_tuple, step_words
 from ..scene.layers import STEP_COLORS
 from ..scene.model import SceneModel
+from .steady import SteadyLabel
 from .timeline import TimelineView
 
 COLUMNS = ("#", "rule", "τ", "kept", "removed", "added", "angle")
@@ -43,6 +45,25 @@ RULE_SHORT = {"prune-sharp": "prune", "resolve-nonmanifold": "resolve", "grow-re
 
 def _ids(t) -> str:
     return "" if not t else (fmt_tuple(t) if len(t) <= 4 else f"{len(t)} simplices")
+
+
+class StepText(QPlainTextEdit):
+    """The words about the current step: read-only, wrapped, a fixed size whatever the text."""
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.setReadOnly(True)
+        self.setLineWrapMode(QPlainTextEdit.LineWrapMode.WidgetWidth)
+        self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        self.setStyleSheet("QPlainTextEdit { background: #f7f7f2; border: 1px solid #ccc; }")
+        self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
+
+    def text(self) -> str:
+        return self.toPlainText()
+
+    def setText(self, text: str) -> None:  # noqa: N802 - as QLabel
+        if text != self.toPlainText():
+            self.setPlainText(text)
 
 
 class StepLog(QAbstractTableModel):
@@ -125,7 +146,8 @@ class StepsPanel(QWidget):
         self.speed.setToolTip(f"Playback speed. The view is drawn at most {FRAME_RATE} times a second; "
                               "faster playback applies the steps in between without drawing them.")
         row.addWidget(self.speed)
-        self.counter = QLabel("step 0 / 0", self)
+        self.counter = SteadyLabel(self)
+        self.counter.setText("step 0 / 0")
         self.counter.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
         row.addWidget(self.counter)
         lay.addLayout(row)
@@ -166,20 +188,12 @@ class StepsPanel(QWidget):
         self.follow = QCheckBox("Frame each step (zoom onto τ and its simplices; R resets the view)", self)
         self.follow.setToolTip("Move the camera to every step as it is applied, keeping the view direction")
         lay.addWidget(self.follow)
-        self.words = QLabel(self)
-        self.words.setWordWrap(True)
-        self.words.setAlignment(Qt.AlignmentFlag.AlignTop | Qt.AlignmentFlag.AlignLeft)
-        self.words.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        self.words.setStyleSheet("QLabel { background: #f7f7f2; padding: 4px; }")
-        # a fixed height (scrolled when a step's text is longer): stepping never re-lays out the dock,
-        # which would repaint all of it on every step
-        words_area = QScrollArea(self)
-        words_area.setWidget(self.words)
-        words_area.setWidgetResizable(True)
-        words_area.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
-        words_area.setStyleSheet("QScrollArea { border: 1px solid #ccc; background: #f7f7f2; }")
-        words_area.setFixedHeight(4 * self.fontMetrics().lineSpacing() + 12)
-        lay.addWidget(words_area)
+        # a read-only text box of fixed height (scrolled when a step's text is longer): its
+        # size never depends on the text, so stepping never re-lays out the dock and the window,
+        # which would cost a full repaint and composition of the window after every step
+        self.words = StepText(self)
+        self.words.setFixedHeight(4 * self.fontMetrics().lineSpacing() + 14)
+        lay.addWidget(self.words)
         legend = QLabel(
             f"<span style='color:{STEP_COLORS['tau']}'>■</span> τ &nbsp; "
             f"<span style='color:{STEP_COLORS['kept']}'>■</span> kept pair &nbsp; "
@@ -241,8 +255,7 @@ class StepsPanel(QWidget):
         self.goto.blockSignals(True)
         self.goto.setRange(0, n)
         self.goto.blockSignals(False)
-        # as wide as its longest text: its changing digits never re-lay out the row
-        self.counter.setFixedWidth(self.counter.fontMetrics().horizontalAdvance(f"step {n} / {n}") + 8)
+        self.counter.setText(f"step {n} / {n}")  # its widest text: the size it keeps while stepping
         self.sync(self.model.player.position)
 
     def _row_selected(self, current, _previous) -> None:

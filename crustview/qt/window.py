@@ -32,6 +32,7 @@ from .info_dock import InfoPanel
 from .layers_dock import LayersPanel
 from .projection_dock import ProjectionPanel
 from .run_dock import RunPanel
+from .steady import SteadyLabel
 from .steps_dock import StepsPanel
 from .worker import Runner
 
@@ -135,6 +136,7 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
         self.runner.finished.connect(lambda: self.run_panel.set_busy(False))
         self.run_panel.reconstruct_requested.connect(self._reconstruct_requested)
         self.run_panel.cancel_requested.connect(self.runner.cancel)
+        self.docks["info"].visibilityChanged.connect(self.info_panel.catch_up)  # its tab chosen
         self.info_panel.face_clicked.connect(self.view.frame_face)
         self.info_panel.cascade_clicked.connect(self.view.frame_cascade)
         self.info_panel.paper_requested.connect(lambda: self.run_panel.set_mode("paper"))
@@ -145,7 +147,7 @@ class MainWindow(DockLayout, FileActions, QMainWindow):
         self.model.candidates_changed.connect(lambda *_: self._update_status())
 
         self._build_menus()
-        self.status_counts = QLabel(self)
+        self.status_counts = SteadyLabel(self)  # a new count per step must not re-lay out the window
         self.statusBar().addPermanentWidget(self.status_counts)
         self.statusBar().showMessage("Open a point file (File ▸ Open, or drop it here) or a built-in sample.")
         self.setAcceptDrops(True)
