@@ -38,13 +38,21 @@ class Clock:
         self.renders: list[float] = []
         self.starts = 0
         self.swaps = 0
+        self.swapped: list[float] = []
         rw = win.plotter.ren_win
         rw.AddObserver("StartEvent", lambda *_: setattr(self, "starts", self.starts + 1))
         rw.AddObserver("EndEvent", lambda *_: self.renders.append(time.perf_counter()))
-        win.plotter.frameSwapped.connect(lambda: setattr(self, "swaps", self.swaps + 1))
+        win.plotter.frameSwapped.connect(self._swapped)
+
+    def _swapped(self) -> None:
+        self.swaps += 1
+        self.swapped.append(time.perf_counter())
 
     def time(self, action, settle: float = 0.09) -> tuple[float, int, int]:
+        """Seconds to the frame; renders and compositions until ``settle`` s later (:attr:`busy`:
+        seconds to the end of the last composition, when the window can take the next key)."""
         self.renders.clear()
+        self.swapped.clear()
         self.starts = self.swaps = 0
         t0 = time.perf_counter()
         action()
@@ -56,6 +64,7 @@ class Clock:
         while time.perf_counter() < end:
             self.loop.processEvents()
             time.sleep(0.002)
+        self.busy = max(self.swapped[-1] - t0, took) if self.swapped else took
         return took, self.starts, self.swaps
 
 
@@ -108,14 +117,16 @@ def main() -> None:
     }
     times: dict[str, list[float]] = {name: [] for name in ("frame (floor)", *actions)}
     counts: dict[str, set] = {name: set() for name in actions}
+    busy: dict[str, list[float]] = {name: [] for name in actions}
     clock.time(lambda: win.model.player.set_step(n // 2), settle=0.3)
     for _ in range(args.rounds):
         for name, action in actions.items():
             if name == "End":
                 clock.time(lambda: win.model.player.set_step(n // 2), settle=0.3)
             times["frame (floor)"].append(clock.time(view.update, settle=0.05)[0])
-            took, renders, swaps = clock.time(action)
+            took, renders, swaps = clock.time(action, settle=0.3)
             times[name].append(took)
+            busy[name].append(clock.busy)
             counts[name].add((renders, swaps))
     w, h = view.width(), view.height()
     print(f"{args.file.name}: n = {rec.n}, {n:,} steps ({rec.mode}), final M_S {len(np.asarray(rec.manifold).reshape(-1, rec.d + 1)):,} "
@@ -123,8 +134,9 @@ def main() -> None:
     floor = float(np.median(times["frame (floor)"]))
     for name, values in times.items():
         med = float(np.median(values))
-        extra = "" if name not in counts else "   renders, compositions: " + ", ".join(
-            f"{r}, {s}" for r, s in sorted(counts[name]))
+        extra = "" if name not in counts else (
+            f"   busy {1000 * float(np.median(busy[name])):6.1f} ms;  renders, compositions: "
+            + "; ".join(f"{r}, {s}" for r, s in sorted(counts[name])))
         print(f"  {name:14s} median {1000 * med:6.1f} ms  p90 {1000 * np.percentile(values, 90):6.1f} ms  "
               f"{med / floor:4.2f} x floor{extra}")
     win.close()
