@@ -229,7 +229,10 @@ def _cmd_reconstruct(args: argparse.Namespace) -> int:
     from crustview.io import read_mesh, read_points, write_report, write_result
 
     mesh = read_mesh(args.input)  # a mesh with faces: its vertices are the sample, its faces the truth
-    points = mesh.points if mesh is not None else read_points(args.input)
+    read_notes: list[str] = []  # e.g. a text file's header line of column names
+    points = mesh.points if mesh is not None else read_points(args.input, read_notes)
+    for line in read_notes:
+        print(f"{PROG}: note: {line}", file=sys.stderr, flush=True)
     truth = mesh.simplices(args.d) if mesh is not None and 1 <= args.d < points.shape[1] else None
     note = cost_warning(points.shape[1], args.d) if 1 <= args.d < points.shape[1] else None
     if note:

@@ -8,7 +8,8 @@ Supported suffixes
 ------------------
 read_points
     ``.npy`` (2-D array), ``.npz`` (key ``points``), ``.csv .txt .xyz``
-    (comma or whitespace separated, ``#`` comments, optional header line),
+    (comma or whitespace separated, ``#`` comments, an optional first line of
+    column names; :mod:`crustview.textpoints`),
     ``.off .noff .ply`` (any dimension, :mod:`crustview.meshfiles`),
     ``.obj .vtk .vtu .stl`` (through meshio).  :func:`read_mesh` also gives
     the faces of these files (a ground truth).
@@ -24,10 +25,7 @@ write_report
 
 from __future__ import annotations
 
-import json
-import math
 import os
-import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -35,9 +33,10 @@ import numpy as np
 
 from crustview.core.errors import InputError
 from crustview.core.result import EXTRACTION_MODES
+from crustview.report import REPORT_CASCADES, holes_of_candidates, report_dict, write_report  # noqa: F401
+from crustview.textpoints import check_signature, read_text_points
 
 if TYPE_CHECKING:
-    from crustview.core.compare import MeshComparison
     from crustview.core.result import Reconstruction
 
 TEXT_SUFFIXES = (".csv", ".txt", ".xyz")
@@ -49,7 +48,6 @@ RESULT_MESH_SUFFIXES = (".ply", ".obj", ".off", ".noff", ".vtk", ".stl")
 ND_RESULT_SUFFIXES = (".ply", ".off", ".noff")
 RESULT_SUFFIXES = (".npz", *RESULT_MESH_SUFFIXES)
 
-_SPLIT = re.compile(r"[,;\s]+")
 
 
 def _reason(err: BaseException) -> str:
@@ -73,7 +71,7 @@ def _suffix(path: Path, allowed: tuple[str, ...], action: str) -> str:
 
 
 # ---------------------------------------------------------------- reading
-def read_points(path: str | os.PathLike) -> np.ndarray:
+def read_points(path: str | os.PathLike, notes: list[str] | None = None) -> np.ndarray:
     """Read a point set.
 
     Parameters
@@ -82,6 +80,9 @@ def read_points(path: str | os.PathLike) -> np.ndarray:
         The suffix chooses the format (see the module docstring).  Mesh
         formats store 3-D points; a third column that is identically zero is
         dropped so planar data written by :func:`write_points` reads back as 2-D.
+    notes : list of str, optional
+        Sentences about what was read other than points are appended here:
+        a text file's header line of column names.
 
     Returns
     -------
@@ -105,21 +106,28 @@ def read_points(path: str | os.PathLike) -> np.ndarray:
     elif suffix == ".npz":
         data = _read_npz(path)
     elif suffix in TEXT_SUFFIXES:
-        data = _read_text(path)
+        text = read_text_points(path)
+        data = text.points
+        if notes is not None and text.header is not None:
+            notes.append(text.note(path))
     else:
         data = _read_mesh(path)
     return _check_points(data, path)
 
 
 def _read_npy(path: Path) -> Any:
+    check_signature(path, "npy")
     try:
         with open(path, "rb") as fh:  # our handle: closed even when numpy fails
             return np.load(fh, allow_pickle=False)
     except Exception as err:  # noqa: BLE001 - any failure becomes one InputError
-        raise InputError(f"Cannot read '{path}' as a NumPy .npy file ({_reason(err)}).") from None
+        if "allow_pickle" in str(err):  # an object array: numpy would need to unpickle it
+            raise InputError(f"Cannot read '{path}': it holds Python objects, not an array of numbers.") from None
+        raise InputError(f"Cannot read '{path}': a damaged NumPy .npy file ({_reason(err)}).") from None
 
 
 def _read_npz(path: Path) -> Any:
+    check_signature(path, "npz")
     try:
         with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as archive:
             keys = list(archive.keys())
@@ -132,45 +140,9 @@ def _read_npz(path: Path) -> Any:
     except InputError:
         raise
     except Exception as err:  # noqa: BLE001
+        if "allow_pickle" in str(err):
+            raise InputError(f"Cannot read '{path}': its 'points' hold Python objects, not numbers.") from None
         raise InputError(f"Cannot read '{path}' as a NumPy .npz archive ({_reason(err)}).") from None
-
-
-def _read_text(path: Path) -> np.ndarray:
-    try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError:
-        raise InputError(f"Cannot read '{path}': it is not a UTF-8 text file.") from None
-    except OSError as err:
-        raise InputError(f"Cannot read '{path}': {_reason(err)}.") from None
-    rows: list[list[float]] = []
-    first_data_line = True
-    for lineno, line in enumerate(text.splitlines(), start=1):
-        line = line.strip()
-        if not line or line.startswith("#"):
-            continue
-        tokens = [t for t in _SPLIT.split(line) if t]
-        values = []
-        for tok in tokens:
-            try:
-                values.append(float(tok))
-            except ValueError:
-                values.append(None)
-        if first_data_line and all(v is None for v in values):
-            first_data_line = False  # a header such as "x,y,z"
-            continue
-        first_data_line = False
-        if any(v is None for v in values):
-            bad = tokens[values.index(None)]
-            raise InputError(f"Cannot read '{path}': line {lineno} has the non-number {bad!r}.")
-        if rows and len(values) != len(rows[0]):
-            raise InputError(
-                f"Cannot read '{path}': line {lineno} has {len(values)} values "
-                f"but earlier lines have {len(rows[0])}."
-            )
-        rows.append(values)
-    if not rows:
-        raise InputError(f"Cannot read '{path}': the file contains no points.")
-    return np.array(rows, dtype=float)
 
 
 def _read_mesh(path: Path) -> np.ndarray:
@@ -345,7 +317,7 @@ def write_points(path: str | os.PathLike, points: np.ndarray) -> None:
         raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
 
 
-def write_result(path: str | os.PathLike, rec: Reconstruction) -> None:
+def write_result(path: str | os.PathLike, rec: Reconstruction, builtin: dict[str, Any] | None = None) -> None:
     """Write a reconstruction.
 
     ``.npz`` holds, all indexed by *input* rows:
@@ -362,6 +334,10 @@ def write_result(path: str | os.PathLike, rec: Reconstruction) -> None:
         Scalars (``theta`` in radians, ``mode`` ``"robust"`` or ``"paper"``):
         the run's parameters, so that :func:`read_run_parameters` can redo
         exactly this run.
+    ``builtin``, ``builtin_n``, ``builtin_seed``, ``builtin_noise``, ``builtin_density``, ``builtin_method``
+        Only for a sample of a built-in manifold (``builtin`` given): its
+        name and how it was drawn, so that a reopened result shows the true
+        topology again.
 
     ``.ply``, ``.off`` and ``.noff`` write the input points and M_S in any
     k and d (:mod:`crustview.meshfiles`; :func:`read_mesh` reads them back).
@@ -373,6 +349,9 @@ def write_result(path: str | os.PathLike, rec: Reconstruction) -> None:
     ----------
     path : str or path-like
     rec : Reconstruction
+    builtin : dict, optional
+        For a sample of a built-in manifold: ``name``, ``n``, ``seed``,
+        ``noise``, ``density`` and ``method`` (stored in ``.npz`` only).
 
     Raises
     ------
@@ -400,6 +379,7 @@ def write_result(path: str | os.PathLike, rec: Reconstruction) -> None:
                 theta=np.float64(rec.theta),
                 prune_boundary=np.bool_(rec.prune_boundary),
                 mode=np.str_(rec.mode),
+                **_builtin_arrays(builtin),
             )
         except OSError as err:
             raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
@@ -422,6 +402,31 @@ def write_result(path: str | os.PathLike, rec: Reconstruction) -> None:
     _write_mesh(path, points, "triangle" if rec.d == 2 else "line", simplices)
 
 
+#: The keys of a built-in sample's description in a result ``.npz`` (after ``builtin_``) and their types.
+BUILTIN_FIELDS = {"n": int, "seed": int, "noise": float, "density": str, "method": str}
+
+
+def _builtin_arrays(builtin: dict[str, Any] | None) -> dict[str, np.ndarray]:
+    if not builtin:
+        return {}
+    out = {"builtin": np.str_(builtin["name"])}
+    for key, kind in BUILTIN_FIELDS.items():
+        value = builtin.get(key)
+        if value is not None:
+            out[f"builtin_{key}"] = np.str_(value) if kind is str else np.asarray(kind(value))
+    return out
+
+
+def _builtin_of(archive) -> dict[str, Any] | None:
+    if "builtin" not in archive:
+        return None
+    out: dict[str, Any] = {"name": str(archive["builtin"])}
+    for key, kind in BUILTIN_FIELDS.items():
+        if f"builtin_{key}" in archive:
+            out[key] = kind(archive[f"builtin_{key}"].item() if kind is not str else archive[f"builtin_{key}"])
+    return out
+
+
 def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
     """Parameters of the run saved in a result ``.npz``, or None for a plain point file.
 
@@ -434,7 +439,9 @@ def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
         parameters gives the same M_S (the pipeline is deterministic).
         Results saved before the robust extraction existed have no ``mode``
         and were made by the paper's Algorithm 3: ``mode`` is then
-        ``"paper"``.
+        ``"paper"``.  ``builtin`` is the built-in sample's description
+        stored by :func:`write_result` (``name``, ``n``, ``seed``, ...), or
+        None.
 
     Raises
     ------
@@ -455,6 +462,7 @@ def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
                 "prune_boundary": bool(archive["prune_boundary"]) if "prune_boundary" in archive else True,
                 "mode": str(archive["mode"]) if "mode" in archive else "paper",
                 "simplices": np.asarray(archive["simplices"], dtype=np.int64),
+                "builtin": _builtin_of(archive),
             }
     except Exception as err:  # noqa: BLE001
         raise InputError(f"Cannot read '{path}' as a NumPy .npz archive ({_reason(err)}).") from None
@@ -463,127 +471,3 @@ def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
                          f"{', '.join(EXTRACTION_MODES)}.")
     return out
 
-
-def _jsonable(obj: Any) -> Any:
-    if isinstance(obj, np.generic):
-        obj = obj.item()
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple, np.ndarray)):
-        return [_jsonable(v) for v in obj]
-    return obj
-
-
-#: Number of prune cascades listed in a report (largest first).
-REPORT_CASCADES = 20
-
-
-def holes_of_candidates(rec: Reconstruction) -> int:
-    """Number of (d-1)-faces of T_S that lie in a single d-simplex of T_S (the holes of T_S).
-
-    ``rec.extraction.holes`` when the extraction recorded them, otherwise
-    counted on T_S for ``rec.test`` and ``rec.theta``.
-    """
-    if rec.extraction.holes is not None:
-        return len(rec.extraction.holes)
-    from crustview.core.extraction import facet_structure
-
-    tset = rec.candidates.select(rec.test, rec.theta)
-    if len(tset) == 0:
-        return 0
-    ptr = facet_structure(np.asarray(tset, dtype=np.int64))[2]
-    return int(np.count_nonzero(np.diff(ptr) == 1))
-
-
-def _cascades(rec: Reconstruction) -> dict[str, Any]:
-    cascades = rec.extraction.cascades()
-    return {
-        "n_cascades": len(cascades),
-        "cascades": [
-            {"origin": c.origin, "tau": [int(rec.point_input[v]) for v in c.tau], "rule": c.rule, "hole": c.hole,
-             "steps": len(c.steps), "removed": c.removed}
-            for c in cascades[:REPORT_CASCADES]
-        ],
-    }
-
-
-def report_dict(rec: Reconstruction, comparison: MeshComparison | None = None,
-                quality: dict[str, Any] | None = None) -> dict[str, Any]:
-    """The content of :func:`write_report` as plain Python objects.
-
-    Parameters
-    ----------
-    rec : Reconstruction
-    comparison : MeshComparison, optional
-        M_S against a mesh's faces (key ``ground_truth``).
-    quality : dict, optional
-        :func:`crustview.core.quality.summary` of ``rec`` when already
-        computed; otherwise it is computed here.  Its ``seconds`` are left
-        out, so that the report of a run is the same every time it is made.
-    """
-    from crustview.core.quality import summary
-
-    quality = summary(rec) if quality is None else quality
-    quality = {key: value for key, value in quality.items() if key != "seconds"}
-    extra = {} if comparison is None else {"ground_truth": comparison.as_dict()}
-    if rec.mode == "paper":
-        extra.update(_cascades(rec))
-    return _jsonable(
-        {
-            "d": rec.d,
-            "k": rec.k,
-            "n": rec.n,
-            "n_input": len(rec.input_points),
-            "test": rec.test,
-            "theta": rec.theta,
-            "theta_degrees": math.degrees(rec.theta),
-            "mode": rec.mode,
-            "prune_boundary": rec.prune_boundary,
-            "n_candidates": int(rec.candidates.mask(rec.test, rec.theta).sum()),
-            "holes_of_T_S": holes_of_candidates(rec),
-            "stopped": rec.extraction.stopped,
-            "notes": list(rec.extraction.notes),
-            "topology": rec.topology.as_dict(),
-            "rules": rec.extraction.counts_by_rule(),
-            "sampling_quality": quality,
-            "timings": dict(rec.timings),
-            **extra,
-        }
-    )
-
-
-def write_report(path: str | os.PathLike, rec: Reconstruction,
-                 comparison: MeshComparison | None = None) -> None:
-    """Write a JSON summary of a reconstruction.
-
-    Keys: ``d k n n_input test theta theta_degrees mode prune_boundary
-    n_candidates stopped``; ``holes_of_T_S`` (the number of (d-1)-faces of
-    T_S in a single simplex before extraction); ``notes`` (how the
-    extraction went, e.g. why the robust extension took over);
-    ``topology`` (:meth:`TopologyReport.as_dict`); ``rules``
-    (:meth:`Extraction.counts_by_rule`); ``sampling_quality``
-    (:func:`crustview.core.quality.summary` without its ``seconds``:
-    estimated epsilon and the samples beyond the paper's bounds);
-    ``timings`` (seconds per stage).
-    Paper runs also have ``n_cascades`` and ``cascades``: the
-    :data:`REPORT_CASCADES` largest prune cascades, each with its
-    ``origin`` step, its face ``tau`` (input rows), the origin's ``rule``, ``hole``
-    (the origin face was a hole of T_S), the number of ``steps`` and of
-    simplices ``removed``.  With a ``comparison``, also ``ground_truth``
-    (:meth:`~crustview.core.compare.MeshComparison.as_dict`: recovered and
-    extra faces, both topologies, the sampled Hausdorff distance).
-
-    Raises
-    ------
-    InputError
-        When the file cannot be written.
-    """
-    path = Path(path)
-    try:
-        with open(path, "w", encoding="utf-8") as fh:
-            json.dump(report_dict(rec, comparison), fh, indent=2)
-            fh.write("\n")
-    except OSError as err:
-        raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None

@@ -163,3 +163,31 @@ def test_all_poles_in_r4_are_short_ticks(qtbot, window):
     assert seg.max() <= TICK_SPACINGS * m.spacing.max() + 1e-9
     assert np.median(seg) < 0.15 * np.ptp(rec.points, axis=0).max()  # not lines across the whole view
     assert a.parts[1].n_cells == 0  # no end dots
+
+
+def test_scalar_bars_never_overlap_when_new_data_adds_one(qtbot, window):
+    """xdotool trial: "removed by step" (shown on the torus) and the hidden depth of a shape
+    in R^4 were drawn at the same place, their labels over each other."""
+    assert window.load_builtin("circle", 60)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    window.model.layers["removed"].visible = True
+    assert list(window.view._bars) == ["removed by step"]
+    assert window.load_builtin("circle-r4", 60)
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec.k == 4, timeout=60_000)
+    titles = list(window.view._bars)
+    assert len(titles) >= 2 and "removed by step" in titles
+    bars = window.plotter.scalar_bars
+    heights = [round(bars[t].GetPosition()[1], 3) for t in titles]
+    assert len(set(heights)) == len(heights), dict(zip(titles, heights))
+
+
+def test_the_hidden_depth_bar_names_the_direction_after_a_rotation(qtbot, window):
+    """xdotool trial: after turning x1-x4 the bar still said "hidden depth (1.00 x4)"."""
+    assert window.load_builtin("circle-r4", 60)
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec.k == 4, timeout=60_000)
+    before = [t for t in window.view._bars if t.startswith("hidden depth")]
+    assert before == ["hidden depth (1.00 x4)"]
+    window.model.projection.set_angle(0, 3, 1.0)
+    titles = [t for t in window.view._bars if t.startswith("hidden depth")]
+    assert len(titles) == 1 and titles[0] != before[0] and "x1" in titles[0]
+    assert titles[0] in window.plotter.scalar_bars

@@ -5,6 +5,7 @@ from pathlib import Path
 import pytest
 
 pytest.importorskip("pytestqt")
+from PySide6.QtCore import Qt  # noqa: E402
 
 
 def load(qtbot, win, name="torus", n=None):
@@ -49,3 +50,173 @@ def test_save_suggests_a_name_in_the_last_folder_and_says_when_a_change_is_pendi
     assert window.save_result(str(out / "second.npz"))
     msg = window.statusBar().currentMessage()
     assert "not extracted yet" in msg and "Re-extract" in msg
+
+
+def _expected_column(win) -> list[str]:
+    table = win.info_panel.topology
+    return [table.item(r, 2).text() for r in range(table.rowCount())]
+
+
+def test_a_reopened_saved_built_in_shows_its_expected_topology_again(qtbot, window, tmp_path):
+    load(qtbot, window, "circle", 80)
+    assert any(_expected_column(window))
+    path = tmp_path / "circle-crust.npz"
+    assert window.save_result(str(path))
+    load(qtbot, window, "sphere", 300)  # something else in between
+    assert window.open_file(path)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    truth = window.model.truth
+    assert truth is not None and truth.manifold.name == "circle"
+    assert truth.tangents is not None  # drawn again exactly as saved: the true tangents are back
+    assert any(_expected_column(window)) and "expected: circle" in window.info_panel.messages.text()
+    assert "Same M_S as saved" in window.statusBar().currentMessage()
+
+
+def test_text_file_header_is_said_and_a_garbage_first_line_is_refused(qtbot, window, tmp_path):
+    from crustview.core.sampling import get_manifold
+
+    pts = get_manifold("circle").sample(60, seed=0).points
+    good = tmp_path / "named.csv"
+    good.write_text("x,y\n" + "\n".join(f"{a:.17g},{b:.17g}" for a, b in pts) + "\n")
+    assert window.open_file(good, d=1)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    assert window.model.rec.n == 60
+    assert "line 1 was read as column names (x, y)" in window.statusBar().currentMessage()
+    bad = tmp_path / "bad.xyz"
+    bad.write_text("Lorem ipsum dolor!\n" + "\n".join(f"{a:.17g} {b:.17g}" for a, b in pts) + "\n")
+    assert not window.open_file(bad, d=1)
+    assert "line 1" in window.last_error and "neither numbers nor a header" in window.last_error
+    noise = tmp_path / "noise.npy"
+    noise.write_bytes(bytes(range(256)) * 8)
+    assert not window.open_file(noise, d=1)
+    assert "not a NumPy array file" in window.last_error and "pickle" not in window.last_error
+    assert window.model.rec.n == 60  # the shown result stays
+
+
+def test_the_information_dock_does_not_reflow_when_the_selection_or_step_changes(qtbot, window):
+    """Issue 10: the Information dock reflowed under the mouse.  Selecting a sample (a long text)
+    or a face, hovering, and stepping leave every box where it was."""
+    from PySide6.QtCore import QPoint
+    from PySide6.QtTest import QTest
+    from PySide6.QtWidgets import QWidget
+
+    load(qtbot, window)
+    window.docks["info"].raise_()
+    window.model.player.set_step(20)
+    qtbot.wait(300)  # the open faces list refreshes after a short delay
+    panel = window.info_panel
+
+    def layout():
+        return {id(w): w.geometry().getRect() for w in panel.findChildren(QWidget) if w.isVisible()}
+
+    def faces_top():
+        return panel.faces.mapTo(panel, QPoint(0, 0)).y()
+
+    before, top = layout(), faces_top()
+    window.model.selection.select_sample(5)  # a sample's text is many lines long
+    qtbot.wait(50)
+    assert "5" in panel.selection.text() and faces_top() == top
+    item = panel.faces.item(0)
+    qtbot.mouseClick(panel.faces.viewport(), Qt.MouseButton.LeftButton, pos=panel.faces.visualItemRect(item).center())
+    qtbot.wait(50)
+    assert window.model.selection.face is not None and faces_top() == top
+    for w in [w for w in panel.findChildren(QWidget) if w.isVisible()][:60]:
+        QTest.mouseMove(w, w.rect().center())
+    qtbot.wait(50)
+    for _ in range(5):
+        window.model.player.next()
+        qtbot.wait(150)
+    window.model.selection.clear()
+    qtbot.wait(50)
+    assert layout() == before
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("source", ["mesh", "built-in"])
+def test_the_ground_truth_shows_over_an_opaque_m_s(qtbot, window, source):
+    """Issue 10: the ground-truth layer was invisible under an opaque M_S.  It is drawn over
+    the scene, faint, like the step highlight: showing it changes the picture of M_S."""
+    import numpy as np
+
+    if source == "mesh":
+        assert window.open_file(Path(__file__).resolve().parents[1] / "resources" / "bumpy.off", d=2)
+        qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    else:
+        load(qtbot, window)
+    layers = window.model.layers
+    assert layers["manifold"].visible and layers["manifold"].opacity == 1.0
+    for name in ("points", "normals", "poles"):
+        layers[name].visible = False
+    layers["truth"].visible = False
+    window.view.render()
+    off = window.plotter.screenshot(return_img=True).astype(int)
+    layers["truth"].visible = True
+    window.view.render()
+    on = window.plotter.screenshot(return_img=True).astype(int)
+    assert window.view.adapters["truth"].part.n_cells > 0
+    surface = (np.abs(off - off[2, -3]).sum(axis=2) > 40)  # M_S, not the background
+    changed = np.abs(on - off).sum(axis=2) > 24
+    assert (changed & surface).sum() > 0.12 * surface.sum(), (changed & surface).sum() / surface.sum()
+
+
+def _run_dialog(qtbot, open_it) -> tuple[str, list[str]]:
+    """Open a real file dialog, read where it starts and what it suggests, then cancel it."""
+    from PySide6.QtCore import QTimer
+    from PySide6.QtWidgets import QApplication, QFileDialog
+
+    seen: dict = {}
+
+    def look():
+        dlg = QApplication.activeModalWidget()
+        if not isinstance(dlg, QFileDialog):
+            QTimer.singleShot(50, look)
+            return
+        seen["dir"] = dlg.directory().absolutePath()
+        seen["files"] = dlg.selectedFiles()
+        dlg.reject()
+
+    QTimer.singleShot(50, look)
+    open_it()
+    assert "dir" in seen
+    return seen["dir"], seen["files"]
+
+
+def test_open_and_save_dialogs_start_in_the_last_folder_with_a_suggested_name(qtbot, window, tmp_path):
+    from crustview.core.sampling import get_manifold
+    from crustview.io import write_points
+
+    folder = tmp_path / "data"
+    folder.mkdir()
+    write_points(folder / "loop.npy", get_manifold("circle").sample(60, seed=0).points)
+    assert window.open_file(folder / "loop.npy", d=1)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    where, _ = _run_dialog(qtbot, window.open_dialog)
+    assert Path(where) == folder
+    where, files = _run_dialog(qtbot, window.save_result_dialog)
+    assert Path(where) == folder and [Path(f).name for f in files] == ["loop-crust.npz"]
+    where, files = _run_dialog(qtbot, window.save_screenshot_dialog)
+    assert Path(where) == folder and Path(files[0]).name == "loop-step0.png"
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / "junk.npy").write_bytes(b"not numpy at all")
+    assert not window.open_file(other / "junk.npy", d=1)  # refused, but the user was in that folder
+    where, _ = _run_dialog(qtbot, window.open_dialog)
+    assert Path(where) == other
+
+
+def test_open_faces_of_a_tabbed_away_information_dock_follow_when_it_is_shown(qtbot, window):
+    """Frame time: the open-faces list is not rebuilt while its dock is out of sight (that cost
+    a frame of the whole window after each step); choosing its tab brings it up to date."""
+    load(qtbot, window)
+    window.compact_docks()
+    window.docks["steps"].raise_()
+    qtbot.wait(100)
+    panel = window.info_panel
+    assert panel.visibleRegion().isEmpty()
+    window.model.player.set_step(20)
+    qtbot.wait(300)
+    faces, _ = window.model.open_faces()
+    assert panel._faces_stale and not panel.faces_label.text().startswith(f"{len(faces)} open faces")
+    window.docks["info"].raise_()
+    qtbot.waitUntil(lambda: panel.faces_label.text().startswith(f"{len(faces)} open faces"), timeout=2000)
+    assert panel.faces.count() == min(len(faces), 300)

@@ -305,6 +305,8 @@ def test_jump_to_removing_step_and_open_faces(qtbot, window):
     assert window.model.player.position == ext.removed_at[e] + 1
     assert e in ext.steps[window.model.player.position - 1].removed
     window.model.player.first()
+    window.docks["info"].raise_()  # the list follows the steps while it is in sight
+    qtbot.wait(50)
     window.info_panel.refresh_faces()
     faces = window.info_panel.faces
     assert faces.count() > 0
@@ -674,6 +676,8 @@ def load_points_of(name, n=600):
 
 def test_focus_entering_the_open_faces_list_selects_nothing(qtbot, window):
     load(qtbot, window)
+    window.docks["info"].raise_()  # the list follows the steps while it is in sight
+    qtbot.wait(50)
     window.model.player.set_step(5)
     window.info_panel.refresh_faces()
     faces = window.info_panel.faces

@@ -134,9 +134,11 @@ def test_bad_binary_files(tmp_path):
     np.save(tmp_path / "words.npy", np.array([["a", "b"], ["c", "d"]]))
     _expect_error(tmp_path / "words.npy", "not numbers")
     np.save(tmp_path / "objects.npy", np.array([[1, None]], dtype=object), allow_pickle=True)
-    _expect_error(tmp_path / "objects.npy", ".npy")
+    assert "pickle" not in _expect_error(tmp_path / "objects.npy", "Python objects, not an array of numbers")
     (tmp_path / "corrupt.npy").write_bytes(b"\x93NUMPY garbage" * 3)
     _expect_error(tmp_path / "corrupt.npy", ".npy")
+    (tmp_path / "truncated.npy").write_bytes((tmp_path / "flat.npy").read_bytes()[:-8])
+    _expect_error(tmp_path / "truncated.npy", "damaged NumPy .npy file")
     np.savez(tmp_path / "other.npz", xyz=np.zeros((3, 3)))
     _expect_error(tmp_path / "other.npz", "'points'", "xyz")
     (tmp_path / "corrupt.npz").write_bytes(b"PK\x03\x04 not a zip")
@@ -147,6 +149,53 @@ def test_bad_binary_files(tmp_path):
     _expect_error(tmp_path / "bad.ply", ".ply mesh")
     (tmp_path / "bad.off").write_text("OFF\n3 1 0\n0 0 0\n")
     _expect_error(tmp_path / "bad.off")
+
+
+def test_random_bytes_named_npy_or_npz_are_not_numpy_files(tmp_path):
+    """Issue 10: random bytes named .npy gave numpy's message about pickles."""
+    junk = np.random.default_rng(0).bytes(4096)
+    (tmp_path / "random.npy").write_bytes(junk)
+    msg = _expect_error(tmp_path / "random.npy", "not a NumPy array file")
+    assert "pickle" not in msg.lower()
+    (tmp_path / "random.npz").write_bytes(junk)
+    msg = _expect_error(tmp_path / "random.npz", "not a NumPy .npz archive")
+    assert "pickle" not in msg.lower()
+    (tmp_path / "empty.npy").write_bytes(b"")
+    _expect_error(tmp_path / "empty.npy", "not a NumPy array file")
+    (tmp_path / "text.npy").write_text("1 2 3\n4 5 6\n")
+    _expect_error(tmp_path / "text.npy", "not a NumPy array file")
+
+
+@pytest.mark.parametrize(
+    ("content", "fragments"),
+    [
+        ("Lorem ipsum dolor!\n1 2 3\n4 5 6\n", ["line 1", "neither numbers nor a header of column names"]),
+        ("@@@ ###\n1 2\n", ["line 1", "'@@@ ###'"]),
+        ("\n# comment\n%%garbage\n1,2\n", ["line 3", "neither numbers"]),
+        ("x y\n1 2 3\n4 5 6\n", ["line 1 names 2 columns (x, y)", "line 2 has 3 values"]),
+        ("x y z\nu v w\n1 2 3\n", ["line 2 has the non-number 'u'"]),
+        ("1 2 3\nx y z\n", ["line 2 has the non-number 'x'"]),
+    ],
+)
+def test_a_garbage_first_line_is_an_error_naming_it(tmp_path, content, fragments):
+    """Issue 10: a garbage first line was skipped silently.  Only a line of column names,
+    as many as the data has columns, is taken as a header; anything else names its line."""
+    path = tmp_path / "p.xyz"
+    path.write_text(content)
+    _expect_error(path, *fragments)
+
+
+def test_a_header_of_column_names_is_skipped_and_said(tmp_path):
+    path = tmp_path / "p.csv"
+    path.write_text('"x","y","z"\n1,2,3\n4,5,6\n')
+    notes = []
+    np.testing.assert_array_equal(read_points(path, notes), [[1, 2, 3], [4, 5, 6]])
+    assert notes == ["p.csv: line 1 was read as column names (x, y, z), not as a point."]
+    plain = tmp_path / "q.txt"
+    plain.write_text("1 2\n3 4\n")
+    notes = []
+    read_points(plain, notes)
+    assert notes == []
 
 
 def test_write_points_errors(tmp_path):
@@ -286,6 +335,19 @@ def test_run_parameters_round_trip_and_plain_files_have_none(tmp_path):
     np.save(tmp_path / "plain.npy", pts)
     assert read_run_parameters(tmp_path / "plain.npz") is None
     assert read_run_parameters(tmp_path / "plain.npy") is None
+
+
+def test_a_saved_built_in_keeps_its_name_and_how_it_was_drawn(tmp_path):
+    """Issue 10: a reopened saved built-in lost its expected topology."""
+    sample = get_manifold("circle").sample(60, seed=3)
+    rec = reconstruct(sample.points, 1)
+    info = {"name": "circle", "n": 60, "seed": 3, "noise": 0.0, "density": "uniform", "method": "even"}
+    write_result(tmp_path / "b.npz", rec, builtin=info)
+    assert read_run_parameters(tmp_path / "b.npz")["builtin"] == info
+    write_result(tmp_path / "plain.npz", rec)
+    assert read_run_parameters(tmp_path / "plain.npz")["builtin"] is None
+    write_result(tmp_path / "noseed.npz", rec, builtin={**info, "seed": None})
+    assert "seed" not in read_run_parameters(tmp_path / "noseed.npz")["builtin"]
 
 
 def test_saved_mode_round_trip(tmp_path):

@@ -24,6 +24,41 @@ def _read_suffixes() -> tuple[str, ...]:
     return tuple(io.READ_SUFFIXES)
 
 
+def builtin_description(truth) -> dict | None:
+    """How a built-in sample was drawn (stored in a saved result), or None for other data."""
+    m = getattr(truth, "manifold", None)
+    if m is None or not hasattr(truth, "seed"):
+        return None
+    return {"name": m.name, "n": len(truth.points), "seed": truth.seed, "noise": truth.noise,
+            "density": truth.density, "method": truth.method}
+
+
+def builtin_truth(info: dict, points: np.ndarray):
+    """The built-in ``Sample`` a saved result came from, for its true topology.
+
+    The sample is drawn again as it was saved; when that gives the saved
+    points (the sampler is deterministic), its true tangents come with it.
+    Otherwise the saved points stand with the manifold and no tangents.
+    Returns None for a name crustview does not know.
+    """
+    from ..core.sampling import Sample, get_manifold
+
+    try:
+        m = get_manifold(info["name"])
+    except Exception:  # noqa: BLE001 - a name from another version: no truth
+        return None
+    opts = {key: info[key] for key in ("noise", "density", "method") if key in info}
+    if info.get("seed") is not None and info.get("n") == len(points) and m.k == points.shape[1]:
+        try:
+            again = m.sample(int(info["n"]), seed=int(info["seed"]), **opts)
+        except Exception:  # noqa: BLE001
+            again = None
+        if again is not None and np.array_equal(again.points, points):
+            return again
+    return Sample(points=points, tangents=None, manifold=m, seed=info.get("seed"), noise=info.get("noise", 0.0),
+                  density=info.get("density", "uniform"), method=info.get("method", "even"))
+
+
 def _result_suffixes() -> tuple[str, ...]:
     from .. import io
 
@@ -66,9 +101,12 @@ class FileActions:
         if self.runner.busy:
             self.show_error("A reconstruction is already running; cancel it first.")
             return False
+        if Path(path).parent.is_dir():  # the next dialog starts here, even when this file is refused
+            self.settings.setValue("last_dir", str(Path(path).parent))
         try:
             mesh = io.read_mesh(path)  # a mesh with faces: vertices are the sample, faces the truth
-            points = mesh.points if mesh is not None else io.read_points(path)
+            read_notes: list[str] = []  # e.g. a text file's header line of column names
+            points = mesh.points if mesh is not None else io.read_points(path, read_notes)
             saved = io.read_run_parameters(path)
             origin = file_source(path)  # size and SHA-1 as read, for a session
         except CrustviewError as err:
@@ -83,7 +121,6 @@ class FileActions:
             self.show_error(f"'{path}' holds points with {k} coordinate; at least 2 are needed.")
             return False
         self._add_recent(path)
-        self.settings.setValue("last_dir", str(Path(path).parent))
         name = Path(path).name
         if self.model.rec is None:  # nothing shown yet: the raw points, while d is asked and the run goes
             self.view.show_preview(points)
@@ -115,6 +152,8 @@ class FileActions:
                 self.statusBar().showMessage("Opening cancelled: no dimension given.", 5000)
                 return False
         truth = None
+        if saved is not None and saved.get("builtin"):
+            truth = builtin_truth(saved["builtin"], points)  # the expected topology comes back
         if mesh is not None:
             from ..scene.truth import MeshTruth
 
@@ -130,6 +169,8 @@ class FileActions:
             self.statusBar().showMessage(note, 20000)
         elif saved is not None:
             self._pending["saved"] = (saved["simplices"], name)
+        if read_notes:  # said with the result, in the status bar
+            self._pending["notes"] = read_notes
         return True
 
     def open_builtin_dialog(self) -> None:
@@ -194,7 +235,7 @@ class FileActions:
         from .. import io
 
         try:
-            io.write_result(path, self.model.rec)
+            io.write_result(path, self.model.rec, builtin=builtin_description(self.model.truth))
         except CrustviewError as err:
             self.show_error(str(err))
             return False

@@ -6,12 +6,14 @@ from html import escape
 
 from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtWidgets import (
+    QFrame,
     QGroupBox,
     QHeaderView,
     QLabel,
     QListWidget,
     QListWidgetItem,
     QPushButton,
+    QScrollArea,
     QTableWidget,
     QTableWidgetItem,
     QVBoxLayout,
@@ -30,10 +32,13 @@ from ..scene.describe import (
 from ..scene.model import SceneModel
 from .diagnosis import DiagnosisPanel
 from .compare_panel import ComparePanel
+from .steady import SteadyText
 from .theorems_panel import TheoremPanel
 
 #: At most this many open faces are listed.
 MAX_FACES = 300
+#: Height of the selection text in lines (longer text scrolls).
+SELECTION_LINES = 9
 
 #: Style of the verdict banner by level.
 BANNER_STYLE = {
@@ -127,8 +132,17 @@ class InfoPanel(QWidget):
         sl = QVBoxLayout(sel)
         self.selection = QLabel("Click a sample or a simplex in the view.", sel)
         self.selection.setWordWrap(True)
+        self.selection.setAlignment(Qt.AlignmentFlag.AlignTop | Qt.AlignmentFlag.AlignLeft)
         self.selection.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        sl.addWidget(self.selection)
+        # a fixed height, scrolled when longer: what is selected never moves the boxes below
+        # (the open faces list would slide away from under the mouse)
+        area = QScrollArea(sel)
+        area.setWidget(self.selection)
+        area.setWidgetResizable(True)
+        area.setFrameShape(QFrame.Shape.NoFrame)
+        area.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        area.setFixedHeight(SELECTION_LINES * self.fontMetrics().lineSpacing() + 8)
+        sl.addWidget(area)
         self.jump = QPushButton("Jump to removing step", sel)
         self.jump.setToolTip("Go to the step of Algorithm 3 that removed the selected simplex")
         self.jump.setEnabled(False)
@@ -137,8 +151,7 @@ class InfoPanel(QWidget):
         lay.addWidget(sel)
         faces = QGroupBox("Open (d-1)-faces at this step", self)
         fl = QVBoxLayout(faces)
-        self.faces_label = QLabel(faces)
-        self.faces_label.setWordWrap(True)
+        self.faces_label = SteadyText(faces)  # a new count never re-lays out the dock (nor moves the list)
         fl.addWidget(self.faces_label)
         self.faces = QListWidget(faces)
         self.faces.setMinimumHeight(90)
@@ -248,6 +261,12 @@ class InfoPanel(QWidget):
     def refresh_faces(self) -> None:
         if self.model.rec is None:
             return
+        if self.visibleRegion().isEmpty():
+            # hidden, or a tabbed-away dock: changing it would still cost a frame of the whole
+            # window; :meth:`catch_up` refreshes it when it is seen again
+            self._faces_stale = True
+            return
+        self._faces_stale = False
         faces, counts = self.model.open_faces()
         self.faces.blockSignals(True)
         self.faces.clear()
@@ -261,7 +280,17 @@ class InfoPanel(QWidget):
             item = QListWidgetItem(f"{fmt_tuple(f)}  — {c} simplices ({kind})")
             item.setData(Qt.ItemDataRole.UserRole, tuple(int(v) for v in f))
             self.faces.addItem(item)
+        self.faces.doItemsLayout()  # now, not on the view's own timer: one repaint of the window, not two
         self.faces.blockSignals(False)
+
+    def showEvent(self, event) -> None:  # noqa: N802 - Qt API
+        super().showEvent(event)
+        self.catch_up()
+
+    def catch_up(self, *_) -> None:
+        """Refresh what changed while the panel was not seen (its dock shown or its tab chosen)."""
+        if getattr(self, "_faces_stale", False):
+            QTimer.singleShot(0, self.refresh_faces)  # once the dock's tab is laid out and visible
 
     def _face_item(self, item) -> None:
         if item is None:

@@ -11,7 +11,9 @@ from PySide6.QtWidgets import (
     QHBoxLayout,
     QHeaderView,
     QLabel,
+    QPlainTextEdit,
     QPushButton,
+    QSizePolicy,
     QSlider,
     QSpinBox,
     QStyle,
@@ -26,6 +28,7 @@ from ..core.result import RULES
 from ..scene.describe import deg, fmt_tuple, step_words
 from ..scene.layers import STEP_COLORS
 from ..scene.model import SceneModel
+from .steady import SteadyLabel
 from .timeline import TimelineView
 
 COLUMNS = ("#", "rule", "τ", "kept", "removed", "added", "angle")
@@ -44,12 +47,33 @@ def _ids(t) -> str:
     return "" if not t else (fmt_tuple(t) if len(t) <= 4 else f"{len(t)} simplices")
 
 
+class StepText(QPlainTextEdit):
+    """The words about the current step: read-only, wrapped, a fixed size whatever the text."""
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.setReadOnly(True)
+        self.setLineWrapMode(QPlainTextEdit.LineWrapMode.WidgetWidth)
+        self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        self.setStyleSheet("QPlainTextEdit { background: #f7f7f2; border: 1px solid #ccc; }")
+        self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
+
+    def text(self) -> str:
+        return self.toPlainText()
+
+    def setText(self, text: str) -> None:  # noqa: N802 - as QLabel
+        if text != self.toPlainText():
+            self.setPlainText(text)
+
+
 class StepLog(QAbstractTableModel):
     """Table model over ``extraction.steps`` (row r is step r + 1)."""
 
     def __init__(self, model: SceneModel) -> None:
         super().__init__()
         self.model = model
+        #: Display texts of the rows painted lately (the view asks for every cell and role on each paint).
+        self._rows: dict[int, tuple[str, ...]] = {}
 
     def rowCount(self, parent=QModelIndex()) -> int:  # noqa: N802 - Qt API
         return 0 if parent.isValid() else self.model.player.n_steps
@@ -63,26 +87,27 @@ class StepLog(QAbstractTableModel):
         return None
 
     def data(self, index, role=Qt.ItemDataRole.DisplayRole):
-        ext = self.model.player.extraction
-        if ext is None or not index.isValid():
-            return None
-        s = ext.steps[index.row()]
         if role == Qt.ItemDataRole.DisplayRole:
-            return (
-                str(s.index + 1),
-                RULE_SHORT.get(s.rule, s.rule),
-                fmt_tuple(s.tau),
-                _ids(s.kept),
-                _ids(s.removed),
-                _ids(s.added),
-                deg(s.angle),
-            )[index.column()]
+            ext = self.model.player.extraction
+            if ext is None or not index.isValid():
+                return None
+            row = index.row()
+            texts = self._rows.get(row)
+            if texts is None:
+                if len(self._rows) > 4096:  # a few screens of rows: enough to scroll without formatting again
+                    self._rows.clear()
+                s = ext.steps[row]
+                texts = self._rows[row] = (str(s.index + 1), RULE_SHORT.get(s.rule, s.rule), fmt_tuple(s.tau),
+                                           _ids(s.kept), _ids(s.removed), _ids(s.added), deg(s.angle))
+            return texts[index.column()]
         if role == Qt.ItemDataRole.ToolTipRole:
-            return s.reason
+            ext = self.model.player.extraction
+            return None if ext is None or not index.isValid() else ext.steps[index.row()].reason
         return None
 
     def reset(self) -> None:
         self.beginResetModel()
+        self._rows = {}
         self.endResetModel()
 
 
@@ -121,8 +146,8 @@ class StepsPanel(QWidget):
         self.speed.setToolTip(f"Playback speed. The view is drawn at most {FRAME_RATE} times a second; "
                               "faster playback applies the steps in between without drawing them.")
         row.addWidget(self.speed)
-        self.counter = QLabel("step 0 / 0", self)
-        self.counter.setMinimumWidth(110)
+        self.counter = SteadyLabel(self)
+        self.counter.setText("step 0 / 0")
         self.counter.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
         row.addWidget(self.counter)
         lay.addLayout(row)
@@ -163,12 +188,11 @@ class StepsPanel(QWidget):
         self.follow = QCheckBox("Frame each step (zoom onto τ and its simplices; R resets the view)", self)
         self.follow.setToolTip("Move the camera to every step as it is applied, keeping the view direction")
         lay.addWidget(self.follow)
-        self.words = QLabel(self)
-        self.words.setWordWrap(True)
-        self.words.setMinimumHeight(64)
-        self.words.setAlignment(Qt.AlignmentFlag.AlignTop | Qt.AlignmentFlag.AlignLeft)
-        self.words.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        self.words.setStyleSheet("QLabel { background: #f7f7f2; border: 1px solid #ccc; padding: 4px; }")
+        # a read-only text box of fixed height (scrolled when a step's text is longer): its
+        # size never depends on the text, so stepping never re-lays out the dock and the window,
+        # which would cost a full repaint and composition of the window after every step
+        self.words = StepText(self)
+        self.words.setFixedHeight(4 * self.fontMetrics().lineSpacing() + 14)
         lay.addWidget(self.words)
         legend = QLabel(
             f"<span style='color:{STEP_COLORS['tau']}'>■</span> τ &nbsp; "
@@ -214,7 +238,6 @@ class StepsPanel(QWidget):
 
     def compact(self) -> None:
         """Narrower controls for small screens."""
-        self.counter.setMinimumWidth(0)
         self.speed.setSuffix("/s")
         self.follow.setText("Frame each step")
         self.to_rule.setText("Next of rule")
@@ -232,6 +255,7 @@ class StepsPanel(QWidget):
         self.goto.blockSignals(True)
         self.goto.setRange(0, n)
         self.goto.blockSignals(False)
+        self.counter.setText(f"step {n} / {n}")  # its widest text: the size it keeps while stepping
         self.sync(self.model.player.position)
 
     def _row_selected(self, current, _previous) -> None:

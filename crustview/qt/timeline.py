@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import numpy as np
-from PySide6.QtCore import QPointF, QSize, Qt
-from PySide6.QtGui import QColor, QPainter, QPen, QPolygonF
+from PySide6.QtCore import QPointF, QRect, QSize, Qt
+from PySide6.QtGui import QColor, QPainter, QPen, QPixmap, QPolygonF
 from PySide6.QtWidgets import QSizePolicy, QWidget
 
 from ..scene.model import SceneModel
@@ -40,8 +40,12 @@ class TimelineView(QWidget):
         self.setToolTip("|M_S| (amber), boundary faces (blue) and non-manifold faces (red) at every step, "
                         "each scaled to its own maximum. Click or drag to go to a step.")
         self.setMouseTracking(False)
-        model.player.step_changed.connect(lambda *_: self.update())
-        model.reconstruction_changed.connect(lambda *_: self.update())
+        #: The curves drawn once (for a size and a reconstruction); each step paints only the cursor.
+        self._picture: QPixmap | None = None
+        self._picture_key: tuple | None = None
+        self._cursor_x: float | None = None
+        model.player.step_changed.connect(self._moved)
+        model.reconstruction_changed.connect(self._invalidate)
 
     def sizeHint(self) -> QSize:  # noqa: N802 - Qt API
         return QSize(300, 72)
@@ -72,8 +76,44 @@ class TimelineView(QWidget):
         if event.buttons() & Qt.MouseButton.LeftButton:
             self.model.player.set_step(self.position_at(event.position().x()))
 
+    def _invalidate(self, *_) -> None:
+        self._picture = None
+        self.update()
+
+    def _moved(self, *_) -> None:
+        """Repaint the strips under the old and the new cursor only."""
+        new = self.x_of(self.model.player.position)
+        old, self._cursor_x = self._cursor_x, new
+        if old is None or self._picture is None:
+            self.update()
+            return
+        top, height = self._plot_rect().top(), self._plot_rect().height() + 1
+        for x in {int(old), int(new)}:
+            self.update(QRect(x - 2, top, 5, height))
+
     def paintEvent(self, _event) -> None:  # noqa: N802 - Qt API
         p = QPainter(self)
+        rec = self.model.rec
+        key = (id(rec), self.model.player.n_steps, self.width(), self.height(), self.devicePixelRatioF())
+        if self._picture is None or self._picture_key != key:
+            ratio = self.devicePixelRatioF()
+            self._picture = QPixmap(int(self.width() * ratio), int(self.height() * ratio))
+            self._picture.setDevicePixelRatio(ratio)
+            self._picture_key = key
+            painter = QPainter(self._picture)
+            self._paint_curves(painter)
+            painter.end()
+        p.drawPixmap(0, 0, self._picture)
+        if rec is None or self.model.player.n_steps == 0:
+            return
+        r = self._plot_rect()
+        cx = self.x_of(self.model.player.position)
+        self._cursor_x = cx
+        p.setPen(QPen(QColor("#222222"), 1.0, Qt.PenStyle.DashLine))
+        p.drawLine(QPointF(cx, r.top()), QPointF(cx, r.bottom()))
+
+    def _paint_curves(self, p: QPainter) -> None:
+        """Background, frame, the three curves and their legend (everything but the cursor)."""
         font = p.font()
         font.setPixelSize(10)
         p.setFont(font)
@@ -99,6 +139,3 @@ class TimelineView(QWidget):
             text = f"{label} ≤ {int(top):,}"
             p.drawText(legend_x, 11, text)
             legend_x += p.fontMetrics().horizontalAdvance(text) + 12
-        cx = self.x_of(self.model.player.position)
-        p.setPen(QPen(QColor("#222222"), 1.0, Qt.PenStyle.DashLine))
-        p.drawLine(QPointF(cx, r.top()), QPointF(cx, r.bottom()))

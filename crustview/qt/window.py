@@ -13,7 +13,6 @@ from PySide6.QtWidgets import (
     QComboBox,
     QDialog,
     QDockWidget,
-    QLabel,
     QLineEdit,
     QMainWindow,
     QMessageBox,
@@ -35,6 +34,7 @@ from .info_dock import InfoPanel
 from .layers_dock import LayersPanel
 from .projection_dock import ProjectionPanel
 from .run_dock import RunPanel
+from .steady import SteadyLabel
 from .steps_dock import StepsPanel
 from .worker import Runner
 
@@ -140,6 +140,7 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         self.runner.finished.connect(lambda: self.run_panel.set_busy(False))
         self.run_panel.reconstruct_requested.connect(self._reconstruct_requested)
         self.run_panel.cancel_requested.connect(self.runner.cancel)
+        self.docks["info"].visibilityChanged.connect(self.info_panel.catch_up)  # its tab chosen
         self.info_panel.face_clicked.connect(self.view.frame_face)
         self.info_panel.cascade_clicked.connect(self.view.frame_cascade)
         self.info_panel.compare.simplex_clicked.connect(self.frame_compared)
@@ -151,7 +152,7 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         self.model.candidates_changed.connect(lambda *_: self._update_status())
 
         self._build_menus()
-        self.status_counts = QLabel(self)
+        self.status_counts = SteadyLabel(self)  # a new count per step must not re-lay out the window
         self.statusBar().addPermanentWidget(self.status_counts)
         self.statusBar().showMessage("Open a point file (File ▸ Open, or drop it here) or a built-in sample.")
         self.setAcceptDrops(True)
@@ -406,6 +407,8 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
             same = _same_simplices(rec, saved[0])
             message += (f" Same M_S as saved in {saved[1]}." if same else
                         f" M_S DIFFERS from the one saved in {saved[1]} (other crustview version?).")
+        for extra in pending.get("notes", ()):
+            message += " " + extra
         if getattr(self, "prune_note", None):
             message += " " + self.prune_note
             self.prune_note = None

@@ -383,8 +383,10 @@ class StepAdapter(LayerAdapter):
         self.project()
         self.drawing.apply(self.part.mesh, None)
         set_cell_scalars(self.part.mesh, np.repeat(self.kind, self.drawing.per))
-        self.part.mapper.lookup_table = _categorical([STEP_COLORS["kept"], STEP_COLORS["removed"],
-                                                      STEP_COLORS["added"]])
+        if getattr(self, "_lut", None) is None:  # made once: a new table on every step costs a rebuild
+            self._lut = _categorical([STEP_COLORS["kept"], STEP_COLORS["removed"], STEP_COLORS["added"]])
+        if self.part.mapper.lookup_table is not self._lut:
+            self.part.mapper.lookup_table = self._lut
         self.part.mapper.scalar_range = (1, 3)
         self.part.mapper.SetScalarModeToUseCellData()
         self.part.mapper.scalar_visibility = True

@@ -19,6 +19,7 @@ class Legend:
         self.actors: list[vtkTextActor] = []
         self.entries: list[tuple[str, str | None]] = []
         self.notes: list[str] = []
+        self._shown: list[tuple] = []
 
     def _text(self, text: str, color, y: float, x_px: float, bold: bool = False) -> vtkTextActor:
         """A text line at height ``y`` (normalised viewport), ``x_px`` pixels from the left edge."""
@@ -41,26 +42,49 @@ class Legend:
         return a
 
     def set(self, entries: list[tuple[str, str]], notes: list[str] = ()) -> None:
-        """Show ``notes`` (bold red lines) above ``(label, colour)`` lines; no-op when unchanged."""
+        """Show ``notes`` (bold red lines) above ``(label, colour)`` lines; no-op when unchanged.
+
+        Text actors are reused line by line: a vtkTextActor renders its text to a
+        texture again only when that text or its style changes, and stepping
+        through Algorithm 3 changes one or two lines of the legend at a time.
+        """
         state = list(entries) + [(n, None) for n in notes]
         if state == self.entries:
             return
         self.entries = state
         self.notes = list(notes)
-        for a in self.actors:
-            self.plotter.renderer.RemoveViewProp(a)
-        self.actors = []
+        lines: list[tuple[str, str, float, float, bool, str | None]] = []  # text, colour, y, x, bold, swatch
         for j, note in enumerate(notes):
-            a = self._text(" " + note + " ", NOTE_COLOR, 0.965 - 0.032 * j, 8, bold=True)
-            self.plotter.renderer.AddViewProp(a)
-            self.actors.append(a)
+            lines.append((" " + note + " ", NOTE_COLOR, 0.965 - 0.032 * j, 8, True, None))
         top = len(notes) + (0.3 if notes else 0)
         for j, (label, color) in enumerate(entries):
             y = 0.965 - 0.032 * (j + top)
-            sw = self._text("   ", color, y, 8)
-            sw.GetTextProperty().SetBackgroundColor(*pv.Color(color).float_rgb)
-            sw.GetTextProperty().SetBackgroundOpacity(1.0)
-            lab = self._text(" " + label + " ", "#222222", y, 8 + self.font_size * 1.4)
-            for a in (sw, lab):
+            lines.append(("   ", "#222222", y, 8, False, color))
+            lines.append((" " + label + " ", "#222222", y, 8 + self.font_size * 1.4, False, None))
+        while len(self.actors) > len(lines):
+            self.plotter.renderer.RemoveViewProp(self.actors.pop())
+        for j, line in enumerate(lines):
+            if j < len(self.actors):
+                if self._shown[j] != line:
+                    self._restyle(self.actors[j], *line)
+            else:
+                a = self._text(line[0], line[1], line[2], line[3], bold=line[4])
+                self._restyle(a, *line)
                 self.plotter.renderer.AddViewProp(a)
                 self.actors.append(a)
+        self._shown = lines
+
+    def _restyle(self, a: vtkTextActor, text: str, color, y: float, x_px: float, bold: bool,
+                 swatch: str | None) -> None:
+        a.SetInput(text)
+        tp = a.GetTextProperty()
+        tp.SetColor(*pv.Color(color).float_rgb)
+        tp.SetBold(bold)
+        if swatch is None:
+            tp.SetBackgroundColor(1.0, 1.0, 1.0)
+            tp.SetBackgroundOpacity(0.75)
+        else:
+            tp.SetBackgroundColor(*pv.Color(swatch).float_rgb)
+            tp.SetBackgroundOpacity(1.0)
+        a.GetPositionCoordinate().GetReferenceCoordinate().SetValue(0.0, y)
+        a.GetPositionCoordinate().SetValue(x_px, 0.0)

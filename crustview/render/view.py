@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import numpy as np
+import pyvista as pv
+
 from ..scene import geometry as geo
 from ..scene.describe import verdict
 from ..scene.layers import CASCADE_COLOR, COMPARE_COLORS, STEP_COLORS
@@ -67,6 +69,10 @@ class SceneView:
         #: View the data with its Y axis up instead of Z (View ▸ Y axis up).
         self.y_up = False
         plotter.set_background(BACKGROUND[0], top=BACKGROUND[1])
+        # one headlight instead of pyvista's five-light kit: software GL (the usual case here)
+        # shades every pixel once per light, and a frame of a large M_S is fill-bound
+        plotter.remove_all_lights()
+        plotter.add_light(pv.Light(light_type="headlight"))
         self.adapters: dict[str, LayerAdapter] = {}
         for name, cls in ADAPTERS.items():
             layer = model.layers[name]
@@ -78,7 +84,7 @@ class SceneView:
             layer.events.colorby.connect(lambda *_: self._after_colour())
             layer.events.mode.connect(lambda *_: (self.update_legend(), self.render()))
             layer.events.shrink.connect(lambda *_: self.render())
-        self._on_top(("cascade", "step", "selection"))
+        self._on_top(("truth", "cascade", "step", "selection"))
         self._bars: dict[str, object] = {}
         self._stale: set[LayerAdapter] = set()
         self.legend = Legend(plotter)
@@ -223,6 +229,7 @@ class SceneView:
         for a in self._live():
             a.project()
         self.update_basis_text()
+        self.update_bars()  # a colouring by the hidden depth names the direction, which turned
         self.render()
 
     def on_step(self, *_) -> None:
@@ -256,10 +263,11 @@ class SceneView:
             title = getattr(a, "scalar_title", None)
             if self.model.layers[name].visible and title:
                 want[title] = a.part.mapper
-        for title in list(self._bars):
-            if title not in want or self._bars[title] is not want[title]:
+        if list(self._bars.items()) != list(want.items()):
+            # the bars stack in order: one that stays keeps its place only if all before it stay
+            for title in list(self._bars):
                 self.plotter.remove_scalar_bar(title, render=False)
-                del self._bars[title]
+            self._bars = {}
         for j, (title, mapper) in enumerate(want.items()):
             if title not in self._bars:
                 # horizontal, bottom right, below the data: the title fits and stays readable

@@ -1,0 +1,151 @@
+"""The JSON report of a reconstruction (``crustview reconstruct --report``).
+
+:func:`report_dict` gives its content as plain Python objects and
+:func:`write_report` writes it; both are re-exported by :mod:`crustview.io`.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from crustview.core.errors import InputError
+
+if TYPE_CHECKING:
+    from crustview.core.compare import MeshComparison
+    from crustview.core.result import Reconstruction
+
+
+def _reason(err: BaseException) -> str:
+    text = (err.strerror if isinstance(err, OSError) and err.strerror else str(err)) or type(err).__name__
+    return " ".join(text.split()).rstrip(".")
+
+
+def _jsonable(obj: Any) -> Any:
+    if isinstance(obj, np.generic):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple, np.ndarray)):
+        return [_jsonable(v) for v in obj]
+    return obj
+
+
+#: Number of prune cascades listed in a report (largest first).
+REPORT_CASCADES = 20
+
+
+def holes_of_candidates(rec: Reconstruction) -> int:
+    """Number of (d-1)-faces of T_S that lie in a single d-simplex of T_S (the holes of T_S).
+
+    ``rec.extraction.holes`` when the extraction recorded them, otherwise
+    counted on T_S for ``rec.test`` and ``rec.theta``.
+    """
+    if rec.extraction.holes is not None:
+        return len(rec.extraction.holes)
+    from crustview.core.extraction import facet_structure
+
+    tset = rec.candidates.select(rec.test, rec.theta)
+    if len(tset) == 0:
+        return 0
+    ptr = facet_structure(np.asarray(tset, dtype=np.int64))[2]
+    return int(np.count_nonzero(np.diff(ptr) == 1))
+
+
+def _cascades(rec: Reconstruction) -> dict[str, Any]:
+    cascades = rec.extraction.cascades()
+    return {
+        "n_cascades": len(cascades),
+        "cascades": [
+            {"origin": c.origin, "tau": [int(rec.point_input[v]) for v in c.tau], "rule": c.rule, "hole": c.hole,
+             "steps": len(c.steps), "removed": c.removed}
+            for c in cascades[:REPORT_CASCADES]
+        ],
+    }
+
+
+def report_dict(rec: Reconstruction, comparison: MeshComparison | None = None,
+                quality: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The content of :func:`write_report` as plain Python objects.
+
+    Parameters
+    ----------
+    rec : Reconstruction
+    comparison : MeshComparison, optional
+        M_S against a mesh's faces (key ``ground_truth``).
+    quality : dict, optional
+        :func:`crustview.core.quality.summary` of ``rec`` when already
+        computed; otherwise it is computed here.  Its ``seconds`` are left
+        out, so that the report of a run is the same every time it is made.
+    """
+    from crustview.core.quality import summary
+
+    quality = summary(rec) if quality is None else quality
+    quality = {key: value for key, value in quality.items() if key != "seconds"}
+    extra = {} if comparison is None else {"ground_truth": comparison.as_dict()}
+    if rec.mode == "paper":
+        extra.update(_cascades(rec))
+    return _jsonable(
+        {
+            "d": rec.d,
+            "k": rec.k,
+            "n": rec.n,
+            "n_input": len(rec.input_points),
+            "test": rec.test,
+            "theta": rec.theta,
+            "theta_degrees": math.degrees(rec.theta),
+            "mode": rec.mode,
+            "prune_boundary": rec.prune_boundary,
+            "n_candidates": int(rec.candidates.mask(rec.test, rec.theta).sum()),
+            "holes_of_T_S": holes_of_candidates(rec),
+            "stopped": rec.extraction.stopped,
+            "notes": list(rec.extraction.notes),
+            "topology": rec.topology.as_dict(),
+            "rules": rec.extraction.counts_by_rule(),
+            "sampling_quality": quality,
+            "timings": dict(rec.timings),
+            **extra,
+        }
+    )
+
+
+def write_report(path: str | os.PathLike, rec: Reconstruction,
+                 comparison: MeshComparison | None = None) -> None:
+    """Write a JSON summary of a reconstruction.
+
+    Keys: ``d k n n_input test theta theta_degrees mode prune_boundary
+    n_candidates stopped``; ``holes_of_T_S`` (the number of (d-1)-faces of
+    T_S in a single simplex before extraction); ``notes`` (how the
+    extraction went, e.g. why the robust extension took over);
+    ``topology`` (:meth:`TopologyReport.as_dict`); ``rules``
+    (:meth:`Extraction.counts_by_rule`); ``sampling_quality``
+    (:func:`crustview.core.quality.summary` without its ``seconds``:
+    estimated epsilon and the samples beyond the paper's bounds);
+    ``timings`` (seconds per stage).
+    Paper runs also have ``n_cascades`` and ``cascades``: the
+    :data:`REPORT_CASCADES` largest prune cascades, each with its
+    ``origin`` step, its face ``tau`` (input rows), the origin's ``rule``, ``hole``
+    (the origin face was a hole of T_S), the number of ``steps`` and of
+    simplices ``removed``.  With a ``comparison``, also ``ground_truth``
+    (:meth:`~crustview.core.compare.MeshComparison.as_dict`: recovered and
+    extra faces, both topologies, the sampled Hausdorff distance).
+
+    Raises
+    ------
+    InputError
+        When the file cannot be written.
+    """
+    path = Path(path)
+    try:
+        with open(path, "w", encoding="utf-8") as fh:
+            json.dump(report_dict(rec, comparison), fh, indent=2)
+            fh.write("\n")
+    except OSError as err:
+        raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
