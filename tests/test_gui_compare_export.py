@@ -6,31 +6,16 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pytestqt")
-from PySide6.QtCore import QTimer  # noqa: E402
-from PySide6.QtWidgets import QApplication  # noqa: E402
+from dialogs import on_next_dialog, wait_idle  # noqa: E402
 
 from crustview.core import reextract  # noqa: E402
 from crustview.core.complexdiff import diff_complexes  # noqa: E402
 
 
-def wait_idle(qtbot, win, timeout=60_000):
-    qtbot.waitUntil(lambda: not win.runner.busy, timeout=timeout)
-    assert win.model.rec is not None, win.last_error
 
 
-def answer_next_dialog(qtbot, answer, kind):
-    done = []
 
-    def poll():
-        dlg = QApplication.activeModalWidget()
-        if not isinstance(dlg, kind):
-            QTimer.singleShot(20, poll)
-            return
-        answer(dlg)
-        done.append(dlg)
 
-    QTimer.singleShot(20, poll)
-    return done
 
 
 @pytest.fixture()
@@ -53,7 +38,7 @@ def test_compare_with_another_test_through_the_dialog_and_frame_a_listed_simplex
         dlg.theta.setValue(15.0)
         dlg.accept()
 
-    answered = answer_next_dialog(qtbot, literal, CompareDialog)
+    answered = on_next_dialog(literal, CompareDialog)
     next(a for a in win.actions() if a.text() == "Co&mpare with…").trigger()
     assert answered
     qtbot.waitUntil(lambda: not panel.runner.busy, timeout=30_000)
@@ -155,7 +140,7 @@ def test_export_dialog_writes_a_gif_with_the_window_layers_and_camera(qtbot, tor
         assert "4 frames" in dlg.note.text()
         dlg.accept()
 
-    answered = answer_next_dialog(qtbot, fill, ExportDialog)
+    answered = on_next_dialog(fill, ExportDialog)
     next(a for a in win.actions() if a.text() == "E&xport animation…").trigger()
     assert answered and win.export is not None
     job = win.export

@@ -6,31 +6,13 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pytestqt")
-from PySide6.QtWidgets import QApplication, QFileDialog  # noqa: E402
+from dialogs import answer_file_dialog, wait_idle  # noqa: E402
 
 
-def wait_idle(qtbot, win, timeout=60_000):
-    qtbot.waitUntil(lambda: not win.runner.busy, timeout=timeout)
-    assert win.model.rec is not None, win.last_error
 
 
-def answer_file_dialog(qtbot, path):
-    """Type ``path`` into the next modal file dialog and accept it (from the event loop)."""
-    from PySide6.QtCore import QTimer
 
-    done = []
 
-    def poll():
-        dlg = QApplication.activeModalWidget()
-        if not isinstance(dlg, QFileDialog):
-            QTimer.singleShot(20, poll)
-            return
-        dlg.selectFile(str(path))
-        dlg.accept()
-        done.append(dlg)
-
-    QTimer.singleShot(20, poll)
-    return done
 
 
 def trigger(win, text):
@@ -51,7 +33,7 @@ def test_save_then_open_restores_run_step_camera_layers_and_projection(qtbot, wi
     window.plotter.camera.elevation = 15.0
     camera = np.array(window.plotter.camera_position.to_list())
     basis = m.projection.basis
-    answered = answer_file_dialog(qtbot, tmp_path / "mine")
+    answered = answer_file_dialog(tmp_path / "mine")
     trigger(window, "Save sess&ion…")
     assert answered
     saved = tmp_path / "mine.crustview.json"
@@ -60,7 +42,7 @@ def test_save_then_open_restores_run_step_camera_layers_and_projection(qtbot, wi
     # something else entirely, then the session back through its dialog
     assert window.load_builtin("circle", n=80)
     wait_idle(qtbot, window)
-    answered = answer_file_dialog(qtbot, saved)
+    answered = answer_file_dialog(saved)
     trigger(window, "Open sessio&n…")
     assert answered
     qtbot.waitUntil(lambda: m.source.startswith("torus"), timeout=60_000)

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pytestqt")
+from dialogs import on_next_dialog  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 
 from crustview.qt.info_dock import BANNER_STYLE  # noqa: E402
@@ -59,24 +60,6 @@ def test_loading_a_builtin_sample(qtbot, window):
     assert window.run_panel.d.value() == 2
 
 
-def answer_next_dialog(qtbot, answer):
-    """Run ``answer(dialog)`` on the next modal dialog, from the event loop."""
-    from PySide6.QtCore import QTimer
-    from PySide6.QtWidgets import QApplication
-
-    done = []
-
-    def poll():
-        dlg = QApplication.activeModalWidget()
-        if dlg is None:
-            QTimer.singleShot(20, poll)
-            return
-        answer(dlg)
-        done.append(dlg)
-
-    QTimer.singleShot(20, poll)
-    return done
-
 
 def test_menu_dialog_dimension_question_and_drop(qtbot, window, tmp_path):
     """The ways a user opens data: File > Open built-in sample (its dialog),
@@ -91,7 +74,7 @@ def test_menu_dialog_dimension_question_and_drop(qtbot, window, tmp_path):
         dlg.accept()
 
     action = next(a for a in window.actions() if a.text() == "Open &built-in sample…")
-    answered = answer_next_dialog(qtbot, pick_circle)
+    answered = on_next_dialog(pick_circle)
     action.trigger()  # modal: returns once the dialog is answered
     assert answered
     qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec is not None, timeout=30_000)
@@ -111,7 +94,7 @@ def test_menu_dialog_dimension_question_and_drop(qtbot, window, tmp_path):
         asked.append(dlg.intValue())
         dlg.accept()
 
-    answer_next_dialog(qtbot, answer_d)
+    on_next_dialog(answer_d)
     assert window.open_file(pts)
     assert asked == [2]
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
@@ -120,7 +103,7 @@ def test_menu_dialog_dimension_question_and_drop(qtbot, window, tmp_path):
     # dropping a file opens it too (d asked again; answered 1 for a curve)
     curve = tmp_path / "trefoil.csv"
     np.savetxt(curve, get_manifold("trefoil").sample(150, seed=2).points, delimiter=",")
-    answer_next_dialog(qtbot, lambda dlg: (dlg.setIntValue(1), dlg.accept()))
+    on_next_dialog(lambda dlg: (dlg.setIntValue(1), dlg.accept()))
     mime = QMimeData()
     mime.setUrls([QUrl.fromLocalFile(str(curve))])
     drop = QDropEvent(QPoint(10, 10), Qt.DropAction.CopyAction, mime, Qt.MouseButton.NoButton,
@@ -255,7 +238,7 @@ def test_bad_file_shows_error_and_keeps_previous_result(qtbot, window, tmp_path)
     good = tmp_path / "pts.xyz"
     np.savetxt(good, rec.points[:200])
     asked = []
-    answer_next_dialog(qtbot, lambda dlg: (asked.append(dlg.intValue()), dlg.reject()))
+    on_next_dialog(lambda dlg: (asked.append(dlg.intValue()), dlg.reject()))
     assert not window.open_file(good, d=7)
     assert asked == [2]  # the local-PCA suggestion for a surface in R^3
     assert window.model.rec is rec and window.model.player.position == 3
