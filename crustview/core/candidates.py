@@ -86,6 +86,8 @@ from .parallel import WORKERS, chunks, run_in_order
 MAX_SUBSET_VERTICES = 12
 #: Cell vertices per chunk of faces scored at once (keeps temporaries in cache).
 CHUNK_CELL_VERTICES = 1 << 16
+#: Simplices (and face instances) per block in :func:`enumerate_faces`.
+ENUM_BLOCK = 1 << 20
 #: Cocone scores below this are exact; larger ones are only known to be >= it.
 SCORE_LIMIT = np.pi / 4
 
@@ -96,42 +98,66 @@ def enumerate_faces(simplices: np.ndarray, n_samples: int, d: int) -> tuple[np.n
     Returns
     -------
     faces : ndarray of shape (f, d + 1)
-        Sorted rows, lexicographically sorted.
+        Sorted rows, lexicographically sorted (int64).
     cell_ptr : ndarray of shape (f + 1,)
     cell_simplices : ndarray
         ``cell_simplices[cell_ptr[i]:cell_ptr[i+1]]`` are the Delaunay
-        simplices containing face ``i`` (vertices of its dual cell).
+        simplices containing face ``i`` (vertices of its dual cell), in
+        increasing order; int32 when the simplex count allows it.
+
+    Notes
+    -----
+    Memory is the limit at a million samples (tens of millions of face
+    instances), so the only arrays as long as the instances are their int64
+    keys and one stable sort order; the distinct faces, their pointers and
+    the owning simplices are then read from those in blocks.
     """
     srt = sort_rows(simplices)
     w = srt.shape[1]
     combos = list(itertools.combinations(range(w), d + 1))
     if float(n_samples) ** (d + 1) >= 2**62:
         return _enumerate_faces_lexsort(srt, n_samples, d, combos)
+    nc = len(combos)
     # one int64 key per face instance, face-major within each simplex (the
-    # order of the old srt[:, combos] layout), kept when every vertex is a sample
-    keys = np.empty((len(srt), len(combos)), dtype=np.int64)
-    for q, cols in enumerate(combos):
-        k = np.zeros(len(srt), dtype=np.int64)
-        for c in cols:
-            k *= n_samples
-            k += srt[:, c]
-        keys[:, q] = np.where(srt[:, cols[-1]] < n_samples, k, -1)
+    # order of the old srt[:, combos] layout); -1 when a vertex is a bounding point
+    keys = np.empty((len(srt), nc), dtype=np.int64)
+    for lo in range(0, len(srt), ENUM_BLOCK):
+        blk = srt[lo : lo + ENUM_BLOCK]
+        for q, cols in enumerate(combos):
+            k = blk[:, cols[0]].astype(np.int64)
+            for c in cols[1:]:
+                k *= n_samples
+                k += blk[:, c]
+            keys[lo : lo + len(blk), q] = np.where(blk[:, cols[-1]] < n_samples, k, -1)
+    del srt
     keys = keys.ravel()
-    inst = np.flatnonzero(keys >= 0)
-    key = keys[inst]
-    del keys
-    if len(key) == 0:
-        return np.empty((0, d + 1), np.int64), np.zeros(1, np.int64), np.empty(0, np.int64)
-    order = _stable_argsort(key)
-    sk = key[order]
-    starts = np.flatnonzero(np.concatenate([[True], sk[1:] != sk[:-1]]))
+    order = _stable_argsort(keys, lower=0)  # instances of sample faces only, by key, stable
+    owner_dtype = np.int32 if len(keys) // nc < 2**31 else np.int64
+    if len(order) == 0:
+        return np.empty((0, d + 1), np.int64), np.zeros(1, np.int64), np.empty(0, owner_dtype)
+    # first instance of each distinct key, and each instance's simplex, block by block
+    starts_parts = []
+    owner = np.empty(len(order), dtype=owner_dtype)
+    prev = None
+    for lo in range(0, len(order), ENUM_BLOCK):
+        sl = order[lo : lo + ENUM_BLOCK]
+        sk = keys[sl]
+        new = np.empty(len(sk), dtype=bool)
+        new[0] = prev is None or sk[0] != prev
+        np.not_equal(sk[1:], sk[:-1], out=new[1:])
+        starts_parts.append(np.flatnonzero(new) + lo)
+        owner[lo : lo + len(sl)] = sl // nc
+        prev = sk[-1]
+    starts = np.concatenate(starts_parts)
+    del starts_parts
+    rest = keys[order[starts]]
+    del keys, order
     uniq = np.empty((len(starts), d + 1), dtype=np.int64)
-    rest = sk[starts]
     for c in range(d, -1, -1):
         uniq[:, c] = rest % n_samples
         rest //= n_samples
-    ptr = np.concatenate([starts, [len(order)]])
-    return uniq, ptr, inst[order] // len(combos)
+    ptr = np.append(starts, len(owner))
+    return uniq, ptr, owner
 
 
 def _enumerate_faces_lexsort(
@@ -163,35 +189,50 @@ def sort_rows(rows: np.ndarray) -> np.ndarray:
     return np.stack(cols, axis=1)
 
 
-def _stable_argsort(key: np.ndarray, workers: int | None = None) -> np.ndarray:
+def _stable_argsort(key: np.ndarray, workers: int | None = None, lower: int | None = None) -> np.ndarray:
     """``np.argsort(key, kind="stable")``, with key ranges sorted on separate threads.
 
     The ranges are split at sample quantiles; each range keeps its
     elements' original order, so concatenating the sorted ranges is exactly
-    the stable order of the whole array.
+    the stable order of the whole array.  With ``lower``, only the positions
+    of keys ``>= lower`` are returned (in the same order).  There are more
+    ranges than threads, so the temporaries of the ranges being sorted stay
+    a fraction of the key array.
     """
-    parts = WORKERS if workers is None else workers
-    if parts <= 1 or len(key) < 1 << 16:
-        return np.argsort(key, kind="stable")
-    sample = np.sort(key[:: max(1, len(key) // 4096)])
-    cuts = np.unique(sample[(np.arange(1, parts) * len(sample)) // parts]).tolist()
-    bounds = list(zip([None, *cuts], [*cuts, None]))
+    threads = WORKERS if workers is None else workers
+    if threads <= 1 or len(key) < 1 << 16:
+        if lower is None:
+            return np.argsort(key, kind="stable")
+        idx = np.flatnonzero(key >= lower)
+        return idx[np.argsort(key[idx], kind="stable")]
+    parts = 4 * threads
+    sample = key[:: max(1, len(key) // 4096)]
+    if lower is not None:
+        sample = sample[sample >= lower]
+    sample = np.sort(sample)
+    cuts = np.unique(sample[(np.arange(1, parts) * len(sample)) // parts]).tolist() if len(sample) else []
+    first = None if lower is None else lower
+    bounds = list(zip([first, *cuts], [*cuts, None]))
 
     def sort_part(bound: tuple) -> np.ndarray:
         lo, hi = bound
         if lo is None:
-            mask = key < hi
+            mask = key < hi if hi is not None else np.ones(len(key), dtype=bool)
         elif hi is None:
             mask = key >= lo
         else:
             mask = (key >= lo) & (key < hi)
         idx = np.flatnonzero(mask)
         del mask
-        return idx[np.argsort(key[idx], kind="stable")]
+        sub = key[idx]
+        perm = np.argsort(sub, kind="stable")
+        del sub
+        return idx[perm]
 
-    order = np.empty(len(key), dtype=np.int64)
+    total = len(key) if lower is None else int(np.count_nonzero(key >= lower))
+    order = np.empty(total, dtype=np.int64)
     at = 0
-    for part in run_in_order(sort_part, bounds, parts):
+    for part in run_in_order(sort_part, bounds, threads):
         order[at : at + len(part)] = part
         at += len(part)
     return order
