@@ -35,6 +35,7 @@ from .info_dock import InfoPanel
 from .layers_dock import LayersPanel
 from .projection_dock import ProjectionPanel
 from .run_dock import RunPanel
+from .lod import StepDetail
 from .steps_dock import StepsPanel
 from .worker import Runner
 
@@ -104,6 +105,7 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
             self.plotter.clear_events_for_key(key)
         self.view = SceneView(self.model, self.plotter)
         self.view.schedule_render = lambda: QWidget.update(self.plotter)
+        self.step_detail = StepDetail(self.view, self.model.player, self)  # thinned frames while stepping
         self.points: np.ndarray | None = None
         #: Where the shown data came from: a FileSource, a BuiltinSource or None (arrays).
         self.origin = None

@@ -22,6 +22,7 @@ from .overlay import Legend
 from .framing import frame_for, front_plane, place_camera
 from .picking import pick_visible
 from .inspect import SelectionAdapter, VoronoiAdapter
+from .lod import LevelOfDetail
 from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter, lighter
 
 #: Adapter of each layer (by layer name), in drawing order.
@@ -96,6 +97,9 @@ class SceneView:
         model.theorems_changed.connect(lambda *_: (self.adapters["points"].recolor(), self._after_colour()))
         model.cascade_changed.connect(lambda *_: (self.update_legend(), self.render()))
         model.slice_changed.connect(lambda *_: (self.update_legend(), self.render()))
+        #: Big parts thinned while the view moves or steps (see :mod:`crustview.render.lod`).
+        self.lod = LevelOfDetail(plotter.renderer)
+        self._watch_interaction()
 
     def _on_top(self, names: tuple[str, ...]) -> None:
         """Draw these layers in a second renderer layer over the scene.
@@ -124,6 +128,28 @@ class SceneView:
                 top.AddActor(part.actor)
         self.top_renderer = top
 
+    # -- level of detail -----------------------------------------------------
+    def _watch_interaction(self) -> None:
+        """Thin big layers while the mouse drags the view; draw them whole on release."""
+        iren = getattr(self.plotter, "iren", None)
+        style = iren.interactor.GetInteractorStyle() if iren is not None else None
+        if style is None:
+            return
+        style.AddObserver("StartInteractionEvent", lambda *_: self.begin_lod())
+        style.AddObserver("EndInteractionEvent", lambda *_: self.end_lod())
+
+    def _shown_parts(self) -> list:
+        return [p for a in self.adapters.values() if a.layer.visible for p in a.parts]
+
+    def begin_lod(self) -> bool:
+        """Draw parts above :data:`~crustview.render.lod.LOD_CELLS` cells thinned until :meth:`end_lod`."""
+        return self.lod.begin(self._shown_parts()) if self.ready else False
+
+    def end_lod(self) -> None:
+        """Draw every part whole again (one render, if anything was thinned)."""
+        if self.lod.end():
+            self.request_render()
+
     # -- helpers -------------------------------------------------------------
     @property
     def ready(self) -> bool:
@@ -144,6 +170,7 @@ class SceneView:
             self.schedule_render()
 
     def _on_visible(self, a: LayerAdapter) -> None:
+        self.lod.end()  # a thinned copy must not outlive its layer's visibility
         if a.layer.visible and a in self._stale and self.ready:
             # hidden layers skip updates; catch up once when shown again
             self._stale.discard(a)
@@ -204,6 +231,7 @@ class SceneView:
             return
         self.show_preview(None)
         self.clear_clip()
+        self.lod.end()
         self._built_for = id(rec)
         self._stale.clear()
         for a in self.adapters.values():
@@ -222,6 +250,8 @@ class SceneView:
         self.clear_clip()  # the cut was placed for the old projection
         for a in self._live():
             a.project()
+        if self.lod.active:
+            self.lod.begin(self._shown_parts())  # the grand tour moves the points of thinned parts
         self.update_basis_text()
         self.render()
 
@@ -231,6 +261,8 @@ class SceneView:
         for a in self._live():
             if a.uses_step:
                 a.step()
+        if self.lod.active:
+            self.lod.begin(self._shown_parts())  # re-thin what the step changed
         self.update_legend()
         self.request_render()
 
@@ -325,15 +357,17 @@ class SceneView:
         self.legend.set(self.legend_entries(), self.notes())
 
     def notes(self) -> list[str]:
-        """Warning lines above the legend when the final M_S is not a closed manifold through every sample."""
+        """Lines above the legend: M_S is not a closed manifold through every sample; layers drawn thinned."""
         rec = self.model.rec
         if rec is None:
             return []
+        # layers drawn as a subset say so over the view, too
+        thinned = [layer.note for layer in self.model.layers.values() if layer.visible and layer.note]
         level, words = verdict(rec)
         if level == "ok":
-            return []
+            return thinned
         head, _, rest = words.partition(" (")
-        return [head, ("(" + rest + " — see Information") if rest else "see Information"]
+        return [head, ("(" + rest + " — see Information") if rest else "see Information"] + thinned
 
     def update_basis_text(self) -> None:
         p = self.model.projection
