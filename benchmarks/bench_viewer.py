@@ -172,8 +172,13 @@ def qt(rec, size) -> None:
     win.view.show_preview(rec.input_points)
     app.processEvents()
     print(f"raw points drawn (preview, {len(rec.input_points):,} points): {1000 * (time.perf_counter() - t):.0f} ms")
+    from crustview.core.quality import sampling_quality
+
     t = time.perf_counter()
-    win.model.set_reconstruction(rec, source="bench")
+    quality = sampling_quality(rec)  # the window's worker thread computes it with the run
+    print(f"sampling quality (worker thread, with the run): {1000 * (time.perf_counter() - t):.0f} ms")
+    t = time.perf_counter()
+    win.model.set_reconstruction(rec, source="bench", quality=quality)
     app.processEvents()
     print(f"result shown (every layer built, first frame): {1000 * (time.perf_counter() - t):.0f} ms")
     win.model.layers["normals"].visible = True  # hidden by default above 3,000 samples: show the subset

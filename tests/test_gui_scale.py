@@ -88,3 +88,17 @@ def test_stepping_draws_big_layers_thinned_then_whole(qtbot, window, big_torus):
     assert drawn <= 10_000 < total == whole.n_cells and not whole.actor.GetVisibility()
     qtbot.waitUntil(lambda: not view.lod.active, timeout=5_000)  # stepping paused: whole again
     assert whole.actor.GetVisibility()
+
+
+def test_raw_points_preview_draws_a_subset_and_says_so(qtbot, window, big_torus, monkeypatch):
+    from crustview.render import view as view_module
+
+    monkeypatch.setattr(view_module, "PREVIEW_POINTS", 5_000)
+    window.view.show_preview(big_torus.input_points)
+    layer = window.model.layers["points"]
+    assert window.plotter.actors["preview"].GetMapper().GetInput().GetNumberOfPoints() == 5_000
+    assert window.layers_panel.rows["points"].count.text() == "5,000 of 20,000"
+    assert layer.note.startswith("Raw points: drawn 5,000 of 20,000")
+    window.model.set_reconstruction(big_torus, source="torus 20k")  # the result replaces the preview
+    assert layer.count == N and layer.total == 0 and layer.note == ""
+    assert window.plotter.actors.get("preview") is None

@@ -64,6 +64,7 @@ class PointsAdapter(LayerAdapter):
         self.project()
         set_cells(self.part.mesh, verts=np.arange(rec.n, dtype=np.int64)[:, None])
         self.layer.count = rec.n
+        self.layer.total, self.layer.note = 0, ""  # drawn whole (the preview may have drawn a subset)
         self.recolor()
 
     def recolor(self, *_) -> None:

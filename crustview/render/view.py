@@ -7,6 +7,7 @@ from ..scene import geometry as geo
 from ..scene.describe import verdict
 from ..scene.layers import CASCADE_COLOR, COMPARE_COLORS, STEP_COLORS
 from ..scene.model import SceneModel
+from ..scene.subset import even_subset
 from .base import NAN_COLOR, LayerAdapter
 from .complexes import (
     RULE_COLORS,
@@ -44,6 +45,8 @@ ADAPTERS: dict[str, type[LayerAdapter]] = {
 }
 
 BACKGROUND = ("#ffffff", "#dde3ea")  # bottom, top
+#: Most raw points the preview draws (an even subset of a bigger file).
+PREVIEW_POINTS = 250_000
 
 
 class SceneView:
@@ -211,18 +214,26 @@ class SceneView:
                 self.render()
             return
         p = np.asarray(points, dtype=float)
-        self.model.layers["points"].count = len(p)  # the layer panel counts what is drawn
-        p = p - p.mean(axis=0)
+        n = len(p)
+        # a million raw points cost a second per frame in software GL: an even subset stands in
+        keep = even_subset(n, PREVIEW_POINTS)
+        points_layer = self.model.layers["points"]
+        points_layer.count = len(keep)  # the layer panel counts what is drawn
+        points_layer.total = n if len(keep) < n else 0
+        points_layer.note = (f"Raw points: drawn {len(keep):,} of {n:,} while the reconstruction runs"
+                             if len(keep) < n else "")
+        p = p[keep] - p.mean(axis=0)
         flat = p.shape[1] == 2
         p3 = np.zeros((len(p), 3))
         p3[:, : min(3, p.shape[1])] = p[:, :3]
         import pyvista as pv
 
         self.plotter.add_mesh(pv.PolyData(p3), name="preview", color="#34495e", point_size=3.0,
-                              render_points_as_spheres=False, pickable=False, reset_camera=False)
+                              render_points_as_spheres=False, pickable=False, reset_camera=False, render=False)
         if flat:
             self.plotter.view_xy(render=False)
-        self.plotter.reset_camera(bounds=tuple(np.ravel(np.stack([p3.min(axis=0), p3.max(axis=0)], axis=1))))
+        self.plotter.reset_camera(render=False,
+                                  bounds=tuple(np.ravel(np.stack([p3.min(axis=0), p3.max(axis=0)], axis=1))))
         self.render()
 
     def on_reconstruction(self) -> None:
