@@ -441,8 +441,8 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         rec = self.model.rec
         if rec is None:
             return
-        alive = int(rec.extraction.alive(self.model.player.position).sum())
-        shown = int(self.model.candidate_mask().sum())  # the candidates layer's count
+        alive = int(np.count_nonzero(rec.extraction.alive(self.model.player.position)))
+        shown = int(np.count_nonzero(self.model.candidate_mask()))  # the candidates layer's count
         pending = (self.model.test, self.model.theta) != (rec.test, float(rec.theta))
         self.status_counts.setText(
             f"n = {rec.n} · candidates {shown:,}" + (" (pending change)" if pending else "")

