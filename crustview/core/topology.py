@@ -31,12 +31,18 @@ from .result import TopologyReport
 from .rows import unique_rows
 
 
-def all_faces(simplices: np.ndarray) -> list[np.ndarray]:
-    """Unique j-faces for j = 0..d as sorted rows (``faces[j]`` has j+1 columns)."""
+def all_faces(simplices: np.ndarray, facets: np.ndarray | None = None) -> list[np.ndarray]:
+    """Unique j-faces for j = 0..d as sorted rows (``faces[j]`` has j+1 columns).
+
+    ``facets``: the (d-1)-faces when known already (:func:`_facet_pairs`), shared, not recomputed.
+    """
     srt = np.sort(simplices, axis=1)
     dp1 = srt.shape[1]
     out = []
     for j in range(dp1):
+        if facets is not None and j == dp1 - 2:
+            out.append(facets)
+            continue
         combos = np.array(list(itertools.combinations(range(dp1), j + 1)))
         f = srt[:, combos].reshape(-1, j + 1)
         out.append(unique_rows(f)[0])
@@ -113,7 +119,8 @@ def _facet_pairs(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndar
     del srt
     facets, inv = unique_rows(allf)
     del allf
-    return facets, inv, np.bincount(inv, minlength=len(facets)), np.argsort(inv, kind="stable")
+    order = np.argsort(inv, kind="stable").astype(np.int32 if len(inv) < 2**31 else np.int64)
+    return facets, inv, np.bincount(inv, minlength=len(facets)), order
 
 
 def _shared_facets(pairs: tuple, dp1: int, exactly: int = 2) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -129,7 +136,7 @@ def orientable(simplices: np.ndarray, pairs: tuple | None = None) -> bool:
     c, dp1 = simplices.shape
     pairs = pairs if pairs is not None else _facet_pairs(simplices)
     _, e1, e2 = _shared_facets(pairs, dp1)
-    s1, s2 = e1 // dp1, e2 // dp1
+    s1, s2 = (e1 // dp1).astype(np.int64), (e2 // dp1).astype(np.int64)  # 2 s + 1 below: no int32 wrap
     same = ((e1 % dp1) + (e2 % dp1)) % 2 == 1
     del e1, e2
     # node 2s is simplex s with orientation +1, 2s + 1 with -1; o2 = -o1 * (-1)^(a1 + a2)
@@ -238,8 +245,8 @@ def analyse(simplices: np.ndarray, n_samples: int, d: int) -> TopologyReport:
 
 def _analyse(simplices: np.ndarray, n_samples: int, d: int) -> TopologyReport:
     """:func:`analyse` without the memory of the last complex."""
-    faces = all_faces(simplices)
     pairs = _facet_pairs(simplices)
+    faces = all_faces(simplices, facets=pairs[0])
     counts = pairs[2]
     boundary = int((counts == 1).sum())
     nonman = int((counts > 2).sum())
