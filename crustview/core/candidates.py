@@ -80,7 +80,8 @@ from scipy.spatial import cKDTree
 
 from .conemin import cone_min, dot_rows, lean_bound, over_cell
 from .dualcells import CellFaces, cell_boundary_min
-from .parallel import WORKERS, chunks, run_in_order
+from .faces import enumerate_faces, sort_rows  # noqa: F401 - part of this module's API
+from .parallel import chunks, run_in_order
 
 #: Cells with more vertices skip the (k-d)-subset enumeration in codim >= 3.
 MAX_SUBSET_VERTICES = 12
@@ -88,113 +89,6 @@ MAX_SUBSET_VERTICES = 12
 CHUNK_CELL_VERTICES = 1 << 16
 #: Cocone scores below this are exact; larger ones are only known to be >= it.
 SCORE_LIMIT = np.pi / 4
-
-
-def enumerate_faces(simplices: np.ndarray, n_samples: int, d: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """All d-faces of the Delaunay simplices whose vertices are samples.
-
-    Returns
-    -------
-    faces : ndarray of shape (f, d + 1)
-        Sorted rows, lexicographically sorted.
-    cell_ptr : ndarray of shape (f + 1,)
-    cell_simplices : ndarray
-        ``cell_simplices[cell_ptr[i]:cell_ptr[i+1]]`` are the Delaunay
-        simplices containing face ``i`` (vertices of its dual cell).
-    """
-    srt = sort_rows(simplices)
-    w = srt.shape[1]
-    combos = list(itertools.combinations(range(w), d + 1))
-    if float(n_samples) ** (d + 1) >= 2**62:
-        return _enumerate_faces_lexsort(srt, n_samples, d, combos)
-    # one int64 key per face instance, face-major within each simplex (the
-    # order of the old srt[:, combos] layout), kept when every vertex is a sample
-    keys = np.empty((len(srt), len(combos)), dtype=np.int64)
-    for q, cols in enumerate(combos):
-        k = np.zeros(len(srt), dtype=np.int64)
-        for c in cols:
-            k *= n_samples
-            k += srt[:, c]
-        keys[:, q] = np.where(srt[:, cols[-1]] < n_samples, k, -1)
-    keys = keys.ravel()
-    inst = np.flatnonzero(keys >= 0)
-    key = keys[inst]
-    del keys
-    if len(key) == 0:
-        return np.empty((0, d + 1), np.int64), np.zeros(1, np.int64), np.empty(0, np.int64)
-    order = _stable_argsort(key)
-    sk = key[order]
-    starts = np.flatnonzero(np.concatenate([[True], sk[1:] != sk[:-1]]))
-    uniq = np.empty((len(starts), d + 1), dtype=np.int64)
-    rest = sk[starts]
-    for c in range(d, -1, -1):
-        uniq[:, c] = rest % n_samples
-        rest //= n_samples
-    ptr = np.concatenate([starts, [len(order)]])
-    return uniq, ptr, inst[order] // len(combos)
-
-
-def _enumerate_faces_lexsort(
-    srt: np.ndarray, n_samples: int, d: int, combos: list[tuple[int, ...]]
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`enumerate_faces` when a face does not fit one int64 key."""
-    faces = srt[:, np.array(combos)].reshape(-1, d + 1)
-    owner = np.repeat(np.arange(len(srt)), len(combos))
-    keep = faces[:, -1] < n_samples
-    faces, owner = faces[keep], owner[keep]
-    if len(faces) == 0:
-        return np.empty((0, d + 1), np.int64), np.zeros(1, np.int64), np.empty(0, np.int64)
-    order = np.lexsort(faces.T[::-1])
-    sf = faces[order]
-    starts = np.flatnonzero(np.concatenate([[True], (sf[1:] != sf[:-1]).any(axis=1)]))
-    ptr = np.concatenate([starts, [len(order)]])
-    return faces[order[starts]].astype(np.int64), ptr, owner[order]
-
-
-def sort_rows(rows: np.ndarray) -> np.ndarray:
-    """Each row sorted (like ``np.sort(rows, axis=1)``) by compare-exchange on columns."""
-    cols = [np.ascontiguousarray(rows[:, c]) for c in range(rows.shape[1])]
-    w = len(cols)
-    for i in range(w):  # odd-even transposition sort: w rounds of neighbour swaps
-        for j in range(i % 2, w - 1, 2):
-            lo = np.minimum(cols[j], cols[j + 1])
-            cols[j + 1] = np.maximum(cols[j], cols[j + 1])
-            cols[j] = lo
-    return np.stack(cols, axis=1)
-
-
-def _stable_argsort(key: np.ndarray, workers: int | None = None) -> np.ndarray:
-    """``np.argsort(key, kind="stable")``, with key ranges sorted on separate threads.
-
-    The ranges are split at sample quantiles; each range keeps its
-    elements' original order, so concatenating the sorted ranges is exactly
-    the stable order of the whole array.
-    """
-    parts = WORKERS if workers is None else workers
-    if parts <= 1 or len(key) < 1 << 16:
-        return np.argsort(key, kind="stable")
-    sample = np.sort(key[:: max(1, len(key) // 4096)])
-    cuts = np.unique(sample[(np.arange(1, parts) * len(sample)) // parts]).tolist()
-    bounds = list(zip([None, *cuts], [*cuts, None]))
-
-    def sort_part(bound: tuple) -> np.ndarray:
-        lo, hi = bound
-        if lo is None:
-            mask = key < hi
-        elif hi is None:
-            mask = key >= lo
-        else:
-            mask = (key >= lo) & (key < hi)
-        idx = np.flatnonzero(mask)
-        del mask
-        return idx[np.argsort(key[idx], kind="stable")]
-
-    order = np.empty(len(key), dtype=np.int64)
-    at = 0
-    for part in run_in_order(sort_part, bounds, parts):
-        order[at : at + len(part)] = part
-        at += len(part)
-    return order
 
 
 def _orthonormal(vectors: np.ndarray) -> np.ndarray:

@@ -38,6 +38,7 @@ from scipy.spatial import Delaunay
 from scipy.spatial import QhullError
 
 from .errors import QhullFailure
+from .rows import index_dtype
 
 #: Radius of the far bounding points relative to the data radius (which is 1
 #: in working coordinates).
@@ -86,7 +87,8 @@ def delaunay(work: np.ndarray, bounds: np.ndarray, backend: str = "auto") -> np.
     Returns
     -------
     simplices : ndarray of shape (t, r + 1)
-        Vertex indices (samples first, then bounding points).
+        Vertex indices (samples first, then bounding points); int32 below
+        2^31 vertices (half the memory of int64 at a million samples).
 
     Raises
     ------
@@ -112,7 +114,7 @@ def delaunay(work: np.ndarray, bounds: np.ndarray, backend: str = "auto") -> np.
     except QhullError as exc:  # pragma: no cover - depends on Qhull's mood
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else "unknown error"
         raise QhullFailure(f"Qhull could not triangulate the points: {first}") from None
-    return np.ascontiguousarray(tri.simplices, dtype=np.int64)
+    return np.ascontiguousarray(tri.simplices, dtype=index_dtype(len(allpts)))
 
 
 #: Simplices per block in :func:`circumcenters` (bounds its temporary memory).

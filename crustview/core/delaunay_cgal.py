@@ -30,6 +30,8 @@ import tempfile
 
 import numpy as np
 
+from .rows import index_dtype
+
 #: Bytes of the cell block parsed per chunk (bounds the parser's memory).
 CHUNK_BYTES = 1 << 25
 
@@ -63,7 +65,7 @@ def delaunay_3d(points: np.ndarray) -> np.ndarray:
     -------
     simplices : ndarray of shape (t, 4)
         Finite tetrahedra as row indices into ``points`` (orientation not
-        normalised, as with Qhull).
+        normalised, as with Qhull); int32 below 2^31 points.
 
     Raises
     ------
@@ -88,9 +90,12 @@ def delaunay_3d(points: np.ndarray) -> np.ndarray:
         del tri
         with open(path, "rb") as fh:
             written, cells = _read_triangulation(fh)
-    perm = _match_rows(written, pts)
-    finite = cells[(cells != 0).all(axis=1)]
-    return perm[finite - 1]
+    perm = _match_rows(written, pts).astype(index_dtype(len(pts)))
+    keep = (cells != 0).all(axis=1)
+    finite = cells[keep]
+    del cells, keep
+    finite -= 1
+    return perm[finite]
 
 
 def _read_triangulation(fh) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
@@ -101,7 +106,7 @@ def _read_triangulation(fh) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
         raise RuntimeError(f"CGAL wrote a {dim}-dimensional triangulation")
     written = np.loadtxt(fh, max_rows=n, dtype=np.float64, ndmin=2)
     m = int(fh.readline())
-    cells = np.empty((m, 4), dtype=np.int64)
+    cells = np.empty((m, 4), dtype=index_dtype(n + 1))
     got, rest = 0, b""
     while got < m:
         chunk = fh.read(CHUNK_BYTES)

@@ -54,6 +54,8 @@ from .result import RULE_PRUNE, RULE_RESOLVE, Extraction, Step
 HALF_PI = np.pi / 2
 #: Largest prune cascade simulated when choosing a pair (see _choose_pair).
 CASCADE_LIMIT = 64
+#: Simplices per block in :func:`opposite_vectors`.
+OPPOSITE_BLOCK = 1 << 16
 
 
 def facet_structure(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -70,14 +72,18 @@ def facet_structure(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.n
     """
     c, dp1 = simplices.shape
     srt = np.sort(simplices, axis=1)
-    parts = [np.delete(srt, a, axis=1) for a in range(dp1)]
-    allf = np.stack(parts, axis=1).reshape(-1, dp1 - 1)
-    facets, inverse = unique_rows(allf)
+    allf = np.empty((c, dp1, dp1 - 1), dtype=srt.dtype)
+    for a in range(dp1):
+        allf[:, a] = np.delete(srt, a, axis=1)
+    del srt
+    facets, inverse = unique_rows(allf.reshape(-1, dp1 - 1))
+    del allf
     facet_of = inverse.reshape(c, dp1)
     order = np.argsort(inverse, kind="stable")
     counts = np.bincount(inverse, minlength=len(facets))
     ptr = np.concatenate([[0], np.cumsum(counts)])
-    return facets, facet_of, ptr, order // dp1
+    order //= dp1
+    return facets, facet_of, ptr, order
 
 
 def opposite_vectors(points: np.ndarray, simplices: np.ndarray) -> np.ndarray:
@@ -94,15 +100,16 @@ def opposite_vectors(points: np.ndarray, simplices: np.ndarray) -> np.ndarray:
         ``[i, a]``: from aff(facet opposite vertex a) to vertex a.
     """
     c, dp1 = simplices.shape
-    p = points[simplices]
     out = np.empty((c, dp1, points.shape[1]))
-    for a in range(dp1):
-        rest = np.delete(p, a, axis=1)  # (c, d, k)
-        v = p[:, a] - rest[:, 0]
-        if dp1 > 2:
-            q, _ = np.linalg.qr(np.swapaxes(rest[:, 1:] - rest[:, :1], 1, 2))
-            v = v - np.einsum("ckj,cj->ck", q, np.einsum("ckj,ck->cj", q, v))
-        out[:, a] = v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
+    for lo in range(0, c, OPPOSITE_BLOCK):  # blocks: temporaries stay small (rows are independent)
+        p = points[simplices[lo : lo + OPPOSITE_BLOCK]]
+        for a in range(dp1):
+            rest = np.delete(p, a, axis=1)  # (c, d, k)
+            v = p[:, a] - rest[:, 0]
+            if dp1 > 2:
+                q, _ = np.linalg.qr(np.swapaxes(rest[:, 1:] - rest[:, :1], 1, 2))
+                v = v - np.einsum("ckj,cj->ck", q, np.einsum("ckj,ck->cj", q, v))
+            out[lo : lo + len(p), a] = v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
     return out
 
 
@@ -122,11 +129,9 @@ class _Extractor:
         c = len(self.simplices)
         self.facets, self.facet_of, self.ptr, self.inc = facet_structure(self.simplices)
         self.u = opposite_vectors(points, self.simplices)
-        # facets of each simplex as Python lists: finding a facet's position in a
-        # simplex (for u lookup) is a list search, much cheaper than a numpy one
-        self._facet_of = self.facet_of.tolist()
-        self._inc = self.inc.tolist()
-        self._ptr = self.ptr.tolist()
+        # rows are turned into Python lists one at a time, when a step looks at
+        # them: whole-table lists would cost ~40 bytes per entry (hundreds of
+        # MB at a million samples) for the few faces a good sample touches
         self.alive = np.ones(c, dtype=bool)
         self.count = np.diff(self.ptr).copy()
         self.removed_at = np.full(c, -1, dtype=np.int64)
@@ -139,11 +144,16 @@ class _Extractor:
 
     # -- geometry ---------------------------------------------------------
     def _u(self, s: int, g: int) -> np.ndarray:
-        return self.u[s, self._facet_of[s].index(g)]
+        return self.u[s, self.facet_of[s].tolist().index(g)]
+
+    def facets_of(self, s: int) -> list[int]:
+        """The facets of simplex ``s``, opposite its vertices in order."""
+        return self.facet_of[s].tolist()
 
     def alive_at(self, g: int) -> list[int]:
         alive = self.alive
-        return [s for s in self._inc[self._ptr[g]:self._ptr[g + 1]] if alive[s]]
+        ptr = self.ptr
+        return [s for s in self.inc[ptr[g]:ptr[g + 1]].tolist() if alive[s]]
 
     def pair_angles(self, g: int, simp: list[int]) -> np.ndarray:
         vec = np.array([self._u(s, g) for s in simp])
@@ -166,7 +176,7 @@ class _Extractor:
                 continue
             self.alive[s] = False
             self.removed_at[s] = step
-            for g in self._facet_of[s]:
+            for g in self.facet_of[s].tolist():
                 self.count[g] -= 1
                 touched.add(g)
             for v in self.simplices[s]:
@@ -358,7 +368,7 @@ def _cascade_loss(ex: _Extractor, drop: list[int], limit: int) -> int:
     opened: set[int] = set()
     queue = deque()
     for s in drop:
-        queue.extend(ex._facet_of[s])
+        queue.extend(ex.facets_of(s))
     while queue and len(gone) + len(opened) < limit:
         h = queue.popleft()
         simp = [s for s in ex.alive_at(h) if s not in gone]
@@ -373,7 +383,7 @@ def _cascade_loss(ex: _Extractor, drop: list[int], limit: int) -> int:
                 continue
         for s in simp:
             gone.add(s)
-            queue.extend(g for g in ex._facet_of[s] if g != h)
+            queue.extend(g for g in ex.facets_of(s) if g != h)
     return len(gone) + len(opened)
 
 

@@ -82,7 +82,10 @@ class PreparedPoints:
 
     def lift(self, work_coords: np.ndarray) -> np.ndarray:
         """Map working coordinates ``(..., r)`` back to input space ``(..., k)``."""
-        return work_coords @ self.basis.T * self.scale + self.center
+        out = work_coords @ self.basis.T  # in place from here: one temporary at most
+        out *= self.scale
+        out += self.center
+        return out
 
     def lift_vectors(self, vectors: np.ndarray) -> np.ndarray:
         """Map direction vectors ``(..., r)`` to input space (no scaling)."""

@@ -13,13 +13,20 @@ from .candidates import SCORE_LIMIT
 from .delaunay import bounding_points, circumcenters, delaunay
 from .errors import Cancelled, InputError
 from .extraction import extract
+from .memory import release_free_memory
 from .normals import complete_bases, greedy_poles
 from .prepare import DEFAULT_JOGGLE, prepare_points, prescale
-from .result import CANDIDATE_TESTS, EXTRACTION_MODES, Candidates, Reconstruction
+from .result import CANDIDATE_TESTS, EXTRACTION_MODES, Candidates, Reconstruction, CandidateAngles
 from .robust import extract_robust
 from .topology import analyse
 
 ProgressFn = Callable[[str, float], None]
+
+
+def _next_stage(cancel: object | None) -> None:
+    """Between stages: hand freed memory back (the next peak starts from what is held), check cancel."""
+    release_free_memory()
+    _check(cancel)
 
 
 def _check(cancel: object | None) -> None:
@@ -127,7 +134,7 @@ def reconstruct(
     n, k = prep.points.shape
     r = prep.r
     timings["prepare"] = time.perf_counter() - t0
-    _check(cancel)
+    _next_stage(cancel)
 
     t0 = time.perf_counter()
     report("delaunay", 0.0)
@@ -136,7 +143,7 @@ def reconstruct(
     work_all = np.vstack([prep.work, bounds])
     centres = circumcenters(work_all, simplices)
     timings["delaunay"] = time.perf_counter() - t0
-    _check(cancel)
+    _next_stage(cancel)
 
     t0 = time.perf_counter()
     report("normals", 0.0)
@@ -149,26 +156,30 @@ def reconstruct(
         pole_w = np.concatenate([pole_w, np.full((n, k - r), -1, dtype=np.int64)], axis=1)
     normals, tangents = complete_bases(np.swapaxes(normals, 1, 2))
     timings["normals"] = time.perf_counter() - t0
-    _check(cancel)
+    _next_stage(cancel)
 
     t0 = time.perf_counter()
     report("candidates", 0.0)
     faces, cptr, csimp = cand.enumerate_faces(simplices, n, d)
     lit = cand.literal_angles(prep.work, normals_w, faces)
-    _check(cancel)
+    _next_stage(cancel)
     coc = cand.cocone_angles(
         work_all, normals_w, centres, faces, cptr, csimp, simplices=simplices,
         progress=lambda f: (report("candidates", f), _check(cancel)),
     )
+    del cptr, csimp  # the dual cells' incidences: the largest temporaries of the run
     candidates = Candidates(
         faces=faces,
-        angles={"cocone": coc.min(axis=1), "cocone-all": coc.max(axis=1), "literal": lit},
+        angles=CandidateAngles(lit, coc),
         theta=theta,
         vertex_angles=coc,
     )
     timings["candidates"] = time.perf_counter() - t0
-    _check(cancel)
+    _next_stage(cancel)
 
+    voronoi = np.vstack([centres, infinite])
+    del centres, work_all  # the lifted Voronoi vertices replace them
+    voronoi = prep.lift(voronoi)
     rec = Reconstruction(
         d=d,
         k=k,
@@ -181,7 +192,7 @@ def reconstruct(
         subspace_dim=r,
         bounding_points=prep.lift(bounds),
         delaunay_simplices=simplices,
-        voronoi_vertices=prep.lift(np.vstack([centres, infinite])),
+        voronoi_vertices=voronoi,
         pole_index=pole_w,
         normals=normals,
         tangents=tangents,
@@ -195,6 +206,7 @@ def reconstruct(
         prune_boundary=prune_boundary,
         mode=mode,
     )
+    del faces, lit, coc, simplices, normals, tangents, candidates, voronoi  # held by rec only
     return reextract(rec, test, theta, prune_boundary=prune_boundary, mode=mode, progress=progress,
                      cancel=cancel)
 

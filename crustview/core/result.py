@@ -17,6 +17,7 @@ Index conventions
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -237,6 +238,41 @@ class Extraction:
         return out
 
 
+class CandidateAngles(Mapping):
+    """The three tests' angles, with the cocone ones derived from the per-vertex angles.
+
+    ``"cocone"`` and ``"cocone-all"`` are the minimum and maximum of
+    ``vertex_angles`` over each face's vertices.  They are computed on first
+    access and kept, so a run that extracts with one of them never holds the
+    other (one float64 per Delaunay face: 70 MB at 300,000 samples).
+
+    Parameters
+    ----------
+    literal : ndarray of shape (f,)
+    vertex_angles : ndarray of shape (f, d + 1)
+    """
+
+    _DERIVED = {"cocone": np.min, "cocone-all": np.max}
+
+    def __init__(self, literal: np.ndarray, vertex_angles: np.ndarray) -> None:
+        self._values: dict[str, np.ndarray] = {"literal": literal}
+        self._vertex = vertex_angles
+
+    def __getitem__(self, test: str) -> np.ndarray:
+        got = self._values.get(test)
+        if got is None:
+            if test not in self._DERIVED:
+                raise KeyError(test)
+            got = self._values[test] = self._DERIVED[test](self._vertex, axis=1)
+        return got
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(("cocone", "cocone-all", "literal"))
+
+    def __len__(self) -> int:
+        return 3
+
+
 @dataclass
 class Candidates:
     """All Delaunay d-faces among the samples and both tests' verdicts.
@@ -245,7 +281,7 @@ class Candidates:
     ----------
     faces : ndarray of shape (f, d + 1)
         Every Delaunay d-face whose vertices are all samples (sorted rows).
-    angles : dict of str to ndarray of shape (f,)
+    angles : mapping of str to ndarray of shape (f,)
         The deciding angle of each test, radians.  ``"literal"``: the smallest
         over the face's vertices s of the angle between the dual Voronoi
         (k-d)-cell and AN_s.  ``"cocone"`` / ``"cocone-all"``: the smallest /
@@ -260,7 +296,7 @@ class Candidates:
     """
 
     faces: np.ndarray
-    angles: dict[str, np.ndarray]
+    angles: Mapping[str, np.ndarray]
     theta: float
     vertex_angles: np.ndarray | None = None
 

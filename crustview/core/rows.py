@@ -5,6 +5,16 @@ from __future__ import annotations
 import numpy as np
 
 
+def index_dtype(count: int) -> type:
+    """The smallest of int32/int64 that holds indices ``0 .. count - 1``.
+
+    Vertex tables of a million-sample triangulation are tens of millions of
+    entries; int32 halves them.  Arithmetic on such tables (keys) must cast
+    to int64 first, as :func:`row_keys` does.
+    """
+    return np.int32 if count < 2**31 else np.int64
+
+
 def row_keys(rows: np.ndarray, base: int) -> np.ndarray | None:
     """Encode each row as one int64 (``None`` when ``base ** width`` overflows)."""
     width = rows.shape[1]

@@ -104,7 +104,9 @@ class LayerRow:
             self.opacity.setValue(round(layer.opacity * 100))
             self.size.setValue(layer.size)
             _swatch(self.color, layer.color)
-            self.count.setText(f"{layer.count:,}")
+            thinned = layer.total > layer.count
+            self.count.setText(f"{layer.count:,} of {layer.total:,}" if thinned else f"{layer.count:,}")
+            self.count.setToolTip(layer.note if thinned else "Number of elements in the layer at the current step")
             if isinstance(self.extra, QComboBox):
                 value = layer.colorby if layer.colorings else layer.mode
                 i = self.extra.findText(value)

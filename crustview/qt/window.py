@@ -34,6 +34,7 @@ from .info_dock import InfoPanel
 from .layers_dock import LayersPanel
 from .projection_dock import ProjectionPanel
 from .run_dock import RunPanel
+from .lod import StepDetail
 from .steady import SteadyLabel
 from .steps_dock import StepsPanel
 from .worker import Runner
@@ -104,6 +105,7 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
             self.plotter.clear_events_for_key(key)
         self.view = SceneView(self.model, self.plotter)
         self.view.schedule_render = lambda: QWidget.update(self.plotter)
+        self.step_detail = StepDetail(self.view, self.model.player, self)  # thinned frames while stepping
         self.points: np.ndarray | None = None
         #: Where the shown data came from: a FileSource, a BuiltinSource or None (arrays).
         self.origin = None
@@ -442,8 +444,8 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         rec = self.model.rec
         if rec is None:
             return
-        alive = int(rec.extraction.alive(self.model.player.position).sum())
-        shown = int(self.model.candidate_mask().sum())  # the candidates layer's count
+        alive = int(np.count_nonzero(rec.extraction.alive(self.model.player.position)))
+        shown = int(np.count_nonzero(self.model.candidate_mask()))  # the candidates layer's count
         pending = (self.model.test, self.model.theta) != (rec.test, float(rec.theta))
         self.status_counts.setText(
             f"n = {rec.n} · candidates {shown:,}" + (" (pending change)" if pending else "")

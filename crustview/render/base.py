@@ -31,9 +31,22 @@ def cell_array(cells: np.ndarray | None) -> vtkCellArray:
         return ca
     cells = np.asarray(cells, dtype=np.int64)
     m, w = cells.shape
-    offsets = np.arange(0, m * w + 1, w, dtype=np.int64)
-    ca.SetData(numpy_to_vtk(offsets, deep=True), numpy_to_vtk(np.ascontiguousarray(cells).ravel(), deep=True))
+    # the offsets are a read-only view of a shared ramp: no copy per update (M_S changes every step)
+    ca.SetData(numpy_to_vtk(_ramp(w, m + 1), deep=False), numpy_to_vtk(np.ascontiguousarray(cells).ravel(), deep=True))
     return ca
+
+
+_RAMPS: dict[int, np.ndarray] = {}
+
+
+def _ramp(w: int, count: int) -> np.ndarray:
+    """``arange(0, count * w, w)`` as a read-only view of a cached, grown-on-demand array."""
+    got = _RAMPS.get(w)
+    if got is None or len(got) < count:
+        got = np.arange(0, max(count, 1024) * w, w, dtype=np.int64)
+        got.flags.writeable = False
+        _RAMPS[w] = got
+    return got[:count]
 
 
 def set_points(mesh: pv.PolyData, pts: np.ndarray) -> None:

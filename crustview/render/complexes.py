@@ -70,7 +70,8 @@ class SimplexDrawing:
 
     def cells(self, mask: np.ndarray | None = None) -> np.ndarray:
         """Cells of the rows selected by ``mask`` (all when None)."""
-        c = self.cells_all if mask is None else self.cells_all[mask]
+        # a gather by row numbers is ~3x faster than a boolean index on millions of rows
+        c = self.cells_all if mask is None else np.take(self.cells_all, np.flatnonzero(mask), axis=0)
         return c.reshape(-1, self.width)
 
     def apply(self, mesh, mask: np.ndarray | None) -> None:
@@ -377,9 +378,13 @@ class StepAdapter(LayerAdapter):
         added = np.array(s.added if s else (), dtype=np.int64)
         ids = np.concatenate([kept, removed, added])
         self.ids = ids
-        self.drawing = SimplexDrawing(ext.simplices[ids], rec.d, 0.92 if rec.d >= 2 else 1.0)
-        self.kind = np.concatenate([np.ones(len(kept)), 2 * np.ones(len(removed)), 3 * np.ones(len(added))])
         self.tau = np.array(s.tau if s else (), dtype=np.int64)
+        # only the step's own vertices are projected (a step is a few simplices; the sample may be 10^6)
+        table = ext.simplices[ids]
+        self.verts = np.unique(np.concatenate([table.ravel(), self.tau]))
+        self.tau_local = np.searchsorted(self.verts, self.tau)
+        self.drawing = SimplexDrawing(np.searchsorted(self.verts, table), rec.d, 0.92 if rec.d >= 2 else 1.0)
+        self.kind = np.concatenate([np.ones(len(kept)), 2 * np.ones(len(removed)), 3 * np.ones(len(added))])
         self.project()
         self.drawing.apply(self.part.mesh, None)
         set_cell_scalars(self.part.mesh, np.repeat(self.kind, self.drawing.per))
@@ -414,9 +419,9 @@ class StepAdapter(LayerAdapter):
         rec = self.model.rec
         if rec is None or not hasattr(self, "drawing"):
             return
-        proj = self.model.projection.project(rec.points)
+        proj = self.model.projection.project(rec.points[self.verts])
         set_points(self.part.mesh, self.drawing.points(proj))
-        set_points(self.parts[1].mesh, proj[self.tau] if len(self.tau) else np.zeros((0, 3)))
+        set_points(self.parts[1].mesh, proj[self.tau_local] if len(self.tau) else np.zeros((0, 3)))
 
     def restyle(self) -> None:
         lines = self.model.rec is not None and self.model.rec.d == 1

@@ -7,7 +7,8 @@ import pyvista as pv
 
 from ..scene import geometry as geo
 from ..scene.coloring import COORDINATE_COLORINGS
-from ..scene.quantities import POLE_FINITE, POLE_INFINITE, pole_kinds
+from ..scene.quantities import POLE_FINITE, POLE_INFINITE, POLE_NONE, pole_kinds
+from ..scene.subset import even_subset, subset_note
 from .base import NAN_COLOR, LayerAdapter, set_cells, set_point_scalars, set_points
 
 #: Colour maps of the points layer's colourings.
@@ -63,6 +64,7 @@ class PointsAdapter(LayerAdapter):
         self.project()
         set_cells(self.part.mesh, verts=np.arange(rec.n, dtype=np.int64)[:, None])
         self.layer.count = rec.n
+        self.layer.total, self.layer.note = 0, ""  # drawn whole (the preview may have drawn a subset)
         self.recolor()
 
     def recolor(self, *_) -> None:
@@ -146,7 +148,7 @@ class PolesAdapter(LayerAdapter):
         if rec is None:
             return
         if self.layer.mode == "all":
-            idx = np.arange(rec.n)
+            idx = even_subset(rec.n)
         elif self.model.selection.sample is not None:
             idx = np.array([self.model.selection.sample])
         else:
@@ -184,6 +186,9 @@ class PolesAdapter(LayerAdapter):
         set_cells(self.parts[2].mesh, lines=np.stack([np.arange(r), np.arange(r) + r], axis=1))
         self.n_infinite = int(inf.sum())
         self.layer.count = int(fin.sum() + inf.sum())
+        thinned = self.layer.mode == "all" and len(idx) < rec.n
+        self.layer.total = int((pole_kinds(rec) != POLE_NONE).sum()) if thinned else 0
+        self.layer.note = subset_note("Poles", len(idx), rec.n) if thinned else ""
         self.project()
 
     def project(self) -> None:
@@ -215,11 +220,15 @@ class NormalsAdapter(LayerAdapter):
             return
         # half-length: 0.45 spacing on surfaces; longer on curves, where sample markers cover short ones
         scale = (0.45 if rec.d >= 2 else 1.5) * self.layer.size * self.model.spacing
-        verts, lines, polys = geo.normal_glyphs(rec.points, rec.normals, scale)
+        idx = even_subset(rec.n)
+        scale = scale[idx] if np.ndim(scale) else scale
+        verts, lines, polys = geo.normal_glyphs(rec.points[idx], rec.normals[idx], scale)
         self.xk = verts
         self.project()
         set_cells(self.part.mesh, lines=lines, polys=polys)
-        self.layer.count = rec.n
+        self.layer.count = len(idx)
+        self.layer.total = rec.n if len(idx) < rec.n else 0
+        self.layer.note = subset_note("Normal planes", len(idx), rec.n)
         self._built_size = self.layer.size
 
     def restyle(self) -> None:

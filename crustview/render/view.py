@@ -9,6 +9,7 @@ from ..scene import geometry as geo
 from ..scene.describe import verdict
 from ..scene.layers import CASCADE_COLOR, COMPARE_COLORS, STEP_COLORS
 from ..scene.model import SceneModel
+from ..scene.subset import even_subset
 from .base import NAN_COLOR, LayerAdapter
 from .complexes import (
     RULE_COLORS,
@@ -24,6 +25,7 @@ from .overlay import Legend
 from .framing import frame_for, front_plane, place_camera
 from .picking import pick_visible
 from .inspect import SelectionAdapter, VoronoiAdapter
+from .lod import LevelOfDetail
 from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter, lighter
 
 #: Adapter of each layer (by layer name), in drawing order.
@@ -45,6 +47,8 @@ ADAPTERS: dict[str, type[LayerAdapter]] = {
 }
 
 BACKGROUND = ("#ffffff", "#dde3ea")  # bottom, top
+#: Most raw points the preview draws (an even subset of a bigger file).
+PREVIEW_POINTS = 250_000
 
 
 class SceneView:
@@ -102,6 +106,9 @@ class SceneView:
         model.theorems_changed.connect(lambda *_: (self.adapters["points"].recolor(), self._after_colour()))
         model.cascade_changed.connect(lambda *_: (self.update_legend(), self.render()))
         model.slice_changed.connect(lambda *_: (self.update_legend(), self.render()))
+        #: Big parts thinned while the view moves or steps (see :mod:`crustview.render.lod`).
+        self.lod = LevelOfDetail(plotter.renderer)
+        self._watch_interaction()
 
     def _on_top(self, names: tuple[str, ...]) -> None:
         """Draw these layers in a second renderer layer over the scene.
@@ -130,6 +137,28 @@ class SceneView:
                 top.AddActor(part.actor)
         self.top_renderer = top
 
+    # -- level of detail -----------------------------------------------------
+    def _watch_interaction(self) -> None:
+        """Thin big layers while the mouse drags the view; draw them whole on release."""
+        iren = getattr(self.plotter, "iren", None)
+        style = iren.interactor.GetInteractorStyle() if iren is not None else None
+        if style is None:
+            return
+        style.AddObserver("StartInteractionEvent", lambda *_: self.begin_lod())
+        style.AddObserver("EndInteractionEvent", lambda *_: self.end_lod())
+
+    def _shown_parts(self) -> list:
+        return [p for a in self.adapters.values() if a.layer.visible for p in a.parts]
+
+    def begin_lod(self) -> bool:
+        """Draw parts above :data:`~crustview.render.lod.LOD_CELLS` cells thinned until :meth:`end_lod`."""
+        return self.lod.begin(self._shown_parts()) if self.ready else False
+
+    def end_lod(self) -> None:
+        """Draw every part whole again (one render, if anything was thinned)."""
+        if self.lod.end():
+            self.request_render()
+
     # -- helpers -------------------------------------------------------------
     @property
     def ready(self) -> bool:
@@ -150,6 +179,7 @@ class SceneView:
             self.schedule_render()
 
     def _on_visible(self, a: LayerAdapter) -> None:
+        self.lod.end()  # a thinned copy must not outlive its layer's visibility
         if a.layer.visible and a in self._stale and self.ready:
             # hidden layers skip updates; catch up once when shown again
             self._stale.discard(a)
@@ -190,18 +220,26 @@ class SceneView:
                 self.render()
             return
         p = np.asarray(points, dtype=float)
-        self.model.layers["points"].count = len(p)  # the layer panel counts what is drawn
-        p = p - p.mean(axis=0)
+        n = len(p)
+        # a million raw points cost a second per frame in software GL: an even subset stands in
+        keep = even_subset(n, PREVIEW_POINTS)
+        points_layer = self.model.layers["points"]
+        points_layer.count = len(keep)  # the layer panel counts what is drawn
+        points_layer.total = n if len(keep) < n else 0
+        points_layer.note = (f"Raw points: drawn {len(keep):,} of {n:,} while the reconstruction runs"
+                             if len(keep) < n else "")
+        p = p[keep] - p.mean(axis=0)
         flat = p.shape[1] == 2
         p3 = np.zeros((len(p), 3))
         p3[:, : min(3, p.shape[1])] = p[:, :3]
         import pyvista as pv
 
         self.plotter.add_mesh(pv.PolyData(p3), name="preview", color="#34495e", point_size=3.0,
-                              render_points_as_spheres=False, pickable=False, reset_camera=False)
+                              render_points_as_spheres=False, pickable=False, reset_camera=False, render=False)
         if flat:
             self.plotter.view_xy(render=False)
-        self.plotter.reset_camera(bounds=tuple(np.ravel(np.stack([p3.min(axis=0), p3.max(axis=0)], axis=1))))
+        self.plotter.reset_camera(render=False,
+                                  bounds=tuple(np.ravel(np.stack([p3.min(axis=0), p3.max(axis=0)], axis=1))))
         self.render()
 
     def on_reconstruction(self) -> None:
@@ -210,6 +248,7 @@ class SceneView:
             return
         self.show_preview(None)
         self.clear_clip()
+        self.lod.end()
         self._built_for = id(rec)
         self._stale.clear()
         for a in self.adapters.values():
@@ -228,6 +267,8 @@ class SceneView:
         self.clear_clip()  # the cut was placed for the old projection
         for a in self._live():
             a.project()
+        if self.lod.active:
+            self.lod.begin(self._shown_parts())  # the grand tour moves the points of thinned parts
         self.update_basis_text()
         self.update_bars()  # a colouring by the hidden depth names the direction, which turned
         self.render()
@@ -238,6 +279,8 @@ class SceneView:
         for a in self._live():
             if a.uses_step:
                 a.step()
+        if self.lod.active:
+            self.lod.begin(self._shown_parts())  # re-thin what the step changed
         self.update_legend()
         self.request_render()
 
@@ -333,15 +376,17 @@ class SceneView:
         self.legend.set(self.legend_entries(), self.notes())
 
     def notes(self) -> list[str]:
-        """Warning lines above the legend when the final M_S is not a closed manifold through every sample."""
+        """Lines above the legend: M_S is not a closed manifold through every sample; layers drawn thinned."""
         rec = self.model.rec
         if rec is None:
             return []
+        # layers drawn as a subset say so over the view, too
+        thinned = [layer.note for layer in self.model.layers.values() if layer.visible and layer.note]
         level, words = verdict(rec)
         if level == "ok":
-            return []
+            return thinned
         head, _, rest = words.partition(" (")
-        return [head, ("(" + rest + " — see Information") if rest else "see Information"]
+        return [head, ("(" + rest + " — see Information") if rest else "see Information"] + thinned
 
     def update_basis_text(self) -> None:
         p = self.model.projection

@@ -127,10 +127,12 @@ def facets(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     incidence : ndarray of shape (m, d + 1)
         ``faces`` row of each simplex's face opposite to vertex ``a``.
     """
+    from ..core.rows import unique_rows  # one int64 key per row: np.unique(axis=0) is ~10x slower
+
     m, dp1 = simplices.shape
     s = np.sort(simplices, axis=1)
     sub = np.stack([np.delete(s, a, axis=1) for a in range(dp1)], axis=1)  # (m, d+1, d)
-    faces, inv = np.unique(sub.reshape(-1, dp1 - 1), axis=0, return_inverse=True)
+    faces, inv = unique_rows(sub.reshape(-1, dp1 - 1))
     return faces, inv.reshape(m, dp1)
 
 

@@ -59,7 +59,12 @@ class Layer:
     shrink : float
         Shrink factor of simplices towards their centroid (d >= 3 only).
     count : int
-        Number of elements the layer holds at the current state.
+        Number of elements the layer draws at the current state.
+    total : int
+        Elements the layer would draw whole, when it draws a subset
+        (:mod:`crustview.scene.subset`); 0 when it draws everything.
+    note : str
+        Why and how the layer is thinned ('' when it is not).
     tooltip : str
     """
 
@@ -74,6 +79,8 @@ class Layer:
     mode: str = ""
     shrink: float = 1.0
     count: int = 0
+    total: int = 0
+    note: str = ""
     tooltip: str = ""
     extra: dict = field(default_factory=dict)
 

@@ -341,7 +341,14 @@ class SceneModel:
     def candidate_mask(self) -> np.ndarray:
         """Rows of ``candidates.faces`` the candidates layer shows."""
         assert self.rec is not None
-        return self.rec.candidates.mask(self.test, self.theta)
+        cands = self.rec.candidates
+        last = getattr(self, "_mask_memo", None)
+        # one mask kept (read-only): every step asks for its count, the test and theta rarely change
+        if last is None or last[0] is not cands or last[1] != (self.test, self.theta):
+            mask = cands.mask(self.test, self.theta)
+            mask.flags.writeable = False
+            last = self._mask_memo = (cands, (self.test, self.theta), mask)
+        return last[2]
 
     @property
     def extraction_facets(self) -> tuple[np.ndarray, np.ndarray]:

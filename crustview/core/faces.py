@@ -1,0 +1,163 @@
+"""The Delaunay d-faces among the samples and the simplices around each (Algorithm 2's input).
+
+At a million samples a tetrahedralisation has 17 million simplices and 68
+million face instances, so this is written for memory: the only arrays as
+long as the instances are their int64 keys and one stable sort order.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from .parallel import WORKERS, run_in_order
+
+#: Simplices (and face instances) per block in :func:`enumerate_faces`.
+ENUM_BLOCK = 1 << 20
+
+
+def enumerate_faces(simplices: np.ndarray, n_samples: int, d: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """All d-faces of the Delaunay simplices whose vertices are samples.
+
+    Returns
+    -------
+    faces : ndarray of shape (f, d + 1)
+        Sorted rows, lexicographically sorted (int64).
+    cell_ptr : ndarray of shape (f + 1,)
+    cell_simplices : ndarray
+        ``cell_simplices[cell_ptr[i]:cell_ptr[i+1]]`` are the Delaunay
+        simplices containing face ``i`` (vertices of its dual cell), in
+        increasing order; int32 when the simplex count allows it.
+
+    Notes
+    -----
+    Memory is the limit at a million samples (tens of millions of face
+    instances), so the only arrays as long as the instances are their int64
+    keys and one stable sort order; the distinct faces, their pointers and
+    the owning simplices are then read from those in blocks.
+    """
+    srt = sort_rows(simplices)
+    w = srt.shape[1]
+    combos = list(itertools.combinations(range(w), d + 1))
+    if float(n_samples) ** (d + 1) >= 2**62:
+        return _enumerate_faces_lexsort(srt, n_samples, d, combos)
+    nc = len(combos)
+    # one int64 key per face instance, face-major within each simplex (the
+    # order of the old srt[:, combos] layout); -1 when a vertex is a bounding point
+    keys = np.empty((len(srt), nc), dtype=np.int64)
+    for lo in range(0, len(srt), ENUM_BLOCK):
+        blk = srt[lo : lo + ENUM_BLOCK]
+        for q, cols in enumerate(combos):
+            k = blk[:, cols[0]].astype(np.int64)
+            for c in cols[1:]:
+                k *= n_samples
+                k += blk[:, c]
+            keys[lo : lo + len(blk), q] = np.where(blk[:, cols[-1]] < n_samples, k, -1)
+    del srt
+    keys = keys.ravel()
+    order = _stable_argsort(keys, lower=0)  # instances of sample faces only, by key, stable
+    owner_dtype = np.int32 if len(keys) // nc < 2**31 else np.int64
+    if len(order) == 0:
+        return np.empty((0, d + 1), np.int64), np.zeros(1, np.int64), np.empty(0, owner_dtype)
+    # first instance of each distinct key, and each instance's simplex, block by block
+    starts_parts = []
+    owner = np.empty(len(order), dtype=owner_dtype)
+    prev = None
+    for lo in range(0, len(order), ENUM_BLOCK):
+        sl = order[lo : lo + ENUM_BLOCK]
+        sk = keys[sl]
+        new = np.empty(len(sk), dtype=bool)
+        new[0] = prev is None or sk[0] != prev
+        np.not_equal(sk[1:], sk[:-1], out=new[1:])
+        starts_parts.append(np.flatnonzero(new) + lo)
+        owner[lo : lo + len(sl)] = sl // nc
+        prev = sk[-1]
+    starts = np.concatenate(starts_parts)
+    del starts_parts
+    rest = keys[order[starts]]
+    del keys, order
+    uniq = np.empty((len(starts), d + 1), dtype=np.int64)
+    for c in range(d, -1, -1):
+        uniq[:, c] = rest % n_samples
+        rest //= n_samples
+    ptr = np.append(starts, len(owner))
+    return uniq, ptr, owner
+
+
+def _enumerate_faces_lexsort(
+    srt: np.ndarray, n_samples: int, d: int, combos: list[tuple[int, ...]]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`enumerate_faces` when a face does not fit one int64 key."""
+    faces = srt[:, np.array(combos)].reshape(-1, d + 1)
+    owner = np.repeat(np.arange(len(srt)), len(combos))
+    keep = faces[:, -1] < n_samples
+    faces, owner = faces[keep], owner[keep]
+    if len(faces) == 0:
+        return np.empty((0, d + 1), np.int64), np.zeros(1, np.int64), np.empty(0, np.int64)
+    order = np.lexsort(faces.T[::-1])
+    sf = faces[order]
+    starts = np.flatnonzero(np.concatenate([[True], (sf[1:] != sf[:-1]).any(axis=1)]))
+    ptr = np.concatenate([starts, [len(order)]])
+    return faces[order[starts]].astype(np.int64), ptr, owner[order]
+
+
+def sort_rows(rows: np.ndarray) -> np.ndarray:
+    """Each row sorted (like ``np.sort(rows, axis=1)``) by compare-exchange on columns."""
+    cols = [np.ascontiguousarray(rows[:, c]) for c in range(rows.shape[1])]
+    w = len(cols)
+    for i in range(w):  # odd-even transposition sort: w rounds of neighbour swaps
+        for j in range(i % 2, w - 1, 2):
+            lo = np.minimum(cols[j], cols[j + 1])
+            cols[j + 1] = np.maximum(cols[j], cols[j + 1])
+            cols[j] = lo
+    return np.stack(cols, axis=1)
+
+
+def _stable_argsort(key: np.ndarray, workers: int | None = None, lower: int | None = None) -> np.ndarray:
+    """``np.argsort(key, kind="stable")``, with key ranges sorted on separate threads.
+
+    The ranges are split at sample quantiles; each range keeps its
+    elements' original order, so concatenating the sorted ranges is exactly
+    the stable order of the whole array.  With ``lower``, only the positions
+    of keys ``>= lower`` are returned (in the same order).  There are more
+    ranges than threads, so the temporaries of the ranges being sorted stay
+    a fraction of the key array.
+    """
+    threads = WORKERS if workers is None else workers
+    if threads <= 1 or len(key) < 1 << 16:
+        if lower is None:
+            return np.argsort(key, kind="stable")
+        idx = np.flatnonzero(key >= lower)
+        return idx[np.argsort(key[idx], kind="stable")]
+    parts = 4 * threads
+    sample = key[:: max(1, len(key) // 4096)]
+    if lower is not None:
+        sample = sample[sample >= lower]
+    sample = np.sort(sample)
+    cuts = np.unique(sample[(np.arange(1, parts) * len(sample)) // parts]).tolist() if len(sample) else []
+    first = None if lower is None else lower
+    bounds = list(zip([first, *cuts], [*cuts, None]))
+
+    def sort_part(bound: tuple) -> np.ndarray:
+        lo, hi = bound
+        if lo is None:
+            mask = key < hi if hi is not None else np.ones(len(key), dtype=bool)
+        elif hi is None:
+            mask = key >= lo
+        else:
+            mask = (key >= lo) & (key < hi)
+        idx = np.flatnonzero(mask)
+        del mask
+        sub = key[idx]
+        perm = np.argsort(sub, kind="stable")
+        del sub
+        return idx[perm]
+
+    total = len(key) if lower is None else int(np.count_nonzero(key >= lower))
+    order = np.empty(total, dtype=np.int64)
+    at = 0
+    for part in run_in_order(sort_part, bounds, threads):
+        order[at : at + len(part)] = part
+        at += len(part)
+    return order
