@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pytestqt")
-from dialogs import on_next_dialog, wait_idle  # noqa: E402
+from gui_helpers import on_next_dialog, wait_idle  # noqa: E402
 
 from crustview.core import reextract  # noqa: E402
 from crustview.core.complexdiff import diff_complexes  # noqa: E402

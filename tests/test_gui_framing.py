@@ -4,23 +4,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pytestqt")
-
-
-def load(qtbot, win, name="torus"):
-    assert win.load_builtin(name)
-    qtbot.waitUntil(lambda: not win.runner.busy, timeout=60_000)
-    assert win.model.rec is not None, win.last_error
-    return win.model.rec
-
-
-def display_xy(win, xyz):
-    ren = win.plotter.renderer
-    ren.SetWorldPoint(*xyz, 1.0)
-    ren.WorldToDisplay()
-    x, y, _ = ren.GetDisplayPoint()
-    return x, y
-
-
+from gui_helpers import display_xy, load  # noqa: E402
 def test_a_step_on_the_underside_of_the_torus_is_seen_without_the_top_in_front(qtbot, window):
     rec = load(qtbot, window)
     m = window.model

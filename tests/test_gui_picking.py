@@ -4,25 +4,8 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pytestqt")
+from gui_helpers import display_xy, load  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
-
-
-def load(qtbot, win, name="torus", n=None, timeout=60_000):
-    assert win.load_builtin(name, n)
-    qtbot.waitUntil(lambda: not win.runner.busy, timeout=timeout)
-    assert win.model.rec is not None, win.last_error
-    qtbot.wait(50)
-    return win.model.rec
-
-
-def display_xy(win, xyz):
-    ren = win.plotter.renderer
-    ren.SetWorldPoint(*xyz, 1.0)
-    ren.WorldToDisplay()
-    x, y, _ = ren.GetDisplayPoint()
-    return x, y
-
-
 def ray_hits(origin, target, tris):
     """Parameters t in (0, 1) where the segment origin -> target crosses triangles ``tris`` (m, 3, 3)."""
     d = target - origin

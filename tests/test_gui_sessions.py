@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pytestqt")
-from dialogs import answer_file_dialog, wait_idle  # noqa: E402
+from gui_helpers import answer_file_dialog, wait_idle  # noqa: E402
 
 
 

@@ -5,15 +5,8 @@ from pathlib import Path
 import pytest
 
 pytest.importorskip("pytestqt")
+from gui_helpers import load  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
-
-
-def load(qtbot, win, name="torus", n=None):
-    assert win.load_builtin(name, n)
-    qtbot.waitUntil(lambda: not win.runner.busy, timeout=60_000)
-    assert win.model.rec is not None, win.last_error
-    return win.model.rec
-
 
 def test_status_bar_counts_the_candidates_the_layer_shows_while_a_change_is_pending(qtbot, window):
     load(qtbot, window)

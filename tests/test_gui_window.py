@@ -6,19 +6,10 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pytestqt")
-from dialogs import on_next_dialog  # noqa: E402
+from gui_helpers import display_xy, load, on_next_dialog  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 
 from crustview.qt.info_dock import BANNER_STYLE  # noqa: E402
-
-
-def load(qtbot, win, name="torus", n=None, timeout=60_000):
-    assert win.load_builtin(name, n)
-    qtbot.waitUntil(lambda: not win.runner.busy, timeout=timeout)
-    assert win.model.rec is not None, win.last_error
-    qtbot.wait(50)
-    return win.model.rec
-
 
 def shot(win):
     win.view.render()
@@ -35,15 +26,6 @@ def front_sample(win):
     cam = np.array(win.plotter.camera.position)
     p = win.model.projection.project(rec.points)
     return int(np.argmin(np.linalg.norm(p - cam, axis=1)))
-
-
-def display_xy(win, xyz):
-    ren = win.plotter.renderer
-    ren.SetWorldPoint(*xyz, 1.0)
-    ren.WorldToDisplay()
-    x, y, _ = ren.GetDisplayPoint()
-    return x, y
-
 
 def test_loading_a_builtin_sample(qtbot, window):
     rec = load(qtbot, window)

@@ -1,4 +1,4 @@
-"""Answering the window's modal dialogs from the event loop (shared by the GUI tests)."""
+"""Shared by the GUI tests: loading a built-in, answering modal dialogs, screen positions."""
 
 from __future__ import annotations
 
@@ -39,3 +39,20 @@ def wait_idle(qtbot, win, timeout: int = 60_000) -> None:
     """Wait until the window's worker is done, and fail with its error if it left no result."""
     qtbot.waitUntil(lambda: not win.runner.busy, timeout=timeout)
     assert win.model.rec is not None, win.last_error
+
+
+def load(qtbot, win, name: str = "torus", n: int | None = None, timeout: int = 60_000):
+    """Load built-in ``name`` in the window, wait for its result and return it."""
+    assert win.load_builtin(name, n)
+    wait_idle(qtbot, win, timeout)
+    qtbot.wait(50)
+    return win.model.rec
+
+
+def display_xy(win, xyz) -> tuple[float, float]:
+    """Display coordinates of world point ``xyz`` in the window's 3D view."""
+    ren = win.plotter.renderer
+    ren.SetWorldPoint(*xyz, 1.0)
+    ren.WorldToDisplay()
+    x, y, _ = ren.GetDisplayPoint()
+    return x, y
