@@ -3,6 +3,7 @@
 import pytest
 
 from crustview.core import reconstruct
+from crustview.core.manifolds import projective_plane_points
 from crustview.core.sampling import MANIFOLDS, get_manifold
 from crustview.scene.shapes import name_of, shape_name
 
@@ -41,20 +42,7 @@ def test_s3_and_the_torus_fixtures(s3_run, torus_run):
         assert name_of(rec.topology, rec.d) == shape_name(t.d, t.betti, t.orientable)
 
 
-def projective_plane(n: int):
-    """n samples of RP^2 in R^4: even points of the upper half sphere under (xy, xz, y^2 - z^2, 2yz)."""
-    import numpy as np
-
-    i = np.arange(2 * n) + 0.5
-    z = 1 - 2 * i / (2 * n)
-    r = np.sqrt(1 - z * z)
-    phi = np.pi * (1 + 5 ** 0.5) * i
-    v = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
-    x, y, z = v[v[:, 2] > 0].T
-    return np.stack([x * y, x * z, y * y - z * z, 2 * y * z], axis=1)
-
-
 @pytest.mark.slow
 def test_projective_plane_in_r4_is_named():
-    rec = reconstruct(projective_plane(1000), 2)
+    rec = reconstruct(projective_plane_points(1000), 2)
     assert name_of(rec.topology, rec.d) == "projective plane", rec.topology

@@ -174,3 +174,22 @@ def get_manifold(name: str) -> TestManifold:
         raise InputError(
             f"Unknown manifold {name!r}; choose one of {', '.join(MANIFOLDS)}."
         ) from None
+
+
+def projective_plane_points(n: int = 1000) -> np.ndarray:
+    """About ``n`` points of the real projective plane in R^4 (not a built-in: no chart sampler).
+
+    Even (Fibonacci) points of the upper half of the unit sphere, mapped by
+    the embedding (xy, xz, y^2 - z^2, 2yz), which identifies antipodes.
+
+    Returns
+    -------
+    ndarray of shape (about n, 4)
+    """
+    i = np.arange(2 * n) + 0.5
+    z = 1 - 2 * i / (2 * n)
+    r = np.sqrt(1 - z * z)
+    phi = np.pi * (1 + 5**0.5) * i
+    v = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
+    x, y, z = v[v[:, 2] > 0].T
+    return np.stack([x * y, x * z, y * y - z * z, 2 * y * z], axis=1)

@@ -158,19 +158,10 @@ def s3_sliced(app, win) -> None:
     win.plotter.camera.azimuth = 35
 
 
-def projective_plane_points(n: int = 1000) -> np.ndarray:
-    """RP^2 in R^4: even points of the upper half sphere under (xy, xz, y^2 - z^2, 2yz)."""
-    i = np.arange(2 * n) + 0.5
-    z = 1 - 2 * i / (2 * n)
-    r = np.sqrt(1 - z * z)
-    phi = np.pi * (1 + 5 ** 0.5) * i
-    v = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
-    x, y, z = v[v[:, 2] > 0].T
-    return np.stack([x * y, x * z, y * y - z * z, 2 * y * z], axis=1)
-
-
 def projective_plane(app, win) -> None:
     """The projective plane in R^4, M_S coloured by its 4th coordinate (the one the view drops)."""
+    from crustview.core.manifolds import projective_plane_points
+
     win.start_reconstruction(projective_plane_points(), 2, source="projective plane in R^4 (n = 1000)")
     wait(app, win)
     m = win.model
