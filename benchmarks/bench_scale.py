@@ -38,18 +38,10 @@ CASES = {
 
 
 def _gudhi_seconds(points, d: int, fix: bool) -> float:  # noqa: ANN001
-    import gudhi
-    import numpy as np
-    from scipy.spatial import cKDTree
+    """Seconds of GUDHI's tangential complex (``bench_gudhi.gudhi_betti``, beside this file)."""
+    from bench_gudhi import gudhi_betti
 
-    t0 = time.perf_counter()
-    tc = gudhi.TangentialComplex(intrinsic_dim=d, points=points)
-    tc.compute_tangential_complex()
-    if fix:
-        spacing = float(np.median(cKDTree(points).query(points, k=2)[0][:, 1]))
-        tc.fix_inconsistencies_using_perturbation(0.1 * spacing, 30.0)
-    tc.create_simplex_tree()
-    return time.perf_counter() - t0
+    return gudhi_betti(points, d, fix)[2]
 
 
 def run_one(case: str) -> dict:
