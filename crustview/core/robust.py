@@ -70,7 +70,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -129,17 +128,7 @@ def extract_robust(
     d1 = faces.shape[1] if faces.ndim == 2 else 2
     note_paper: str
     if len(tset) and covered.all():
-        # the growth's set-up (numpy work that releases the GIL) runs on the
-        # other core while the paper's loop runs here; it is dropped unused
-        # when the paper succeeds
-        pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="crustview-grow")
-        pending = pool.submit(_prepare_growth, points, faces, scores, admitted)
-        pool.shutdown(wait=False)
-        try:
-            paper = extract(points, tset, stop_when_sample_lost=True, cancel=cancel)
-        except BaseException:
-            pending.cancel()
-            raise
+        paper = extract(points, tset, stop_when_sample_lost=True, cancel=cancel)
         if paper.stopped == "closed":
             final = paper.complex_at(paper.n_steps)
             if analyse(final, n, d1 - 1).closed_manifold:
@@ -155,14 +144,11 @@ def extract_robust(
         else:
             note_paper = f"the paper's Algorithm 3 ended {paper.stopped}"
         holes = paper.holes
-        prepared = pending
     else:
         missing = int((~covered).sum())
         note_paper = f"{missing} samples are in no simplex of T_S, so the paper's Algorithm 3 cannot succeed"
         holes = None
-        prepared = None
-    ext = _grow_and_patch(points, prepared.result() if prepared is not None
-                          else _prepare_growth(points, faces, scores, admitted), spacing, cancel, progress)
+    ext = _grow_and_patch(points, _prepare_growth(points, faces, scores, admitted), spacing, cancel, progress)
     ext.holes = holes
     ext.notes.insert(0, note_paper + "; the robust extension grew M_S instead")
     return ext
@@ -183,7 +169,7 @@ def _prepare_growth(points: np.ndarray, faces: np.ndarray, scores: np.ndarray,
                     admitted: np.ndarray) -> tuple[np.ndarray, np.ndarray, int, Grower, np.ndarray]:
     """The walk's faces (T_S first), its Grower, and the manifold core added to it.
 
-    Pure array work on its own inputs, so it can run on another thread.
+    Pure array work on its own inputs.
     """
     # faces too large to be grown never enter the grower (T_S is kept whole for its row ids)
     size = size_ratio(points, faces)
