@@ -34,6 +34,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from .extraction import facet_structure
+from .polygons import is_ear, min_angle, plane_polygon
 
 #: Largest hole, in boundary (d-1)-faces, that ``fill-hole`` closes.
 FILL_MAX_FACES = 50
@@ -440,7 +441,7 @@ class Patcher:
         if loops is None:
             return
         for loop in loops:
-            q = self._plane(loop)
+            q = plane_polygon(self.points[loop])
             if q is None:
                 continue
             idx = list(range(len(loop)))
@@ -449,7 +450,7 @@ class Patcher:
                 m = len(idx)
                 for t in range(m):
                     a, b, c = idx[t - 1], idx[t], idx[(t + 1) % m]
-                    if not _is_ear(q, idx, t):
+                    if not is_ear(q, idx, t):
                         continue
                     tri = tuple(sorted((loop[a], loop[b], loop[c])))
                     diag = tuple(sorted((loop[a], loop[c])))
@@ -459,7 +460,7 @@ class Patcher:
                         continue
                     if not self.consistent(tri):
                         continue
-                    shape = _min_angle(q[a], q[b], q[c])
+                    shape = min_angle(q[a], q[b], q[c])
                     if best is None or shape > best[0]:
                         best = (shape, t, tri)
                 if best is None:
@@ -471,21 +472,6 @@ class Patcher:
                 idx.pop(t)
                 if len(idx) < 3:
                     break
-
-    def _plane(self, loop: list[int]) -> np.ndarray | None:
-        """The loop in its best-fit plane, shape (m, 2), or None if that polygon is not simple."""
-        p = self.points[loop]
-        c = p - p.mean(axis=0)
-        _, _, vt = np.linalg.svd(c, full_matrices=False)
-        q = c @ vt[:2].T
-        m = len(loop)
-        for i in range(m):
-            for j in range(i + 2, m):
-                if i == 0 and j == m - 1:
-                    continue
-                if _segments_cross(q[i], q[(i + 1) % m], q[j], q[(j + 1) % m]):
-                    return None
-        return q
 
     def _join_ends(self, ends: list[Simplex], why: str) -> None:
         """Join curve ends in pairs, closest first, up to FILL_MAX_SPAN local spacings apart."""
@@ -670,44 +656,3 @@ def _parity(seq: list[int]) -> int:
                 seq[j], seq[j + 1] = seq[j + 1], seq[j]
                 sign = -sign
     return sign
-
-
-def _cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    return float((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]))
-
-
-def _segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> bool:
-    """Whether the open segments ab and cd cross (proper intersection)."""
-    d1, d2 = _cross(c, d, a), _cross(c, d, b)
-    d3, d4 = _cross(a, b, c), _cross(a, b, d)
-    return d1 * d2 < 0 and d3 * d4 < 0
-
-
-def _is_ear(q: np.ndarray, idx: list[int], t: int) -> bool:
-    """Whether vertex idx[t] of the polygon q[idx] is an ear (convex, nothing inside)."""
-    m = len(idx)
-    poly = q[idx]
-    area = 0.5 * sum(_cross(np.zeros(2), poly[i], poly[(i + 1) % m]) for i in range(m))
-    sign = 1.0 if area >= 0 else -1.0
-    a, b, c = poly[t - 1], poly[t], poly[(t + 1) % m]
-    if sign * _cross(a, b, c) <= 0:
-        return False
-    for r in range(m):
-        if r in (t - 1 if t > 0 else m - 1, t, (t + 1) % m):
-            continue
-        p = poly[r]
-        if sign * _cross(a, b, p) >= 0 and sign * _cross(b, c, p) >= 0 and sign * _cross(c, a, p) >= 0:
-            return False
-    return True
-
-
-def _min_angle(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> float:
-    """Smallest angle of the triangle abc (radians)."""
-    out = np.pi
-    for p, q, r in ((a, b, c), (b, c, a), (c, a, b)):
-        u, v = q - p, r - p
-        den = float(np.linalg.norm(u) * np.linalg.norm(v))
-        if den == 0:
-            return 0.0
-        out = min(out, float(np.arccos(np.clip(u @ v / den, -1, 1))))
-    return out

@@ -1,0 +1,66 @@
+"""Planar polygons for ear clipping: a hole's rim in its best-fit plane, ears, triangle shape.
+
+Used by :mod:`crustview.core.holes` to close a surface hole by ears: the rim
+is projected to the plane of its two main directions; if that polygon is
+simple, ear clipping there always succeeds (two ears theorem).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def plane_polygon(p: np.ndarray) -> np.ndarray | None:
+    """Points ``p`` (m, k) of a closed loop in their best-fit plane, (m, 2); None if not a simple polygon."""
+    c = p - p.mean(axis=0)
+    _, _, vt = np.linalg.svd(c, full_matrices=False)
+    q = c @ vt[:2].T
+    m = len(p)
+    for i in range(m):
+        for j in range(i + 2, m):
+            if i == 0 and j == m - 1:
+                continue
+            if _segments_cross(q[i], q[(i + 1) % m], q[j], q[(j + 1) % m]):
+                return None
+    return q
+
+
+def _cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    return float((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]))
+
+
+def _segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> bool:
+    """Whether the open segments ab and cd cross (proper intersection)."""
+    d1, d2 = _cross(c, d, a), _cross(c, d, b)
+    d3, d4 = _cross(a, b, c), _cross(a, b, d)
+    return d1 * d2 < 0 and d3 * d4 < 0
+
+
+def is_ear(q: np.ndarray, idx: list[int], t: int) -> bool:
+    """Whether vertex idx[t] of the polygon q[idx] is an ear (convex, nothing inside)."""
+    m = len(idx)
+    poly = q[idx]
+    area = 0.5 * sum(_cross(np.zeros(2), poly[i], poly[(i + 1) % m]) for i in range(m))
+    sign = 1.0 if area >= 0 else -1.0
+    a, b, c = poly[t - 1], poly[t], poly[(t + 1) % m]
+    if sign * _cross(a, b, c) <= 0:
+        return False
+    for r in range(m):
+        if r in (t - 1 if t > 0 else m - 1, t, (t + 1) % m):
+            continue
+        p = poly[r]
+        if sign * _cross(a, b, p) >= 0 and sign * _cross(b, c, p) >= 0 and sign * _cross(c, a, p) >= 0:
+            return False
+    return True
+
+
+def min_angle(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> float:
+    """Smallest angle of the triangle abc (radians)."""
+    out = np.pi
+    for p, q, r in ((a, b, c), (b, c, a), (c, a, b)):
+        u, v = q - p, r - p
+        den = float(np.linalg.norm(u) * np.linalg.norm(v))
+        if den == 0:
+            return 0.0
+        out = min(out, float(np.arccos(np.clip(u @ v / den, -1, 1))))
+    return out
