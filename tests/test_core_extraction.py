@@ -289,3 +289,21 @@ def test_betti_numbers_of_open_surfaces_agree_with_elimination(seed):
     assert rep.nonmanifold_faces == 0 and rep.boundary_faces > 0
     assert rep.betti == expected
     assert rep.betti[2] == untouched  # the octahedron (last 8 rows) is never punched
+
+
+def test_initial_sharp_set_matches_the_per_facet_rule_on_a_thin_scan():
+    # the horse's T_S has facets in 3, 4 and more candidate triangles; the
+    # vectorised first sharp set must be exactly what is_sharp says per facet
+    from pathlib import Path
+
+    from crustview.core import reconstruct
+    from crustview.core.extraction import _Extractor, _initial_sharp
+    from crustview.io import read_mesh
+
+    pts = np.asarray(read_mesh(Path(__file__).parents[1] / "resources" / "horse-quads.obj").points, float)
+    rec = reconstruct(pts, 2, mode="paper")
+    ex = _Extractor(rec.points, rec.candidates.select(rec.test, rec.theta))
+    assert (ex.count > 3).sum() > 10  # the case the grouping is for is present
+    expected = [g for g in range(len(ex.facets)) if ex.is_sharp(g)[0]]
+    assert _initial_sharp(ex) == expected
+    assert 0 < len(expected) < len(ex.facets)

@@ -81,17 +81,33 @@ def test_pinched_vertex_and_a_second_sheet_are_left_to_the_walk():
     assert len(ids) == 4 and (verts == {1, 2, 3, 4, 5} or verts == {6, 7, 8, 9, 10})
 
 
-def test_non_orientable_core_is_refused_in_codimension_one_only():
+def test_non_orientable_core_is_cut_to_an_orientable_part_in_codimension_one_only():
     klein = np.sort(grid_surface(4, 5, klein=True), axis=1)
     pts = np.random.default_rng(0).normal(size=(20, 4))
     # flatness off (cos limit above 1): only the orientation decides
-    assert len(core_of(pts, klein, cos_limit=2.0, orientable=True)[0]) == 0
+    ids, orient = core_of(pts, klein, cos_limit=2.0, orientable=True)
+    assert 0 < len(ids) < len(klein)
+    # what is left is consistently oriented: no directed edge is run twice
+    edges = oriented_edges(klein, ids, orient)
+    assert len(set(edges)) == len(edges)
     assert len(core_of(pts, klein, cos_limit=2.0, orientable=False)[0]) == len(klein)
     torus = np.sort(grid_surface(4, 5), axis=1)
     ids, orient = core_of(pts, torus, cos_limit=2.0, orientable=True)
     assert len(ids) == len(torus)
     edges = oriented_edges(torus, ids, orient)
     assert all((b, a) in edges for a, b in edges)
+
+
+def test_the_two_cheapest_faces_at_a_non_manifold_edge_are_its_core_pair():
+    # the fin on edge (0, 2) is in T_S too: three candidates there.  Costlier than the two
+    # octahedron faces at that edge, it stays out and the whole octahedron is the core;
+    # cheaper, it leaves a tie for second place, so the edge's three faces are left to the walk
+    pts = np.vstack([OCTA_PTS, [[1.0, 1.0, 0.2]]])
+    faces = np.vstack([OCTA, [[0, 2, 6]]])
+    ids, _ = core_of(pts, faces, cost=np.r_[np.ones(8), 2.0])
+    assert ids.tolist() == list(range(8))
+    ids, _ = core_of(pts, faces, cost=np.r_[np.ones(8), 0.5])
+    assert {tuple(faces[i]) for i in ids} == {tuple(t) for t in OCTA.tolist() if not {0, 2} <= set(t)}
 
 
 def test_bulk_add_leaves_the_state_of_adding_one_by_one():

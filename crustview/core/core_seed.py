@@ -1,23 +1,28 @@
 """The manifold core of T_S: the part of the candidates that the growth can take at once.
 
 The robust extension (:mod:`crustview.core.robust`) grows M_S one Delaunay
-face at a time, cheapest first.  Where T_S is already a manifold *and* its
-faces are the cheapest candidates on both sides of every shared face, that
+face at a time, cheapest first.  Where the faces
+of T_S are the cheapest candidates on both sides of every shared face, that
 walk has no choice to make: whichever side it arrives from, it takes the
-face of T_S.  The robust extension seeds the growth with all such faces in
+face of T_S.  Thin scans have T_S non-manifold at a fifth of its edges; there
+the two cheapest faces are the walk's choice as well, so they join the core.  The robust extension seeds the growth with all such faces in
 one step (rule ``seed-core``) and walks only where a choice is left.
 
 A face sigma of T_S is in the core when
 
 * it is small enough to be grown at all (size ratio at most
   :data:`~crustview.core.grow.SIZE_MAX`);
-* each of its (d-1)-faces tau lies in exactly one other simplex of T_S, the
-  two meet at phi > pi/2 (not sharp in the sense of the paper's line 2),
-  and the two are the cheapest of all Delaunay faces at tau in the walk's
-  order;
+* at each of its (d-1)-faces tau, it and one other simplex of T_S are the
+  two cheapest Delaunay faces at tau in the walk's order, both strictly
+  cheaper than every other face there (other faces of T_S included: where T_S
+  is not a manifold, this is the choice the walk would make), and the two
+  meet at phi > pi/2 (not sharp in the sense of the paper's line 2);
 * none of its vertices is pinched: the core simplices at each vertex form
   one fan (this repeats until no pinch is left);
-* in codimension 1, its component of the core is orientable.
+* it lies in the largest component of what is left;
+* in codimension 1, that component is orientable.  Where it is a Moebius
+  band, the faces at the edges where a spanning tree's orientations clash
+  are cut out and the above repeats (at most :data:`MOEBIUS_CUTS` times).
 """
 
 from __future__ import annotations
@@ -25,6 +30,9 @@ from __future__ import annotations
 import numpy as np
 
 from .topology import graph_components
+
+#: Rounds of cutting a non-orientable core (codimension 1) before giving it up.
+MOEBIUS_CUTS = 8
 
 
 def manifold_core(faces: np.ndarray, facet_of: np.ndarray, u: np.ndarray, in_ts: np.ndarray,
@@ -63,51 +71,89 @@ def manifold_core(faces: np.ndarray, facet_of: np.ndarray, u: np.ndarray, in_ts:
     if f == 0:
         return np.empty(0, np.int64), np.empty(0, np.int64)
     n_facets = int(facet_of.max()) + 1
-    ts = np.flatnonzero(in_ts)
-    cnt = np.bincount(facet_of[ts].ravel(), minlength=n_facets)
-    ok = in_ts & fits & (cnt[facet_of] == 2).all(axis=1)
     # every incidence, grouped by facet (stable: by face id within a facet)
     fac = facet_of.ravel()
     by_facet = np.argsort(fac, kind="stable") if by_facet is None else by_facet
     own_s, fac_s = by_facet // dp1, fac[by_facet]
     starts = np.concatenate([[0], np.cumsum(np.bincount(fac, minlength=n_facets))[:-1]])
-    # the T_S pair of each facet of T_S-count 2 (consecutive once the others are filtered out)
-    pair_entry = in_ts[own_s] & (cnt[fac_s] == 2)
-    pairs = own_s[pair_entry].reshape(-1, 2)
-    g12 = fac_s[pair_entry][::2]
-    s1, s2 = pairs[:, 0], pairs[:, 1]
-    # the pair must be the cheapest there: every other face that fits costs strictly more
-    c_other = np.where(fits[own_s] & ~in_ts[own_s], cost[own_s], np.inf)
-    cheapest_other = np.minimum.reduceat(c_other, starts)
+    # the two cheapest faces that fit at each facet, both strictly below any other
+    c = np.where(fits[own_s], cost[own_s], np.inf)
+    at1, n1 = _minima(c, starts, fac_s)
+    c[at1] = np.inf
+    at2, n2 = _minima(c, starts, fac_s)
+    c[at2] = np.inf
+    rest = np.minimum.reduceat(c, starts)
+    low2 = np.full(n_facets, np.inf)
+    low2[fac_s[at2]] = cost[own_s[at2]]
+    # a tie of two at the minimum is a pair too, but not a tie at the second place
+    single = (n1 == 1) & (n2 == 1) & (low2 < rest)
+    pair_facet = (n1 == 2) | single
+    member = np.zeros(len(fac), dtype=bool)
+    member[at1] = pair_facet[fac_s[at1]]
+    member[at2] = single[fac_s[at2]]
+    pos = np.flatnonzero(member)  # two consecutive positions per pair facet
+    s1, s2 = own_s[pos[0::2]], own_s[pos[1::2]]
+    g12 = fac_s[pos[0::2]]
     good = np.zeros(n_facets, dtype=bool)
-    good[g12] = np.maximum(cost[s1], cost[s2]) < cheapest_other[g12]
-    # flatness of the T_S pair at each facet of count 2
+    good[g12] = in_ts[s1] & in_ts[s2]
+    # flatness of the pair (not sharp in the sense of the paper's line 2)
     a1 = np.argmax(facet_of[s1] == g12[:, None], axis=1)
     a2 = np.argmax(facet_of[s2] == g12[:, None], axis=1)
     cos = np.einsum("ik,ik->i", u[s1, a1], u[s2, a2])
     good[g12[cos >= cos_limit]] = False
-    ok &= good[facet_of].all(axis=1)
-    for _ in range(16):  # pinches: each round can only uncover pinches next to the last ones
+    pick = good[g12]
+    member[pos] = np.repeat(pick, 2)
+    # a face is in the core when it is one of a good pair at each of its facets
+    inc_ok = np.zeros(len(fac), dtype=bool)
+    inc_ok[by_facet] = member
+    ok = in_ts & fits & inc_ok.reshape(f, dp1).all(axis=1)
+    s1, s2, a1, a2 = s1[pick], s2[pick], a1[pick], a2[pick]
+    sign_all = np.where((a1 + a2) % 2 == 1, 1, -1)  # across each pair: o2 = sign * o1
+    for _ in range(MOEBIUS_CUTS + 1):
+        ok = _unpinched(faces, ok, s1, s2)
+        # one component only: other sheets would be joined to it only by gluing
+        # moves, which the walk defers (they can form handles)
+        pair = ok[s1] & ok[s2]
+        edges = np.stack([s1[pair], s2[pair]], axis=1)
+        _, labels = graph_components(f, edges)
+        if not ok.any():
+            break
+        ok &= labels == np.bincount(labels[ok]).argmax()
+        ids = np.flatnonzero(ok)
+        sign = sign_all[pair]
+        orient = _orient(f, int(ids[0]), edges, sign)
+        if not orientable:
+            return ids, orient[ids]
+        inside = ok[edges[:, 0]]
+        clash = inside & (orient[edges[:, 1]] != sign * orient[edges[:, 0]])
+        if not clash.any():
+            return ids, orient[ids]
+        # a Moebius band: cut it where the spanning tree's orientations meet
+        ok[edges[clash].ravel()] = False
+    return np.empty(0, np.int64), np.empty(0, np.int64)  # left to the walk
+
+
+def _unpinched(faces: np.ndarray, ok: np.ndarray, s1: np.ndarray, s2: np.ndarray) -> np.ndarray:
+    """``ok`` without the faces at pinched vertices, repeated while that uncovers new pinches."""
+    for _ in range(16):  # each round can only uncover pinches next to the last ones
         pinched = _pinched_vertices(faces, ok, s1, s2)
         if len(pinched) == 0:
             break
         bad = np.zeros(int(faces.max()) + 1, dtype=bool)
         bad[pinched] = True
-        ok &= ~bad[faces].any(axis=1)
-    # one component only: other sheets would be joined to it only by gluing
-    # moves, which the walk defers (they can form handles)
-    pair = ok[s1] & ok[s2]
-    edges = np.stack([s1[pair], s2[pair]], axis=1)
-    _, labels = graph_components(f, edges)
-    if not ok.any():
-        return np.empty(0, np.int64), np.empty(0, np.int64)
-    ok &= labels == np.bincount(labels[ok]).argmax()
-    ids = np.flatnonzero(ok)
-    sign = np.where((a1[pair] + a2[pair]) % 2 == 1, 1, -1)  # o2 = sign * o1
-    orient = _orient(f, int(ids[0]), edges, sign)
-    if orientable and not (orient[edges[:, 1]] == sign * orient[edges[:, 0]])[ok[edges[:, 0]]].all():
-        return np.empty(0, np.int64), np.empty(0, np.int64)  # a Moebius core: leave it to the walk
-    return ids, orient[ids]
+        ok = ok & ~bad[faces].any(axis=1)
+    return ok
+
+
+def _minima(c: np.ndarray, starts: np.ndarray, group: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Positions where each group attains its finite minimum of ``c``, and how many per group.
+
+    ``c`` is laid out group by group, group ``i`` starting at ``starts[i]``;
+    ``group`` is the group of each position.
+    """
+    low = np.minimum.reduceat(c, starts)
+    at = np.flatnonzero((c == low[group]) & np.isfinite(c))
+    return at, np.bincount(group[at], minlength=len(starts))
 
 
 def _pinched_vertices(faces: np.ndarray, ok: np.ndarray, s1: np.ndarray, s2: np.ndarray) -> np.ndarray:
