@@ -134,14 +134,22 @@ def manifold_core(faces: np.ndarray, facet_of: np.ndarray, u: np.ndarray, in_ts:
 
 
 def _unpinched(faces: np.ndarray, ok: np.ndarray, s1: np.ndarray, s2: np.ndarray) -> np.ndarray:
-    """``ok`` without the faces at pinched vertices, repeated while that uncovers new pinches."""
+    """``ok`` without the faces at pinched vertices, repeated while that uncovers new pinches.
+
+    Removing the faces at a pinched vertex changes only the stars of their
+    own vertices, so after the first round only those vertices are looked at.
+    """
+    only = None
     for _ in range(16):  # each round can only uncover pinches next to the last ones
-        pinched = _pinched_vertices(faces, ok, s1, s2)
+        pinched = _pinched_vertices(faces, ok, s1, s2, only)
         if len(pinched) == 0:
             break
         bad = np.zeros(int(faces.max()) + 1, dtype=bool)
         bad[pinched] = True
-        ok = ok & ~bad[faces].any(axis=1)
+        drop = ok & bad[faces].any(axis=1)
+        ok = ok & ~drop
+        only = np.zeros(len(bad), dtype=bool)
+        only[faces[drop].ravel()] = True
     return ok
 
 
@@ -156,8 +164,15 @@ def _minima(c: np.ndarray, starts: np.ndarray, group: np.ndarray) -> tuple[np.nd
     return at, np.bincount(group[at], minlength=len(starts))
 
 
-def _pinched_vertices(faces: np.ndarray, ok: np.ndarray, s1: np.ndarray, s2: np.ndarray) -> np.ndarray:
-    """Vertices whose star in the selected faces is more than one fan."""
+def _pinched_vertices(faces: np.ndarray, ok: np.ndarray, s1: np.ndarray, s2: np.ndarray,
+                      only: np.ndarray | None = None) -> np.ndarray:
+    """Vertices whose star in the selected faces is more than one fan.
+
+    ``only`` (a boolean mask over the vertices) restricts the test to those
+    vertices, and the work to their stars.
+    """
+    if only is not None:
+        ok = ok & only[faces].any(axis=1)
     sel = np.flatnonzero(ok)
     if len(sel) == 0:
         return np.empty(0, dtype=np.int64)
@@ -176,7 +191,8 @@ def _pinched_vertices(faces: np.ndarray, ok: np.ndarray, s1: np.ndarray, s2: np.
     _, labels = graph_components(len(sel) * dp1, np.concatenate(edges))
     vert = faces[sel].ravel()
     pairs = np.unique(vert * (int(labels.max()) + 1) + labels)  # one key per (vertex, fan)
-    return np.flatnonzero(np.bincount(pairs // (int(labels.max()) + 1)) > 1)
+    pinched = np.flatnonzero(np.bincount(pairs // (int(labels.max()) + 1)) > 1)
+    return pinched if only is None else pinched[only[pinched]]
 
 
 def _orient(f: int, root: int, edges: np.ndarray, sign: np.ndarray) -> np.ndarray:

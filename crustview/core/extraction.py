@@ -58,8 +58,17 @@ CASCADE_LIMIT = 64
 OPPOSITE_BLOCK = 1 << 16
 
 
-def facet_structure(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def facet_structure(simplices: np.ndarray, positions: bool = False,
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(d-1)-faces of a d-complex.
+
+    Parameters
+    ----------
+    simplices : ndarray of shape (c, d + 1)
+    positions : bool
+        Return ``inc`` as positions ``simplex * (d + 1) + a`` (the facet
+        opposite vertex a) instead of simplex ids: the stable argsort of
+        ``facet_of.ravel()``.
 
     Returns
     -------
@@ -82,7 +91,8 @@ def facet_structure(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.n
     order = np.argsort(inverse, kind="stable")
     counts = np.bincount(inverse, minlength=len(facets))
     ptr = np.concatenate([[0], np.cumsum(counts)])
-    order //= dp1
+    if not positions:
+        order //= dp1
     return facets, facet_of, ptr, order
 
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import heapq
 import math
+from array import array
 from collections.abc import Callable
 
 import numpy as np
@@ -84,6 +85,17 @@ def unit_normals_to_facets(points: np.ndarray, simplices: np.ndarray) -> np.ndar
     ndarray of shape (c, d + 1, k)
     """
     c, dp1 = simplices.shape
+    if dp1 == 3:  # triangles: one projection per edge, on whole columns
+        corner = [points[simplices[:, a]] for a in range(3)]
+        out = np.empty((c, 3, points.shape[1]))
+        for a, (b, e) in enumerate(((1, 2), (0, 2), (0, 1))):
+            edge = corner[e] - corner[b]
+            v = corner[a] - corner[b]
+            t = np.einsum("ij,ij->i", v, edge) / np.maximum(np.einsum("ij,ij->i", edge, edge), 1e-300)
+            v -= t[:, None] * edge
+            v /= np.maximum(np.sqrt(np.einsum("ij,ij->i", v, v)), 1e-300)[:, None]
+            out[:, a] = v
+        return out
     p = points[simplices]
     out = np.empty((c, dp1, points.shape[1]))
     for a in range(dp1):
@@ -99,6 +111,15 @@ def unit_normals_to_facets(points: np.ndarray, simplices: np.ndarray) -> np.ndar
         for q in basis:
             v = v - (v * q).sum(axis=1, keepdims=True) * q
         out[:, a] = v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
+    return out
+
+
+def _scalars(a: np.ndarray) -> array:
+    """A flat :class:`array.array` copy of ``a`` (int64, or float64 for floats, bytes for bools)."""
+    a = np.ascontiguousarray(a).ravel()
+    code = "d" if a.dtype.kind == "f" else ("b" if a.dtype.kind == "b" else "q")
+    out = array(code)
+    out.frombytes(a.astype({"d": np.float64, "b": np.int8, "q": np.int64}[code], copy=False).tobytes())
     return out
 
 
@@ -128,8 +149,7 @@ class Grower:
         #: priority of each face (smaller first): its size, doubled outside T_S and
         #: raised with its candidate score (see module docstring of ``robust``)
         self.cost = self.size * (1.0 + self.tier) * (1.0 + COST_SCORE * np.minimum(scores, np.pi / 2))
-        self.facets, self.facet_of, self.ptr, _ = facet_structure(faces)
-        order = np.argsort(self.facet_of.ravel(), kind="stable")
+        self.facets, self.facet_of, self.ptr, order = facet_structure(faces, positions=True)
         #: incidences (face * (d + 1) + position) grouped by facet, by face id within each
         self.by_facet = order
         self.inc = order // self.dp1
@@ -141,17 +161,18 @@ class Grower:
         f = len(faces)
         # the hot loop runs on Python lists: scalar access to them is several times
         # cheaper than to numpy arrays
-        self._ptr = self.ptr.tolist()
-        self._inc = self.inc.tolist()
-        self._fg = self.fg.tolist()
-        self._apex = self.apex.tolist()
-        # flat lists: row i of an (r, m) array is items [i * m, (i + 1) * m)
-        self._fo = self.facet_of.ravel().tolist()
-        self._fverts = self.facets.ravel().tolist()
-        self._verts = faces.ravel().tolist()
-        self._fits = (self.size <= SIZE_MAX).tolist()
-        self._in_ts = (self.tier == 0).tolist()
-        self._cost = self.cost.tolist()
+        # (array.array: as cheap to index as a list, made by one copy of the buffer)
+        self._ptr = _scalars(self.ptr)
+        self._inc = _scalars(self.inc)
+        self._fg = _scalars(self.fg)
+        self._apex = _scalars(self.apex)
+        # flat sequences: row i of an (r, m) array is items [i * m, (i + 1) * m)
+        self._fo = _scalars(self.facet_of)
+        self._fverts = _scalars(self.facets)
+        self._verts = _scalars(faces)
+        self._fits = _scalars(self.size <= SIZE_MAX)
+        self._in_ts = _scalars(self.tier == 0)
+        self._cost = _scalars(self.cost)
         self.alive = bytearray(f)
         self.count = [0] * len(self.facets)
         self.xor = [0] * len(self.facets)  # xor of (id + 1) of the alive simplices at each facet

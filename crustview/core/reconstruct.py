@@ -13,7 +13,7 @@ from .candidates import SCORE_LIMIT
 from .delaunay import bounding_points, circumcenters, delaunay
 from .errors import Cancelled, InputError
 from .extraction import extract
-from .memory import release_free_memory
+from .memory import gc_paused, release_free_memory
 from .normals import complete_bases, greedy_poles
 from .prepare import DEFAULT_JOGGLE, prepare_points, prescale
 from .result import CANDIDATE_TESTS, EXTRACTION_MODES, Candidates, Reconstruction, CandidateAngles
@@ -243,13 +243,14 @@ def reextract(
         prune_boundary = rec.prune_boundary
     # the exact power-of-two rescaling keeps squares finite at any input scale
     scale = prescale(rec.points)
-    if mode == "robust":
-        ext = extract_robust(rec.points / scale, rec.candidates.faces, rec.candidates.angles[test], theta,
-                             spacing=rec.spacing / scale, cancel=cancel,
-                             progress=lambda f: report("extraction", f))
-    else:
-        ext = extract(rec.points / scale, tset, prune_boundary=prune_boundary, cancel=cancel,
-                      progress=lambda f: report("extraction", f))
+    with gc_paused():  # see memory.gc_paused: the extraction makes many long-lived small objects
+        if mode == "robust":
+            ext = extract_robust(rec.points / scale, rec.candidates.faces, rec.candidates.angles[test], theta,
+                                 spacing=rec.spacing / scale, cancel=cancel,
+                                 progress=lambda f: report("extraction", f))
+        else:
+            ext = extract(rec.points / scale, tset, prune_boundary=prune_boundary, cancel=cancel,
+                          progress=lambda f: report("extraction", f))
     manifold = ext.complex_at(ext.n_steps)
     timings["extraction"] = time.perf_counter() - t0
     t0 = time.perf_counter()
