@@ -219,6 +219,9 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
         left = pt.insert_unused()
         if not pt.unpinch_all():
             break
+    if pt.drop_small_components():  # the last filling can close off a stray bubble of its own
+        left = pt.insert_unused()
+        pt.unpinch_all()
     # rows: T_S first (as in paper mode), then every other simplex in the order it first appeared
     outside = grown[grown >= n_ts]
     grown_rows = grown.copy()
