@@ -76,18 +76,22 @@ def greedy_poles(
     # vertices at infinity of hull samples: the mean unit direction to the
     # truncated vertices, longer than any finite vertex (same sums, in the
     # same order per sample, as a CSR walk)
-    max_len = np.zeros(n_samples)
+    # this pass also does the first greedy round's work for the finite vertices:
+    # with nothing chosen yet, the residual of a vector is the vector itself
+    norm2 = np.empty(inc.size + n_samples)  # room for the vertices at infinity (at most one per sample)
+    seg0 = np.full(n_samples, -np.inf)
     dir_sum = np.zeros((n_samples, r))
     len_sum = np.zeros(n_samples)
     far_count = np.zeros(n_samples)
-    for owner, sid, vec in inc.blocks():
+    for owner, sid, vec, pos in inc.blocks(with_pos=True, extra=False):
         if len(vec):
             inc.max_abs = max(inc.max_abs, float(np.abs(vec).max()))
-        length = np.linalg.norm(vec, axis=1)
-        np.maximum.at(max_len, owner, length)
+        nb = np.einsum("er,er->e", vec, vec)
+        norm2[pos] = nb
+        np.maximum.at(seg0, owner, nb)
         far = inc.far[sid]
         if far.any():
-            of, lf = owner[far], length[far]
+            of, lf = owner[far], np.sqrt(nb[far])
             unit = vec[far] / np.maximum(lf, 1e-300)[:, None]
             for c in range(r):
                 dir_sum[:, c] += np.bincount(of, weights=unit[:, c], minlength=n_samples)
@@ -100,17 +104,17 @@ def greedy_poles(
         mean_dir /= np.maximum(np.linalg.norm(mean_dir, axis=1, keepdims=True), 1e-300)
         mean_len = len_sum[hull] / far_count[hull]
         infinite = work[hull] + mean_dir * mean_len[:, None]
-        inc.add_extra(hull, mean_dir * (2.0 * max_len[hull] + 1.0)[:, None], t + np.arange(len(hull)))
+        max_len = np.sqrt(np.maximum(seg0[hull], 0.0))
+        inc.add_extra(hull, mean_dir * (2.0 * max_len + 1.0)[:, None], t + np.arange(len(hull)))
     del dir_sum, len_sum
     pole_index = np.full((n_samples, n_poles), -1, dtype=np.int64)
     normals = np.zeros((n_samples, r, n_poles))
     has = inc.count > 0
-    norm2 = np.empty(inc.size)
     for j in range(n_poles):
         # longest residual per sample; the first entry attaining it (in the
         # order simplex id, then vertex at infinity) is the pole
-        segmax = np.full(n_samples, -np.inf)
-        for owner, sid, vec, pos in inc.blocks(with_pos=True):
+        segmax = seg0 if j == 0 else np.full(n_samples, -np.inf)
+        for owner, sid, vec, pos in inc.blocks(with_pos=True, finite=j > 0):
             resid = _residual(vec, normals[owner, :, :j])
             nb = np.einsum("er,er->e", resid, resid)
             norm2[pos] = nb
@@ -162,7 +166,7 @@ class _Incidences:
         self.work, self.simplices, self.centres, self.n = work, simplices, centres, n_samples
         self.width = simplices.shape[1]
         self.far = (simplices >= n_samples).any(axis=1)
-        self.count = np.bincount(simplices[simplices < n_samples], minlength=n_samples)
+        self.count = np.bincount(simplices.ravel(), minlength=n_samples)[:n_samples]
         self.size = simplices.size
         self.extra_owner = np.empty(0, np.int64)
         self.extra_vec = np.empty((0, work.shape[1]))
@@ -177,17 +181,22 @@ class _Incidences:
         if len(vec):
             self.max_abs = max(self.max_abs, float(np.abs(vec).max()))
 
-    def blocks(self, with_pos: bool = False, geometry: bool = True):  # noqa: ANN201
-        """Yield ``(owner, sid, vec[, pos])`` per block; ``vec`` is None without geometry."""
+    def blocks(self, with_pos: bool = False, geometry: bool = True, finite: bool = True,  # noqa: ANN201
+               extra: bool = True):
+        """Yield ``(owner, sid, vec[, pos])`` per block; ``vec`` is None without geometry.
+
+        ``finite`` and ``extra`` select the simplex entries and the vertices at
+        infinity (which come only ``with_pos``).
+        """
         t, w = len(self.simplices), self.width
-        for lo in range(0, t, self.BLOCK):
+        for lo in range(0, t if finite else 0, self.BLOCK):
             flat = self.simplices[lo : lo + self.BLOCK].ravel()
             keep = np.flatnonzero(flat < self.n)
             owner = flat[keep]
             sid = lo + keep // w
             vec = np.take(self.centres, sid, axis=0) - np.take(self.work, owner, axis=0) if geometry else None
             yield (owner, sid, vec, lo * w + keep) if with_pos else (owner, sid, vec)
-        if with_pos and len(self.extra_owner):
+        if with_pos and extra and len(self.extra_owner):
             pos = self.simplices.size + np.arange(len(self.extra_owner))
             sid = np.full(len(pos), -1)
             yield self.extra_owner, sid, self.extra_vec if geometry else None, pos
