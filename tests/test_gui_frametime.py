@@ -80,7 +80,7 @@ def test_steps_and_jumps_cost_little_more_than_a_frame(qtbot, window, fertility_
     view.setFocus()
     clock = FrameClock(window)
     n = rec.extraction.n_steps
-    assert n > 1000
+    assert n > 500  # long enough that Home, End and jumps cross hundreds of steps
     manifold = window.view.adapters["manifold"].part.mesh
     points_before = manifold.GetPoints()
     rng = np.random.default_rng(0)
