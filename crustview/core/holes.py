@@ -48,8 +48,10 @@ SLIT_HOPS = 8
 SLIT_MAX_WIDTH = 4.0
 #: Largest distance, in median spacings, from a left-out sample to the simplex it is inserted in.
 INSERT_MAX = 2.0
+#: Passes of insertion: a sample beyond the limit may come within it once its neighbours are in.
+INSERT_PASSES = 4
 #: Components with fewer simplices than this, and under STRAY_SHARE of the largest, are stray.
-STRAY_MAX = 64
+STRAY_MAX = 128
 STRAY_SHARE = 0.05
 #: A closing simplex may meet its neighbours at phi > 60 deg (creases up to 120 deg).
 COS_FILL = 0.5
@@ -218,7 +220,10 @@ class Patcher:
         (apex,) = set(s) - set(f)
         p = self.points
         v = p[apex] - p[f[0]]
-        if len(f) > 1:
+        if len(f) == 2:  # an edge: one projection (what QR does, without its overhead)
+            e = p[f[1]] - p[f[0]]
+            v = v - (float(v @ e) / max(float(e @ e), 1e-300)) * e
+        elif len(f) > 2:
             q, _ = np.linalg.qr((p[list(f[1:])] - p[f[0]]).T)
             v = v - q @ (q.T @ v)
         return v / max(float(np.linalg.norm(v)), 1e-300)
@@ -581,6 +586,18 @@ class Patcher:
         contains that face tau is replaced by the simplices
         (sigma - {v}) + {x} for v in tau.  This keeps a manifold a manifold.
         """
+        left = self._insert_pass()
+        for _ in range(INSERT_PASSES - 1):  # an inserted sample brings M_S nearer to its neighbours
+            if not left:
+                break
+            again = self._insert_pass()
+            if len(again) == len(left):
+                break
+            left = again
+        return left
+
+    def _insert_pass(self) -> list[int]:
+        """One pass of :meth:`insert_unused` over the samples that are no vertex."""
         from scipy.spatial import cKDTree
 
         used = self.used()
@@ -594,10 +611,13 @@ class Patcher:
             _, near = tree.query(self.points[x], k=min(8, len(ids)))
             cand = {i for v in np.atleast_1d(near) for i in self._star(int(ids[v]))}
             best = None
-            for i in cand:
-                dist, tau = self._nearest_face(x, self.simp[i])
-                if best is None or dist < best[0]:
-                    best = (dist, tau)
+            if cand and len(self.simp[next(iter(cand))]) == 3:
+                best = _nearest_triangle_face(self.points, self.points[x], [self.simp[i] for i in cand])
+            else:
+                for i in cand:
+                    dist, tau = self._nearest_face(x, self.simp[i])
+                    if best is None or dist < best[0]:
+                        best = (dist, tau)
             limit = INSERT_MAX * max(self.spacing, float(self.nn[x]))
             if best is None or best[0] > limit:
                 left.append(x)
@@ -644,6 +664,40 @@ class Patcher:
         bary = np.concatenate([[1 - lam.sum()], lam])
         foot = p[0] + a @ lam
         return float(np.linalg.norm(self.points[x] - foot)), bool((bary >= -1e-9).all())
+
+
+def _nearest_triangle_face(points: np.ndarray, x: np.ndarray, tris: list[Simplex]) -> tuple[float, Simplex]:
+    """:meth:`Patcher._nearest_face` over many triangles at once: the nearest (distance, face).
+
+    Per triangle: the foot of x in the triangle's plane; if it lies inside,
+    the triangle; otherwise the edge opposite the vertex with the most
+    negative barycentric coordinate, with the foot clamped to it.  Ties go
+    to the first triangle, as in the one-by-one loop.
+    """
+    t = np.asarray(tris, dtype=np.int64)
+    p0, p1, p2 = points[t[:, 0]], points[t[:, 1]], points[t[:, 2]]
+    e1, e2, w = p1 - p0, p2 - p0, x - p0
+    g11, g12, g22 = (e1 * e1).sum(1), (e1 * e2).sum(1), (e2 * e2).sum(1)
+    r1, r2 = (e1 * w).sum(1), (e2 * w).sum(1)
+    det = g11 * g22 - g12 * g12
+    det = np.where(np.abs(det) > 1e-300, det, 1e-300)
+    l1 = (g22 * r1 - g12 * r2) / det
+    l2 = (g11 * r2 - g12 * r1) / det
+    bary = np.stack([1 - l1 - l2, l1, l2], axis=1)
+    inside = (bary >= -1e-12).all(axis=1)
+    foot = p0 + np.clip(l1, 0, None)[:, None] * e1 + np.clip(l2, 0, None)[:, None] * e2
+    dist = np.linalg.norm(x - foot, axis=1)
+    drop = np.argmin(bary, axis=1)
+    keep = np.array([[1, 2], [0, 2], [0, 1]])[drop]
+    rows = np.arange(len(t))
+    qa, qb = points[t[rows, keep[:, 0]]], points[t[rows, keep[:, 1]]]
+    edge = qb - qa
+    lam = np.clip(((x - qa) * edge).sum(1) / np.maximum((edge * edge).sum(1), 1e-300), 0, 1)
+    dist_edge = np.linalg.norm(x - (qa + lam[:, None] * edge), axis=1)
+    dist = np.where(inside, dist, dist_edge)
+    i = int(np.argmin(dist))
+    face = tuple(int(v) for v in t[i]) if inside[i] else tuple(sorted(int(v) for v in t[i, keep[i]]))
+    return float(dist[i]), face
 
 
 def _parity(seq: list[int]) -> int:

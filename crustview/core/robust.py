@@ -76,6 +76,10 @@ import numpy as np
 from .errors import Cancelled
 from .extraction import extract
 from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
+
+#: Rounds of hole filling, sample insertion, unpinching and stray dropping (each can leave
+#: work for the others; real scans settle in two or three).
+PATCH_ROUNDS = 5
 from .holes import Patcher
 from .core_seed import manifold_core
 from .result import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
@@ -212,8 +216,9 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
                  orient=[gr.orient[f] for f in grown.tolist()], orientable=gr.orientable)
     # only gluing moves leave pinched vertices behind in the grown complex
     pt.suspects = set(gr.glued)
-    for _ in range(3):  # closing holes, unpinching and inserting can each leave work for the others
-        pt.drop_small_components()
+    pt.drop_small_components()
+    left: list[int] = []
+    for _ in range(PATCH_ROUNDS):  # closing, inserting, unpinching and dropping can each leave work for the others
         for _ in range(4):  # eroding one hole can reach another: repeat while something closes
             before = len(pt.boundary())
             for hole in pt.holes():
@@ -221,11 +226,13 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
             if len(pt.boundary()) in (0, before):
                 break
         left = pt.insert_unused()
-        if not pt.unpinch_all():
+        # unpinching frees samples and opens holes; the last filling can close off a stray bubble
+        changed = pt.unpinch_all()
+        changed = pt.drop_small_components() or changed
+        if not changed:
             break
-    if pt.drop_small_components():  # the last filling can close off a stray bubble of its own
+    else:
         left = pt.insert_unused()
-        pt.unpinch_all()
     # rows: T_S first (as in paper mode), then every other simplex in the order it first appeared
     outside = grown[grown >= n_ts]
     grown_rows = grown.copy()
