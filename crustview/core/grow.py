@@ -454,11 +454,7 @@ class Grower:
                     return False, False, cos  # folded onto an existing simplex
                 if self.orientable and self._induced_orientation(f, h) != self._induced_orientation(f, g):
                     return False, False, cos  # would close a Moebius band: impossible in codimension 1
-        glue = bool(self.vcount[c] > 0 and not closing)
-        if glue and self.makes_gap_handle(g, c):
-            self.refused_handles += 1
-            return False, False, cos
-        return True, glue, cos
+        return True, bool(self.vcount[c] > 0 and not closing), cos
 
     # -- phases -------------------------------------------------------------
     def seed(self) -> bool:
@@ -492,6 +488,11 @@ class Grower:
                 self.push_front(g)
                 continue
             if now_glue and not glue:  # became a gluing move since it was queued: rank it again
+                self.push_front(g)
+                continue
+            if now_glue and self.makes_gap_handle(g, self._apex[j]):
+                self.refused_handles += 1
+                self.rejected.setdefault(g, set()).add(j)
                 self.push_front(g)
                 continue
             f = self._inc[j]
