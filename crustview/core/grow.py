@@ -284,7 +284,7 @@ class Grower:
             return cache[v]
         star = self._alive_star()
         d, dp1 = self.dp1 - 1, self.dp1
-        count, fo, fv = self.count, self._fo, self._fverts
+        count, fo, fv, verts = self.count, self._fo, self._fverts, self._verts
         seen = {v}
         todo = [v]
         while todo:
@@ -294,15 +294,17 @@ class Grower:
                 return seen, False
             x = todo.pop()
             for f in star[x]:
-                for h in fo[f * dp1:(f + 1) * dp1]:
+                base = f * dp1
+                for q in range(dp1):
+                    if verts[base + q] == x:
+                        continue  # the facet opposite x does not contain it
+                    h = fo[base + q]
                     if count[h] != 1:
                         continue
-                    hv = fv[h * d:(h + 1) * d]
-                    if x in hv:
-                        for w in hv:
-                            if w not in seen:
-                                seen.add(w)
-                                todo.append(w)
+                    for w in fv[h * d:(h + 1) * d]:
+                        if w not in seen:
+                            seen.add(w)
+                            todo.append(w)
         if cap == FILL_MAX_FACES:  # the whole component: the same answer from each of its vertices
             for w in seen:
                 cache[w] = (seen, True)

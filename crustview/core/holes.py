@@ -395,16 +395,22 @@ class Patcher:
                 if all(x in verts for x in row):
                     cand.add(row)
         cand = {s for s in cand if s not in self.index}
+        known: dict[Simplex, tuple[bool, float]] = {}  # fits() only changes when a facet gains a simplex
         while cand:
             best = None
             for s in cand:
-                ok, worst = self.fits(s)
+                got = known.get(s)
+                if got is None:
+                    got = known[s] = self.fits(s)
+                ok, worst = got
                 if ok and (best is None or worst < best[0]):
                     best = (worst, s)
             if best is None:
                 return
             worst, s = best
             cand.discard(s)
+            touched = set(_facets(s))
+            known = {t: got for t, got in known.items() if touched.isdisjoint(_facets(t))}
             tau = next(f for f in _facets(s) if len(self.at(f)) == 1)
             self.add(s, "fill-hole", tau, float(np.arccos(np.clip(worst, -1, 1))),
                      f"closing a {why} with a Delaunay face")
