@@ -373,8 +373,18 @@ class Grower:
         self.xor = xor.tolist()
         self.vcount = np.bincount(self.faces[ids].ravel(), minlength=self.n).tolist()
         self.vfront = np.bincount(self.facets[cnt == 1].ravel(), minlength=self.n).tolist()
-        for row in self.faces[ids].tolist():
-            self._union(row)
+        # pieces of the core: components of its vertex graph, each vertex pointing at one root
+        from .topology import graph_components
+
+        rows = self.faces[ids]
+        edges = np.concatenate([rows[:, [0, a]] for a in range(1, self.dp1)])
+        _, label = graph_components(self.n, edges)
+        root = np.full(int(label.max()) + 1, self.n, dtype=np.int64)
+        np.minimum.at(root, label, np.arange(self.n))  # the smallest vertex of each component
+        used = np.unique(rows)
+        uf = np.arange(self.n)
+        uf[used] = root[label[used]]
+        self._uf = uf.tolist()
         m = len(ids)
         self.log.extend(zip(ids.tolist(), [rule] * m, [-1] * m, [math.nan] * m))
 
