@@ -1,4 +1,4 @@
-"""Closing small holes and taking in left-out samples (the robust extension's last phase).
+"""Closing small holes, dropping strays and unpinching (the robust extension's last phase).
 
 Works on the complex that :mod:`crustview.core.grow` produced, with a
 dictionary of (d-1)-faces so that simplices outside the Delaunay
@@ -17,11 +17,10 @@ triangulation can be added where no Delaunay face fits:
 * ``drop-stray``: a component far smaller than the largest (a seed that
   closed three or four samples into a tiny loop or bubble) is removed, and
   its samples go to ``insert-sample``.
-* ``insert-sample``: a sample that is no vertex of M_S and lies within
-  :data:`INSERT_MAX` spacings of a simplex whose projection contains it is
-  made a vertex by a stellar subdivision of that simplex (one simplex is
-  replaced by d + 1 that share the sample), which keeps a manifold a
-  manifold in every dimension.
+* ``insert-sample`` (:mod:`crustview.core.insertion`): a sample that is no
+  vertex of M_S and lies within :data:`INSERT_MAX` spacings of it is made a
+  vertex by a stellar subdivision of the nearest face, which keeps a
+  manifold a manifold in every dimension.
 """
 
 from __future__ import annotations
@@ -34,6 +33,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from .extraction import facet_structure
+from .insertion import INSERT_MAX, SampleInsertion
 from .polygons import is_ear, min_angle, plane_polygon
 
 #: Largest hole, in boundary (d-1)-faces, that ``fill-hole`` closes.
@@ -46,10 +46,6 @@ FILL_MAX_SPAN = 18.0
 SLIT_MAX_FACES = 400
 SLIT_HOPS = 8
 SLIT_MAX_WIDTH = 4.0
-#: Largest distance, in median spacings, from a left-out sample to the simplex it is inserted in.
-INSERT_MAX = 2.0
-#: Passes of insertion: a sample beyond the limit may come within it once its neighbours are in.
-INSERT_PASSES = 4
 #: Components with fewer simplices than this, and under STRAY_SHARE of the largest, are stray.
 STRAY_MAX = 128
 STRAY_SHARE = 0.05
@@ -65,7 +61,7 @@ def _facets(s: Simplex) -> list[Simplex]:
     return [s[:a] + s[a + 1:] for a in range(len(s))]
 
 
-class Patcher:
+class Patcher(SampleInsertion):
     """A d-complex as dictionaries, for local edits.
 
     Parameters
@@ -584,135 +580,3 @@ class Patcher:
         return fixed
 
     # -- left-out samples ---------------------------------------------------
-    def insert_unused(self) -> list[int]:
-        """Insert left-out samples by stellar subdivision; returns those left out still.
-
-        The face of M_S nearest to the sample (a simplex, or a lower face of
-        it, never a single vertex) is subdivided: every simplex sigma that
-        contains that face tau is replaced by the simplices
-        (sigma - {v}) + {x} for v in tau.  This keeps a manifold a manifold.
-        """
-        left = self._insert_pass()
-        for _ in range(INSERT_PASSES - 1):  # an inserted sample brings M_S nearer to its neighbours
-            if not left:
-                break
-            again = self._insert_pass()
-            if len(again) == len(left):
-                break
-            left = again
-        return left
-
-    def _insert_pass(self) -> list[int]:
-        """One pass of :meth:`insert_unused` over the samples that are no vertex."""
-        from scipy.spatial import cKDTree
-
-        used = self.used()
-        missing = np.flatnonzero(~used)
-        if len(missing) == 0:
-            return []
-        ids = np.flatnonzero(used)
-        tree = cKDTree(self.points[ids])
-        left = []
-        for x in missing.tolist():
-            _, near = tree.query(self.points[x], k=min(8, len(ids)))
-            cand = {i for v in np.atleast_1d(near) for i in self._star(int(ids[v]))}
-            best = None
-            if cand and len(self.simp[next(iter(cand))]) == 3:
-                best = _nearest_triangle_face(self.points, self.points[x], [self.simp[i] for i in cand])
-            else:
-                for i in cand:
-                    dist, tau = self._nearest_face(x, self.simp[i])
-                    if best is None or dist < best[0]:
-                        best = (dist, tau)
-            limit = INSERT_MAX * max(self.spacing, float(self.nn[x]))
-            if best is None or best[0] > limit:
-                left.append(x)
-                continue
-            dist, tau = best
-            star = [i for i in self._star(tau[0]) if set(tau) <= set(self.simp[i])]
-            plan = []
-            for i in star:
-                for v in tau:
-                    ordered = [x if w == v else w for w in self.simp[i]]  # same orientation as simplex i
-                    plan.append((self.orient[i] * _parity(ordered), tuple(sorted(ordered))))
-            news = [t for _, t in plan]
-            if len(set(news)) != len(news) or any(t in self.index for t in news):
-                left.append(x)  # the split would duplicate a simplex: leave the sample out
-                continue
-            removed = list(star)
-            for i in star:
-                self._delete(i)
-            added = [self._insert(t, o) for o, t in plan]
-            self.log.append(("insert-sample", (x,), tuple(added), tuple(removed), float("nan"),
-                             f"sample {x} was no vertex; it lies {dist / self.spacing:.2f} spacings from the "
-                             f"face {tau}, which is split around it ({len(removed)} simplices become "
-                             f"{len(added)})"))
-        return left
-
-    def _nearest_face(self, x: int, s: Simplex) -> tuple[float, Simplex]:
-        """Distance from sample x to simplex s, and the face of s (>= an edge) nearest to it."""
-        verts = list(s)
-        while True:
-            p = self.points[verts]
-            a = (p[1:] - p[0]).T
-            lam, *_ = np.linalg.lstsq(a, self.points[x] - p[0], rcond=None)
-            bary = np.concatenate([[1 - lam.sum()], lam])
-            if (bary >= -1e-12).all() or len(verts) == 2:
-                foot = p[0] + a @ np.clip(lam, 0, None) if len(verts) > 2 else p[0] + a @ np.clip(lam, 0, 1)
-                return float(np.linalg.norm(self.points[x] - foot)), tuple(sorted(verts))
-            verts.pop(int(np.argmin(bary)))
-
-    def _project(self, x: int, s: Simplex) -> tuple[float, bool]:
-        """Distance from sample x to aff(s), and whether its projection lies in s."""
-        p = self.points[list(s)]
-        a = (p[1:] - p[0]).T
-        lam, *_ = np.linalg.lstsq(a, self.points[x] - p[0], rcond=None)
-        bary = np.concatenate([[1 - lam.sum()], lam])
-        foot = p[0] + a @ lam
-        return float(np.linalg.norm(self.points[x] - foot)), bool((bary >= -1e-9).all())
-
-
-def _nearest_triangle_face(points: np.ndarray, x: np.ndarray, tris: list[Simplex]) -> tuple[float, Simplex]:
-    """:meth:`Patcher._nearest_face` over many triangles at once: the nearest (distance, face).
-
-    Per triangle: the foot of x in the triangle's plane; if it lies inside,
-    the triangle; otherwise the edge opposite the vertex with the most
-    negative barycentric coordinate, with the foot clamped to it.  Ties go
-    to the first triangle, as in the one-by-one loop.
-    """
-    t = np.asarray(tris, dtype=np.int64)
-    p0, p1, p2 = points[t[:, 0]], points[t[:, 1]], points[t[:, 2]]
-    e1, e2, w = p1 - p0, p2 - p0, x - p0
-    g11, g12, g22 = (e1 * e1).sum(1), (e1 * e2).sum(1), (e2 * e2).sum(1)
-    r1, r2 = (e1 * w).sum(1), (e2 * w).sum(1)
-    det = g11 * g22 - g12 * g12
-    det = np.where(np.abs(det) > 1e-300, det, 1e-300)
-    l1 = (g22 * r1 - g12 * r2) / det
-    l2 = (g11 * r2 - g12 * r1) / det
-    bary = np.stack([1 - l1 - l2, l1, l2], axis=1)
-    inside = (bary >= -1e-12).all(axis=1)
-    foot = p0 + np.clip(l1, 0, None)[:, None] * e1 + np.clip(l2, 0, None)[:, None] * e2
-    dist = np.linalg.norm(x - foot, axis=1)
-    drop = np.argmin(bary, axis=1)
-    keep = np.array([[1, 2], [0, 2], [0, 1]])[drop]
-    rows = np.arange(len(t))
-    qa, qb = points[t[rows, keep[:, 0]]], points[t[rows, keep[:, 1]]]
-    edge = qb - qa
-    lam = np.clip(((x - qa) * edge).sum(1) / np.maximum((edge * edge).sum(1), 1e-300), 0, 1)
-    dist_edge = np.linalg.norm(x - (qa + lam[:, None] * edge), axis=1)
-    dist = np.where(inside, dist, dist_edge)
-    i = int(np.argmin(dist))
-    face = tuple(int(v) for v in t[i]) if inside[i] else tuple(sorted(int(v) for v in t[i, keep[i]]))
-    return float(dist[i]), face
-
-
-def _parity(seq: list[int]) -> int:
-    """+1 if sorting ``seq`` takes an even number of swaps, else -1."""
-    seq = list(seq)
-    sign = 1
-    for i in range(len(seq)):
-        for j in range(len(seq) - 1 - i):
-            if seq[j] > seq[j + 1]:
-                seq[j], seq[j + 1] = seq[j + 1], seq[j]
-                sign = -sign
-    return sign
