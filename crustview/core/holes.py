@@ -510,7 +510,7 @@ class Patcher(SampleInsertion):
         grew in an undersampled spot (three samples closed into a tiny loop,
         four into a tetrahedron).  Its samples go back to ``insert-sample``.
         """
-        ids = np.array([i for i, a in enumerate(self.alive) if a], dtype=np.int64)
+        ids = np.flatnonzero(np.fromiter(self.alive, dtype=bool, count=len(self.alive)))
         if len(ids) == 0:
             return 0
         simp = np.array([self.simp[i] for i in ids.tolist()], dtype=np.int64)
@@ -519,22 +519,21 @@ class Patcher(SampleInsertion):
         two = np.flatnonzero(cnt == 2)
         a, b = inc[ptr[two]], inc[ptr[two] + 1]
         graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(len(ids), len(ids)))
-        _, label = connected_components(graph, directed=False)
-        comps: dict[int, list[int]] = {}
-        for i, lab in zip(ids.tolist(), label.tolist()):
-            comps.setdefault(lab, []).append(i)
-        if len(comps) < 2:
+        n_comp, label = connected_components(graph, directed=False)
+        if n_comp < 2:
             return 0
-        largest = max(len(c) for c in comps.values())
+        sizes = np.bincount(label)
+        largest = int(sizes.max())
         dropped = 0
-        for comp in comps.values():
-            if len(comp) < STRAY_MAX and len(comp) < STRAY_SHARE * largest:
-                for i in comp:
-                    self._delete(i)
-                self.log.append(("drop-stray", self.simp[comp[0]], (), tuple(comp), float("nan"),
-                                 f"a stray component of {len(comp)} simplices (the largest has {largest}) "
-                                 "was removed; its samples are inserted into the rest"))
-                dropped += 1
+        # labels number the components in the order of their first simplex
+        for lab in np.flatnonzero((sizes < STRAY_MAX) & (sizes < STRAY_SHARE * largest)).tolist():
+            comp = ids[label == lab].tolist()
+            for i in comp:
+                self._delete(i)
+            self.log.append(("drop-stray", self.simp[comp[0]], (), tuple(comp), float("nan"),
+                             f"a stray component of {len(comp)} simplices (the largest has {largest}) "
+                             "was removed; its samples are inserted into the rest"))
+            dropped += 1
         return dropped
 
     # -- pinched vertices -----------------------------------------------------

@@ -37,21 +37,26 @@ def _segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) 
 
 
 def is_ear(q: np.ndarray, idx: list[int], t: int) -> bool:
-    """Whether vertex idx[t] of the polygon q[idx] is an ear (convex, nothing inside)."""
+    """Whether vertex idx[t] of the polygon q[idx] is an ear (convex, nothing inside).
+
+    The cross products are the same float operations as :func:`_cross`,
+    done on whole columns; the area is summed in order, as one loop would.
+    """
     m = len(idx)
     poly = q[idx]
-    area = 0.5 * sum(_cross(np.zeros(2), poly[i], poly[(i + 1) % m]) for i in range(m))
+    nxt = np.roll(poly, -1, axis=0)
+    area = 0.5 * sum((poly[:, 0] * nxt[:, 1] - poly[:, 1] * nxt[:, 0]).tolist())
     sign = 1.0 if area >= 0 else -1.0
     a, b, c = poly[t - 1], poly[t], poly[(t + 1) % m]
     if sign * _cross(a, b, c) <= 0:
         return False
-    for r in range(m):
-        if r in (t - 1 if t > 0 else m - 1, t, (t + 1) % m):
-            continue
-        p = poly[r]
-        if sign * _cross(a, b, p) >= 0 and sign * _cross(b, c, p) >= 0 and sign * _cross(c, a, p) >= 0:
-            return False
-    return True
+    others = np.ones(m, dtype=bool)
+    others[[t - 1 if t > 0 else m - 1, t, (t + 1) % m]] = False
+    p = poly[others]
+    inside = np.ones(len(p), dtype=bool)
+    for o, e in ((a, b), (b, c), (c, a)):
+        inside &= sign * ((e[0] - o[0]) * (p[:, 1] - o[1]) - (e[1] - o[1]) * (p[:, 0] - o[0])) >= 0
+    return not inside.any()
 
 
 def min_angle(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> float:
