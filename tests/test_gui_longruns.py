@@ -144,3 +144,24 @@ def test_timeline_click_jumps_and_removed_so_far_is_coloured_by_step(qtbot, wind
     removed.colorby = "rule"
     labels = [lab for lab, _ in window.view.legend_entries()]
     assert any(lab.startswith("removed by prune-sharp") or lab.startswith("removed by resolve") for lab in labels)
+
+
+def test_rule_list_offers_a_rule_the_run_applied(qtbot, window):
+    # a paper run keeps the list at its first rule; a robust run on a scan has no prune-sharp
+    # step, so the list moves to the first rule it did apply (seed-core on the horse)
+    from pathlib import Path
+
+    from crustview.io import read_mesh
+
+    assert window.load_builtin("torus")
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    panel = window.steps_panel
+    assert panel.rule.currentText() == "prune-sharp"
+    assert "prune-sharp" in {s.rule for s in window.model.rec.extraction.steps}
+    pts = np.asarray(read_mesh(Path(__file__).parents[1] / "resources" / "horse-quads.obj").points, float)
+    window.run_panel.set_mode("robust")
+    assert window.start_reconstruction(pts, 2, source="horse")
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    rules = {s.rule for s in window.model.rec.extraction.steps}
+    assert "prune-sharp" not in rules and "seed-core" in rules
+    assert panel.rule.currentText() == "seed-core"

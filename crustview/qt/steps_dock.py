@@ -256,6 +256,11 @@ class StepsPanel(QWidget):
         self.goto.setRange(0, n)
         self.goto.blockSignals(False)
         self.counter.setText(f"step {n} / {n}")  # its widest text: the size it keeps while stepping
+        # offer a rule this run applied: a robust run has no prune-sharp step, a paper run no grow
+        ext = self.model.player.extraction
+        present = {st.rule for st in ext.steps} if ext is not None else set()
+        if present and self.rule.currentText() not in present:
+            self.rule.setCurrentText(next(r for r in RULES if r in present))
         self.sync(self.model.player.position)
 
     def _row_selected(self, current, _previous) -> None:
