@@ -250,3 +250,29 @@ def test_a_hole_the_paper_itself_caps_stays_capped():
     robust = reextract(paper, paper.test, paper.theta, mode="robust")
     assert paper.topology.closed_manifold and paper.topology.unused_samples == 0
     assert np.array_equal(robust.manifold, paper.manifold)
+
+
+def test_the_collector_is_paused_only_during_the_extraction():
+    # memory.gc_paused: off inside the block, restored after it (also after an error),
+    # and left off when the caller had it off
+    import gc
+
+    from crustview.core.memory import gc_paused
+
+    assert gc.isenabled()
+    with gc_paused():
+        assert not gc.isenabled()
+    assert gc.isenabled()
+    try:
+        with gc_paused():
+            raise KeyError("x")
+    except KeyError:
+        pass
+    assert gc.isenabled()
+    gc.disable()
+    try:
+        with gc_paused():
+            pass
+        assert not gc.isenabled()
+    finally:
+        gc.enable()
