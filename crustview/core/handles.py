@@ -97,10 +97,11 @@ class HandleGuard:
             return False
         if self._nn is None:
             self._nn = cKDTree(self.points).query(self.points, k=2)[0][:, 1]
+            self._spacing = float(np.median(self._nn))
         ids = np.fromiter(verts, dtype=np.int64)
         p = self.points[ids]
         span = float(np.sqrt(((p[:, None] - p[None]) ** 2).sum(-1).max())) if len(ids) > 1 else 0.0
-        local = max(float(self._nn[ids].mean()), float(np.median(self._nn)))
+        local = max(float(self._nn[ids].mean()), self._spacing)
         return span <= FILL_MAX_SPAN * local
 
     def makes_gap_handle(self, g: int, c: int) -> bool:
