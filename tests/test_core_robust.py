@@ -230,3 +230,19 @@ def test_open_scan_keeps_its_cut_open_and_zips_the_slit_of_a_thin_ear(monkeypatc
     unzipped = reextract(rec, rec.test, rec.theta, mode="robust")
     assert not any("slit" in s.reason for s in unzipped.extraction.steps)
     assert unzipped.topology.boundary_faces >= t.boundary_faces + 40
+
+
+def test_a_slit_whose_rim_folds_in_its_plane_is_zipped_in_space(monkeypatch):
+    # a lip of camelhead.off: a 68-edge slit about 2.6 spacings wide whose best-fit plane folds
+    # its rim over itself, so planar ear clipping cannot start; the zipper closes it in space
+    from crustview.core import holes
+
+    pts = scan_points("camelhead.off")
+    rec = reconstruct(pts, 2)
+    zipped = [s for s in rec.extraction.steps if "chosen in space" in s.reason]
+    assert len(zipped) >= 40 and all(s.rule == RULE_FILL and "slit" in s.reason for s in zipped)
+    t = rec.topology
+    assert t.components == 1 and t.unused_samples == 0 and t.nonmanifold_faces == 0
+    monkeypatch.setattr(holes.Patcher, "_zip", lambda self, loop, why: None)
+    flat = reextract(rec, rec.test, rec.theta, mode="robust")
+    assert flat.topology.boundary_faces >= t.boundary_faces + 40

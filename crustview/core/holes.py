@@ -34,7 +34,7 @@ from scipy.sparse.csgraph import connected_components
 
 from .extraction import facet_structure
 from .insertion import INSERT_MAX, SampleInsertion
-from .polygons import is_ear, min_angle, plane_polygon
+from .polygons import is_ear, min_angle, orientation, plane_polygon
 
 #: Largest hole, in boundary (d-1)-faces, that ``fill-hole`` closes.
 FILL_MAX_FACES = 50
@@ -308,7 +308,7 @@ class Patcher(SampleInsertion):
                    f"{width:.1f} wide (a thin part sampled on both sides)")
             # ears only: a disc across the slit, never Delaunay faces between far parts of its
             # rim or erosion of its sides (both split long rims into pinched pieces)
-            self._ear_clip(hole, why)
+            self._ear_clip(hole, why, zip_3d=True)
             return all(len(self.at(f)) != 1 for f in hole)
         self._fill_delaunay(set(verts), why)
         rest = [f for f in hole if len(self.at(f)) == 1]
@@ -435,14 +435,15 @@ class Patcher(SampleInsertion):
             loops.append(loop)
         return loops
 
-    def _ear_clip(self, edges: list[Simplex], why: str) -> None:
+    def _ear_clip(self, edges: list[Simplex], why: str, zip_3d: bool = False) -> None:
         """Triangulate each simple boundary loop by ear clipping in its best-fit plane.
 
         The loop is projected to the plane of its two main directions; if the
         projected polygon is simple, ear clipping there always succeeds (two
         ears theorem), and the lifted triangles cannot overlap each other.
         Among the valid ears the best-shaped (largest smallest angle) goes
-        first.  Loops whose projection crosses itself are left alone.
+        first.  Loops whose projection crosses itself are left alone, unless
+        ``zip_3d`` (slits, see :meth:`_zip`).
         """
         loops = self._loops(edges)
         if loops is None:
@@ -450,14 +451,17 @@ class Patcher(SampleInsertion):
         for loop in loops:
             q = plane_polygon(self.points[loop])
             if q is None:
+                if zip_3d:
+                    self._zip(loop, why)
                 continue
             idx = list(range(len(loop)))
             while len(idx) >= 3:
                 best = None
                 m = len(idx)
+                sign = orientation(q[idx])  # once per round: the same for every ear of it
                 for t in range(m):
                     a, b, c = idx[t - 1], idx[t], idx[(t + 1) % m]
-                    if not is_ear(q, idx, t):
+                    if not is_ear(q, idx, t, sign):
                         continue
                     tri = tuple(sorted((loop[a], loop[b], loop[c])))
                     diag = tuple(sorted((loop[a], loop[c])))
@@ -479,6 +483,56 @@ class Patcher(SampleInsertion):
                 idx.pop(t)
                 if len(idx) < 3:
                     break
+
+    def _zip(self, loop: list[int], why: str) -> None:
+        """Close a slit whose rim has no simple planar projection by ears chosen in space.
+
+        A thin plate's rim curls (a lip, an ear's edge), so its best-fit
+        plane can fold it over itself.  Across a slit only a spacing or two
+        wide the ears are the teeth of a zipper: each ear must not fold onto
+        the surface at its two rim edges (phi > 25 deg there,
+        :data:`COS_EAR`), must keep the orientation, and its diagonal must
+        not be an edge of M_S already; the best-shaped ear in space goes
+        first.
+        """
+        idx = list(range(len(loop)))
+        # an ear's verdict changes only when an ear next to it is clipped
+        known: dict[tuple[int, int, int], float | None] = {}
+        while len(idx) >= 3:
+            best = None
+            m = len(idx)
+            for t in range(m):
+                key = (loop[idx[t - 1]], loop[idx[t]], loop[idx[(t + 1) % m]])
+                if key not in known or m == 3:
+                    known[key] = self._zip_ear(*key, closing=m == 3)
+                shape = known[key]
+                if shape is not None and (best is None or shape > best[0]):
+                    best = (shape, t, tuple(sorted(key)))
+            if best is None:
+                return
+            _, t, tri = best
+            a, c = loop[idx[t - 1]], loop[idx[(t + 1) % m]]
+            known = {k: v for k, v in known.items() if a not in k and c not in k}
+            self.add(tri, "fill-hole", tuple(sorted((loop[idx[t - 1]], loop[idx[t]]))), float("nan"),
+                     f"closing a {why}: ear at sample {loop[idx[t]]} chosen in space (the rim has no "
+                     "simple planar projection; need not be a Delaunay face)")
+            idx.pop(t)
+
+    def _zip_ear(self, a: int, b: int, c: int, closing: bool) -> float | None:
+        """Shape (smallest angle) of the ear (a, b, c) of :meth:`_zip`, or None if it may not be clipped."""
+        tri = tuple(sorted((a, b, c)))
+        if not closing and self.at(tuple(sorted((a, c)))):
+            return None
+        if tri in self.index or any(len(self.at(f)) >= 2 for f in _facets(tri)):
+            return None
+        if not self.consistent(tri):
+            return None
+        for rim in (tuple(sorted((a, b))), tuple(sorted((b, c)))):
+            ids = self.at(rim)
+            if ids and float(self._u(tri, rim) @ self._u(self.simp[ids[0]], rim)) >= COS_EAR:
+                return None
+        p = self.points
+        return min_angle(p[a], p[b], p[c])
 
     def _join_ends(self, ends: list[Simplex], why: str) -> None:
         """Join curve ends in pairs, closest first, up to FILL_MAX_SPAN local spacings apart."""

@@ -16,13 +16,19 @@ def plane_polygon(p: np.ndarray) -> np.ndarray | None:
     _, _, vt = np.linalg.svd(c, full_matrices=False)
     q = c @ vt[:2].T
     m = len(p)
-    for i in range(m):
-        for j in range(i + 2, m):
-            if i == 0 and j == m - 1:
-                continue
-            if _segments_cross(q[i], q[(i + 1) % m], q[j], q[(j + 1) % m]):
-                return None
-    return q
+    # every pair of edges i < j that share no vertex, all at once (the float operations of
+    # _segments_cross, column by column)
+    i, j = np.triu_indices(m, k=2)
+    keep = ~((i == 0) & (j == m - 1))
+    i, j = i[keep], j[keep]
+    a, b = q[i], q[(i + 1) % m]
+    e, f = q[j], q[(j + 1) % m]
+
+    def cross(o: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+        return (u[:, 0] - o[:, 0]) * (v[:, 1] - o[:, 1]) - (u[:, 1] - o[:, 1]) * (v[:, 0] - o[:, 0])
+
+    crossing = (cross(e, f, a) * cross(e, f, b) < 0) & (cross(a, b, e) * cross(a, b, f) < 0)
+    return None if crossing.any() else q
 
 
 def _cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
@@ -36,17 +42,24 @@ def _segments_cross(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) 
     return d1 * d2 < 0 and d3 * d4 < 0
 
 
-def is_ear(q: np.ndarray, idx: list[int], t: int) -> bool:
+def orientation(poly: np.ndarray) -> float:
+    """+1.0 for a counter-clockwise polygon (m, 2), -1.0 for a clockwise one (signed area, summed in order)."""
+    nxt = np.roll(poly, -1, axis=0)
+    area = 0.5 * sum((poly[:, 0] * nxt[:, 1] - poly[:, 1] * nxt[:, 0]).tolist())
+    return 1.0 if area >= 0 else -1.0
+
+
+def is_ear(q: np.ndarray, idx: list[int], t: int, sign: float | None = None) -> bool:
     """Whether vertex idx[t] of the polygon q[idx] is an ear (convex, nothing inside).
 
     The cross products are the same float operations as :func:`_cross`,
-    done on whole columns; the area is summed in order, as one loop would.
+    done on whole columns.  ``sign`` is :func:`orientation` of ``q[idx]``
+    when the caller has it.
     """
     m = len(idx)
     poly = q[idx]
-    nxt = np.roll(poly, -1, axis=0)
-    area = 0.5 * sum((poly[:, 0] * nxt[:, 1] - poly[:, 1] * nxt[:, 0]).tolist())
-    sign = 1.0 if area >= 0 else -1.0
+    if sign is None:
+        sign = orientation(poly)
     a, b, c = poly[t - 1], poly[t], poly[(t + 1) % m]
     if sign * _cross(a, b, c) <= 0:
         return False
