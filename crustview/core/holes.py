@@ -455,28 +455,35 @@ class Patcher(SampleInsertion):
                     self._zip(loop, why)
                 continue
             idx = list(range(len(loop)))
+            # a valid ear stays valid while no ear next to it is clipped (clipping only removes
+            # a vertex that could lie inside it); an invalid one may become valid, so it is re-tested
+            valid: dict[tuple[int, int, int], float] = {}
             while len(idx) >= 3:
                 best = None
                 m = len(idx)
                 sign = orientation(q[idx])  # once per round: the same for every ear of it
                 for t in range(m):
                     a, b, c = idx[t - 1], idx[t], idx[(t + 1) % m]
-                    if not is_ear(q, idx, t, sign):
-                        continue
-                    tri = tuple(sorted((loop[a], loop[b], loop[c])))
-                    diag = tuple(sorted((loop[a], loop[c])))
-                    if m > 3 and self.at(diag):
-                        continue  # the diagonal is already an edge of M_S elsewhere
-                    if tri in self.index or any(len(self.at(f)) >= 2 for f in _facets(tri)):
-                        continue
-                    if not self.consistent(tri):
-                        continue
-                    shape = min_angle(q[a], q[b], q[c])
+                    shape = valid.get((a, b, c)) if m > 3 else None
+                    if shape is None:
+                        if not is_ear(q, idx, t, sign):
+                            continue
+                        tri = tuple(sorted((loop[a], loop[b], loop[c])))
+                        diag = tuple(sorted((loop[a], loop[c])))
+                        if m > 3 and self.at(diag):
+                            continue  # the diagonal is already an edge of M_S elsewhere
+                        if tri in self.index or any(len(self.at(f)) >= 2 for f in _facets(tri)):
+                            continue
+                        if not self.consistent(tri):
+                            continue
+                        shape = valid[(a, b, c)] = min_angle(q[a], q[b], q[c])
                     if best is None or shape > best[0]:
-                        best = (shape, t, tri)
+                        best = (shape, t, tuple(sorted((loop[a], loop[b], loop[c]))))
                 if best is None:
                     break
                 _, t, tri = best
+                near = (idx[t - 1], idx[(t + 1) % m])
+                valid = {k: v for k, v in valid.items() if near[0] not in k and near[1] not in k}
                 self.add(tri, "fill-hole", tuple(sorted((loop[idx[t - 1]], loop[idx[t]]))), float("nan"),
                          f"closing a {why}: ear at sample {loop[idx[t]]} clipped in the hole's plane "
                          "(need not be a Delaunay face)")
