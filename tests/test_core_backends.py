@@ -1,4 +1,4 @@
-"""The Delaunay backends: CGAL in R^3 against Qhull, and degenerate input."""
+"""The Delaunay backends: CGAL in R^3 (own extension and wheel) against Qhull, and degenerate input."""
 
 import numpy as np
 import pytest
@@ -29,21 +29,74 @@ def test_cgal_gives_qhulls_tetrahedra_on_a_generic_sample():
     assert np.array_equal(_rows(cg), _rows(qh))
 
 
+def test_the_native_extension_is_built_and_used():
+    # scripts/install.sh installs CGAL's headers, so the extension must exist
+    # here; without it the fast path would silently be the slow wheel
+    assert delaunay_cgal.native_available()
+    assert delaunay_cgal.cgal_route() == "extension"
+
+
+def test_extension_and_wheel_give_the_same_tetrahedra():
+    rng = np.random.default_rng(8)
+    pts = rng.normal(size=(2000, 3))
+    nat = delaunay_cgal.delaunay_3d_native(pts)
+    whl = delaunay_cgal.delaunay_3d_wheel(pts)
+    assert nat.dtype == np.int32 and nat.flags.writeable
+    assert np.array_equal(_rows(nat), _rows(whl))
+
+
+def test_extension_hand_checked_tetrahedron_and_octahedron():
+    # one tetrahedron: a single cell on rows 0..3
+    tet = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    assert _rows(delaunay_cgal.delaunay_3d_native(tet)).tolist() == [[0, 1, 2, 3]]
+    # a slightly squashed octahedron: the short axis (rows 4, 5) is the
+    # diagonal shared by all four tetrahedra
+    octa = np.array([[1.0, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 0.9], [0, 0, -0.9]])
+    got = _rows(delaunay_cgal.delaunay_3d_native(octa))
+    assert got.tolist() == [[0, 2, 4, 5], [0, 3, 4, 5], [1, 2, 4, 5], [1, 3, 4, 5]]
+
+
+def test_extension_reports_bad_input_clearly():
+    rng = np.random.default_rng(9)
+    pts = rng.normal(size=(50, 3))
+    with pytest.raises(RuntimeError, match="49 of 50 vertices"):
+        delaunay_cgal.delaunay_3d_native(np.vstack([pts[:49], pts[:1]]))  # a duplicate
+    with pytest.raises(RuntimeError, match="2-dimensional"):
+        delaunay_cgal.delaunay_3d_native(np.c_[pts[:, :2], np.zeros(50)])  # coplanar
+    with pytest.raises(ValueError, match="shape"):
+        delaunay_cgal.delaunay_3d_native(pts[:, :2])
+    from crustview.core import _delaunay3
+
+    with pytest.raises(ValueError, match="n x 3"):
+        _delaunay3.tetrahedra(np.zeros(7))
+
+
+def test_delaunay_falls_back_to_qhull_when_cgal_drops_a_vertex():
+    # duplicates never reach delaunay() from prepare_points; called directly,
+    # CGAL keeps one copy, and the wrapper answers with Qhull's triangulation
+    rng = np.random.default_rng(10)
+    pts = rng.normal(size=(60, 3))
+    pts[7] = pts[3]
+    got = delaunay(pts, np.empty((0, 3)), backend="cgal")
+    assert np.array_equal(_rows(got), _rows(delaunay(pts, np.empty((0, 3)), backend="qhull")))
+
+
 def test_cell_block_read_in_tiny_chunks_is_the_same(monkeypatch):
     rng = np.random.default_rng(4)
     pts = rng.normal(size=(200, 3))
-    whole = delaunay_cgal.delaunay_3d(pts)
+    whole = delaunay_cgal.delaunay_3d_wheel(pts)
     monkeypatch.setattr(delaunay_cgal, "CHUNK_BYTES", 7)
-    assert np.array_equal(delaunay_cgal.delaunay_3d(pts), whole)
+    assert np.array_equal(delaunay_cgal.delaunay_3d_wheel(pts), whole)
 
 
-def test_cgal_resolves_an_exactly_degenerate_lattice_into_a_delaunay_triangulation():
+@pytest.mark.parametrize("route", ["native", "wheel"])
+def test_cgal_resolves_an_exactly_degenerate_lattice_into_a_delaunay_triangulation(route):
     # a 5x5x5 grid: every cube's 8 corners are cospherical, so the Delaunay
     # triangulation is not unique and CGAL may split it unlike Qhull; it must
     # still fill the hull (volumes add up) and keep every circumsphere empty
     g = np.arange(5.0)
     pts = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
-    simp = delaunay_cgal.delaunay_3d(pts)
+    simp = getattr(delaunay_cgal, f"delaunay_3d_{route}")(pts)
     p = pts[simp]
     vol = np.abs(np.linalg.det(p[:, 1:] - p[:, :1])).sum() / 6
     assert vol == pytest.approx(64.0)

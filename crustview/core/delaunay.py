@@ -19,9 +19,9 @@ directly (``scipy.spatial.Voronoi`` would recompute the same hull).
 Backends
 --------
 In R^3 (working dimension 3) the triangulation comes from CGAL's
-``Delaunay_triangulation_3`` when the ``cgal`` wheel is installed (see
-:mod:`.delaunay_cgal`: 15-60x faster than Qhull on surface samples, exact
-predicates).  In every other dimension it comes from Qhull
+``Delaunay_triangulation_3`` (see :mod:`.delaunay_cgal`: exact predicates;
+through crustview's own extension 20-30x faster than Qhull on surface
+samples, through the ``cgal`` wheel's text export about half of that).  In every other dimension it comes from Qhull
 (``scipy.spatial.Delaunay``): in R^4 CGAL's dD code measured no faster
 (36 s against 41 s for a 10,000-point Klein bottle), and in R^2 Qhull takes
 milliseconds.  Both get the samples *and* the far bounding points, and the
@@ -107,7 +107,7 @@ def delaunay(work: np.ndarray, bounds: np.ndarray, backend: str = "auto") -> np.
 
         try:
             return delaunay_3d(allpts)
-        except RuntimeError:  # pragma: no cover - only for input prepare_points never emits
+        except RuntimeError:  # duplicates or a flat set: never after prepare_points
             pass
     try:
         tri = Delaunay(allpts, qhull_options="Qbb Qc Qz Q12" if work.shape[1] <= 4 else "Qbb Qc Qz Qx Q12")

@@ -1,4 +1,4 @@
-"""Delaunay tetrahedralisation in R^3 with CGAL (the ``cgal`` wheel).
+"""Delaunay tetrahedralisation in R^3 with CGAL.
 
 Why CGAL for k = 3
 ------------------
@@ -11,8 +11,22 @@ tetrahedra; on exactly cospherical input each resolves the degeneracy its own
 way (both valid Delaunay triangulations).  The far bounding points of
 :mod:`.delaunay` are inserted with the samples, as for Qhull.
 
-Getting the cells out
----------------------
+Two ways to CGAL
+----------------
+1. crustview's own small extension :mod:`crustview.core._delaunay3`
+   (``_delaunay3.cpp``, built at install time against Debian's header-only
+   ``libcgal-dev``): it triangulates a float64 buffer with the GIL released
+   and hands the finite tetrahedra back as one int32 buffer that numpy wraps
+   without a copy.  This is the path that makes the backend fast.
+2. The ``cgal`` wheel's SWIG bindings, when the extension could not be built
+   (no compiler or no CGAL headers).  Getting the cells out is then the
+   expensive part, described below.
+
+Both build the same triangulation (same kernel, same insertion), so they
+return the same tetrahedra.
+
+Getting the cells out of the wheel
+----------------------------------
 The SWIG bindings hand out cells one Python object at a time (about 1 us per
 call, several calls per cell).  The bulk way is CGAL's own stream output,
 ``write_to_file``: the dimension, the n vertices (17 significant digits, so
@@ -36,13 +50,36 @@ from .rows import index_dtype
 CHUNK_BYTES = 1 << 25
 
 
-def cgal_available() -> bool:
+def native_available() -> bool:
+    """Whether crustview's own CGAL extension (:mod:`._delaunay3`) was built."""
+    try:
+        from . import _delaunay3  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def wheel_available() -> bool:
     """Whether the ``cgal`` wheel (``CGAL.CGAL_Triangulation_3``) can be imported."""
     try:
         from CGAL import CGAL_Triangulation_3  # noqa: F401
     except ImportError:
         return False
     return True
+
+
+def cgal_available() -> bool:
+    """Whether any CGAL path (the extension or the wheel) is installed."""
+    return native_available() or wheel_available()
+
+
+def cgal_route() -> str | None:
+    """``"extension"``, ``"wheel"`` or ``None``: which CGAL path :func:`delaunay_3d` takes."""
+    if native_available():
+        return "extension"
+    if wheel_available():
+        return "wheel"
+    return None
 
 
 def _temp_dir() -> str | None:
@@ -72,7 +109,32 @@ def delaunay_3d(points: np.ndarray) -> np.ndarray:
     RuntimeError
         If CGAL's triangulation is not 3-dimensional or lost a vertex
         (duplicates), or its output cannot be read back.
+    ImportError
+        If neither the extension nor the wheel is installed.
     """
+    if native_available():
+        return delaunay_3d_native(points)
+    return delaunay_3d_wheel(points)
+
+
+def delaunay_3d_native(points: np.ndarray) -> np.ndarray:
+    """:func:`delaunay_3d` through crustview's extension :mod:`._delaunay3`."""
+    from . import _delaunay3
+
+    pts = np.ascontiguousarray(points, dtype=np.float64)
+    if pts.ndim != 2 or pts.shape[1] != 3:
+        raise ValueError(f"expected points of shape (n, 3), got {pts.shape}")
+    dim, nverts, cells, itemsize = _delaunay3.tetrahedra(pts)
+    if dim != 3 or nverts != len(pts):
+        raise RuntimeError(
+            f"CGAL built a {dim}-dimensional triangulation with {nverts} of {len(pts)} vertices"
+        )
+    dtype = np.int32 if itemsize == 4 else np.int64
+    return np.frombuffer(cells, dtype=dtype).reshape(-1, 4)
+
+
+def delaunay_3d_wheel(points: np.ndarray) -> np.ndarray:
+    """:func:`delaunay_3d` through the ``cgal`` wheel (text export, slower)."""
     from CGAL.CGAL_Kernel import Point_3
     from CGAL.CGAL_Triangulation_3 import Delaunay_triangulation_3
 
