@@ -265,7 +265,7 @@ def test_surface_meshes_read_back(tmp_path, sphere_rec, suffix):
     assert len(tris) == len(sphere_rec.manifold) > 0
     if suffix == ".stl":  # STL stores coordinates per triangle, not indices
         corners = np.sort(mesh.points[tris].reshape(-1, 3), axis=0)
-        expected = np.sort(sphere_rec.input_points[sphere_rec.manifold].reshape(-1, 3), axis=0)
+        expected = np.sort(sphere_rec.input_points[sphere_rec.point_input[sphere_rec.manifold]].reshape(-1, 3), axis=0)
         np.testing.assert_allclose(corners, expected, atol=1e-6)
     else:
         assert len(mesh.points) == len(sphere_rec.input_points)
