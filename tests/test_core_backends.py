@@ -45,6 +45,23 @@ def test_extension_and_wheel_give_the_same_tetrahedra():
     assert np.array_equal(_rows(nat), _rows(whl))
 
 
+def test_extension_neighbour_table_is_consistent_and_matches_qhulls_hull():
+    rng = np.random.default_rng(13)
+    pts = rng.normal(size=(1500, 3))
+    simp, nbrs = delaunay_cgal.delaunay_3d_native(pts, neighbors=True)
+    assert nbrs.shape == simp.shape and nbrs.dtype == np.int32
+    for j in range(4):
+        inner = nbrs[:, j] >= 0
+        other = simp[nbrs[inner, j]]
+        facet = np.delete(simp[inner], j, axis=1)
+        # the neighbour holds the facet opposite vertex j, and not vertex j itself
+        assert (facet[:, :, None] == other[:, None, :]).any(axis=2).all()
+        assert not (simp[inner, j][:, None] == other).any()
+    # -1 exactly across the convex hull: as many as Qhull's hull facets
+    qh_simp, qh_nbrs = delaunay(pts, np.empty((0, 3)), backend="qhull", neighbors=True)
+    assert (nbrs < 0).sum() == (qh_nbrs < 0).sum() > 0
+
+
 def test_extension_hand_checked_tetrahedron_and_octahedron():
     # one tetrahedron: a single cell on rows 0..3
     tet = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])

@@ -53,6 +53,23 @@ def test_enumerate_faces_matches_a_plain_stable_sort():
     assert np.array_equal(np.diff(ptr), np.unique(inst, axis=0, return_counts=True)[1])
 
 
+@pytest.mark.parametrize("backend,k,bounded", [("cgal", 3, True), ("qhull", 3, False), ("qhull", 2, True)])
+def test_facets_from_the_neighbour_table_equal_the_general_enumeration(backend, k, bounded):
+    # codimension 1: faces paired through the backend's neighbour table; with
+    # no bounding points the hull facets have a single simplex
+    rng = np.random.default_rng(12)
+    pts = rng.normal(size=(2500, k))
+    b = bounding_points(k) if bounded else np.empty((0, k))
+    simp, nbrs = delaunay(pts, b, backend=backend, neighbors=True)
+    assert nbrs is not None and nbrs.shape == simp.shape
+    general = cand.enumerate_faces(simp, 2500, k - 1)
+    paired = cand.enumerate_faces(simp, 2500, k - 1, neighbors=nbrs)
+    for got, want in zip(paired, general):
+        assert got.dtype == want.dtype and np.array_equal(got, want)
+    counts = np.diff(general[1])
+    assert counts.max() == 2 and (counts.min() == 1) == (not bounded)
+
+
 def test_an_exception_in_the_consumer_drops_the_chunks_not_started():
     started = []
 

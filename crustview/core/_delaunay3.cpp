@@ -3,7 +3,9 @@
 // A small CPython extension (no numpy headers): it takes the points as one
 // contiguous float64 buffer of n x 3 values and returns the finite
 // tetrahedra as a bytearray of vertex numbers (rows of the input), int32 when
-// n < 2^31 and int64 otherwise, so numpy can wrap it without a copy.
+// n < 2^31 and int64 otherwise, so numpy can wrap it without a copy; on
+// request also each tetrahedron's four neighbours (neighbour j is across the
+// facet opposite vertex j; -1 across a convex hull facet), as Qhull gives them.
 //
 // Why native code: CGAL builds the triangulation of 300,000 surface points in
 // a few seconds, but the `cgal` wheel can only hand it back one Python object
@@ -19,6 +21,7 @@
 
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_cell_base_with_info_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
 #include <cstdint>
@@ -32,7 +35,9 @@ namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using VertexBase = CGAL::Triangulation_vertex_base_with_info_3<std::int64_t, Kernel>;
-using CellBase = CGAL::Delaunay_triangulation_cell_base_3<Kernel>;
+// each cell carries its number among the finite cells (-1: an infinite cell)
+using CellBase = CGAL::Triangulation_cell_base_with_info_3<std::int64_t, Kernel,
+                                                           CGAL::Delaunay_triangulation_cell_base_3<Kernel>>;
 using Tds = CGAL::Triangulation_data_structure_3<VertexBase, CellBase>;
 using Triangulation = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
 using Point = Kernel::Point_3;
@@ -48,9 +53,29 @@ void write_cells(const Triangulation& tri, char* out) {
     }
 }
 
+// Number the cells (finite ones 0, 1, ... in iteration order, infinite -1)
+// and copy each finite cell's neighbour numbers into out (4 per cell).
+template <typename Index>
+void write_neighbours(Triangulation& tri, char* out) {
+    for (auto cell = tri.all_cells_begin(); cell != tri.all_cells_end(); ++cell) {
+        cell->info() = -1;
+    }
+    std::int64_t number = 0;
+    for (auto cell = tri.finite_cells_begin(); cell != tri.finite_cells_end(); ++cell) {
+        cell->info() = number++;
+    }
+    Index* dst = reinterpret_cast<Index*>(out);
+    for (auto cell = tri.finite_cells_begin(); cell != tri.finite_cells_end(); ++cell) {
+        for (int j = 0; j < 4; ++j) {
+            *dst++ = static_cast<Index>(cell->neighbor(j)->info());
+        }
+    }
+}
+
 PyObject* tetrahedra(PyObject* /*self*/, PyObject* args) {
     Py_buffer buffer;
-    if (!PyArg_ParseTuple(args, "y*", &buffer)) {
+    int want_neighbours = 0;
+    if (!PyArg_ParseTuple(args, "y*|p", &buffer, &want_neighbours)) {
         return nullptr;
     }
     const Py_ssize_t row_bytes = 3 * static_cast<Py_ssize_t>(sizeof(double));
@@ -60,7 +85,7 @@ PyObject* tetrahedra(PyObject* /*self*/, PyObject* args) {
         return nullptr;
     }
     const std::int64_t n = buffer.len / row_bytes;
-    const bool wide = n >= (std::int64_t(1) << 31);
+    const bool wide = n >= (std::int64_t(1) << 31);  // vertex numbers
 
     Triangulation tri;
     std::string error;
@@ -110,22 +135,45 @@ PyObject* tetrahedra(PyObject* /*self*/, PyObject* args) {
         }
         Py_END_ALLOW_THREADS
     }
+    const bool wide_cells = static_cast<std::int64_t>(cells) >= (std::int64_t(1) << 31);
+    const Py_ssize_t nitem = wide_cells ? 8 : 4;
+    PyObject* nbrs = Py_None;
+    Py_INCREF(Py_None);
+    if (want_neighbours && dimension == 3) {
+        Py_DECREF(Py_None);
+        nbrs = PyByteArray_FromStringAndSize(nullptr, cells * 4 * nitem);
+        if (nbrs == nullptr) {
+            Py_DECREF(out);
+            return nullptr;
+        }
+        char* dst = PyByteArray_AS_STRING(nbrs);
+        Py_BEGIN_ALLOW_THREADS
+        if (wide_cells) {
+            write_neighbours<std::int64_t>(tri, dst);
+        } else {
+            write_neighbours<std::int32_t>(tri, dst);
+        }
+        Py_END_ALLOW_THREADS
+    }
     {
         // free CGAL's memory before numpy takes over the result
         Py_BEGIN_ALLOW_THREADS
         tri.clear();
         Py_END_ALLOW_THREADS
     }
-    return Py_BuildValue("iLNi", dimension, static_cast<long long>(vertices), out, static_cast<int>(item));
+    return Py_BuildValue("iLNNii", dimension, static_cast<long long>(vertices), out, nbrs, static_cast<int>(item),
+                         static_cast<int>(nitem));
 }
 
 PyMethodDef methods[] = {
     {"tetrahedra", tetrahedra, METH_VARARGS,
-     "tetrahedra(xyz) -> (dimension, vertices, cells, itemsize)\n\n"
+     "tetrahedra(xyz, neighbours=False) -> (dimension, vertices, cells, neighbours, itemsize, neighbour_itemsize)\n\n"
      "Delaunay triangulation of the float64 points in the buffer xyz (n x 3,\n"
      "C order). Returns CGAL's dimension, its vertex count (less than n when\n"
      "points repeat), the finite tetrahedra as a bytearray of row numbers\n"
-     "(4 per cell) and the byte size of one number (4 or 8)."},
+     "(4 per cell), their neighbours as a bytearray of cell numbers (4 per\n"
+     "cell, -1 across the hull; None unless asked for) and the byte size of\n"
+     "one number in each (4 or 8)."},
     {nullptr, nullptr, 0, nullptr},
 };
 

@@ -72,7 +72,9 @@ def backend_for(r: int) -> str:
     return "cgal" if r == 3 and cgal_available() else "qhull"
 
 
-def delaunay(work: np.ndarray, bounds: np.ndarray, backend: str = "auto") -> np.ndarray:
+def delaunay(
+    work: np.ndarray, bounds: np.ndarray, backend: str = "auto", neighbors: bool = False
+) -> np.ndarray | tuple[np.ndarray, np.ndarray | None]:
     """Delaunay simplices of ``work`` followed by ``bounds``.
 
     Parameters
@@ -83,12 +85,18 @@ def delaunay(work: np.ndarray, bounds: np.ndarray, backend: str = "auto") -> np.
         ``"auto"``: CGAL for r = 3 when installed, Qhull otherwise.
         ``"cgal"`` needs r = 3.  If CGAL cannot return a full triangulation
         (it cannot happen after duplicate merging), Qhull runs instead.
+    neighbors : bool
+        Also return the neighbour table (see below).
 
     Returns
     -------
     simplices : ndarray of shape (t, r + 1)
         Vertex indices (samples first, then bounding points); int32 below
         2^31 vertices (half the memory of int64 at a million samples).
+    neighbors : ndarray of shape (t, r + 1) or None
+        Only with ``neighbors=True``: ``[i, j]`` is the simplex across the
+        facet of ``i`` opposite its ``j``-th vertex, -1 across the hull.
+        None when the backend cannot give it (CGAL through the wheel).
 
     Raises
     ------
@@ -103,10 +111,13 @@ def delaunay(work: np.ndarray, bounds: np.ndarray, backend: str = "auto") -> np.
     if backend == "cgal":
         if allpts.shape[1] != 3:
             raise ValueError(f"the CGAL backend works in R^3 only; got points in R^{allpts.shape[1]}")
-        from .delaunay_cgal import delaunay_3d
+        from .delaunay_cgal import delaunay_3d, delaunay_3d_native, native_available
 
         try:
-            return delaunay_3d(allpts)
+            if neighbors and native_available():
+                return delaunay_3d_native(allpts, neighbors=True)
+            simp = delaunay_3d(allpts)
+            return (simp, None) if neighbors else simp
         except RuntimeError:  # duplicates or a flat set: never after prepare_points
             pass
     try:
@@ -114,7 +125,10 @@ def delaunay(work: np.ndarray, bounds: np.ndarray, backend: str = "auto") -> np.
     except QhullError as exc:  # pragma: no cover - depends on Qhull's mood
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else "unknown error"
         raise QhullFailure(f"Qhull could not triangulate the points: {first}") from None
-    return np.ascontiguousarray(tri.simplices, dtype=index_dtype(len(allpts)))
+    simp = np.ascontiguousarray(tri.simplices, dtype=index_dtype(len(allpts)))
+    if neighbors:
+        return simp, np.ascontiguousarray(tri.neighbors, dtype=index_dtype(len(simp)))
+    return simp
 
 
 #: Simplices per block in :func:`circumcenters` (bounds its temporary memory).

@@ -117,20 +117,27 @@ def delaunay_3d(points: np.ndarray) -> np.ndarray:
     return delaunay_3d_wheel(points)
 
 
-def delaunay_3d_native(points: np.ndarray) -> np.ndarray:
-    """:func:`delaunay_3d` through crustview's extension :mod:`._delaunay3`."""
+def delaunay_3d_native(points: np.ndarray, neighbors: bool = False) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
+    """:func:`delaunay_3d` through crustview's extension :mod:`._delaunay3`.
+
+    With ``neighbors``, also returns the (t, 4) neighbour table: entry
+    ``[i, j]`` is the tetrahedron across the facet of ``i`` opposite its
+    vertex ``j``, -1 across the convex hull (Qhull's convention).
+    """
     from . import _delaunay3
 
     pts = np.ascontiguousarray(points, dtype=np.float64)
     if pts.ndim != 2 or pts.shape[1] != 3:
         raise ValueError(f"expected points of shape (n, 3), got {pts.shape}")
-    dim, nverts, cells, itemsize = _delaunay3.tetrahedra(pts)
+    dim, nverts, cells, nbrs, itemsize, nitemsize = _delaunay3.tetrahedra(pts, neighbors)
     if dim != 3 or nverts != len(pts):
         raise RuntimeError(
             f"CGAL built a {dim}-dimensional triangulation with {nverts} of {len(pts)} vertices"
         )
-    dtype = np.int32 if itemsize == 4 else np.int64
-    return np.frombuffer(cells, dtype=dtype).reshape(-1, 4)
+    simplices = np.frombuffer(cells, dtype=np.int32 if itemsize == 4 else np.int64).reshape(-1, 4)
+    if not neighbors:
+        return simplices
+    return simplices, np.frombuffer(nbrs, dtype=np.int32 if nitemsize == 4 else np.int64).reshape(-1, 4)
 
 
 def delaunay_3d_wheel(points: np.ndarray) -> np.ndarray:

@@ -139,7 +139,11 @@ def reconstruct(
     t0 = time.perf_counter()
     report("delaunay", 0.0)
     bounds = bounding_points(r)
-    simplices = delaunay(prep.work, bounds)
+    # in codimension 1 the neighbour table pairs the faces' two simplices (see enumerate_faces)
+    if r - d == 1:
+        simplices, neighbors = delaunay(prep.work, bounds, neighbors=True)
+    else:
+        simplices, neighbors = delaunay(prep.work, bounds), None
     work_all = np.vstack([prep.work, bounds])
     centres = circumcenters(work_all, simplices)
     timings["delaunay"] = time.perf_counter() - t0
@@ -160,7 +164,8 @@ def reconstruct(
 
     t0 = time.perf_counter()
     report("candidates", 0.0)
-    faces, cptr, csimp = cand.enumerate_faces(simplices, n, d)
+    faces, cptr, csimp = cand.enumerate_faces(simplices, n, d, neighbors=neighbors)
+    del neighbors
     lit = cand.literal_angles(prep.work, normals_w, faces)
     _next_stage(cancel)
     coc = cand.cocone_angles(
