@@ -211,7 +211,8 @@ def cocone_angles(
     nv_all = np.diff(cell_ptr)
     out = np.zeros((f, dp1))
     tree = cKDTree(work)
-    tangents = np.linalg.qr(normals, mode="complete")[0][:, :, m:]  # (n, r, d)
+    # contiguous: gathers from a strided view of the Q factor take 20x longer
+    tangents = np.ascontiguousarray(np.linalg.qr(normals, mode="complete")[0][:, :, m:])  # (n, r, d)
     tasks = []
     for nv in np.unique(nv_all):
         sel = np.flatnonzero(nv_all == nv)
