@@ -129,16 +129,31 @@ def literal_angles(
     """
     out = np.empty(len(faces))
 
+    single = normals.shape[2] == 1
+    flat_normals = normals[:, :, 0] if single else normals
+
     def chunk(sl: slice) -> slice:
         fc = faces[sl]
         p = np.take(work, fc, axis=0)
         u = _orthonormal(p[:, 1:] - p[:, :1])  # (F, r, d)
-        best = np.full(len(fc), np.pi / 2)
+        if single:
+            u_cols = [[np.ascontiguousarray(u[:, q, c]) for q in range(u.shape[1])] for c in range(u.shape[2])]
+        best_sin = np.full(len(fc), np.inf)  # arcsin is increasing: take it once, of the minimum
         for a in range(fc.shape[1]):
-            nt_u = np.einsum("frm,frd->fmd", np.take(normals, fc[:, a], axis=0), u)
-            s = np.sqrt(_largest_eig(nt_u))
-            best = np.minimum(best, np.arcsin(np.clip(s, 0.0, 1.0)))
-        out[sl] = best
+            if single:  # codimension 1: |U^T n|^2 summed column by column, no batched matmul
+                nrm = np.take(flat_normals, fc[:, a], axis=0)  # (F, r)
+                sq = np.zeros(len(fc))
+                for col in u_cols:
+                    dot = nrm[:, 0] * col[0]
+                    for q in range(1, nrm.shape[1]):
+                        dot += nrm[:, q] * col[q]
+                    sq += dot * dot
+                s = np.sqrt(sq)
+            else:
+                nt_u = np.einsum("frm,frd->fmd", np.take(normals, fc[:, a], axis=0), u)
+                s = np.sqrt(_largest_eig(nt_u))
+            np.minimum(best_sin, s, out=best_sin)
+        out[sl] = np.arcsin(np.clip(best_sin, 0.0, 1.0))
         return sl
 
     for _ in run_in_order(chunk, chunks(len(faces), CHUNK_CELL_VERTICES), workers):

@@ -175,13 +175,15 @@ def merge_duplicates(pts: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarra
         Median nearest-neighbour distance among distinct points.
     """
     tree = cKDTree(pts)
-    dist, _ = tree.query(pts, k=min(len(pts), 8), workers=-1)
-    # median NN distance ignoring exact duplicates
-    nz = dist[:, 1:]
-    positive = nz[nz > 0]
-    if positive.size == 0:
+    # median NN distance ignoring exact duplicates: the nearest other point,
+    # and for points with an exact copy the nearest positive distance among 7
+    first_pos = tree.query(pts, k=min(len(pts), 2), workers=-1)[0][:, -1]
+    copies = np.flatnonzero(first_pos == 0)
+    if len(copies):
+        nz = tree.query(pts[copies], k=min(len(pts), 8), workers=-1)[0][:, 1:]
+        first_pos[copies] = np.where(nz > 0, nz, np.inf).min(axis=1)
+    if not np.isfinite(first_pos).any() or not (first_pos > 0).any():
         raise InputError("all points coincide; nothing to reconstruct")
-    first_pos = np.where(nz > 0, nz, np.inf).min(axis=1)
     spacing = float(np.median(first_pos[np.isfinite(first_pos)]))
     pairs = tree.query_pairs(tol * spacing, output_type="ndarray")
     n = len(pts)
