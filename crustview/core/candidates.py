@@ -229,10 +229,14 @@ def cocone_angles(
     # contiguous: gathers from a strided view of the Q factor take 20x longer
     tangents = np.ascontiguousarray(np.linalg.qr(normals, mode="complete")[0][:, :, m:])  # (n, r, d)
     tasks = []
+    # the cells' own edges/polygons replace subset enumeration where known (see _score_chunk)
+    own_faces = simplices is not None and m in (2, 3)
     for nv in np.unique(nv_all):
         sel = np.flatnonzero(nv_all == nv)
-        subsets = _boundary_subsets(int(nv), m)
+        subsets = [] if own_faces and nv > m + 1 else _boundary_subsets(int(nv), m)
         tasks += [(int(nv), sel[c], subsets) for c in chunks(len(sel), CHUNK_CELL_VERTICES // int(nv))]
+    if len(cell_simplices) < CHUNK_CELL_VERTICES:  # one chunk's worth: threads would only add overhead
+        workers = 1
 
     def score(task: tuple) -> tuple[np.ndarray, np.ndarray]:
         nv, sel, subsets = task
