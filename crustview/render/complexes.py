@@ -55,6 +55,9 @@ class SimplexDrawing:
             self.cells_all = (np.arange(m) * (d + 1))[:, None, None] + local[None]
         else:
             self.cells_all = self.table[:, local]
+        if self.cells_all.size and self.cells_all.max() < 2**31:
+            # int32 halves the per-step gather and VTK copy (see render.base.cell_array)
+            self.cells_all = self.cells_all.astype(np.int32)
 
     @property
     def lines(self) -> bool:
