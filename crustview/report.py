@@ -111,6 +111,7 @@ def report_dict(rec: Reconstruction, comparison: MeshComparison | None = None,
             "rules": rec.extraction.counts_by_rule(),
             "sampling_quality": quality,
             "timings": dict(rec.timings),
+            "delaunay_backend": rec.delaunay_backend,
             **extra,
         }
     )
@@ -128,7 +129,8 @@ def write_report(path: str | os.PathLike, rec: Reconstruction,
     (:meth:`Extraction.counts_by_rule`); ``sampling_quality``
     (:func:`crustview.core.quality.summary` without its ``seconds``:
     estimated epsilon and the samples beyond the paper's bounds);
-    ``timings`` (seconds per stage).
+    ``timings`` (seconds per stage); ``delaunay_backend`` (the Delaunay
+    code that ran, e.g. CGAL through crustview's extension, or Qhull).
     Paper runs also have ``n_cascades`` and ``cascades``: the
     :data:`REPORT_CASCADES` largest prune cascades, each with its
     ``origin`` step, its face ``tau`` (input rows), the origin's ``rule``, ``hole``

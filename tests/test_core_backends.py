@@ -142,3 +142,18 @@ def test_unknown_backend_and_cgal_outside_r3_are_errors():
         delaunay(pts, bounding_points(4), backend="fast")
     with pytest.raises(ValueError, match="R\\^3 only"):
         delaunay(pts, bounding_points(4), backend="cgal")
+
+
+def test_the_result_names_the_delaunay_code_that_ran():
+    from crustview.core.sampling import get_manifold
+    from crustview.report import report_dict
+
+    m = get_manifold("torus")
+    rec = reconstruct(m.sample(400, seed=0).points, 2)
+    assert rec.delaunay_backend == "CGAL Delaunay_triangulation_3 (crustview extension)"
+    assert report_dict(rec)["delaunay_backend"] == rec.delaunay_backend
+    k = get_manifold("flat-klein")
+    assert reconstruct(k.sample(300, seed=0).points, 2).delaunay_backend == "Qhull (scipy.spatial.Delaunay)"
+    # a flat sample in R^4 whose affine hull is 3-dimensional runs in R^3, so CGAL
+    flat = np.c_[m.sample(400, seed=1).points, np.zeros(400)]
+    assert reconstruct(flat, 2).delaunay_backend.startswith("CGAL")

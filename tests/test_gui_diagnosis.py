@@ -103,6 +103,7 @@ def test_extraction_mode_option_switches_the_verdict_and_back(qtbot, window):
     panel, info = window.run_panel, window.info_panel
     assert rec.mode == "robust" and rec.topology.unused_samples == 0  # closed through every sample
     assert "robust extraction" in info.banner.text() and "abandoned" in info.banner.text()
+    assert "Delaunay by CGAL Delaunay_triangulation_3 (crustview extension)" in info.timings.text()
     assert info.diagnosis.to_paper.isVisible() and info.diagnosis.cascades.count() == 0
     words = info.banner.text()
 

@@ -72,6 +72,16 @@ def backend_for(r: int) -> str:
     return "cgal" if r == 3 and cgal_available() else "qhull"
 
 
+def backend_label(r: int) -> str:
+    """What ``"auto"`` runs in working dimension ``r``, in words (for reports and the viewer)."""
+    if backend_for(r) == "cgal":
+        from .delaunay_cgal import cgal_route
+
+        via = "crustview extension" if cgal_route() == "extension" else "cgal wheel"
+        return f"CGAL Delaunay_triangulation_3 ({via})"
+    return "Qhull (scipy.spatial.Delaunay)"
+
+
 def delaunay(
     work: np.ndarray, bounds: np.ndarray, backend: str = "auto", neighbors: bool = False
 ) -> np.ndarray | tuple[np.ndarray, np.ndarray | None]:

@@ -10,7 +10,7 @@ import numpy as np
 
 from . import candidates as cand
 from .candidates import SCORE_LIMIT
-from .delaunay import bounding_points, circumcenters, delaunay
+from .delaunay import backend_label, bounding_points, circumcenters, delaunay
 from .errors import Cancelled, InputError
 from .extraction import extract
 from .memory import gc_paused, release_free_memory
@@ -210,6 +210,7 @@ def reconstruct(
         timings=timings,
         prune_boundary=prune_boundary,
         mode=mode,
+        delaunay_backend=backend_label(r),
     )
     del faces, lit, coc, simplices, normals, tangents, candidates, voronoi  # held by rec only
     return reextract(rec, test, theta, prune_boundary=prune_boundary, mode=mode, progress=progress,

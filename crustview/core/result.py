@@ -420,6 +420,9 @@ class Reconstruction:
         ``"robust"`` (default: the paper's Algorithm 3, and the extension of
         :mod:`crustview.core.robust` when the paper's loop cannot give a
         closed manifold through every sample) or ``"paper"``.
+    delaunay_backend : str
+        The Delaunay code that ran (:func:`.delaunay.backend_label`); empty
+        for results made before it was recorded.
     """
 
     d: int
@@ -446,6 +449,7 @@ class Reconstruction:
     timings: dict[str, float]
     prune_boundary: bool = True
     mode: str = "robust"
+    delaunay_backend: str = ""
 
     @property
     def n(self) -> int:

@@ -209,7 +209,8 @@ class InfoPanel(QWidget):
         self.interpretation.setToolTip("<br>".join(f"<b>{escape(a)}</b>: {escape(c)}" for a, _, c in rows))
         total = sum(rec.timings.values())
         parts = ", ".join(f"{k} {v:.2f}" for k, v in rec.timings.items())
-        self.timings.setText(f"<small>timings (s): {parts}; total {total:.2f}</small>")
+        backend = f"; Delaunay by {escape(rec.delaunay_backend)}" if rec.delaunay_backend else ""
+        self.timings.setText(f"<small>timings (s): {parts}; total {total:.2f}{backend}</small>")
         self.refresh_faces()
         self.refresh_selection()
 
