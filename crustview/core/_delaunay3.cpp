@@ -25,7 +25,6 @@
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
 #include <cstdint>
-#include <cstring>
 #include <exception>
 #include <string>
 #include <utility>
@@ -69,6 +68,17 @@ void write_neighbours(Triangulation& tri, char* out) {
         for (int j = 0; j < 4; ++j) {
             *dst++ = static_cast<Index>(cell->neighbor(j)->info());
         }
+    }
+}
+
+// Calls fn with a zero of the narrowest index type that holds the numbers:
+// std::int64_t when wide, std::int32_t otherwise.
+template <typename Fn>
+void with_index_type(bool wide, Fn fn) {
+    if (wide) {
+        fn(std::int64_t{0});
+    } else {
+        fn(std::int32_t{0});
     }
 }
 
@@ -128,11 +138,7 @@ PyObject* tetrahedra(PyObject* /*self*/, PyObject* args) {
     if (cells > 0) {
         char* dst = PyByteArray_AS_STRING(out);
         Py_BEGIN_ALLOW_THREADS
-        if (wide) {
-            write_cells<std::int64_t>(tri, dst);
-        } else {
-            write_cells<std::int32_t>(tri, dst);
-        }
+        with_index_type(wide, [&](auto zero) { write_cells<decltype(zero)>(tri, dst); });
         Py_END_ALLOW_THREADS
     }
     const bool wide_cells = static_cast<std::int64_t>(cells) >= (std::int64_t(1) << 31);
@@ -148,11 +154,7 @@ PyObject* tetrahedra(PyObject* /*self*/, PyObject* args) {
         }
         char* dst = PyByteArray_AS_STRING(nbrs);
         Py_BEGIN_ALLOW_THREADS
-        if (wide_cells) {
-            write_neighbours<std::int64_t>(tri, dst);
-        } else {
-            write_neighbours<std::int32_t>(tri, dst);
-        }
+        with_index_type(wide_cells, [&](auto zero) { write_neighbours<decltype(zero)>(tri, dst); });
         Py_END_ALLOW_THREADS
     }
     {

@@ -130,7 +130,7 @@ def literal_angles(
     out = np.empty(len(faces))
 
     single = normals.shape[2] == 1
-    flat_normals = normals[:, :, 0] if single else normals
+    flat_normals = normals[:, :, 0] if single else None
 
     def chunk(sl: slice) -> slice:
         fc = faces[sl]
@@ -235,7 +235,7 @@ def cocone_angles(
         sel = np.flatnonzero(nv_all == nv)
         subsets = [] if own_faces and nv > m + 1 else _boundary_subsets(int(nv), m)
         tasks += [(int(nv), sel[c], subsets) for c in chunks(len(sel), CHUNK_CELL_VERTICES // int(nv))]
-    if len(cell_simplices) < CHUNK_CELL_VERTICES:  # one chunk's worth: threads would only add overhead
+    if workers is None and len(cell_simplices) < CHUNK_CELL_VERTICES:  # one chunk's worth: threads only add overhead
         workers = 1
 
     def score(task: tuple) -> tuple[np.ndarray, np.ndarray]:

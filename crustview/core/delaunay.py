@@ -21,7 +21,8 @@ Backends
 In R^3 (working dimension 3) the triangulation comes from CGAL's
 ``Delaunay_triangulation_3`` (see :mod:`.delaunay_cgal`: exact predicates;
 through crustview's own extension 20-30x faster than Qhull on surface
-samples, through the ``cgal`` wheel's text export about half of that).  In every other dimension it comes from Qhull
+samples, through the ``cgal`` wheel's text export about half of that).  In
+every other dimension it comes from Qhull
 (``scipy.spatial.Delaunay``): in R^4 CGAL's dD code measured no faster
 (36 s against 41 s for a 10,000-point Klein bottle), and in R^2 Qhull takes
 milliseconds.  Both get the samples *and* the far bounding points, and the
@@ -121,13 +122,10 @@ def delaunay(
     if backend == "cgal":
         if allpts.shape[1] != 3:
             raise ValueError(f"the CGAL backend works in R^3 only; got points in R^{allpts.shape[1]}")
-        from .delaunay_cgal import delaunay_3d, delaunay_3d_native, native_available
+        from .delaunay_cgal import delaunay_3d
 
         try:
-            if neighbors and native_available():
-                return delaunay_3d_native(allpts, neighbors=True)
-            simp = delaunay_3d(allpts)
-            return (simp, None) if neighbors else simp
+            return delaunay_3d(allpts, neighbors)
         except RuntimeError:  # duplicates or a flat set: never after prepare_points
             pass
     try:

@@ -90,13 +90,18 @@ def _temp_dir() -> str | None:
     return None
 
 
-def delaunay_3d(points: np.ndarray) -> np.ndarray:
+def delaunay_3d(
+    points: np.ndarray, neighbors: bool = False
+) -> np.ndarray | tuple[np.ndarray, np.ndarray | None]:
     """Delaunay tetrahedra of points in R^3 with CGAL.
 
     Parameters
     ----------
     points : ndarray of shape (n, 3)
         Distinct points not all on one plane.
+    neighbors : bool
+        Also return the neighbour table (see :func:`delaunay_3d_native`);
+        None through the wheel, which cannot give it.
 
     Returns
     -------
@@ -113,8 +118,9 @@ def delaunay_3d(points: np.ndarray) -> np.ndarray:
         If neither the extension nor the wheel is installed.
     """
     if native_available():
-        return delaunay_3d_native(points)
-    return delaunay_3d_wheel(points)
+        return delaunay_3d_native(points, neighbors)
+    simplices = delaunay_3d_wheel(points)
+    return (simplices, None) if neighbors else simplices
 
 
 def delaunay_3d_native(points: np.ndarray, neighbors: bool = False) -> np.ndarray | tuple[np.ndarray, np.ndarray]:

@@ -250,8 +250,7 @@ def prepare_points(
     unit = prescale(pts)  # exact power of two; everything below works on pts / unit
     input_index, point_input, spacing = merge_duplicates(pts / unit, merge_tol)
     spacing *= unit
-    order = spatial_order(pts[point_input] / unit)
-    first_rank = order.copy()  # first_rank[i]: sample i's rank by first appearance
+    order = spatial_order(pts[point_input] / unit)  # order[i]: sample i's rank by first appearance
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
     input_index = rank[input_index]
@@ -286,7 +285,7 @@ def prepare_points(
         # relative size computed from unit-free quantities (no underflow near 1e-300)
         # drawn in order of first appearance, so a sample's joggle does not
         # depend on the spatial numbering
-        noise = rng.uniform(-1.0, 1.0, size=work.shape)[first_rank]
+        noise = rng.uniform(-1.0, 1.0, size=work.shape)[order]
         work = work + noise * (joggle * (spacing / unit) / scale_small)
     return PreparedPoints(
         points=uniq,
