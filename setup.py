@@ -1,22 +1,37 @@
-"""Build the optional native CGAL Delaunay module (everything else is in pyproject.toml).
+"""Build the optional native CGAL Delaunay modules (everything else is in pyproject.toml).
 
-``crustview.core._delaunay3`` wraps CGAL's ``Delaunay_triangulation_3``
-(header-only, from Debian's ``libcgal-dev``; ``scripts/install.sh`` installs
-it).  The extension is optional: without CGAL's headers or a C++ compiler the
-build skips it and crustview falls back to the ``cgal`` wheel, then Qhull.
+``crustview.core._delaunay3`` wraps CGAL's ``Delaunay_triangulation_3`` and
+``crustview.core._delaunay_d`` its dD ``Delaunay_triangulation`` in R^4 and
+R^5 (header-only, from Debian's ``libcgal-dev``; the dD kernel also needs
+Eigen's headers, ``libeigen3-dev``; ``scripts/install.sh`` installs both).
+Both are optional: without the headers or a C++ compiler the build skips them
+and crustview falls back to the ``cgal`` wheel (R^3) and Qhull.
 """
 
 from setuptools import Extension, setup
+
+FLAGS = ["-std=c++17", "-O2", "-DNDEBUG", "-DCGAL_NDEBUG"]
 
 setup(
     ext_modules=[
         Extension(
             "crustview.core._delaunay3",
             sources=["crustview/core/_delaunay3.cpp"],
+            depends=["crustview/core/_cgal_buffers.h"],
             language="c++",
-            extra_compile_args=["-std=c++17", "-O2", "-DNDEBUG", "-DCGAL_NDEBUG"],
+            extra_compile_args=FLAGS,
             libraries=["gmp", "mpfr"],
             optional=True,
-        )
+        ),
+        Extension(
+            "crustview.core._delaunay_d",
+            sources=["crustview/core/_delaunay_d.cpp"],
+            depends=["crustview/core/_cgal_buffers.h"],
+            include_dirs=["/usr/include/eigen3"],
+            language="c++",
+            extra_compile_args=FLAGS,
+            libraries=["gmp", "mpfr"],
+            optional=True,
+        ),
     ]
 )

@@ -10,7 +10,7 @@ PKGS="xvfb xauth libgl1 libegl1 libgl1-mesa-dri libglx-mesa0 libegl-mesa0
 libxkbcommon0 libxkbcommon-x11-0 libx11-xcb1 libxcb-cursor0 libxcb-icccm4 libxcb-keysyms1 libxcb-image0
 libxcb-randr0 libxcb-render-util0 libxcb-shape0 libxcb-xfixes0 libxcb-sync1 libxcb-xkb1
 libdbus-1-3 libfontconfig1 libfreetype6 libglib2.0-0
-g++ libcgal-dev"
+g++ libcgal-dev libeigen3-dev"
 
 PY=${PYTHON:-python3}
 if ! "$PY" -c "import venv, ensurepip" >/dev/null 2>&1; then

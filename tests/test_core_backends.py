@@ -1,4 +1,7 @@
-"""The Delaunay backends: CGAL in R^3 (own extension and wheel) against Qhull, and degenerate input."""
+"""The Delaunay backends: CGAL in R^3 (own extension and wheel) against Qhull, and degenerate input.
+
+CGAL's dD extension (R^4, R^5) is tested in ``test_core_backend_dd.py``.
+"""
 
 import numpy as np
 import pytest
@@ -13,9 +16,9 @@ def _rows(simplices: np.ndarray) -> np.ndarray:
     return np.unique(np.sort(simplices, axis=1), axis=0)
 
 
-def test_auto_backend_is_cgal_in_r3_only():
-    assert backend_for(3) == "cgal"
-    assert backend_for(2) == backend_for(4) == "qhull"
+def test_auto_backend_is_cgal_in_r3_to_r5_and_qhull_elsewhere():
+    assert backend_for(3) == backend_for(4) == backend_for(5) == "cgal"
+    assert backend_for(2) == backend_for(6) == "qhull"
 
 
 def test_cgal_gives_qhulls_tetrahedra_on_a_generic_sample():
@@ -136,12 +139,12 @@ def test_a_cospherical_sample_still_reconstructs_with_cgal():
     assert top.closed_manifold and top.betti == (1, 0, 1) and top.unused_samples == 0
 
 
-def test_unknown_backend_and_cgal_outside_r3_are_errors():
-    pts = np.random.default_rng(6).normal(size=(30, 4))
+def test_unknown_backend_and_cgal_outside_r3_to_r5_are_errors():
+    pts = np.random.default_rng(6).normal(size=(30, 6))
     with pytest.raises(ValueError, match="unknown Delaunay backend"):
-        delaunay(pts, bounding_points(4), backend="fast")
-    with pytest.raises(ValueError, match="R\\^3 only"):
-        delaunay(pts, bounding_points(4), backend="cgal")
+        delaunay(pts, bounding_points(6), backend="fast")
+    with pytest.raises(ValueError, match="R\\^3 to R\\^5 only"):
+        delaunay(pts, bounding_points(6), backend="cgal")
 
 
 def test_the_result_names_the_delaunay_code_that_ran():
@@ -153,7 +156,10 @@ def test_the_result_names_the_delaunay_code_that_ran():
     assert rec.delaunay_backend == "CGAL Delaunay_triangulation_3 (crustview extension)"
     assert report_dict(rec)["delaunay_backend"] == rec.delaunay_backend
     k = get_manifold("flat-klein")
-    assert reconstruct(k.sample(300, seed=0).points, 2).delaunay_backend == "Qhull (scipy.spatial.Delaunay)"
+    assert reconstruct(k.sample(300, seed=0).points, 2).delaunay_backend == (
+        "CGAL dD Delaunay_triangulation, Epick_d<4> (crustview extension)")
+    circle = get_manifold("circle")
+    assert reconstruct(circle.sample(50, seed=0).points, 1).delaunay_backend == "Qhull (scipy.spatial.Delaunay)"
     # a flat sample in R^4 whose affine hull is 3-dimensional runs in R^3, so CGAL
     flat = np.c_[m.sample(400, seed=1).points, np.zeros(400)]
     assert reconstruct(flat, 2).delaunay_backend.startswith("CGAL")

@@ -16,8 +16,7 @@
 // symbolic perturbation, so the result is always a Delaunay triangulation.
 // The GIL is released while CGAL works; C++ exceptions become RuntimeError.
 
-#define PY_SSIZE_T_CLEAN
-#include <Python.h>
+#include "_cgal_buffers.h"
 
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -25,7 +24,6 @@
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
 #include <cstdint>
-#include <exception>
 #include <string>
 #include <utility>
 #include <vector>
@@ -71,53 +69,30 @@ void write_neighbours(Triangulation& tri, char* out) {
     }
 }
 
-// Calls fn with a zero of the narrowest index type that holds the numbers:
-// std::int64_t when wide, std::int32_t otherwise.
-template <typename Fn>
-void with_index_type(bool wide, Fn fn) {
-    if (wide) {
-        fn(std::int64_t{0});
-    } else {
-        fn(std::int32_t{0});
-    }
-}
-
 PyObject* tetrahedra(PyObject* /*self*/, PyObject* args) {
     Py_buffer buffer;
     int want_neighbours = 0;
     if (!PyArg_ParseTuple(args, "y*|p", &buffer, &want_neighbours)) {
         return nullptr;
     }
-    const Py_ssize_t row_bytes = 3 * static_cast<Py_ssize_t>(sizeof(double));
-    if (buffer.len % row_bytes != 0) {
+    const std::int64_t n = crustview::buffer_rows(buffer, 3);
+    if (n < 0) {
         PyBuffer_Release(&buffer);
-        PyErr_SetString(PyExc_ValueError, "expected a float64 buffer of n x 3 values");
         return nullptr;
     }
-    const std::int64_t n = buffer.len / row_bytes;
     const bool wide = n >= (std::int64_t(1) << 31);  // vertex numbers
 
     Triangulation tri;
-    std::string error;
-    {
-        const double* xyz = static_cast<const double*>(buffer.buf);
-        Py_BEGIN_ALLOW_THREADS
-        try {
-            std::vector<std::pair<Point, std::int64_t>> points;
-            points.reserve(static_cast<std::size_t>(n));
-            for (std::int64_t i = 0; i < n; ++i) {
-                points.emplace_back(Point(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]), i);
-            }
-            // the range insert sorts along a Hilbert curve before inserting
-            tri.insert(points.begin(), points.end());
-        } catch (const std::exception& exc) {
-            error = exc.what();
-            if (error.empty()) error = "unknown C++ exception";
-        } catch (...) {
-            error = "unknown C++ exception";
+    const double* xyz = static_cast<const double*>(buffer.buf);
+    const std::string error = crustview::run_without_gil([&] {
+        std::vector<std::pair<Point, std::int64_t>> points;
+        points.reserve(static_cast<std::size_t>(n));
+        for (std::int64_t i = 0; i < n; ++i) {
+            points.emplace_back(Point(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]), i);
         }
-        Py_END_ALLOW_THREADS
-    }
+        // the range insert sorts along a Hilbert curve before inserting
+        tri.insert(points.begin(), points.end());
+    });
     PyBuffer_Release(&buffer);
     if (!error.empty()) {
         PyErr_Format(PyExc_RuntimeError, "CGAL failed: %s", error.c_str());
@@ -125,46 +100,12 @@ PyObject* tetrahedra(PyObject* /*self*/, PyObject* args) {
     }
 
     const int dimension = tri.dimension();
-    const std::int64_t vertices = static_cast<std::int64_t>(tri.number_of_vertices());
-    Py_ssize_t cells = 0;
-    if (dimension == 3) {
-        cells = static_cast<Py_ssize_t>(tri.number_of_finite_cells());
-    }
-    const Py_ssize_t item = wide ? 8 : 4;
-    PyObject* out = PyByteArray_FromStringAndSize(nullptr, cells * 4 * item);
-    if (out == nullptr) {
-        return nullptr;
-    }
-    if (cells > 0) {
-        char* dst = PyByteArray_AS_STRING(out);
-        Py_BEGIN_ALLOW_THREADS
-        with_index_type(wide, [&](auto zero) { write_cells<decltype(zero)>(tri, dst); });
-        Py_END_ALLOW_THREADS
-    }
-    const bool wide_cells = static_cast<std::int64_t>(cells) >= (std::int64_t(1) << 31);
-    const Py_ssize_t nitem = wide_cells ? 8 : 4;
-    PyObject* nbrs = Py_None;
-    Py_INCREF(Py_None);
-    if (want_neighbours && dimension == 3) {
-        Py_DECREF(Py_None);
-        nbrs = PyByteArray_FromStringAndSize(nullptr, cells * 4 * nitem);
-        if (nbrs == nullptr) {
-            Py_DECREF(out);
-            return nullptr;
-        }
-        char* dst = PyByteArray_AS_STRING(nbrs);
-        Py_BEGIN_ALLOW_THREADS
-        with_index_type(wide_cells, [&](auto zero) { write_neighbours<decltype(zero)>(tri, dst); });
-        Py_END_ALLOW_THREADS
-    }
-    {
-        // free CGAL's memory before numpy takes over the result
-        Py_BEGIN_ALLOW_THREADS
-        tri.clear();
-        Py_END_ALLOW_THREADS
-    }
-    return Py_BuildValue("iLNNii", dimension, static_cast<long long>(vertices), out, nbrs, static_cast<int>(item),
-                         static_cast<int>(nitem));
+    const Py_ssize_t cells = dimension == 3 ? static_cast<Py_ssize_t>(tri.number_of_finite_cells()) : 0;
+    return crustview::cells_result(
+        dimension, static_cast<std::int64_t>(tri.number_of_vertices()), cells, 4, wide, want_neighbours != 0,
+        [&](char* dst, auto zero) { write_cells<decltype(zero)>(tri, dst); },
+        [&](char* dst, auto zero) { write_neighbours<decltype(zero)>(tri, dst); },
+        [&] { tri.clear(); });
 }
 
 PyMethodDef methods[] = {

@@ -22,10 +22,12 @@ In R^3 (working dimension 3) the triangulation comes from CGAL's
 ``Delaunay_triangulation_3`` (see :mod:`.delaunay_cgal`: exact predicates;
 through crustview's own extension 20-30x faster than Qhull on surface
 samples, through the ``cgal`` wheel's text export about half of that).  In
-every other dimension it comes from Qhull
-(``scipy.spatial.Delaunay``): in R^4 CGAL's dD code measured no faster
-(36 s against 41 s for a 10,000-point Klein bottle), and in R^2 Qhull takes
-milliseconds.  Both get the samples *and* the far bounding points, and the
+R^4 and R^5 it comes from CGAL's dD ``Delaunay_triangulation`` with the
+dimension fixed at compile time, through crustview's second extension (3-5x
+faster than Qhull on a 10,000-point Klein bottle; with a run-time dimension,
+as GUDHI uses it, CGAL measured no faster: 36 s against 41 s).  Elsewhere,
+and when the extensions were not built, it comes from Qhull
+(``scipy.spatial.Delaunay``); in R^2 Qhull takes milliseconds.  Both get the samples *and* the far bounding points, and the
 joggle of :mod:`.prepare` happens before either, so the bounded-cell design
 is the same for both.
 """
@@ -62,19 +64,26 @@ def bounding_points(r: int, radius: float = BOUND_RADIUS) -> np.ndarray:
     return out + rng.uniform(-1e-3, 1e-3, size=out.shape) * radius
 
 
+#: Working dimensions CGAL's dD extension (:mod:`._delaunay_d`) handles.
+CGAL_D_DIMENSIONS = (4, 5)
+
 #: Names accepted by :func:`delaunay`'s ``backend``.
 BACKENDS = ("auto", "qhull", "cgal")
 
 
 def backend_for(r: int) -> str:
     """The backend ``"auto"`` picks in working dimension ``r``."""
-    from .delaunay_cgal import cgal_available
+    from .delaunay_cgal import cgal_available, native_d_available
 
-    return "cgal" if r == 3 and cgal_available() else "qhull"
+    if r == 3 and cgal_available() or r in CGAL_D_DIMENSIONS and native_d_available():
+        return "cgal"
+    return "qhull"
 
 
 def backend_label(r: int) -> str:
     """What ``"auto"`` runs in working dimension ``r``, in words (for reports and the viewer)."""
+    if backend_for(r) == "cgal" and r in CGAL_D_DIMENSIONS:
+        return f"CGAL dD Delaunay_triangulation, Epick_d<{r}> (crustview extension)"
     if backend_for(r) == "cgal":
         from .delaunay_cgal import cgal_route
 
@@ -93,8 +102,9 @@ def delaunay(
     work : ndarray of shape (n, r)
     bounds : ndarray of shape (b, r)
     backend : {"auto", "qhull", "cgal"}
-        ``"auto"``: CGAL for r = 3 when installed, Qhull otherwise.
-        ``"cgal"`` needs r = 3.  If CGAL cannot return a full triangulation
+        ``"auto"``: CGAL for r = 3 (extension or wheel) and r = 4, 5
+        (extension) when installed, Qhull otherwise.  ``"cgal"`` needs
+        3 <= r <= 5 (and the extension for r >= 4).  If CGAL cannot return a full triangulation
         (it cannot happen after duplicate merging), Qhull runs instead.
     neighbors : bool
         Also return the neighbour table (see below).
@@ -120,12 +130,13 @@ def delaunay(
     if backend == "auto":
         backend = backend_for(allpts.shape[1])
     if backend == "cgal":
-        if allpts.shape[1] != 3:
-            raise ValueError(f"the CGAL backend works in R^3 only; got points in R^{allpts.shape[1]}")
-        from .delaunay_cgal import delaunay_3d
+        r = allpts.shape[1]
+        if r != 3 and r not in CGAL_D_DIMENSIONS:
+            raise ValueError(f"the CGAL backend works in R^3 to R^5 only; got points in R^{r}")
+        from .delaunay_cgal import delaunay_3d, delaunay_d
 
         try:
-            return delaunay_3d(allpts, neighbors)
+            return delaunay_3d(allpts, neighbors) if r == 3 else delaunay_d(allpts, neighbors)
         except RuntimeError:  # duplicates or a flat set: never after prepare_points
             pass
     try:
