@@ -43,6 +43,7 @@ report explains it -- the paper's loop would not terminate there.
 from __future__ import annotations
 
 import heapq
+import math
 from collections import deque
 from collections.abc import Callable
 
@@ -112,22 +113,48 @@ def opposite_vectors(points: np.ndarray, simplices: np.ndarray) -> np.ndarray:
     c, dp1 = simplices.shape
     out = np.empty((c, dp1, points.shape[1]))
     for lo in range(0, c, OPPOSITE_BLOCK):  # blocks: temporaries stay small (rows are independent)
-        p = points[simplices[lo : lo + OPPOSITE_BLOCK]]
+        blk = simplices[lo : lo + OPPOSITE_BLOCK]
+        if dp1 <= 3:
+            _opposite_small(points, blk, out[lo : lo + len(blk)])
+            continue
+        p = points[blk]
         for a in range(dp1):
             rest = np.delete(p, a, axis=1)  # (c, d, k)
             v = p[:, a] - rest[:, 0]
-            if dp1 > 2:
-                q, _ = np.linalg.qr(np.swapaxes(rest[:, 1:] - rest[:, :1], 1, 2))
-                v = v - np.einsum("ckj,cj->ck", q, np.einsum("ckj,ck->cj", q, v))
+            q, _ = np.linalg.qr(np.swapaxes(rest[:, 1:] - rest[:, :1], 1, 2))
+            v = v - np.einsum("ckj,cj->ck", q, np.einsum("ckj,ck->cj", q, v))
             out[lo : lo + len(p), a] = v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
     return out
 
 
-def _max_pair(ang: np.ndarray) -> float:
-    """Largest off-diagonal entry of a symmetric angle matrix."""
-    a = ang.copy()
-    np.fill_diagonal(a, -1.0)
-    return float(a.max())
+def _opposite_small(points: np.ndarray, simplices: np.ndarray, out: np.ndarray) -> None:
+    """:func:`opposite_vectors` of edges and triangles, on per-coordinate columns.
+
+    For a triangle the facet opposite vertex a is the edge (b, e), b < e; the
+    vector is ``p_a - p_b`` minus its component along the unit edge
+    direction (one Gram-Schmidt step, where a batched QR of one column costs
+    3-4x more).
+    """
+    k = points.shape[1]
+    dp1 = simplices.shape[1]
+    cols = [np.take(points[:, q], simplices) for q in range(k)]  # (c, d + 1) each
+    for a in range(dp1):
+        b, *e = [j for j in range(dp1) if j != a]
+        v = [x[:, a] - x[:, b] for x in cols]
+        if e:
+            w = [x[:, e[0]] - x[:, b] for x in cols]
+            wlen = np.maximum(np.sqrt(sum(x * x for x in w)), 1e-300)
+            w = [x / wlen for x in w]
+            along = sum(x * y for x, y in zip(v, w))
+            v = [x - along * y for x, y in zip(v, w)]
+        vlen = np.maximum(np.sqrt(sum(x * x for x in v)), 1e-300)
+        for q in range(k):
+            out[:, a, q] = v[q] / vlen
+
+
+def _max_pair(ang: list[list[float]]) -> float:
+    """Largest off-diagonal entry of a symmetric angle matrix (m >= 2 rows)."""
+    return max(max(row[i + 1:]) for i, row in enumerate(ang[:-1]))
 
 
 class _Extractor:
@@ -153,9 +180,6 @@ class _Extractor:
         self.lost: int | None = None
 
     # -- geometry ---------------------------------------------------------
-    def _u(self, s: int, g: int) -> np.ndarray:
-        return self.u[s, self.facet_of[s].tolist().index(g)]
-
     def facets_of(self, s: int) -> list[int]:
         """The facets of simplex ``s``, opposite its vertices in order."""
         return self.facet_of[s].tolist()
@@ -165,9 +189,23 @@ class _Extractor:
         ptr = self.ptr
         return [s for s in self.inc[ptr[g]:ptr[g + 1]].tolist() if alive[s]]
 
-    def pair_angles(self, g: int, simp: list[int]) -> np.ndarray:
-        vec = np.array([self._u(s, g) for s in simp])
-        return np.arccos(np.clip(vec @ vec.T, -1.0, 1.0))
+    def pair_angles(self, g: int, simp: list[int]) -> list[list[float]]:
+        """Angles ``phi`` between the simplices ``simp`` at facet ``g`` (m x m, symmetric, diagonal 0).
+
+        Plain Python floats: the matrices are 2 x 2 to 6 x 6 and there are
+        tens of thousands of them, where numpy's per-call cost is 5x the
+        arithmetic.
+        """
+        facet_of, u = self.facet_of, self.u
+        vec = [u[s, facet_of[s].tolist().index(g)].tolist() for s in simp]
+        m = len(vec)
+        ang = [[0.0] * m for _ in range(m)]
+        for i in range(m):
+            vi = vec[i]
+            for j in range(i + 1, m):
+                dot = sum(x * y for x, y in zip(vi, vec[j]))
+                ang[i][j] = ang[j][i] = math.acos(-1.0 if dot < -1.0 else 1.0 if dot > 1.0 else dot)
+        return ang
 
     def is_sharp(self, g: int) -> tuple[bool, float, list[int]]:
         simp = self.alive_at(g)
@@ -342,9 +380,9 @@ def extract(
                 ex.tau(g),
                 keep,
                 tuple(drop),
-                float(ang[i, j]),
+                float(ang[i][j]),
                 f"{len(simp)} d-simplices at this face; kept the pair meeting at "
-                f"{np.degrees(ang[i, j]):.1f} deg (180 = flat), removed {len(drop)}",
+                f"{np.degrees(ang[i][j]):.1f} deg (180 = flat), removed {len(drop)}",
             )
         )
         for h in sorted(touched):
@@ -407,7 +445,7 @@ def _cascade_loss(ex: _Extractor, drop: list[int], limit: int) -> int:
     return len(gone) + len(opened)
 
 
-def _choose_pair(ex: _Extractor, g: int, simp: list[int], ang: np.ndarray) -> tuple[int, int] | None:
+def _choose_pair(ex: _Extractor, g: int, simp: list[int], ang: list[list[float]]) -> tuple[int, int] | None:
     """Eligible pair (phi > pi/2) whose removals cascade least, then the flattest.
 
     The paper allows any pair meeting within pi/2 of flat.  A bad choice
@@ -420,10 +458,10 @@ def _choose_pair(ex: _Extractor, g: int, simp: list[int], ang: np.ndarray) -> tu
     m = len(simp)
     for i in range(m):
         for j in range(i + 1, m):
-            if not ang[i, j] > HALF_PI:
+            if not ang[i][j] > HALF_PI:
                 continue
             drop = [s for t, s in enumerate(simp) if t not in (i, j)]
-            key = (_cascade_loss(ex, drop, CASCADE_LIMIT), -ang[i, j], simp[i], simp[j])
+            key = (_cascade_loss(ex, drop, CASCADE_LIMIT), -ang[i][j], simp[i], simp[j])
             if best_key is None or key < best_key:
                 best_key, best = key, (i, j)
     return best

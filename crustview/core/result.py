@@ -252,7 +252,9 @@ class CandidateAngles(Mapping):
     vertex_angles : ndarray of shape (f, d + 1)
     """
 
-    _DERIVED = {"cocone": np.min, "cocone-all": np.max}
+    #: Per-face reductions of the vertex angles; column by column, which is
+    #: several times faster than an axis-1 reduction over a narrow (f, d+1) array.
+    _DERIVED = {"cocone": np.minimum, "cocone-all": np.maximum}
 
     def __init__(self, literal: np.ndarray, vertex_angles: np.ndarray) -> None:
         self._values: dict[str, np.ndarray] = {"literal": literal}
@@ -263,7 +265,11 @@ class CandidateAngles(Mapping):
         if got is None:
             if test not in self._DERIVED:
                 raise KeyError(test)
-            got = self._values[test] = self._DERIVED[test](self._vertex, axis=1)
+            fold = self._DERIVED[test]
+            got = self._vertex[:, 0].copy()
+            for c in range(1, self._vertex.shape[1]):
+                fold(got, self._vertex[:, c], out=got)
+            self._values[test] = got
         return got
 
     def __iter__(self) -> Iterator[str]:
