@@ -53,17 +53,27 @@ def test_enumerate_faces_matches_a_plain_stable_sort():
     assert np.array_equal(np.diff(ptr), np.unique(inst, axis=0, return_counts=True)[1])
 
 
-@pytest.mark.parametrize("backend,k,bounded", [("cgal", 3, True), ("qhull", 3, False), ("qhull", 2, True)])
-def test_facets_from_the_neighbour_table_equal_the_general_enumeration(backend, k, bounded):
-    # codimension 1: faces paired through the backend's neighbour table; with
-    # no bounding points the hull facets have a single simplex
+@pytest.mark.parametrize("native", [True, False])
+@pytest.mark.parametrize("backend,k,bounded", [("cgal", 3, True), ("qhull", 3, False), ("qhull", 2, True),
+                                               ("cgal", 4, True), ("cgal", 4, False)])
+def test_facets_from_the_neighbour_table_equal_the_general_enumeration(backend, k, bounded, native, monkeypatch):
+    # codimension 1: faces paired through the backend's neighbour table, by the
+    # compiled _facets or by numpy; with no bounding points the hull facets
+    # have a single simplex
+    from crustview.core import faces as faces_mod
+
+    if native:
+        assert faces_mod._native_facets is not None  # setup.py builds it; the fast path must be there
+    else:
+        monkeypatch.setattr(faces_mod, "_native_facets", None)
     rng = np.random.default_rng(12)
-    pts = rng.normal(size=(2500, k))
+    n = 2500 if k < 4 else 600
+    pts = rng.normal(size=(n, k))
     b = bounding_points(k) if bounded else np.empty((0, k))
     simp, nbrs = delaunay(pts, b, backend=backend, neighbors=True)
     assert nbrs is not None and nbrs.shape == simp.shape
-    general = cand.enumerate_faces(simp, 2500, k - 1)
-    paired = cand.enumerate_faces(simp, 2500, k - 1, neighbors=nbrs)
+    general = cand.enumerate_faces(simp, n, k - 1)
+    paired = cand.enumerate_faces(simp, n, k - 1, neighbors=nbrs)
     for got, want in zip(paired, general):
         assert got.dtype == want.dtype and np.array_equal(got, want)
     counts = np.diff(general[1])
@@ -85,3 +95,22 @@ def test_an_exception_in_the_consumer_drops_the_chunks_not_started():
                 raise RuntimeError("cancel")
     assert results == list(range(6))
     assert len(started) < 20
+
+
+@pytest.mark.parametrize("native", [True, False])
+def test_facets_of_two_tetrahedra_by_hand(native, monkeypatch):
+    # two tetrahedra glued along (1, 2, 3); cell 0 sees cell 1 opposite its
+    # vertex 0, cell 1 sees cell 0 opposite its vertex 4 (column 3)
+    from crustview.core import faces as faces_mod
+
+    if not native:
+        monkeypatch.setattr(faces_mod, "_native_facets", None)
+    simp = np.array([[0, 1, 2, 3], [1, 2, 3, 4]], dtype=np.int32)
+    nbrs = np.array([[1, -1, -1, -1], [-1, -1, -1, 0]], dtype=np.int32)
+    faces, ptr, owners = cand.enumerate_faces(simp, 5, 2, neighbors=nbrs)
+    assert faces.tolist() == [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3], [1, 2, 4], [1, 3, 4], [2, 3, 4]]
+    assert [owners[a:b].tolist() for a, b in zip(ptr[:-1], ptr[1:])] == [[0], [0], [0], [0, 1], [1], [1], [1]]
+    # with vertex 4 a bounding point only cell 0's facets are sample faces
+    faces, ptr, owners = cand.enumerate_faces(simp, 4, 2, neighbors=nbrs)
+    assert faces.tolist() == [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]
+    assert ptr.tolist() == [0, 1, 2, 3, 5] and owners.tolist() == [0, 0, 0, 0, 1]

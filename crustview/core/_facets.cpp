@@ -1,0 +1,161 @@
+// The facets of a triangulation from its neighbour table (codimension 1 of
+// Algorithm 2), as crustview.core.faces._enumerate_facets computes them in
+// numpy, in one pass and one sort.
+//
+// Input: the simplices (t x w int32 vertex numbers, w = d + 2), their
+// neighbour table (t x w int32; neighbour j across the facet opposite vertex j,
+// -1 across the hull) and the number of samples n (vertices >= n are bounding
+// points; facets with one are left out).  Each facet is listed once, by the
+// lower-numbered of its two simplices (or by its only one across the hull),
+// keyed by its sorted vertices read as digits in base n (the caller checks
+// that n^(w-1) < 2^62), and the records are sorted by key.
+//
+// Output: (faces, ptr, owners, count) with faces the sorted vertex rows as
+// int64 (count x (w - 1)), ptr the int64 CSR pointers (count + 1) and owners
+// the int32 simplices of each facet (one or two, in increasing order), all as
+// bytearrays numpy wraps without a copy.  Keys are distinct, so the order is
+// the one numpy's stable sort gives.  No third-party code: builds wherever a
+// C++17 compiler is.
+
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace {
+
+struct Record {
+    std::int64_t key;
+    std::int32_t first;
+    std::int32_t second;  // -1: a hull facet
+};
+
+// LSD radix sort of the records by key, 16 bits per pass, skipping passes
+// whose digit is the same in every record.
+void radix_sort(std::vector<Record>& records) {
+    std::vector<Record> buffer(records.size());
+    std::vector<std::size_t> count(1 << 16);
+    for (int shift = 0; shift < 64; shift += 16) {
+        std::fill(count.begin(), count.end(), 0);
+        for (const Record& rec : records) {
+            ++count[static_cast<std::size_t>((rec.key >> shift) & 0xFFFF)];
+        }
+        if (std::count(count.begin(), count.end(), records.size()) == 1) {
+            continue;  // one bucket holds everything: this digit does not order anything
+        }
+        std::size_t at = 0;
+        for (std::size_t& c : count) {
+            const std::size_t here = c;
+            c = at;
+            at += here;
+        }
+        for (const Record& rec : records) {
+            buffer[count[static_cast<std::size_t>((rec.key >> shift) & 0xFFFF)]++] = rec;
+        }
+        records.swap(buffer);
+    }
+}
+
+std::vector<Record> collect(const std::int32_t* simp, const std::int32_t* nbrs, std::int64_t t, int w,
+                            std::int64_t n) {
+    std::vector<Record> records;
+    records.reserve(static_cast<std::size_t>(t) * static_cast<std::size_t>(w) / 2 + 16);
+    std::int64_t facet[8];
+    for (std::int64_t i = 0; i < t; ++i) {
+        const std::int32_t* row = simp + i * w;
+        for (int j = 0; j < w; ++j) {
+            const std::int32_t other = nbrs[i * w + j];
+            if (other >= 0 && other < i) continue;  // listed by the lower-numbered simplex
+            int at = 0;
+            for (int c = 0; c < w; ++c) {
+                if (c != j) facet[at++] = row[c];
+            }
+            std::sort(facet, facet + at);
+            if (facet[at - 1] >= n) continue;  // a bounding point
+            std::int64_t key = facet[0];
+            for (int c = 1; c < at; ++c) key = key * n + facet[c];
+            records.push_back({key, static_cast<std::int32_t>(i), other});
+        }
+    }
+    return records;
+}
+
+PyObject* facets(PyObject* /*self*/, PyObject* args) {
+    Py_buffer simp_buf, nbr_buf;
+    int w = 0;
+    long long n = 0;
+    if (!PyArg_ParseTuple(args, "y*y*iL", &simp_buf, &nbr_buf, &w, &n)) {
+        return nullptr;
+    }
+    const Py_ssize_t row_bytes = static_cast<Py_ssize_t>(w) * 4;
+    if (w < 2 || w > 8 || simp_buf.len % row_bytes != 0 || nbr_buf.len != simp_buf.len || n < 1) {
+        PyBuffer_Release(&simp_buf);
+        PyBuffer_Release(&nbr_buf);
+        PyErr_SetString(PyExc_ValueError,
+                        "expected int32 simplices and neighbours of the same shape (t x w, 2 <= w <= 8) and n >= 1");
+        return nullptr;
+    }
+    const std::int64_t t = simp_buf.len / row_bytes;
+    const auto* simp = static_cast<const std::int32_t*>(simp_buf.buf);
+    const auto* nbrs = static_cast<const std::int32_t*>(nbr_buf.buf);
+    std::vector<Record> records;
+    Py_BEGIN_ALLOW_THREADS
+    records = collect(simp, nbrs, t, w, n);
+    radix_sort(records);
+    Py_END_ALLOW_THREADS
+    PyBuffer_Release(&simp_buf);
+    PyBuffer_Release(&nbr_buf);
+
+    const Py_ssize_t count = static_cast<Py_ssize_t>(records.size());
+    const int fw = w - 1;
+    Py_ssize_t n_owners = 0;
+    for (const Record& rec : records) n_owners += rec.second >= 0 ? 2 : 1;
+    PyObject* faces = PyByteArray_FromStringAndSize(nullptr, count * fw * 8);
+    PyObject* ptr = PyByteArray_FromStringAndSize(nullptr, (count + 1) * 8);
+    PyObject* owners = PyByteArray_FromStringAndSize(nullptr, n_owners * 4);
+    if (faces == nullptr || ptr == nullptr || owners == nullptr) {
+        Py_XDECREF(faces);
+        Py_XDECREF(ptr);
+        Py_XDECREF(owners);
+        return nullptr;
+    }
+    auto* f = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(faces));
+    auto* p = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(ptr));
+    auto* o = reinterpret_cast<std::int32_t*>(PyByteArray_AS_STRING(owners));
+    Py_BEGIN_ALLOW_THREADS
+    std::int64_t at = 0;
+    for (Py_ssize_t i = 0; i < count; ++i) {
+        std::int64_t key = records[static_cast<std::size_t>(i)].key;
+        for (int c = fw - 1; c >= 0; --c) {
+            f[i * fw + c] = key % n;
+            key /= n;
+        }
+        p[i] = at;
+        o[at++] = records[static_cast<std::size_t>(i)].first;
+        if (records[static_cast<std::size_t>(i)].second >= 0) o[at++] = records[static_cast<std::size_t>(i)].second;
+    }
+    p[count] = at;
+    Py_END_ALLOW_THREADS
+    return Py_BuildValue("NNNn", faces, ptr, owners, count);
+}
+
+PyMethodDef methods[] = {
+    {"facets", facets, METH_VARARGS,
+     "facets(simplices, neighbours, w, n) -> (faces, ptr, owners, count)\n\n"
+     "The facets of the int32 simplices (t x w) whose vertices are all < n,\n"
+     "from the int32 neighbour table: int64 sorted rows (count x (w - 1)) in\n"
+     "lexicographic order, int64 CSR pointers and the int32 simplices of each\n"
+     "facet, as bytearrays."},
+    {nullptr, nullptr, 0, nullptr},
+};
+
+PyModuleDef module = {
+    PyModuleDef_HEAD_INIT, "_facets", "Facets of a triangulation from its neighbour table.", -1, methods,
+    nullptr, nullptr, nullptr, nullptr,
+};
+
+}  // namespace
+
+PyMODINIT_FUNC PyInit__facets(void) { return PyModule_Create(&module); }
