@@ -6,8 +6,8 @@ R^5 (header-only, from Debian's ``libcgal-dev``; the dD kernel also needs
 Eigen's headers, ``libeigen3-dev``; ``scripts/install.sh`` installs both).
 Both are optional: without the headers or a C++ compiler the build skips them
 and crustview falls back to the ``cgal`` wheel (R^3) and Qhull.
-``crustview.core._facets`` (no third-party code) lists the facets of a
-triangulation from its neighbour table; without it numpy does the same.
+``crustview.core._faces`` (no third-party code) lists the faces of a
+triangulation and the simplices around each; without it numpy does the same.
 """
 
 from setuptools import Extension, setup
@@ -25,9 +25,9 @@ setup(
             libraries=["gmp", "mpfr"],
             optional=True,
         ),
-        Extension(  # no third-party headers: the facet list of codimension 1 (see core/faces.py)
-            "crustview.core._facets",
-            sources=["crustview/core/_facets.cpp"],
+        Extension(  # no third-party headers: the face lists of Algorithm 2 (see core/faces.py)
+            "crustview.core._faces",
+            sources=["crustview/core/_faces.cpp"],
             language="c++",
             extra_compile_args=FLAGS,
             optional=True,

@@ -38,19 +38,44 @@ def test_chunks_and_threads_give_the_serial_result(monkeypatch, name, n):
     assert np.array_equal(cand.literal_angles(work[: len(normals)], normals, faces, workers=2), lit)
 
 
-def test_enumerate_faces_matches_a_plain_stable_sort():
+@pytest.mark.parametrize("native", [True, False])
+@pytest.mark.parametrize("k,d,n", [(3, 2, 3000), (4, 2, 500), (4, 1, 500), (5, 2, 150)])
+def test_enumerate_faces_matches_a_plain_stable_sort(k, d, n, native, monkeypatch):
+    # by the compiled _faces (int32 simplices) or by numpy: the (d+1)-subsets of
+    # every simplex whose vertices are samples, grouped, each face's simplices
+    # in increasing order
+    import itertools
+
+    from crustview.core import faces as faces_mod
+
+    if native:
+        assert faces_mod._native is not None
+    else:
+        monkeypatch.setattr(faces_mod, "_native", None)
     rng = np.random.default_rng(7)
-    simp = delaunay(rng.normal(size=(3000, 3)), bounding_points(3))
-    faces, ptr, cs = cand.enumerate_faces(simp, 3000, 2)
+    simp = delaunay(rng.normal(size=(n, k)), bounding_points(k))
+    assert simp.dtype == np.int32
+    faces, ptr, cs = cand.enumerate_faces(simp, n, d)
+    combos = list(itertools.combinations(range(k + 1), d + 1))
     srt = np.sort(simp, axis=1)
-    inst = srt[:, [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]].reshape(-1, 3)
-    owner = np.repeat(np.arange(len(simp)), 4)
-    keep = inst[:, -1] < 3000
+    inst = srt[:, combos].reshape(-1, d + 1)
+    owner = np.repeat(np.arange(len(simp)), len(combos))
+    keep = inst[:, -1] < n
     inst, owner = inst[keep], owner[keep]
     order = np.lexsort(inst.T[::-1])
+    assert faces.dtype == ptr.dtype == np.int64 and cs.dtype == np.int32
     assert np.array_equal(cs, owner[order])
     assert np.array_equal(faces, np.unique(inst, axis=0))
     assert np.array_equal(np.diff(ptr), np.unique(inst, axis=0, return_counts=True)[1])
+
+
+def test_the_compiled_face_lists_reject_bad_shapes_clearly():
+    from crustview.core import _faces
+
+    with pytest.raises(ValueError, match="int32 simplices"):
+        _faces.faces(np.zeros(7, dtype=np.int32), 4, 3, 10)
+    with pytest.raises(ValueError, match="same shape"):
+        _faces.facets(np.zeros(8, dtype=np.int32), np.zeros(4, dtype=np.int32), 4, 10)
 
 
 @pytest.mark.parametrize("native", [True, False])
@@ -58,14 +83,14 @@ def test_enumerate_faces_matches_a_plain_stable_sort():
                                                ("cgal", 4, True), ("cgal", 4, False)])
 def test_facets_from_the_neighbour_table_equal_the_general_enumeration(backend, k, bounded, native, monkeypatch):
     # codimension 1: faces paired through the backend's neighbour table, by the
-    # compiled _facets or by numpy; with no bounding points the hull facets
+    # compiled _faces or by numpy; with no bounding points the hull facets
     # have a single simplex
     from crustview.core import faces as faces_mod
 
     if native:
-        assert faces_mod._native_facets is not None  # setup.py builds it; the fast path must be there
+        assert faces_mod._native is not None  # setup.py builds it; the fast path must be there
     else:
-        monkeypatch.setattr(faces_mod, "_native_facets", None)
+        monkeypatch.setattr(faces_mod, "_native", None)
     rng = np.random.default_rng(12)
     n = 2500 if k < 4 else 600
     pts = rng.normal(size=(n, k))
@@ -104,7 +129,7 @@ def test_facets_of_two_tetrahedra_by_hand(native, monkeypatch):
     from crustview.core import faces as faces_mod
 
     if not native:
-        monkeypatch.setattr(faces_mod, "_native_facets", None)
+        monkeypatch.setattr(faces_mod, "_native", None)
     simp = np.array([[0, 1, 2, 3], [1, 2, 3, 4]], dtype=np.int32)
     nbrs = np.array([[1, -1, -1, -1], [-1, -1, -1, 0]], dtype=np.int32)
     faces, ptr, owners = cand.enumerate_faces(simp, 5, 2, neighbors=nbrs)

@@ -14,9 +14,9 @@ import numpy as np
 from .parallel import WORKERS, run_in_order
 
 try:  # compiled facet listing (setup.py builds it; numpy does the same without it)
-    from . import _facets as _native_facets
+    from . import _faces as _native
 except ImportError:  # pragma: no cover - depends on the build
-    _native_facets = None
+    _native = None
 
 #: Simplices (and face instances) per block in :func:`enumerate_faces`.
 ENUM_BLOCK = 1 << 20
@@ -54,15 +54,20 @@ def enumerate_faces(
     Memory is the limit at a million samples (tens of millions of face
     instances), so the only arrays as long as the instances are their int64
     keys and one stable sort order; the distinct faces, their pointers and
-    the owning simplices are then read from those in blocks.
+    the owning simplices are then read from those in blocks.  With int32
+    simplices the compiled :mod:`._faces` does the same in one pass and a
+    stable radix sort (3-4x faster; 12 bytes per instance, twice); the
+    numpy code below is the fallback and the reference its tests compare with.
     """
     small_keys = float(n_samples) ** (d + 1) < 2**62
     if neighbors is not None and simplices.shape[1] == d + 2 and small_keys and len(simplices):
         return _enumerate_facets(simplices, neighbors, n_samples)
+    if _native is not None and small_keys and simplices.dtype == np.int32:
+        return _faces_native(simplices, n_samples, d)
     srt = sort_rows(simplices)
     w = srt.shape[1]
     combos = list(itertools.combinations(range(w), d + 1))
-    if float(n_samples) ** (d + 1) >= 2**62:
+    if not small_keys:
         return _enumerate_faces_lexsort(srt, n_samples, d, combos)
     nc = len(combos)
     # one int64 key per face instance, face-major within each simplex (the
@@ -117,11 +122,11 @@ def _enumerate_facets(
     by ``i`` alone across the hull), so its dual cell is ``(i, neighbor)``,
     already in increasing order.  Only the distinct faces' int64 keys are
     sorted: half as many as the face instances the general path sorts.
-    With int32 tables the compiled :mod:`._facets` does the same in one pass
+    With int32 tables the compiled :mod:`._faces` does the same in one pass
     and a radix sort (3-4x faster at 300,000 samples, identical arrays).
     """
     t, w = simplices.shape
-    if _native_facets is not None and simplices.dtype == np.int32 and neighbors.dtype == np.int32:
+    if _native is not None and simplices.dtype == np.int32 and neighbors.dtype == np.int32:
         return _facets_native(simplices, neighbors, n_samples)
     owner_dtype = np.int32 if t < 2**31 else np.int64
     keys_parts, first_parts, second_parts = [], [], []
@@ -166,13 +171,24 @@ def _enumerate_facets(
 def _facets_native(
     simplices: np.ndarray, neighbors: np.ndarray, n_samples: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`_enumerate_facets` through the extension :mod:`._facets`."""
+    """:func:`_enumerate_facets` through the extension :mod:`._faces`."""
     w = simplices.shape[1]
-    faces, ptr, owners, count = _native_facets.facets(
+    faces, ptr, owners, count = _native.facets(
         np.ascontiguousarray(simplices), np.ascontiguousarray(neighbors), w, int(n_samples)
     )
     return (
         np.frombuffer(faces, dtype=np.int64).reshape(count, w - 1),
+        np.frombuffer(ptr, dtype=np.int64),
+        np.frombuffer(owners, dtype=np.int32),
+    )
+
+
+def _faces_native(simplices: np.ndarray, n_samples: int, d: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`enumerate_faces` (general path) through the extension :mod:`._faces`: same arrays."""
+    faces, ptr, owners, count = _native.faces(np.ascontiguousarray(simplices), simplices.shape[1], d + 1,
+                                              int(n_samples))
+    return (
+        np.frombuffer(faces, dtype=np.int64).reshape(count, d + 1),
         np.frombuffer(ptr, dtype=np.int64),
         np.frombuffer(owners, dtype=np.int32),
     )

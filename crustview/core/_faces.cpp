@@ -1,7 +1,9 @@
-// The facets of a triangulation from its neighbour table (codimension 1 of
-// Algorithm 2), as crustview.core.faces._enumerate_facets computes them in
-// numpy, in one pass and one sort.
+// The Delaunay d-faces among the samples and the simplices around each
+// (Algorithm 2's input), as crustview.core.faces computes them in numpy, in
+// one pass and one radix sort.  Integer work only, so the arrays are the same
+// as numpy's, not just close.
 //
+// facets(): codimension 1, from the neighbour table.
 // Input: the simplices (t x w int32 vertex numbers, w = d + 2), their
 // neighbour table (t x w int32; neighbour j across the facet opposite vertex j,
 // -1 across the hull) and the number of samples n (vertices >= n are bounding
@@ -14,8 +16,14 @@
 // int64 (count x (w - 1)), ptr the int64 CSR pointers (count + 1) and owners
 // the int32 simplices of each facet (one or two, in increasing order), all as
 // bytearrays numpy wraps without a copy.  Keys are distinct, so the order is
-// the one numpy's stable sort gives.  No third-party code: builds wherever a
-// C++17 compiler is.
+// the one numpy's stable sort gives.
+//
+// faces(): any codimension, from the simplices alone.  Every (d+1)-subset of
+// every simplex whose vertices are samples is one record (key as above, the
+// simplex), sorted stably by key, so each face's simplices come in
+// increasing order, as numpy's stable argsort of the instances gives them.
+//
+// No third-party code: builds wherever a C++17 compiler is.
 
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -32,14 +40,22 @@ struct Record {
     std::int32_t second;  // -1: a hull facet
 };
 
-// LSD radix sort of the records by key, 16 bits per pass, skipping passes
-// whose digit is the same in every record.
-void radix_sort(std::vector<Record>& records) {
-    std::vector<Record> buffer(records.size());
+#pragma pack(push, 4)
+struct Instance {  // 12 bytes: there are (w choose d+1) per simplex
+    std::int64_t key;
+    std::int32_t simplex;
+};
+#pragma pack(pop)
+
+// Stable LSD radix sort of the records by key, 16 bits per pass, skipping
+// passes whose digit is the same in every record.
+template <typename Rec>
+void radix_sort(std::vector<Rec>& records) {
+    std::vector<Rec> buffer(records.size());
     std::vector<std::size_t> count(1 << 16);
     for (int shift = 0; shift < 64; shift += 16) {
         std::fill(count.begin(), count.end(), 0);
-        for (const Record& rec : records) {
+        for (const Rec& rec : records) {
             ++count[static_cast<std::size_t>((rec.key >> shift) & 0xFFFF)];
         }
         if (std::count(count.begin(), count.end(), records.size()) == 1) {
@@ -51,7 +67,7 @@ void radix_sort(std::vector<Record>& records) {
             c = at;
             at += here;
         }
-        for (const Record& rec : records) {
+        for (const Rec& rec : records) {
             buffer[count[static_cast<std::size_t>((rec.key >> shift) & 0xFFFF)]++] = rec;
         }
         records.swap(buffer);
@@ -141,6 +157,94 @@ PyObject* facets(PyObject* /*self*/, PyObject* args) {
     return Py_BuildValue("NNNn", faces, ptr, owners, count);
 }
 
+std::vector<Instance> instances(const std::int32_t* simp, std::int64_t t, int w, int fw, std::int64_t n) {
+    // the (fw)-subsets of positions 0..w-1 in lexicographic order, as bit masks
+    std::vector<unsigned> combos;
+    for (unsigned mask = 0; mask < (1u << w); ++mask) {
+        if (__builtin_popcount(mask) == fw) combos.push_back(mask);
+    }
+    std::sort(combos.begin(), combos.end(), [w](unsigned a, unsigned b) {
+        for (int c = 0; c < w; ++c) {  // lexicographic on the chosen positions
+            const bool ia = (a >> c) & 1u, ib = (b >> c) & 1u;
+            if (ia != ib) return ia;
+        }
+        return false;
+    });
+    std::vector<Instance> out;
+    out.reserve(static_cast<std::size_t>(t) * combos.size());
+    std::int64_t row[8];
+    for (std::int64_t i = 0; i < t; ++i) {
+        for (int c = 0; c < w; ++c) row[c] = simp[i * w + c];
+        std::sort(row, row + w);
+        for (unsigned mask : combos) {
+            std::int64_t key = 0, last = 0;
+            for (int c = 0; c < w; ++c) {
+                if ((mask >> c) & 1u) {
+                    key = key * n + row[c];
+                    last = row[c];
+                }
+            }
+            if (last < n) out.push_back({key, static_cast<std::int32_t>(i)});
+        }
+    }
+    return out;
+}
+
+PyObject* faces(PyObject* /*self*/, PyObject* args) {
+    Py_buffer simp_buf;
+    int w = 0, fw = 0;
+    long long n = 0;
+    if (!PyArg_ParseTuple(args, "y*iiL", &simp_buf, &w, &fw, &n)) {
+        return nullptr;
+    }
+    if (w < 2 || w > 8 || fw < 1 || fw > w || simp_buf.len % (static_cast<Py_ssize_t>(w) * 4) != 0 || n < 1) {
+        PyBuffer_Release(&simp_buf);
+        PyErr_SetString(PyExc_ValueError,
+                        "expected int32 simplices (t x w, 2 <= w <= 8), a face width 1 <= fw <= w and n >= 1");
+        return nullptr;
+    }
+    const std::int64_t t = simp_buf.len / (static_cast<Py_ssize_t>(w) * 4);
+    std::vector<Instance> recs;
+    Py_ssize_t distinct = 0;
+    Py_BEGIN_ALLOW_THREADS
+    recs = instances(static_cast<const std::int32_t*>(simp_buf.buf), t, w, fw, n);
+    radix_sort(recs);
+    for (std::size_t i = 0; i < recs.size(); ++i) {
+        if (i == 0 || recs[i].key != recs[i - 1].key) ++distinct;
+    }
+    Py_END_ALLOW_THREADS
+    PyBuffer_Release(&simp_buf);
+    const Py_ssize_t total = static_cast<Py_ssize_t>(recs.size());
+    PyObject* faces_out = PyByteArray_FromStringAndSize(nullptr, distinct * fw * 8);
+    PyObject* ptr = PyByteArray_FromStringAndSize(nullptr, (distinct + 1) * 8);
+    PyObject* owners = PyByteArray_FromStringAndSize(nullptr, total * 4);
+    if (faces_out == nullptr || ptr == nullptr || owners == nullptr) {
+        Py_XDECREF(faces_out);
+        Py_XDECREF(ptr);
+        Py_XDECREF(owners);
+        return nullptr;
+    }
+    auto* f = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(faces_out));
+    auto* p = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(ptr));
+    auto* o = reinterpret_cast<std::int32_t*>(PyByteArray_AS_STRING(owners));
+    Py_BEGIN_ALLOW_THREADS
+    Py_ssize_t at = 0;
+    for (Py_ssize_t i = 0; i < total; ++i) {
+        const Instance& rec = recs[static_cast<std::size_t>(i)];
+        o[i] = rec.simplex;
+        if (i > 0 && rec.key == recs[static_cast<std::size_t>(i - 1)].key) continue;
+        std::int64_t key = rec.key;
+        for (int c = fw - 1; c >= 0; --c) {
+            f[at * fw + c] = key % n;
+            key /= n;
+        }
+        p[at++] = i;
+    }
+    p[distinct] = total;
+    Py_END_ALLOW_THREADS
+    return Py_BuildValue("NNNn", faces_out, ptr, owners, distinct);
+}
+
 PyMethodDef methods[] = {
     {"facets", facets, METH_VARARGS,
      "facets(simplices, neighbours, w, n) -> (faces, ptr, owners, count)\n\n"
@@ -148,14 +252,19 @@ PyMethodDef methods[] = {
      "from the int32 neighbour table: int64 sorted rows (count x (w - 1)) in\n"
      "lexicographic order, int64 CSR pointers and the int32 simplices of each\n"
      "facet, as bytearrays."},
+    {"faces", faces, METH_VARARGS,
+     "faces(simplices, w, fw, n) -> (faces, ptr, owners, count)\n\n"
+     "The distinct fw-vertex faces of the int32 simplices (t x w) whose vertices\n"
+     "are all < n: int64 sorted rows in lexicographic order, int64 CSR pointers\n"
+     "and the int32 simplices containing each face in increasing order."},
     {nullptr, nullptr, 0, nullptr},
 };
 
 PyModuleDef module = {
-    PyModuleDef_HEAD_INIT, "_facets", "Facets of a triangulation from its neighbour table.", -1, methods,
+    PyModuleDef_HEAD_INIT, "_faces", "Faces of a triangulation and the simplices around each.", -1, methods,
     nullptr, nullptr, nullptr, nullptr,
 };
 
 }  // namespace
 
-PyMODINIT_FUNC PyInit__facets(void) { return PyModule_Create(&module); }
+PyMODINIT_FUNC PyInit__faces(void) { return PyModule_Create(&module); }
