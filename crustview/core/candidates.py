@@ -277,23 +277,32 @@ def cocone_angles(
     tasks = []
     # the cells' own edges/polygons replace subset enumeration where known (see _score_chunk)
     own_faces = simplices is not None and m in (2, 3)
-    for nv in np.unique(nv_all):
-        sel = np.flatnonzero(nv_all == nv)
-        subsets = [] if own_faces and nv > m + 1 else _boundary_subsets(int(nv), m)
-        tasks += [(int(nv), sel[c], subsets) for c in chunks(len(sel), CHUNK_CELL_VERTICES // int(nv))]
+    sizes = np.unique(nv_all[:: max(1, f // 4096)]) if f else nv_all
+    if len(sizes) == 1 and (nv_all == sizes[0]).all():  # every cell a segment (codimension 1): plain slices
+        groups = [(int(sizes[0]), None)]
+    else:
+        groups = [(int(nv), np.flatnonzero(nv_all == nv)) for nv in np.unique(nv_all)]
+    for nv, sel in groups:
+        subsets = [] if own_faces and nv > m + 1 else _boundary_subsets(nv, m)
+        # a slice needs no gathers of faces and pointers, and no scatter of the result
+        tasks += [(nv, c if sel is None else sel[c], subsets) for c in chunks(f if sel is None else len(sel),
+                                                                              CHUNK_CELL_VERTICES // nv)]
     if workers is None and len(cell_simplices) < CHUNK_CELL_VERTICES:  # one chunk's worth: threads only add overhead
         workers = 1
 
-    def score(task: tuple) -> tuple[np.ndarray, np.ndarray]:
+    def score(task: tuple) -> tuple[np.ndarray | slice, np.ndarray]:
         nv, sel, subsets = task
-        cell_ids = np.take(cell_simplices, np.take(cell_ptr, sel)[:, None] + np.arange(nv))
-        return sel, _score_chunk(work, normals, tangents, centres, np.take(faces, sel, axis=0), cell_ids, simplices,
-                                 subsets, tree, limit)
+        if isinstance(sel, slice):
+            fc, starts = faces[sel], cell_ptr[sel]
+        else:
+            fc, starts = np.take(faces, sel, axis=0), np.take(cell_ptr, sel)
+        cell_ids = np.take(cell_simplices, starts[:, None] + np.arange(nv))
+        return sel, _score_chunk(work, normals, tangents, centres, fc, cell_ids, simplices, subsets, tree, limit)
 
     done = 0
     for sel, values in run_in_order(score, tasks, workers):
         out[sel] = values
-        done += len(sel)
+        done += len(values)
         if progress is not None:
             progress(done / max(f, 1))
     return out
@@ -325,16 +334,32 @@ def _score_chunk(
         subsets = []
     cell_faces = CellFaces(fc, simp_rows, len(work), m) if use_cells else None
     out = np.empty(fc.shape)
+    r = work.shape[1]
+    # coordinates as contiguous (F, nv) planes: the per-vertex products below
+    # are whole-array operations instead of batched matmul/einsum on tiny axes
+    cells_t = np.ascontiguousarray(cells.transpose(2, 0, 1))  # (r, F, nv)
     for a in range(fc.shape[1]):
         s = np.take(work, fc[:, a], axis=0)
         nrm = np.take(normals, fc[:, a], axis=0)
-        x = cells - s[:, None, :]
-        xn = x @ nrm
-        xsq = np.maximum(np.einsum("fvr,fvr->fv", x, x), 1e-300)
+        nrm_t = np.ascontiguousarray(nrm.transpose(1, 2, 0))  # (r, m, F)
+        x_t = cells_t - s.T[:, :, None]  # (r, F, nv)
+        xsq = x_t[0] * x_t[0]
+        for q in range(1, r):
+            xsq += x_t[q] * x_t[q]
+        np.maximum(xsq, 1e-300, out=xsq)
         xlen = np.sqrt(xsq)
-        best = over_cell(np.minimum, np.einsum("fvm,fvm->fv", xn, xn) / xsq)
+        xn_t = []  # N_s^T x, one (F, nv) plane per normal direction
+        for j in range(m):
+            dot = x_t[0] * nrm_t[0, j][:, None]
+            for q in range(1, r):
+                dot += x_t[q] * nrm_t[q, j][:, None]
+            xn_t.append(dot)
+        num = xn_t[0] * xn_t[0]
+        for j in range(1, m):
+            num += xn_t[j] * xn_t[j]
+        best = over_cell(np.minimum, num / xsq)
         # (1) cheap certificate: every cell point leans to one normal side
-        unit = xn / xlen[..., None]
+        unit = np.stack([dot / xlen for dot in xn_t], axis=-1)  # (F, nv, m)
         lean = lean_bound(unit, iterations=0)
         if m >= 3:  # exact minima are costly here: tighten the bound first
             weak = np.flatnonzero(lean < sin_lim)
@@ -344,7 +369,8 @@ def _score_chunk(
         best = np.where(certified, lean**2, best)
         if len(todo):
             best[todo] = _exact_min(
-                x[todo], nrm[todo], np.take(tangents, fc[todo, a], axis=0), np.take(work, fc[todo], axis=0),
+                x_t[:, todo].transpose(1, 2, 0), nrm[todo], np.take(tangents, fc[todo, a], axis=0),
+                np.take(work, fc[todo], axis=0),
                 s[todo], best[todo], subsets, m, tree, sin_lim**2, cell_faces, todo,
             )
         out[:, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
@@ -370,22 +396,25 @@ def _score_segments(
     """
     sin_lim = np.sin(limit)
     r = work.shape[1]
-    c0 = np.take(centres, cell_ids[:, 0], axis=0)
-    c1 = np.take(centres, cell_ids[:, 1], axis=0)
+    # coordinates as contiguous rows (r, F): gather rows, transpose the small
+    # chunk; the products below then run on contiguous memory
+    c0 = np.take(centres, cell_ids[:, 0], axis=0).T.copy()
+    c1 = np.take(centres, cell_ids[:, 1], axis=0).T.copy()
     out = np.empty(fc.shape)
     for a in range(fc.shape[1]):
         s = np.take(work, fc[:, a], axis=0)
         nrm = np.take(normals, fc[:, a], axis=0)  # (F, r, 1)
-        x0, x1 = c0 - s, c1 - s
-        p0 = x0[:, 0] * nrm[:, 0, 0]
-        p1 = x1[:, 0] * nrm[:, 0, 0]
-        q0 = x0[:, 0] * x0[:, 0]
-        q1 = x1[:, 0] * x1[:, 0]
+        nr = nrm[:, :, 0].T.copy()
+        x0, x1 = c0 - s.T, c1 - s.T  # (r, F)
+        p0 = x0[0] * nr[0]
+        p1 = x1[0] * nr[0]
+        q0 = x0[0] * x0[0]
+        q1 = x1[0] * x1[0]
         for c in range(1, r):
-            p0 += x0[:, c] * nrm[:, c, 0]
-            p1 += x1[:, c] * nrm[:, c, 0]
-            q0 += x0[:, c] * x0[:, c]
-            q1 += x1[:, c] * x1[:, c]
+            p0 += x0[c] * nr[c]
+            p1 += x1[c] * nr[c]
+            q0 += x0[c] * x0[c]
+            q1 += x1[c] * x1[c]
         np.maximum(q0, 1e-300, out=q0)
         np.maximum(q1, 1e-300, out=q1)
         best = np.minimum(p0 * p0 / q0, p1 * p1 / q1)
@@ -397,7 +426,7 @@ def _score_segments(
         best = np.where(certified, lean**2, best)
         todo = np.flatnonzero(~certified)
         if len(todo):
-            x = np.stack([x0[todo], x1[todo]], axis=1)
+            x = np.stack([x0[:, todo].T, x1[:, todo].T], axis=1)
             best[todo] = _exact_min(
                 x, nrm[todo], np.take(tangents, fc[todo, a], axis=0), np.take(work, fc[todo], axis=0),
                 s[todo], best[todo], subsets, 1, tree, sin_lim**2, None, todo,
