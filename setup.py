@@ -12,7 +12,7 @@ triangulation and the simplices around each; without it numpy does the same.
 
 from setuptools import Extension, setup
 
-FLAGS = ["-std=c++17", "-O2", "-DNDEBUG", "-DCGAL_NDEBUG"]
+FLAGS = ["-std=c++17", "-O3", "-DNDEBUG", "-DCGAL_NDEBUG"]
 
 setup(
     ext_modules=[
