@@ -7,7 +7,8 @@ Eigen's headers, ``libeigen3-dev``; ``scripts/install.sh`` installs both).
 Both are optional: without the headers or a C++ compiler the build skips them
 and crustview falls back to the ``cgal`` wheel (R^3) and Qhull.
 ``crustview.core._faces`` (no third-party code) lists the faces of a
-triangulation and the simplices around each; without it numpy does the same.
+triangulation and the simplices around each, ``crustview.core._poles`` runs
+Algorithm 1's greedy rounds; without them numpy does the same.
 """
 
 from setuptools import Extension, setup
@@ -30,6 +31,14 @@ setup(
             sources=["crustview/core/_faces.cpp"],
             language="c++",
             extra_compile_args=FLAGS,
+            optional=True,
+        ),
+        Extension(  # no third-party headers: Algorithm 1's greedy rounds (see core/normals.py)
+            "crustview.core._poles",
+            sources=["crustview/core/_poles.cpp"],
+            language="c++",
+            # no fused multiply-add: the same sums, bit for bit, as the numpy code
+            extra_compile_args=[*FLAGS, "-ffp-contract=off"],
             optional=True,
         ),
         Extension(

@@ -25,6 +25,11 @@ from __future__ import annotations
 
 import numpy as np
 
+try:  # one greedy round in compiled code (setup.py builds it; numpy does the same without it)
+    from . import _poles as _native
+except ImportError:  # pragma: no cover - depends on the build
+    _native = None
+
 
 def greedy_poles(
     work: np.ndarray,
@@ -73,30 +78,34 @@ def greedy_poles(
     r = work.shape[1]
     t = len(centres)
     inc = _Incidences(work, simplices, centres, n_samples)
+    native = _native is not None and simplices.dtype == np.int32 and r <= 8
+    basis = np.zeros((n_samples, r, n_poles))  # AN_s, filled column by column
+    # first greedy round over the finite Voronoi vertices: with nothing chosen
+    # yet, the residual of a vector is the vector itself
+    if native:
+        first0, seg0, inc.max_abs = _farthest(inc, basis, 0)
+    else:
+        norm2 = np.empty(inc.size + n_samples)  # room for the vertices at infinity (at most one per sample)
+        seg0 = np.full(n_samples, -np.inf)
+        for owner, sid, vec, pos in inc.blocks(with_pos=True, extra=False):
+            if len(vec):
+                inc.max_abs = max(inc.max_abs, float(np.abs(vec).max()))
+            nb = _sq_norms(vec)
+            norm2[pos] = nb
+            np.maximum.at(seg0, owner, nb)
     # vertices at infinity of hull samples: the mean unit direction to the
     # truncated vertices, longer than any finite vertex (same sums, in the
     # same order per sample, as a CSR walk)
-    # this pass also does the first greedy round's work for the finite vertices:
-    # with nothing chosen yet, the residual of a vector is the vector itself
-    norm2 = np.empty(inc.size + n_samples)  # room for the vertices at infinity (at most one per sample)
-    seg0 = np.full(n_samples, -np.inf)
     dir_sum = np.zeros((n_samples, r))
     len_sum = np.zeros(n_samples)
     far_count = np.zeros(n_samples)
-    for owner, sid, vec, pos in inc.blocks(with_pos=True, extra=False):
-        if len(vec):
-            inc.max_abs = max(inc.max_abs, float(np.abs(vec).max()))
-        nb = np.einsum("er,er->e", vec, vec)
-        norm2[pos] = nb
-        np.maximum.at(seg0, owner, nb)
-        far = inc.far[sid]
-        if far.any():
-            of, lf = owner[far], np.sqrt(nb[far])
-            unit = vec[far] / np.maximum(lf, 1e-300)[:, None]
-            for c in range(r):
-                dir_sum[:, c] += np.bincount(of, weights=unit[:, c], minlength=n_samples)
-            len_sum += np.bincount(of, weights=lf, minlength=n_samples)
-            far_count += np.bincount(of, minlength=n_samples)
+    for of, vec in inc.far_blocks():
+        lf = np.sqrt(_sq_norms(vec))
+        unit = vec / np.maximum(lf, 1e-300)[:, None]
+        for c in range(r):
+            dir_sum[:, c] += np.bincount(of, weights=unit[:, c], minlength=n_samples)
+        len_sum += np.bincount(of, weights=lf, minlength=n_samples)
+        far_count += np.bincount(of, minlength=n_samples)
     hull = np.flatnonzero(far_count > 0)
     infinite = np.empty((0, r))
     if len(hull):
@@ -108,21 +117,28 @@ def greedy_poles(
         inc.add_extra(hull, mean_dir * (2.0 * max_len + 1.0)[:, None], t + np.arange(len(hull)))
     del dir_sum, len_sum
     pole_index = np.full((n_samples, n_poles), -1, dtype=np.int64)
-    normals = np.zeros((n_samples, r, n_poles))
+    normals = basis
     has = inc.count > 0
     for j in range(n_poles):
         # longest residual per sample; the first entry attaining it (in the
         # order simplex id, then vertex at infinity) is the pole
-        segmax = seg0 if j == 0 else np.full(n_samples, -np.inf)
-        for owner, sid, vec, pos in inc.blocks(with_pos=True, finite=j > 0):
-            resid = _residual(vec, normals[owner, :, :j])
-            nb = np.einsum("er,er->e", resid, resid)
-            norm2[pos] = nb
-            np.maximum.at(segmax, owner, nb)
-        first = np.full(n_samples, inc.size)
-        for owner, sid, vec, pos in inc.blocks(with_pos=True, geometry=False):
-            hit = np.flatnonzero(norm2[pos] == segmax[owner])
-            np.minimum.at(first, owner[hit], pos[hit])
+        if native:
+            first, segmax = (first0, seg0) if j == 0 else _farthest(inc, normals, j)[:2]
+            if len(inc.extra_owner):  # after every simplex entry: they win only when strictly longer
+                resid = _residual(inc.extra_vec, normals[inc.extra_owner, :, :j])
+                wins = np.flatnonzero(_sq_norms(resid) > segmax[inc.extra_owner])
+                first[inc.extra_owner[wins]] = inc.simplices.size + wins
+        else:
+            segmax = seg0 if j == 0 else np.full(n_samples, -np.inf)
+            for owner, sid, vec, pos in inc.blocks(with_pos=True, finite=j > 0):
+                resid = _residual(vec, normals[owner, :, :j])
+                nb = _sq_norms(resid)
+                norm2[pos] = nb
+                np.maximum.at(segmax, owner, nb)
+            first = np.full(n_samples, inc.size)
+            for owner, sid, vec, pos in inc.blocks(with_pos=True, geometry=False):
+                hit = np.flatnonzero(norm2[pos] == segmax[owner])
+                np.minimum.at(first, owner[hit], pos[hit])
         who = np.flatnonzero(has)
         chosen = first[who]
         owner_c, vec_c, index_c = inc.entries(chosen)
@@ -138,6 +154,27 @@ def greedy_poles(
         missing = np.flatnonzero(~has)
         normals[missing] = np.eye(r)[:, :n_poles]
     return pole_index, normals, infinite
+
+
+def _farthest(inc: "_Incidences", basis: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray, float]:
+    """One greedy round over the finite Voronoi vertices, by the extension :mod:`._poles`.
+
+    Returns per sample the first entry attaining the longest residual (-1 if
+    none) and its squared length (-inf), and the largest |coordinate| of any
+    vector.  Same arithmetic as the numpy rounds (:func:`_sq_norms`,
+    :func:`_residual`), so the same entries.
+    """
+    r = inc.work.shape[1]
+    first, best, max_abs = _native.farthest(
+        np.ascontiguousarray(inc.centres, dtype=np.float64), np.ascontiguousarray(inc.work, dtype=np.float64),
+        np.ascontiguousarray(inc.simplices), np.ascontiguousarray(basis), inc.n, r, r + 1, basis.shape[2], j,
+    )
+    return np.frombuffer(first, dtype=np.int64).copy(), np.frombuffer(best, dtype=np.float64), max_abs
+
+
+def _sq_norms(vec: np.ndarray) -> np.ndarray:
+    """Squared row lengths, summed from the first coordinate on (as :mod:`._poles` sums them)."""
+    return (vec * vec).sum(axis=1)
 
 
 def _residual(vec: np.ndarray, basis: np.ndarray) -> np.ndarray:
@@ -200,6 +237,20 @@ class _Incidences:
             pos = self.simplices.size + np.arange(len(self.extra_owner))
             sid = np.full(len(pos), -1)
             yield self.extra_owner, sid, self.extra_vec if geometry else None, pos
+
+    def far_blocks(self):  # noqa: ANN201
+        """Yield ``(owner, vec)`` of the entries of simplices with a bounding point, block by block
+        (the blocks of :meth:`blocks`, so per-block sums are added in the same order)."""
+        t, w = len(self.simplices), self.width
+        for lo in range(0, t, self.BLOCK):
+            sids = lo + np.flatnonzero(self.far[lo : lo + self.BLOCK])
+            if len(sids) == 0:
+                continue
+            flat = self.simplices[sids].ravel()
+            keep = np.flatnonzero(flat < self.n)
+            owner = flat[keep]
+            sid = sids[keep // w]
+            yield owner, np.take(self.centres, sid, axis=0) - np.take(self.work, owner, axis=0)
 
     def entries(self, pos: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Owner, vector and Voronoi-vertex index of the entries at ``pos``."""

@@ -1,0 +1,83 @@
+"""Algorithm 1's greedy rounds in the compiled kernel (:mod:`crustview.core._poles`) and in numpy: the same poles."""
+
+import numpy as np
+import pytest
+
+from crustview.core import normals as normals_mod
+from crustview.core.delaunay import bounding_points, circumcenters, delaunay
+from crustview.core.normals import greedy_poles
+from crustview.core.prepare import prepare_points
+from crustview.core.sampling import get_manifold
+
+
+def _both(monkeypatch, *args):
+    native = greedy_poles(*args)
+    with monkeypatch.context() as m:
+        m.setattr(normals_mod, "_native", None)
+        plain = greedy_poles(*args)
+    return native, plain
+
+
+def test_the_kernel_is_built():
+    assert normals_mod._native is not None
+
+
+@pytest.mark.parametrize("dtype", [np.int32, np.int64])
+def test_greedy_poles_break_ties_by_the_first_entry(dtype):
+    # one sample at the origin; (0,3,0) and (3,0,0) are equally far, the
+    # first listed wins round one; round two: (3,0,0) keeps length 3 after
+    # removing y, (0,0,1) only 1.  int32 simplices run the kernel, int64 numpy.
+    work = np.zeros((1, 3))
+    centres = np.array([[0, 3.0, 0], [3.0, 0, 0], [0, 0, 1.0]])
+    simplices = np.zeros((3, 4), dtype=dtype)
+    pole, normals, _ = greedy_poles(work, simplices, centres, 1, 2)
+    assert pole[0].tolist() == [0, 1]
+    assert np.allclose(np.abs(normals[0]), [[0, 1], [1, 0], [0, 0]])
+    # listed the other way round, the other one wins
+    pole, _, _ = greedy_poles(work, simplices, centres[[1, 0, 2]], 1, 2)
+    assert pole[0].tolist() == [0, 1]
+
+
+@pytest.mark.parametrize("name, n", [("torus", 1500), ("flat-klein", 700), ("trefoil", 300), ("torus-r5", 250),
+                                     ("s3", 400)])
+def test_kernel_and_numpy_choose_the_same_poles(name, n, monkeypatch):
+    # with the far bounding points: hull samples get a vertex at infinity that
+    # competes with the finite vertices in every round
+    m = get_manifold(name)
+    prep = prepare_points(m.sample(n, seed=1).points, m.d)
+    b = bounding_points(prep.r)
+    simp = delaunay(prep.work, b)
+    assert simp.dtype == np.int32
+    work = np.vstack([prep.work, b])
+    centres = circumcenters(work, simp)
+    native, plain = _both(monkeypatch, work, simp, centres, len(prep.work), prep.r - m.d)
+    assert len(native[2]) > 0  # some vertices at infinity
+    for got, want in zip(native, plain):
+        assert np.array_equal(got, want)
+
+
+def test_kernel_and_numpy_agree_on_an_exactly_degenerate_lattice(monkeypatch):
+    # a 4x4x4 grid: the tetrahedra of each cube share one circumcentre, so
+    # many (sample, Voronoi vertex) lengths tie exactly; CGAL splits the cubes
+    # without flat tetrahedra (symbolic perturbation)
+    g = np.arange(4.0)
+    pts = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
+    b = bounding_points(3, radius=12.0) + 1.5
+    simp = delaunay(pts, b, backend="cgal")
+    work = np.vstack([pts, b])
+    centres = circumcenters(work, simp)
+    native, plain = _both(monkeypatch, work, simp.astype(np.int32), centres, len(pts), 2)
+    for got, want in zip(native, plain):
+        assert np.array_equal(got, want)
+
+
+def test_the_kernel_rejects_bad_input_clearly():
+    from crustview.core import _poles
+
+    cen = np.zeros((2, 3))
+    work = np.zeros((4, 3))
+    basis = np.zeros((4, 3, 1))
+    with pytest.raises(ValueError, match="expected float64"):
+        _poles.farthest(cen, work, np.zeros((2, 3), dtype=np.int32), basis, 4, 3, 4, 1, 0)  # w != r + 1
+    with pytest.raises(ValueError, match="outside work"):
+        _poles.farthest(cen, work, np.full((2, 4), 9, dtype=np.int32), basis, 4, 3, 4, 1, 0)
