@@ -7,8 +7,9 @@ import pytest
 
 from crustview.core import delaunay_cgal, reconstruct
 from crustview.core.candidates import SCORE_LIMIT
-from crustview.core.delaunay import bounding_points, circumcenters, delaunay
+from crustview.core.delaunay import bounding_points, delaunay
 from crustview.core.sampling import get_manifold
+from delaunay_checks import assert_delaunay_of_a_box, lattice
 
 
 def _rows(simplices: np.ndarray) -> np.ndarray:
@@ -65,16 +66,8 @@ def test_dd_hand_checked_simplex_and_cross_polytope():
 def test_dd_resolves_an_exactly_degenerate_lattice_into_a_delaunay_triangulation():
     # a 3^4 grid: every cube's 16 corners are cospherical; whatever split CGAL
     # picks must fill the hull (volumes add up to 2^4) with empty circumspheres
-    g = np.arange(3.0)
-    pts = np.stack(np.meshgrid(g, g, g, g, indexing="ij"), axis=-1).reshape(-1, 4)
-    simp = delaunay_cgal.delaunay_d(pts)
-    p = pts[simp]
-    vol = np.abs(np.linalg.det(p[:, 1:] - p[:, :1])).sum() / 24
-    assert vol == pytest.approx(16.0)
-    c = circumcenters(pts, simp)
-    rad2 = ((p[:, 0] - c) ** 2).sum(axis=1)
-    d2 = ((pts[None, :, :] - c[:, None, :]) ** 2).sum(axis=2)
-    assert (d2 >= rad2[:, None] - 1e-9).all()
+    pts = lattice(3, 4)
+    assert_delaunay_of_a_box(pts, delaunay_cgal.delaunay_d(pts), 16.0)
 
 
 def test_dd_reports_bad_input_clearly():

@@ -7,8 +7,9 @@ import numpy as np
 import pytest
 
 from crustview.core import delaunay_cgal, reconstruct
-from crustview.core.delaunay import backend_for, bounding_points, circumcenters, delaunay
+from crustview.core.delaunay import backend_for, bounding_points, delaunay
 from crustview.core.prepare import prepare_points
+from delaunay_checks import assert_delaunay_of_a_box, lattice
 
 
 
@@ -114,16 +115,8 @@ def test_cgal_resolves_an_exactly_degenerate_lattice_into_a_delaunay_triangulati
     # a 5x5x5 grid: every cube's 8 corners are cospherical, so the Delaunay
     # triangulation is not unique and CGAL may split it unlike Qhull; it must
     # still fill the hull (volumes add up) and keep every circumsphere empty
-    g = np.arange(5.0)
-    pts = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
-    simp = getattr(delaunay_cgal, f"delaunay_3d_{route}")(pts)
-    p = pts[simp]
-    vol = np.abs(np.linalg.det(p[:, 1:] - p[:, :1])).sum() / 6
-    assert vol == pytest.approx(64.0)
-    c = circumcenters(pts, simp)
-    rad2 = ((p[:, 0] - c) ** 2).sum(axis=1)
-    d2 = ((pts[None, :, :] - c[:, None, :]) ** 2).sum(axis=2)
-    assert (d2 >= rad2[:, None] - 1e-9).all()
+    pts = lattice(5, 3)
+    assert_delaunay_of_a_box(pts, getattr(delaunay_cgal, f"delaunay_3d_{route}")(pts), 64.0)
 
 
 def test_a_cospherical_sample_still_reconstructs_with_cgal():

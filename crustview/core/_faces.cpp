@@ -98,6 +98,17 @@ std::vector<Record> collect(const std::int32_t* simp, const std::int32_t* nbrs, 
     return records;
 }
 
+// The three result bytearrays (faces, pointers, owners) of the given byte
+// sizes; false (a Python error set, nothing leaked) if one cannot be made.
+bool face_outputs(Py_ssize_t face_bytes, Py_ssize_t ptr_bytes, Py_ssize_t owner_bytes, PyObject* out[3]) {
+    out[0] = PyByteArray_FromStringAndSize(nullptr, face_bytes);
+    out[1] = PyByteArray_FromStringAndSize(nullptr, ptr_bytes);
+    out[2] = PyByteArray_FromStringAndSize(nullptr, owner_bytes);
+    if (out[0] != nullptr && out[1] != nullptr && out[2] != nullptr) return true;
+    for (int i = 0; i < 3; ++i) Py_XDECREF(out[i]);
+    return false;
+}
+
 PyObject* facets(PyObject* /*self*/, PyObject* args) {
     Py_buffer simp_buf, nbr_buf;
     int w = 0;
@@ -128,18 +139,11 @@ PyObject* facets(PyObject* /*self*/, PyObject* args) {
     const int fw = w - 1;
     Py_ssize_t n_owners = 0;
     for (const Record& rec : records) n_owners += rec.second >= 0 ? 2 : 1;
-    PyObject* faces = PyByteArray_FromStringAndSize(nullptr, count * fw * 8);
-    PyObject* ptr = PyByteArray_FromStringAndSize(nullptr, (count + 1) * 8);
-    PyObject* owners = PyByteArray_FromStringAndSize(nullptr, n_owners * 4);
-    if (faces == nullptr || ptr == nullptr || owners == nullptr) {
-        Py_XDECREF(faces);
-        Py_XDECREF(ptr);
-        Py_XDECREF(owners);
-        return nullptr;
-    }
-    auto* f = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(faces));
-    auto* p = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(ptr));
-    auto* o = reinterpret_cast<std::int32_t*>(PyByteArray_AS_STRING(owners));
+    PyObject* out[3];
+    if (!face_outputs(count * fw * 8, (count + 1) * 8, n_owners * 4, out)) return nullptr;
+    auto* f = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out[0]));
+    auto* p = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out[1]));
+    auto* o = reinterpret_cast<std::int32_t*>(PyByteArray_AS_STRING(out[2]));
     Py_BEGIN_ALLOW_THREADS
     std::int64_t at = 0;
     for (Py_ssize_t i = 0; i < count; ++i) {
@@ -154,7 +158,7 @@ PyObject* facets(PyObject* /*self*/, PyObject* args) {
     }
     p[count] = at;
     Py_END_ALLOW_THREADS
-    return Py_BuildValue("NNNn", faces, ptr, owners, count);
+    return Py_BuildValue("NNNn", out[0], out[1], out[2], count);
 }
 
 std::vector<Instance> instances(const std::int32_t* simp, std::int64_t t, int w, int fw, std::int64_t n) {
@@ -215,18 +219,11 @@ PyObject* faces(PyObject* /*self*/, PyObject* args) {
     Py_END_ALLOW_THREADS
     PyBuffer_Release(&simp_buf);
     const Py_ssize_t total = static_cast<Py_ssize_t>(recs.size());
-    PyObject* faces_out = PyByteArray_FromStringAndSize(nullptr, distinct * fw * 8);
-    PyObject* ptr = PyByteArray_FromStringAndSize(nullptr, (distinct + 1) * 8);
-    PyObject* owners = PyByteArray_FromStringAndSize(nullptr, total * 4);
-    if (faces_out == nullptr || ptr == nullptr || owners == nullptr) {
-        Py_XDECREF(faces_out);
-        Py_XDECREF(ptr);
-        Py_XDECREF(owners);
-        return nullptr;
-    }
-    auto* f = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(faces_out));
-    auto* p = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(ptr));
-    auto* o = reinterpret_cast<std::int32_t*>(PyByteArray_AS_STRING(owners));
+    PyObject* out[3];
+    if (!face_outputs(distinct * fw * 8, (distinct + 1) * 8, total * 4, out)) return nullptr;
+    auto* f = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out[0]));
+    auto* p = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out[1]));
+    auto* o = reinterpret_cast<std::int32_t*>(PyByteArray_AS_STRING(out[2]));
     Py_BEGIN_ALLOW_THREADS
     Py_ssize_t at = 0;
     for (Py_ssize_t i = 0; i < total; ++i) {
@@ -242,7 +239,7 @@ PyObject* faces(PyObject* /*self*/, PyObject* args) {
     }
     p[distinct] = total;
     Py_END_ALLOW_THREADS
-    return Py_BuildValue("NNNn", faces_out, ptr, owners, distinct);
+    return Py_BuildValue("NNNn", out[0], out[1], out[2], distinct);
 }
 
 PyMethodDef methods[] = {
