@@ -124,6 +124,25 @@ def test_extraction_mode_option_switches_the_verdict_and_back(qtbot, window):
     assert len(back.manifold) == len(rec.manifold) and not panel.prune.isEnabled()
 
 
+def test_a_robust_run_whose_paper_loop_succeeded_does_not_say_the_loop_was_abandoned(qtbot, window):
+    # S^3 in R^4: T_S is already a closed manifold, so the robust run is the
+    # paper's own (empty) log; the cascade box must say so, not that the
+    # paper's loop was abandoned and M_S grown
+    from crustview.core.sampling import get_manifold
+
+    pts = get_manifold("s3").sample(600, seed=0).points
+    window.run_panel.set_mode("robust")
+    assert window.start_reconstruction(pts, 3, source="s3")
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    rec = window.model.rec
+    assert rec is not None and rec.mode == "robust" and rec.extraction.added_at is None
+    info = window.info_panel
+    assert "extension was not needed" in info.banner.text()
+    label = info.diagnosis.cascade_label.text()
+    assert "abandoned" not in label and "grown" not in label
+    assert not info.diagnosis.to_paper.isVisible()
+
+
 def test_step_overlay_shows_added_simplices_and_removed_so_far_ignores_not_yet_added(qtbot, window):
     rec = run(qtbot, window, knight_points(), "robust")
     ext = rec.extraction

@@ -201,7 +201,10 @@ class DiagnosisPanel(QWidget):
         self._list = self.model.cascades()
         self.cascades.clear()
         ext = rec.extraction
-        if rec.mode == "robust" and not self._list:
+        # a robust run whose paper loop succeeded is the paper's own log (no added_at):
+        # its cascades, if any, are listed like a paper run's
+        grown = rec.mode == "robust" and ext.added_at is not None
+        if grown and not self._list:
             self.cascade_label.setText(
                 "This robust run's log has no prune cascades: the paper's loop was abandoned "
                 "(see the notes above) and M_S was grown instead. The paper's run shows where its "
