@@ -307,3 +307,23 @@ def test_initial_sharp_set_matches_the_per_facet_rule_on_a_thin_scan():
     expected = [g for g in range(len(ex.facets)) if ex.is_sharp(g)[0]]
     assert _initial_sharp(ex) == expected
     assert 0 < len(expected) < len(ex.facets)
+
+
+def test_analyse_remembers_the_last_complex_by_its_rows(torus_run, monkeypatch):
+    # the robust extraction's check and the pipeline's report analyse the same
+    # M_S; the second call must not analyse again, and a changed complex must
+    from crustview.core import topology
+
+    rec, _ = torus_run
+    m_s = np.asarray(rec.manifold, dtype=np.int64)
+    assert len(m_s) >= topology.REMEMBER_MIN
+    calls = []
+    real = topology._analyse
+    monkeypatch.setattr(topology, "_analyse", lambda *a: calls.append(1) or real(*a))
+    monkeypatch.setattr(topology, "_LAST", None)
+    first = topology.analyse(m_s, rec.n, 2)
+    second = topology.analyse(m_s.copy(), rec.n, 2)
+    assert len(calls) == 1 and second == first and second.messages is not first.messages
+    changed = m_s[1:]  # one triangle fewer: an open surface now
+    third = topology.analyse(changed, rec.n, 2)
+    assert len(calls) == 2 and not third.closed_manifold and first.closed_manifold
