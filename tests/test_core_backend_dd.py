@@ -119,3 +119,16 @@ def test_cgal_and_qhull_give_the_same_reconstruction_in_r4(name, n, monkeypatch)
     assert (a[~exact] >= SCORE_LIMIT).all() and (b[~exact] >= SCORE_LIMIT).all()
     assert np.array_equal(_rows(rec.manifold), _rows(ref.manifold))
     assert rec.topology.closed_manifold and rec.topology.betti == m.betti
+
+
+def test_exactly_cospherical_s3_without_joggle_reconstructs_with_cgal_dd():
+    # every sample on the unit 3-sphere and no joggle: the Delaunay is highly
+    # degenerate; CGAL resolves it by symbolic perturbation into a valid
+    # triangulation, and the reconstruction is still S^3
+    m = get_manifold("s3")
+    pts = m.sample(600, seed=2).points
+    pts /= np.linalg.norm(pts, axis=1, keepdims=True)
+    rec = reconstruct(pts, 3, joggle=0.0)
+    assert rec.delaunay_backend.startswith("CGAL dD") and rec.joggle == 0.0
+    top = rec.topology
+    assert top.closed_manifold and top.betti == (1, 0, 0, 1) and top.unused_samples == 0
