@@ -8,7 +8,9 @@ Both are optional: without the headers or a C++ compiler the build skips them
 and crustview falls back to the ``cgal`` wheel (R^3) and Qhull.
 ``crustview.core._faces`` (no third-party code) lists the faces of a
 triangulation and the simplices around each, ``crustview.core._poles`` runs
-Algorithm 1's greedy rounds; without them numpy does the same.
+Algorithm 1's greedy rounds and ``crustview.core._segments`` the first steps
+of Algorithm 2's cocone score in codimension 1; without them numpy does the
+same.
 """
 
 from setuptools import Extension, setup
@@ -38,6 +40,13 @@ setup(
             sources=["crustview/core/_poles.cpp"],
             language="c++",
             # no fused multiply-add: the same sums, bit for bit, as the numpy code
+            extra_compile_args=[*FLAGS, "-ffp-contract=off"],
+            optional=True,
+        ),
+        Extension(  # no third-party headers: Algorithm 2's codimension-1 segment ends (core/candidates.py)
+            "crustview.core._segments",
+            sources=["crustview/core/_segments.cpp"],
+            language="c++",
             extra_compile_args=[*FLAGS, "-ffp-contract=off"],
             optional=True,
         ),

@@ -139,3 +139,30 @@ def test_facets_of_two_tetrahedra_by_hand(native, monkeypatch):
     faces, ptr, owners = cand.enumerate_faces(simp, 4, 2, neighbors=nbrs)
     assert faces.tolist() == [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]
     assert ptr.tolist() == [0, 1, 2, 3, 5] and owners.tolist() == [0, 0, 0, 0, 1]
+
+
+def test_codimension_1_segment_ends_compiled_equal_numpy_bit_for_bit(monkeypatch):
+    # the compiled _segments does numpy's arithmetic operation for operation:
+    # the vertex minima and certificates, and so the whole cocone scores, are equal
+    work, normals, centres, faces, ptr, cs, simp = _stage_inputs("torus", 1500)
+    assert cand._native_segments is not None  # setup.py builds it
+    cells = cs.reshape(-1, 2)  # codimension 1 with bounding points: every dual cell is a segment
+    assert np.array_equal(ptr, np.arange(0, 2 * len(faces) + 1, 2))
+    native = cand._segment_ends_native(work, normals, centres, faces, cells)
+    plain = cand._segment_ends(work, normals, centres, faces, cells)
+    for (b1, l1), (b2, l2) in zip(native, plain):
+        assert np.array_equal(b1, b2) and np.array_equal(l1, l2)
+    # a Voronoi vertex on the sample itself: |x| = 0 is guarded the same way
+    hit = centres.copy()
+    hit[cells[0, 0]] = work[faces[0, 0]]
+    native = cand._segment_ends_native(work, normals, hit, faces[:1], cells[:1])
+    plain = cand._segment_ends(work, normals, hit, faces[:1], cells[:1])
+    assert all(np.array_equal(a, b) for pn, pp in zip(native, plain) for a, b in zip(pn, pp))
+    whole = cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp)
+    monkeypatch.setattr(cand, "_native_segments", None)
+    assert np.array_equal(cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp), whole)
+    from crustview.core import _segments
+
+    with pytest.raises(ValueError, match="outside"):
+        _segments.segments(work, normals[:, :, 0], centres, np.full((1, 3), 10**9, dtype=np.int64),
+                           np.zeros((1, 2), dtype=np.int64), 3, 3)

@@ -83,6 +83,11 @@ from .dualcells import CellFaces, cell_boundary_min
 from .faces import enumerate_faces, sort_rows  # noqa: F401 - part of this module's API
 from .parallel import chunks, run_in_order
 
+try:  # codimension 1's segment ends in compiled code (setup.py builds it; numpy does the same without it)
+    from . import _segments as _native_segments
+except ImportError:  # pragma: no cover - depends on the build
+    _native_segments = None
+
 #: Cells with more vertices skip the (k-d)-subset enumeration in codim >= 3.
 MAX_SUBSET_VERTICES = 12
 #: Cell vertices per chunk of faces scored at once (keeps temporaries in cache).
@@ -395,16 +400,44 @@ def _score_segments(
     normal is a single vector, so the certificate's direction is a sign.
     """
     sin_lim = np.sin(limit)
+    if _native_segments is not None and work.dtype == normals.dtype == centres.dtype == np.float64:
+        ends = _segment_ends_native(work, normals, centres, fc, cell_ids)
+    else:
+        ends = _segment_ends(work, normals, centres, fc, cell_ids)
+    out = np.empty(fc.shape)
+    for a, (best, lean) in enumerate(ends):
+        certified = lean >= sin_lim
+        best = np.where(certified, lean**2, best)
+        todo = np.flatnonzero(~certified)
+        if len(todo):
+            va = fc[todo, a]
+            s = np.take(work, va, axis=0)
+            x = np.stack([np.take(centres, cell_ids[todo, 0], axis=0) - s,
+                          np.take(centres, cell_ids[todo, 1], axis=0) - s], axis=1)
+            best[todo] = _exact_min(
+                x, np.take(normals, va, axis=0), np.take(tangents, va, axis=0), np.take(work, fc[todo], axis=0),
+                s, best[todo], subsets, 1, tree, sin_lim**2, None, todo,
+            )
+        out[:, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
+    return out
+
+
+def _segment_ends(
+    work: np.ndarray, normals: np.ndarray, centres: np.ndarray, fc: np.ndarray, cell_ids: np.ndarray
+) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Per face vertex a: (sin^2 at the nearer end of the dual segment, one-sided bound of sin).
+
+    Coordinates as contiguous rows (r, F): gather rows, transpose the small
+    chunk; the products then run on contiguous memory.  :mod:`._segments`
+    does the same arithmetic in compiled code.
+    """
     r = work.shape[1]
-    # coordinates as contiguous rows (r, F): gather rows, transpose the small
-    # chunk; the products below then run on contiguous memory
     c0 = np.take(centres, cell_ids[:, 0], axis=0).T.copy()
     c1 = np.take(centres, cell_ids[:, 1], axis=0).T.copy()
-    out = np.empty(fc.shape)
+    out = []
     for a in range(fc.shape[1]):
         s = np.take(work, fc[:, a], axis=0)
-        nrm = np.take(normals, fc[:, a], axis=0)  # (F, r, 1)
-        nr = nrm[:, :, 0].T.copy()
+        nr = np.take(normals, fc[:, a], axis=0)[:, :, 0].T.copy()
         x0, x1 = c0 - s.T, c1 - s.T  # (r, F)
         p0 = x0[0] * nr[0]
         p1 = x1[0] * nr[0]
@@ -421,18 +454,23 @@ def _score_segments(
         u0, u1 = p0 / np.sqrt(q0), p1 / np.sqrt(q1)
         side = u0 + u1
         side /= np.maximum(np.abs(side), 1e-300)
-        lean = np.minimum(u0 * side, u1 * side)
-        certified = lean >= sin_lim
-        best = np.where(certified, lean**2, best)
-        todo = np.flatnonzero(~certified)
-        if len(todo):
-            x = np.stack([x0[:, todo].T, x1[:, todo].T], axis=1)
-            best[todo] = _exact_min(
-                x, nrm[todo], np.take(tangents, fc[todo, a], axis=0), np.take(work, fc[todo], axis=0),
-                s[todo], best[todo], subsets, 1, tree, sin_lim**2, None, todo,
-            )
-        out[:, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
+        out.append((best, np.minimum(u0 * side, u1 * side)))
     return out
+
+
+def _segment_ends_native(
+    work: np.ndarray, normals: np.ndarray, centres: np.ndarray, fc: np.ndarray, cell_ids: np.ndarray
+) -> list[tuple[np.ndarray, np.ndarray]]:
+    """:func:`_segment_ends` through the extension :mod:`._segments` (same values, bit for bit)."""
+    f, w = fc.shape
+    best, lean = _native_segments.segments(
+        np.ascontiguousarray(work), np.ascontiguousarray(normals), np.ascontiguousarray(centres),
+        np.ascontiguousarray(fc, dtype=np.int64), np.ascontiguousarray(cell_ids, dtype=np.int64),
+        work.shape[1], w,
+    )
+    best = np.frombuffer(best, dtype=np.float64).reshape(f, w)
+    lean = np.frombuffer(lean, dtype=np.float64).reshape(f, w)
+    return [(best[:, a].copy(), lean[:, a].copy()) for a in range(w)]
 
 
 def _boundary_subsets(nv: int, m: int) -> list[np.ndarray]:
