@@ -98,6 +98,53 @@ def test_codimension_two_curve_uses_the_nearest_pole():
     assert np.all(q.epsilon < 1.05 * tan)
 
 
-def test_delaunay_edges_are_unique_and_sorted():
-    e = delaunay_edges(np.array([[0, 1, 2], [1, 2, 3]]))
+@pytest.mark.parametrize("dtype", [np.int32, np.int64])
+def test_delaunay_edges_are_unique_and_sorted(dtype):
+    # int32 goes through the compiled face lister, int64 through numpy
+    e = delaunay_edges(np.array([[0, 1, 2], [1, 2, 3]], dtype=dtype))
     assert e.tolist() == [[0, 1], [0, 2], [1, 2], [1, 3], [2, 3]]
+
+
+def test_delaunay_edges_compiled_and_numpy_agree_on_a_real_triangulation(monkeypatch):
+    from crustview.core import quality
+
+    rec = reconstruct(get_manifold("torus").sample(800, seed=3).points, 2)
+    simp = rec.delaunay_simplices
+    assert simp.dtype == np.int32
+    fast = delaunay_edges(simp)
+    monkeypatch.setattr(quality, "_native_faces", None)
+    assert np.array_equal(fast, delaunay_edges(simp))
+
+
+def test_quality_reports_progress_in_order_and_can_be_cancelled():
+    import threading
+
+    from crustview.core import quality
+    from crustview.core.errors import Cancelled
+
+    rec = reconstruct(get_manifold("torus").sample(1500, seed=1).points, 2)
+    seen = []
+    q = sampling_quality(rec, progress=seen.append)
+    assert seen[0] == 0.0 and seen[-1] == 1.0 and seen == sorted(seen) and len(seen) >= 4
+    assert np.array_equal(q.epsilon, sampling_quality(rec).epsilon, equal_nan=True)
+    stop = threading.Event()
+    stop.set()
+    with pytest.raises(Cancelled):
+        sampling_quality(rec, cancel=stop)
+    # cancelled in the middle: after the first block of the radius pass
+    stop = threading.Event()
+    calls = []
+
+    def watch(f):
+        calls.append(f)
+        if len(calls) == 3:
+            stop.set()
+
+    old = quality.QUALITY_ROWS
+    quality.QUALITY_ROWS = 1000  # many blocks
+    try:
+        with pytest.raises(Cancelled):
+            sampling_quality(rec, progress=watch, cancel=stop)
+    finally:
+        quality.QUALITY_ROWS = old
+    assert 3 <= len(calls) < 10

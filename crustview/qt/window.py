@@ -54,12 +54,11 @@ def _scrolled(widget: QWidget) -> QScrollArea:
     return area
 
 
-def _quality(rec, progress):
-    """The samples' estimated epsilon, computed in the worker with the reconstruction."""
+def _quality(rec, progress, cancel=None):
+    """The samples' estimated epsilon, computed in the worker with the reconstruction (with progress; cancellable)."""
     from ..core.quality import sampling_quality
 
-    progress("quality", 0.0)
-    return sampling_quality(rec)
+    return sampling_quality(rec, progress=lambda f: progress("quality", f), cancel=cancel)
 
 
 def _same_simplices(rec, saved: np.ndarray) -> bool:
@@ -291,7 +290,7 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         def job(progress, cancel):
             rec = reconstruct(points, d, test=test, theta=theta, prune_boundary=prune, mode=mode,
                               progress=progress, cancel=cancel)
-            return {"rec": rec, "truth": truth, "points": points, "quality": _quality(rec, progress)}
+            return {"rec": rec, "truth": truth, "points": points, "quality": _quality(rec, progress, cancel)}
 
         job = _comparing(job, truth, points)
 
@@ -334,7 +333,7 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
             sample = early if early is not None else m.sample(n, seed=seed)
             rec = reconstruct(sample.points, m.d, test=test, theta=theta, prune_boundary=prune, mode=mode,
                               progress=progress, cancel=cancel)
-            return {"rec": rec, "truth": sample, "points": sample.points, "quality": _quality(rec, progress)}
+            return {"rec": rec, "truth": sample, "points": sample.points, "quality": _quality(rec, progress, cancel)}
 
         return self.start_job(job, f"Sampling and reconstructing {name} (n = {n})…", source=f"{name} (n = {n})",
                               keep_view=False, origin=BuiltinSource(name, int(n), int(seed)))
