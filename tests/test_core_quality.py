@@ -106,13 +106,13 @@ def test_delaunay_edges_are_unique_and_sorted(dtype):
 
 
 def test_delaunay_edges_compiled_and_numpy_agree_on_a_real_triangulation(monkeypatch):
-    from crustview.core import quality
+    from crustview.core import faces
 
     rec = reconstruct(get_manifold("torus").sample(800, seed=3).points, 2)
     simp = rec.delaunay_simplices
-    assert simp.dtype == np.int32
+    assert simp.dtype == np.int32 and faces._native is not None
     fast = delaunay_edges(simp)
-    monkeypatch.setattr(quality, "_native_faces", None)
+    monkeypatch.setattr(faces, "_native", None)
     assert np.array_equal(fast, delaunay_edges(simp))
 
 

@@ -62,7 +62,7 @@ def enumerate_faces(
     small_keys = float(n_samples) ** (d + 1) < 2**62
     if neighbors is not None and simplices.shape[1] == d + 2 and small_keys and len(simplices):
         return _enumerate_facets(simplices, neighbors, n_samples)
-    if _native is not None and small_keys and simplices.dtype == np.int32:
+    if _native is not None and small_keys and simplices.dtype == np.int32 and len(simplices) < 2**31:
         return _faces_native(simplices, n_samples, d)
     srt = sort_rows(simplices)
     w = srt.shape[1]
@@ -173,22 +173,23 @@ def _facets_native(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`_enumerate_facets` through the extension :mod:`._faces`."""
     w = simplices.shape[1]
-    faces, ptr, owners, count = _native.facets(
-        np.ascontiguousarray(simplices), np.ascontiguousarray(neighbors), w, int(n_samples)
-    )
-    return (
-        np.frombuffer(faces, dtype=np.int64).reshape(count, w - 1),
-        np.frombuffer(ptr, dtype=np.int64),
-        np.frombuffer(owners, dtype=np.int32),
+    return _native_arrays(
+        _native.facets(np.ascontiguousarray(simplices), np.ascontiguousarray(neighbors), w, int(n_samples)), w - 1
     )
 
 
 def _faces_native(simplices: np.ndarray, n_samples: int, d: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`enumerate_faces` (general path) through the extension :mod:`._faces`: same arrays."""
-    faces, ptr, owners, count = _native.faces(np.ascontiguousarray(simplices), simplices.shape[1], d + 1,
-                                              int(n_samples))
+    return _native_arrays(
+        _native.faces(np.ascontiguousarray(simplices), simplices.shape[1], d + 1, int(n_samples)), d + 1
+    )
+
+
+def _native_arrays(result: tuple, width: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """numpy views of :mod:`._faces`' (faces, ptr, owners, count) bytearrays."""
+    faces, ptr, owners, count = result
     return (
-        np.frombuffer(faces, dtype=np.int64).reshape(count, d + 1),
+        np.frombuffer(faces, dtype=np.int64).reshape(count, width),
         np.frombuffer(ptr, dtype=np.int64),
         np.frombuffer(owners, dtype=np.int32),
     )

@@ -79,11 +79,11 @@ def greedy_poles(
     t = len(centres)
     inc = _Incidences(work, simplices, centres, n_samples)
     native = _native is not None and simplices.dtype == np.int32 and r <= 8
-    basis = np.zeros((n_samples, r, n_poles))  # AN_s, filled column by column
+    normals = np.zeros((n_samples, r, n_poles))  # AN_s, filled column by column
     # first greedy round over the finite Voronoi vertices: with nothing chosen
     # yet, the residual of a vector is the vector itself
     if native:
-        first0, seg0, inc.max_abs = _farthest(inc, basis, 0)
+        first0, seg0, inc.max_abs = _farthest(inc, normals, 0)
     else:
         norm2 = np.empty(inc.size + n_samples)  # room for the vertices at infinity (at most one per sample)
         seg0 = np.full(n_samples, -np.inf)
@@ -117,7 +117,6 @@ def greedy_poles(
         inc.add_extra(hull, mean_dir * (2.0 * max_len + 1.0)[:, None], t + np.arange(len(hull)))
     del dir_sum, len_sum
     pole_index = np.full((n_samples, n_poles), -1, dtype=np.int64)
-    normals = basis
     has = inc.count > 0
     for j in range(n_poles):
         # longest residual per sample; the first entry attaining it (in the

@@ -60,12 +60,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .faces import enumerate_faces
 from .result import Reconstruction
-
-try:  # the compiled face lister (setup.py builds it; numpy does the same without it)
-    from . import _faces as _native_faces
-except ImportError:  # pragma: no cover - depends on the build
-    _native_faces = None
 
 #: Number of tangent directions tried per sample for d = 2.
 N_DIRECTIONS_2D = 16
@@ -137,23 +133,13 @@ def directions(d: int) -> np.ndarray:
 def delaunay_edges(simplices: np.ndarray) -> np.ndarray:
     """Unique edges ``(a, b)``, ``a < b``, of a table of simplices, lexicographically sorted.
 
-    With int32 simplices the compiled face lister (:mod:`._faces`, a stable
-    radix sort) gives the same rows in a fraction of the time and memory of
-    sorting one int64 key per edge instance (six per tetrahedron).
+    The 1-faces of :func:`~.faces.enumerate_faces` with every vertex counted
+    (bounding points included): for int32 simplices its compiled radix sort,
+    a fraction of the time and memory of sorting one key per edge instance.
     """
     s = np.asarray(simplices)
     m = int(s.max()) + 1 if s.size else 1
-    if _native_faces is not None and s.dtype == np.int32 and s.ndim == 2 and 2 <= s.shape[1] <= 8 and s.size:
-        rows, _, _, count = _native_faces.faces(np.ascontiguousarray(s), s.shape[1], 2, m)
-        return np.frombuffer(rows, dtype=np.int64).reshape(count, 2)
-    s = s.astype(np.int64, copy=False)
-    r = s.shape[1]
-    i, j = np.triu_indices(r, 1)
-    a, b = s[:, i].ravel(), s[:, j].ravel()
-    lo, hi = np.minimum(a, b), np.maximum(a, b)
-    key = np.sort(lo * m + hi)  # one int64 key per edge; sort + mask beats np.unique several times
-    key = key[np.r_[True, key[1:] != key[:-1]]] if len(key) else key
-    return np.stack([key // m, key % m], axis=1)
+    return enumerate_faces(s, m, 1)[0]
 
 
 #: Simplices per block in :func:`pole_height`.
@@ -240,9 +226,7 @@ def pole_height(rec: Reconstruction, step: Callable[[float], None] | None = None
             keep = np.flatnonzero(flat < n)
             owner = flat[keep]
             u = rec.voronoi_vertices[lo + keep // r] - rec.points[owner]
-            side = np.einsum("ij,ij->i", u, rec.normals[owner, :, 0])
-            if idx.shape[1]:
-                side = side * sign[owner]
+            side = np.einsum("ij,ij->i", u, rec.normals[owner, :, 0]) * sign[owner]
             behind = side < 0
             np.maximum.at(far2, owner[behind], (u[behind] * u[behind]).sum(axis=1))
             if step is not None:
