@@ -1,14 +1,14 @@
 """Build the optional native CGAL Delaunay modules (everything else is in pyproject.toml).
 
-``crustview.core._delaunay3`` wraps CGAL's ``Delaunay_triangulation_3`` and
-``crustview.core._delaunay_d`` its dD ``Delaunay_triangulation`` in R^4 and
+``crustview.core.delaunay._delaunay3`` wraps CGAL's ``Delaunay_triangulation_3`` and
+``crustview.core.delaunay._delaunay_d`` its dD ``Delaunay_triangulation`` in R^4 and
 R^5 (header-only, from Debian's ``libcgal-dev``; the dD kernel also needs
 Eigen's headers, ``libeigen3-dev``; ``scripts/install.sh`` installs both).
 Both are optional: without the headers or a C++ compiler the build skips them
 and crustview falls back to the ``cgal`` wheel (R^3) and Qhull.
-``crustview.core._faces`` (no third-party code) lists the faces of a
-triangulation and the simplices around each, ``crustview.core._poles`` runs
-Algorithm 1's greedy rounds and ``crustview.core._segments`` the first steps
+``crustview.core.delaunay._faces`` (no third-party code) lists the faces of a
+triangulation and the simplices around each, ``crustview.core.delaunay._poles`` runs
+Algorithm 1's greedy rounds and ``crustview.core.delaunay._segments`` the first steps
 of Algorithm 2's cocone score in codimension 1; without them numpy does the
 same.
 """
@@ -20,40 +20,40 @@ FLAGS = ["-std=c++17", "-O3", "-DNDEBUG", "-DCGAL_NDEBUG"]
 setup(
     ext_modules=[
         Extension(
-            "crustview.core._delaunay3",
-            sources=["crustview/core/_delaunay3.cpp"],
-            depends=["crustview/core/_cgal_buffers.h"],
+            "crustview.core.delaunay._delaunay3",
+            sources=["crustview/core/delaunay/_delaunay3.cpp"],
+            depends=["crustview/core/delaunay/_cgal_buffers.h"],
             language="c++",
             extra_compile_args=FLAGS,
             libraries=["gmp", "mpfr"],
             optional=True,
         ),
-        Extension(  # no third-party headers: the face lists of Algorithm 2 (see core/faces.py)
-            "crustview.core._faces",
-            sources=["crustview/core/_faces.cpp"],
+        Extension(  # no third-party headers: the face lists of Algorithm 2 (see core/delaunay/faces.py)
+            "crustview.core.delaunay._faces",
+            sources=["crustview/core/delaunay/_faces.cpp"],
             language="c++",
             extra_compile_args=FLAGS,
             optional=True,
         ),
-        Extension(  # no third-party headers: Algorithm 1's greedy rounds (see core/normals.py)
-            "crustview.core._poles",
-            sources=["crustview/core/_poles.cpp"],
+        Extension(  # no third-party headers: Algorithm 1's greedy rounds (see core/paper/normals.py)
+            "crustview.core.delaunay._poles",
+            sources=["crustview/core/delaunay/_poles.cpp"],
             language="c++",
             # no fused multiply-add: the same sums, bit for bit, as the numpy code
             extra_compile_args=[*FLAGS, "-ffp-contract=off"],
             optional=True,
         ),
-        Extension(  # no third-party headers: Algorithm 2's codimension-1 segment ends (core/candidates.py)
-            "crustview.core._segments",
-            sources=["crustview/core/_segments.cpp"],
+        Extension(  # no third-party headers: Algorithm 2's codimension-1 segment ends (core/paper/candidates.py)
+            "crustview.core.delaunay._segments",
+            sources=["crustview/core/delaunay/_segments.cpp"],
             language="c++",
             extra_compile_args=[*FLAGS, "-ffp-contract=off"],
             optional=True,
         ),
         Extension(
-            "crustview.core._delaunay_d",
-            sources=["crustview/core/_delaunay_d.cpp"],
-            depends=["crustview/core/_cgal_buffers.h"],
+            "crustview.core.delaunay._delaunay_d",
+            sources=["crustview/core/delaunay/_delaunay_d.cpp"],
+            depends=["crustview/core/delaunay/_cgal_buffers.h"],
             include_dirs=["/usr/include/eigen3"],
             language="c++",
             extra_compile_args=FLAGS,

@@ -15,7 +15,7 @@ same run.
 
 With ``--cgal`` (needs ``pip install cgal``), CGAL's Advancing Front Surface
 Reconstruction runs on the same vertices and is judged the same way with
-:func:`crustview.core.topology.analyse`; its ratio to Delaunay uses
+:func:`crustview.core.analysis.topology.analyse`; its ratio to Delaunay uses
 crustview's Delaunay time on the same points.
 
 Run: ``python benchmarks/bench_scans.py [--only NAME] [--cgal] [--dir DIR]``;
@@ -35,7 +35,7 @@ import numpy as np
 
 from crustview.core import reconstruct, reextract
 from crustview.core.result import TopologyReport
-from crustview.core.topology import analyse
+from crustview.core.analysis.topology import analyse
 from crustview.io import read_mesh
 
 #: ``../shared/data/scans`` beside the repository

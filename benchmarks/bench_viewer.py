@@ -44,7 +44,7 @@ def build(path: Path, d: int, target: int | None, torus: int | None = None):
     from crustview.io import read_points
 
     if torus:
-        from crustview.core.sampling import get_manifold
+        from crustview.core.samples.sampling import get_manifold
 
         points, name = get_manifold("torus").sample(torus, seed=0, method="random").points, f"torus {torus:,}"
     else:
@@ -172,7 +172,7 @@ def qt(rec, size) -> None:
     win.view.show_preview(rec.input_points)
     app.processEvents()
     print(f"raw points drawn (preview, {len(rec.input_points):,} points): {1000 * (time.perf_counter() - t):.0f} ms")
-    from crustview.core.quality import sampling_quality
+    from crustview.core.analysis.quality import sampling_quality
 
     t = time.perf_counter()
     quality = sampling_quality(rec)  # the window's worker thread computes it with the run

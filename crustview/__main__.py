@@ -247,7 +247,7 @@ def _cmd_reconstruct(args: argparse.Namespace) -> int:
     seconds = time.perf_counter() - start
     comparison = None
     if truth is not None:
-        from crustview.core.compare import compare_to_mesh
+        from crustview.core.analysis.compare import compare_to_mesh
 
         comparison = compare_to_mesh(rec, truth)
     write_result(args.output, rec)
@@ -262,7 +262,7 @@ def _cmd_reconstruct(args: argparse.Namespace) -> int:
 
 def comparison_summary(c, name: str) -> str:
     """One sentence: M_S against the mesh's faces."""
-    from crustview.core.compare import MeshComparison
+    from crustview.core.analysis.compare import MeshComparison
 
     def top(t) -> str:
         g = MeshComparison.genus(t)
@@ -278,7 +278,7 @@ def comparison_summary(c, name: str) -> str:
 
 
 def _cmd_sample(args: argparse.Namespace) -> int:
-    from crustview.core.sampling import get_manifold
+    from crustview.core.samples.sampling import get_manifold
     from crustview.io import write_points
 
     manifold = get_manifold(args.name)
@@ -295,7 +295,7 @@ def _cmd_sample(args: argparse.Namespace) -> int:
 
 
 def _cmd_list() -> int:
-    from crustview.core.sampling import MANIFOLDS
+    from crustview.core.samples.sampling import MANIFOLDS
 
     print(f"{'name':<15} {'k':>2} {'d':>2}  {'betti (Z/2)':<13} {'euler':>5}  "
           f"{'orient.':<7} {'cosph.':<6} {'n':>5}  description")  # fmt: skip

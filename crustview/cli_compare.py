@@ -90,7 +90,7 @@ def add_parser(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``crustview compare``; prints one summary and returns 0."""
-    from .core.complexdiff import diff_complexes
+    from .core.analysis.complexdiff import diff_complexes
 
     a = load_operand(args.a, args.d)
     b = load_operand(args.b, args.d)

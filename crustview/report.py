@@ -17,7 +17,7 @@ import numpy as np
 from crustview.core.errors import InputError
 
 if TYPE_CHECKING:
-    from crustview.core.compare import MeshComparison
+    from crustview.core.analysis.compare import MeshComparison
     from crustview.core.result import Reconstruction
 
 
@@ -50,7 +50,7 @@ def holes_of_candidates(rec: Reconstruction) -> int:
     """
     if rec.extraction.holes is not None:
         return len(rec.extraction.holes)
-    from crustview.core.extraction import facet_structure
+    from crustview.core.paper.extraction import facet_structure
 
     tset = rec.candidates.select(rec.test, rec.theta)
     if len(tset) == 0:
@@ -81,11 +81,11 @@ def report_dict(rec: Reconstruction, comparison: MeshComparison | None = None,
     comparison : MeshComparison, optional
         M_S against a mesh's faces (key ``ground_truth``).
     quality : dict, optional
-        :func:`crustview.core.quality.summary` of ``rec`` when already
+        :func:`crustview.core.analysis.quality.summary` of ``rec`` when already
         computed; otherwise it is computed here.  Its ``seconds`` are left
         out, so that the report of a run is the same every time it is made.
     """
-    from crustview.core.quality import summary
+    from crustview.core.analysis.quality import summary
 
     quality = summary(rec) if quality is None else quality
     quality = {key: value for key, value in quality.items() if key != "seconds"}
@@ -127,7 +127,7 @@ def write_report(path: str | os.PathLike, rec: Reconstruction,
     extraction went, e.g. why the robust extension took over);
     ``topology`` (:meth:`TopologyReport.as_dict`); ``rules``
     (:meth:`Extraction.counts_by_rule`); ``sampling_quality``
-    (:func:`crustview.core.quality.summary` without its ``seconds``:
+    (:func:`crustview.core.analysis.quality.summary` without its ``seconds``:
     estimated epsilon and the samples beyond the paper's bounds);
     ``timings`` (seconds per stage); ``delaunay_backend`` (the Delaunay
     code that ran, e.g. CGAL through crustview's extension, or Qhull).
@@ -136,7 +136,7 @@ def write_report(path: str | os.PathLike, rec: Reconstruction,
     ``origin`` step, its face ``tau`` (input rows), the origin's ``rule``, ``hole``
     (the origin face was a hole of T_S), the number of ``steps`` and of
     simplices ``removed``.  With a ``comparison``, also ``ground_truth``
-    (:meth:`~crustview.core.compare.MeshComparison.as_dict`: recovered and
+    (:meth:`~crustview.core.analysis.compare.MeshComparison.as_dict`: recovered and
     extra faces, both topologies, the sampled Hausdorff distance).
 
     Raises

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from crustview.core.delaunay import circumcenters
+from crustview.core.delaunay.triangulation import circumcenters
 
 
 def lattice(side: int, dim: int) -> np.ndarray:

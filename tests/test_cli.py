@@ -10,8 +10,8 @@ import meshio
 import numpy as np
 import pytest
 
-from crustview.core.sampling import MANIFOLDS
-from crustview.core.topology import analyse
+from crustview.core.samples.sampling import MANIFOLDS
+from crustview.core.analysis.topology import analyse
 
 
 def run(*args, cwd=None):
@@ -426,7 +426,7 @@ def _rows_set(simplices):
 
 
 def test_report_says_which_extraction_ran_and_why(knight_runs):
-    from crustview.core.quality import summary
+    from crustview.core.analysis.quality import summary
     from crustview.core import reconstruct
     from crustview.io import read_mesh
 

@@ -5,10 +5,11 @@ import itertools
 import numpy as np
 import pytest
 
-from crustview.core import delaunay_cgal, reconstruct
-from crustview.core.candidates import SCORE_LIMIT
-from crustview.core.delaunay import bounding_points, delaunay
-from crustview.core.sampling import get_manifold
+from crustview.core import reconstruct
+from crustview.core.delaunay import cgal as delaunay_cgal
+from crustview.core.paper.candidates import SCORE_LIMIT
+from crustview.core.delaunay.triangulation import bounding_points, delaunay
+from crustview.core.samples.sampling import get_manifold
 from delaunay_checks import assert_delaunay_of_a_box, lattice
 
 
@@ -79,7 +80,7 @@ def test_dd_reports_bad_input_clearly():
         delaunay_cgal.delaunay_d(np.c_[pts[:, :3], np.zeros(40)])  # in a hyperplane
     with pytest.raises(ValueError, match="shape"):
         delaunay_cgal.delaunay_d(pts[:, :3])
-    from crustview.core import _delaunay_d
+    from crustview.core.delaunay import _delaunay_d
 
     with pytest.raises(ValueError, match="n x 4"):
         _delaunay_d.full_cells(np.zeros(7), 4)
@@ -99,7 +100,7 @@ def test_dd_duplicates_fall_back_to_qhull_in_delaunay():
 def test_cgal_and_qhull_give_the_same_reconstruction_in_r4(name, n, monkeypatch):
     # the same triangulation, so the same candidates and the same M_S; s3 is
     # codimension 1, where the neighbour table feeds the face enumeration
-    import crustview.core.delaunay as dmod
+    import crustview.core.delaunay.triangulation as dmod
 
     m = get_manifold(name)
     pts = m.sample(n, seed=0).points

@@ -6,8 +6,9 @@ CGAL's dD extension (R^4, R^5) is tested in ``test_core_backend_dd.py``.
 import numpy as np
 import pytest
 
-from crustview.core import delaunay_cgal, reconstruct
-from crustview.core.delaunay import backend_for, bounding_points, delaunay
+from crustview.core import reconstruct
+from crustview.core.delaunay import cgal as delaunay_cgal
+from crustview.core.delaunay.triangulation import backend_for, bounding_points, delaunay
 from crustview.core.prepare import prepare_points
 from delaunay_checks import assert_delaunay_of_a_box, lattice
 
@@ -86,7 +87,7 @@ def test_extension_reports_bad_input_clearly():
         delaunay_cgal.delaunay_3d_native(np.c_[pts[:, :2], np.zeros(50)])  # coplanar
     with pytest.raises(ValueError, match="shape"):
         delaunay_cgal.delaunay_3d_native(pts[:, :2])
-    from crustview.core import _delaunay3
+    from crustview.core.delaunay import _delaunay3
 
     with pytest.raises(ValueError, match="n x 3"):
         _delaunay3.tetrahedra(np.zeros(7))
@@ -141,7 +142,7 @@ def test_unknown_backend_and_cgal_outside_r3_to_r5_are_errors():
 
 
 def test_the_result_names_the_delaunay_code_that_ran():
-    from crustview.core.sampling import get_manifold
+    from crustview.core.samples.sampling import get_manifold
     from crustview.report import report_dict
 
     m = get_manifold("torus")

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from crustview.core import InputError, reconstruct
-from crustview.core.compare import compare_complexes, compare_to_mesh, dense_samples, hausdorff
+from crustview.core.analysis.compare import compare_complexes, compare_to_mesh, dense_samples, hausdorff
 
 RESOURCES = Path(__file__).resolve().parents[1] / "resources"
 

@@ -5,9 +5,9 @@ import itertools
 import numpy as np
 import pytest
 
-from crustview.core.extraction import extract
+from crustview.core.paper.extraction import extract
 from crustview.core.result import RULE_PRUNE, RULE_RESOLVE
-from crustview.core.topology import analyse, boundary_rank_gf2, all_faces
+from crustview.core.analysis.topology import analyse, boundary_rank_gf2, all_faces
 
 OCTA_PTS = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], float)
 OCTA = np.array([[a, b, c] for a in (0, 1) for b in (2, 3) for c in (4, 5)])
@@ -297,7 +297,7 @@ def test_initial_sharp_set_matches_the_per_facet_rule_on_a_thin_scan():
     from pathlib import Path
 
     from crustview.core import reconstruct
-    from crustview.core.extraction import _Extractor, _initial_sharp
+    from crustview.core.paper.extraction import _Extractor, _initial_sharp
     from crustview.io import read_mesh
 
     pts = np.asarray(read_mesh(Path(__file__).parents[1] / "resources" / "horse-quads.obj").points, float)
@@ -312,7 +312,7 @@ def test_initial_sharp_set_matches_the_per_facet_rule_on_a_thin_scan():
 def test_analyse_remembers_the_last_complex_by_its_rows(torus_run, monkeypatch):
     # the robust extraction's check and the pipeline's report analyse the same
     # M_S; the second call must not analyse again, and a changed complex must
-    from crustview.core import topology
+    from crustview.core.analysis import topology
 
     rec, _ = torus_run
     m_s = np.asarray(rec.manifold, dtype=np.int64)

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from crustview.core.grow import Grower
+from crustview.core.robust.grow import Grower
 
 
 def grid(n):

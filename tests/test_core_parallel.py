@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from crustview.core import candidates as cand
-from crustview.core import parallel
-from crustview.core.delaunay import bounding_points, circumcenters, delaunay
-from crustview.core.normals import greedy_poles
-from crustview.core.sampling import get_manifold
+from crustview.core.paper import candidates as cand
+from crustview.core.util import parallel
+from crustview.core.delaunay.triangulation import bounding_points, circumcenters, delaunay
+from crustview.core.paper.normals import greedy_poles
+from crustview.core.samples.sampling import get_manifold
 
 
 def _stage_inputs(name: str, n: int):
@@ -46,7 +46,7 @@ def test_enumerate_faces_matches_a_plain_stable_sort(k, d, n, native, monkeypatc
     # in increasing order
     import itertools
 
-    from crustview.core import faces as faces_mod
+    from crustview.core.delaunay import faces as faces_mod
 
     if native:
         assert faces_mod._native is not None
@@ -70,7 +70,7 @@ def test_enumerate_faces_matches_a_plain_stable_sort(k, d, n, native, monkeypatc
 
 
 def test_the_compiled_face_lists_reject_bad_shapes_clearly():
-    from crustview.core import _faces
+    from crustview.core.delaunay import _faces
 
     with pytest.raises(ValueError, match="int32 simplices"):
         _faces.faces(np.zeros(7, dtype=np.int32), 4, 3, 10)
@@ -85,7 +85,7 @@ def test_facets_from_the_neighbour_table_equal_the_general_enumeration(backend, 
     # codimension 1: faces paired through the backend's neighbour table, by the
     # compiled _faces or by numpy; with no bounding points the hull facets
     # have a single simplex
-    from crustview.core import faces as faces_mod
+    from crustview.core.delaunay import faces as faces_mod
 
     if native:
         assert faces_mod._native is not None  # setup.py builds it; the fast path must be there
@@ -126,7 +126,7 @@ def test_an_exception_in_the_consumer_drops_the_chunks_not_started():
 def test_facets_of_two_tetrahedra_by_hand(native, monkeypatch):
     # two tetrahedra glued along (1, 2, 3); cell 0 sees cell 1 opposite its
     # vertex 0, cell 1 sees cell 0 opposite its vertex 4 (column 3)
-    from crustview.core import faces as faces_mod
+    from crustview.core.delaunay import faces as faces_mod
 
     if not native:
         monkeypatch.setattr(faces_mod, "_native", None)
@@ -161,7 +161,7 @@ def test_codimension_1_segment_ends_compiled_equal_numpy_bit_for_bit(monkeypatch
     whole = cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp)
     monkeypatch.setattr(cand, "_native_segments", None)
     assert np.array_equal(cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp), whole)
-    from crustview.core import _segments
+    from crustview.core.delaunay import _segments
 
     with pytest.raises(ValueError, match="outside"):
         _segments.segments(work, normals[:, :, 0], centres, np.full((1, 3), 10**9, dtype=np.int64),

@@ -1,13 +1,13 @@
-"""Algorithm 1's greedy rounds in the compiled kernel (:mod:`crustview.core._poles`) and in numpy: the same poles."""
+"""Algorithm 1's greedy rounds in the compiled kernel (:mod:`crustview.core.delaunay._poles`) and in numpy: the same poles."""
 
 import numpy as np
 import pytest
 
-from crustview.core import normals as normals_mod
-from crustview.core.delaunay import bounding_points, circumcenters, delaunay
-from crustview.core.normals import greedy_poles
+from crustview.core.paper import normals as normals_mod
+from crustview.core.delaunay.triangulation import bounding_points, circumcenters, delaunay
+from crustview.core.paper.normals import greedy_poles
 from crustview.core.prepare import prepare_points
-from crustview.core.sampling import get_manifold
+from crustview.core.samples.sampling import get_manifold
 
 
 def _both(monkeypatch, *args):
@@ -72,7 +72,7 @@ def test_kernel_and_numpy_agree_on_an_exactly_degenerate_lattice(monkeypatch):
 
 
 def test_the_kernel_rejects_bad_input_clearly():
-    from crustview.core import _poles
+    from crustview.core.delaunay import _poles
 
     cen = np.zeros((2, 3))
     work = np.zeros((4, 3))

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from crustview.core import reconstruct
-from crustview.core.quality import delaunay_edges, sampling_quality, summary, thresholds
-from crustview.core.sampling import get_manifold
+from crustview.core.analysis.quality import delaunay_edges, sampling_quality, summary, thresholds
+from crustview.core.samples.sampling import get_manifold
 
 
 def circle(n: int, skip=None) -> np.ndarray:
@@ -106,7 +106,7 @@ def test_delaunay_edges_are_unique_and_sorted(dtype):
 
 
 def test_delaunay_edges_compiled_and_numpy_agree_on_a_real_triangulation(monkeypatch):
-    from crustview.core import faces
+    from crustview.core.delaunay import faces
 
     rec = reconstruct(get_manifold("torus").sample(800, seed=3).points, 2)
     simp = rec.delaunay_simplices
@@ -119,7 +119,7 @@ def test_delaunay_edges_compiled_and_numpy_agree_on_a_real_triangulation(monkeyp
 def test_quality_reports_progress_in_order_and_can_be_cancelled():
     import threading
 
-    from crustview.core import quality
+    from crustview.core.analysis import quality
     from crustview.core.errors import Cancelled
 
     rec = reconstruct(get_manifold("torus").sample(1500, seed=1).points, 2)

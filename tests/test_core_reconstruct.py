@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from crustview.core import Cancelled, InputError, reconstruct, reextract
-from crustview.core.sampling import get_manifold
+from crustview.core.samples.sampling import get_manifold
 
 
 # Textbook topology, written down here independently of the library's own
@@ -257,7 +257,7 @@ def test_the_collector_is_paused_only_during_the_extraction():
     # and left off when the caller had it off
     import gc
 
-    from crustview.core.memory import gc_paused
+    from crustview.core.util.memory import gc_paused
 
     assert gc.isenabled()
     with gc_paused():

@@ -2,9 +2,9 @@
 
 import numpy as np
 
-from crustview.core.core_seed import manifold_core
-from crustview.core.extraction import facet_structure
-from crustview.core.grow import COS_PAPER, Grower, unit_normals_to_facets
+from crustview.core.robust.seed_core import manifold_core
+from crustview.core.paper.extraction import facet_structure
+from crustview.core.robust.grow import COS_PAPER, Grower, unit_normals_to_facets
 
 from test_core_extraction import grid_surface
 

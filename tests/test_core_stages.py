@@ -3,10 +3,11 @@
 import numpy as np
 import pytest
 
-from crustview.core import candidates as cand
-from crustview.core import conemin, dualcells
-from crustview.core.delaunay import bounding_points, circumcenters, delaunay
-from crustview.core.normals import complete_bases, greedy_poles
+from crustview.core.paper import candidates as cand
+from crustview.core.paper import conemin
+from crustview.core.paper import dualcells
+from crustview.core.delaunay.triangulation import bounding_points, circumcenters, delaunay
+from crustview.core.paper.normals import complete_bases, greedy_poles
 
 
 def test_circumcentres_are_equidistant_from_simplex_vertices():

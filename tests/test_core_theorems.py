@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from crustview.core import reconstruct
-from crustview.core.sampling import get_manifold
-from crustview.core.theorems import (
+from crustview.core.samples.sampling import get_manifold
+from crustview.core.analysis.theorems import (
     LFS_FORMS,
     check_theorems,
     dense_points,

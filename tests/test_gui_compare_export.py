@@ -9,7 +9,7 @@ pytest.importorskip("pytestqt")
 from gui_helpers import on_next_dialog, wait_idle  # noqa: E402
 
 from crustview.core import reextract  # noqa: E402
-from crustview.core.complexdiff import diff_complexes  # noqa: E402
+from crustview.core.analysis.complexdiff import diff_complexes  # noqa: E402
 
 
 

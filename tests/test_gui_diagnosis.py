@@ -27,7 +27,7 @@ def run(qtbot, window, pts, mode):
 
 
 def test_epsilon_colouring_marks_the_paper_bounds_and_the_histogram_counts_every_sample(qtbot, window):
-    from crustview.core.quality import sampling_quality
+    from crustview.core.analysis.quality import sampling_quality
 
     pts = knight_points()
     rec = run(qtbot, window, pts, "robust")
@@ -128,7 +128,7 @@ def test_a_robust_run_whose_paper_loop_succeeded_does_not_say_the_loop_was_aband
     # S^3 in R^4: T_S is already a closed manifold, so the robust run is the
     # paper's own (empty) log; the cascade box must say so, not that the
     # paper's loop was abandoned and M_S grown
-    from crustview.core.sampling import get_manifold
+    from crustview.core.samples.sampling import get_manifold
 
     pts = get_manifold("s3").sample(600, seed=0).points
     window.run_panel.set_mode("robust")

@@ -10,7 +10,7 @@ from PySide6.QtCore import QTimer  # noqa: E402
 
 
 def test_theorem_box_checks_a_builtin_and_colours_samples_and_ms(qtbot, window):
-    from crustview.core.theorems import check_theorems
+    from crustview.core.analysis.theorems import check_theorems
 
     assert window.load_builtin("circle", n=120)
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)

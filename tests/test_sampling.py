@@ -9,7 +9,7 @@ import pytest
 from scipy.spatial import cKDTree
 
 from crustview.core.errors import InputError
-from crustview.core.sampling import MANIFOLDS, NONUNIFORM_RATIO, Sample, get_manifold
+from crustview.core.samples.sampling import MANIFOLDS, NONUNIFORM_RATIO, Sample, get_manifold
 
 EXPECTED_NAMES = {
     "circle", "ellipse", "trefoil", "hopf-link", "sphere", "ellipsoid", "torus",

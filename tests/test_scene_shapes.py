@@ -3,8 +3,8 @@
 import pytest
 
 from crustview.core import reconstruct
-from crustview.core.manifolds import projective_plane_points
-from crustview.core.sampling import MANIFOLDS, get_manifold
+from crustview.core.samples.manifolds import projective_plane_points
+from crustview.core.samples.sampling import MANIFOLDS, get_manifold
 from crustview.scene.shapes import name_of, shape_name
 
 TRUE_NAMES = {

@@ -8,17 +8,17 @@ from dataclasses import replace
 
 import numpy as np
 
-from . import candidates as cand
-from .candidates import SCORE_LIMIT
-from .delaunay import backend_label, bounding_points, circumcenters, delaunay
+from .paper import candidates as cand
+from .paper.candidates import SCORE_LIMIT
+from .delaunay.triangulation import backend_label, bounding_points, circumcenters, delaunay
 from .errors import Cancelled, InputError
-from .extraction import extract
-from .memory import gc_paused, release_free_memory
-from .normals import complete_bases, greedy_poles
+from .paper.extraction import extract
+from .util.memory import gc_paused, release_free_memory
+from .paper.normals import complete_bases, greedy_poles
 from .prepare import DEFAULT_JOGGLE, prepare_points, prescale
 from .result import CANDIDATE_TESTS, EXTRACTION_MODES, Candidates, Reconstruction, CandidateAngles
-from .robust import extract_robust
-from .topology import analyse
+from .robust.driver import extract_robust
+from .analysis.topology import analyse
 
 ProgressFn = Callable[[str, float], None]
 
@@ -103,7 +103,7 @@ def reconstruct(
     mode : {"robust", "paper"}
         ``"robust"`` (default): the paper's Algorithm 3, and where it cannot
         give a closed manifold through every sample, the growing extension of
-        :mod:`crustview.core.robust` (identical result whenever the paper's
+        :mod:`crustview.core.robust.driver` (identical result whenever the paper's
         loop succeeds).  ``"paper"``: Algorithm 3 exactly as printed.
     joggle : float
         Relative size (of the sample spacing) of the perturbation applied

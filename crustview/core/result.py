@@ -151,7 +151,7 @@ class Extraction:
         extraction starts (the holes of T_S).
     mode : str
         ``"paper"`` (Algorithm 3 as printed) or ``"robust"`` (the extension of
-        :mod:`crustview.core.robust`).
+        :mod:`crustview.core.robust.driver`).
     in_candidates : ndarray of shape (c,) of bool, optional
         Which of :attr:`simplices` are in T_S (the robust extension may add
         Delaunay d-faces outside T_S).  None: all are.
@@ -424,7 +424,7 @@ class Reconstruction:
         Whether Algorithm 3 pruned boundary faces (the paper; default).
     mode : str
         ``"robust"`` (default: the paper's Algorithm 3, and the extension of
-        :mod:`crustview.core.robust` when the paper's loop cannot give a
+        :mod:`crustview.core.robust.driver` when the paper's loop cannot give a
         closed manifold through every sample) or ``"paper"``.
     delaunay_backend : str
         The Delaunay code that ran (:func:`.delaunay.backend_label`); empty

@@ -17,7 +17,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from ..core.quality import SamplingQuality
+from ..core.analysis.quality import SamplingQuality
 from ..scene.describe import fmt_tuple
 from ..scene.model import SceneModel
 

@@ -19,7 +19,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from ..core.candidates import SCORE_LIMIT
+from ..core.paper.candidates import SCORE_LIMIT
 from ..core.result import CANDIDATE_TESTS, EXTRACTION_MODES
 from ..scene.describe import TEST_WORDS
 from ..scene.model import SceneModel

@@ -14,7 +14,7 @@ from PySide6.QtCore import QPointF, QRectF, Qt
 from PySide6.QtGui import QColor, QPainter, QPen, QPolygonF
 from PySide6.QtWidgets import QGroupBox, QHBoxLayout, QLabel, QProgressBar, QPushButton, QVBoxLayout, QWidget
 
-from ..core.theorems import TheoremChecks, theorem2_bound
+from ..core.analysis.theorems import TheoremChecks, theorem2_bound
 from ..scene.model import SceneModel
 from .worker import Runner
 

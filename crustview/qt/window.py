@@ -56,7 +56,7 @@ def _scrolled(widget: QWidget) -> QScrollArea:
 
 def _quality(rec, progress, cancel=None):
     """The samples' estimated epsilon, computed in the worker with the reconstruction (with progress; cancellable)."""
-    from ..core.quality import sampling_quality
+    from ..core.analysis.quality import sampling_quality
 
     return sampling_quality(rec, progress=lambda f: progress("quality", f), cancel=cancel)
 
@@ -308,7 +308,7 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
 
         The run's parameters default to the Run panel's (pruning: on).
         """
-        from ..core.sampling import get_manifold
+        from ..core.samples.sampling import get_manifold
 
         try:
             m = get_manifold(name)

@@ -4,7 +4,7 @@ Qt-free.  :func:`comparison_job` builds a ``job(progress, cancel)`` that the
 window runs in its worker thread; its :class:`Comparison` is what the
 comparison layer draws (both / only A / only B) and what the Information
 panel counts and lists.  The simplex-by-simplex work is
-:func:`crustview.core.complexdiff.diff_complexes`.
+:func:`crustview.core.analysis.complexdiff.diff_complexes`.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.complexdiff import ComplexDiff, diff_complexes
+from ..core.analysis.complexdiff import ComplexDiff, diff_complexes
 from ..core.errors import Cancelled, InputError
 from ..core.result import CANDIDATE_TESTS, Reconstruction
 

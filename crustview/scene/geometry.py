@@ -127,7 +127,7 @@ def facets(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     incidence : ndarray of shape (m, d + 1)
         ``faces`` row of each simplex's face opposite to vertex ``a``.
     """
-    from ..core.rows import unique_rows  # one int64 key per row: np.unique(axis=0) is ~10x slower
+    from ..core.util.rows import unique_rows  # one int64 key per row: np.unique(axis=0) is ~10x slower
 
     m, dp1 = simplices.shape
     s = np.sort(simplices, axis=1)

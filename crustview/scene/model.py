@@ -8,9 +8,9 @@ from __future__ import annotations
 import numpy as np
 from psygnal import Signal
 
-from ..core.quality import SamplingQuality, sampling_quality
+from ..core.analysis.quality import SamplingQuality, sampling_quality
 from ..core.result import Cascade, Reconstruction
-from ..core.theorems import TheoremChecks, check_theorems
+from ..core.analysis.theorems import TheoremChecks, check_theorems
 from . import geometry as geo
 from .coloring import coordinate_values, default_coloring
 from .layers import Layer, default_layers
@@ -86,7 +86,7 @@ class SceneModel:
                            quality: SamplingQuality | None = None) -> None:
         """Show ``rec``; ``keep_view`` keeps projection and step (re-extraction).
 
-        ``quality``: the samples' :func:`~crustview.core.quality.sampling_quality`
+        ``quality``: the samples' :func:`~crustview.core.analysis.quality.sampling_quality`
         when it was computed already (in the worker thread).
         """
         if quality is not None:
@@ -212,7 +212,7 @@ class SceneModel:
 
     @property
     def quality(self) -> SamplingQuality:
-        """Estimated sampling quality per sample (:mod:`crustview.core.quality`).
+        """Estimated sampling quality per sample (:mod:`crustview.core.analysis.quality`).
 
         Computed on first use and kept across re-extractions (it depends only
         on the Delaunay, the poles and the normals, which they share).
@@ -289,9 +289,9 @@ class SceneModel:
         return t.manifold
 
     def check_theorems(self, progress=None, cancel=None) -> TheoremChecks | None:
-        """Measure Theorems 2 and 10 (:mod:`crustview.core.theorems`) for a built-in; None otherwise.
+        """Measure Theorems 2 and 10 (:mod:`crustview.core.analysis.theorems`) for a built-in; None otherwise.
 
-        ``progress`` and ``cancel`` go to :func:`~crustview.core.theorems.check_theorems`.
+        ``progress`` and ``cancel`` go to :func:`~crustview.core.analysis.theorems.check_theorems`.
         This blocks (seconds); the window runs :meth:`theorem_job` in its worker instead.
         """
         if self.rec is None or self.builtin is None:

@@ -6,7 +6,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..core.compare import MeshComparison, compare_to_mesh
+from ..core.analysis.compare import MeshComparison, compare_to_mesh
 
 
 @dataclass(frozen=True)

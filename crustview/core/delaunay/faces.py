@@ -11,7 +11,7 @@ import itertools
 
 import numpy as np
 
-from .parallel import WORKERS, run_in_order
+from ..util.parallel import WORKERS, run_in_order
 
 try:  # compiled facet listing (setup.py builds it; numpy does the same without it)
     from . import _faces as _native

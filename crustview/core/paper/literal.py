@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .parallel import chunks, run_in_order
+from ..util.parallel import chunks, run_in_order
 
 #: Faces per chunk (keeps temporaries in cache; chunks run on threads).
 CHUNK_FACES = 1 << 16

@@ -1,6 +1,6 @@
 """The manifold core of T_S: the part of the candidates that the growth can take at once.
 
-The robust extension (:mod:`crustview.core.robust`) grows M_S one Delaunay
+The robust extension (:mod:`crustview.core.robust.driver`) grows M_S one Delaunay
 face at a time, cheapest first.  Where the faces
 of T_S are the cheapest candidates on both sides of every shared face, that
 walk has no choice to make: whichever side it arrives from, it takes the
@@ -11,7 +11,7 @@ one step (rule ``seed-core``) and walks only where a choice is left.
 A face sigma of T_S is in the core when
 
 * it is small enough to be grown at all (size ratio at most
-  :data:`~crustview.core.grow.SIZE_MAX`);
+  :data:`~crustview.core.robust.grow.SIZE_MAX`);
 * at each of its (d-1)-faces tau, it and one other simplex of T_S are the
   two cheapest Delaunay faces at tau in the walk's order, both strictly
   cheaper than every other face there (other faces of T_S included: where T_S
@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .topology import graph_components
+from ..analysis.topology import graph_components
 
 #: Rounds of cutting a non-orientable core (codimension 1) before giving it up.
 MOEBIUS_CUTS = 8
@@ -199,7 +199,7 @@ def _orient(f: int, root: int, edges: np.ndarray, sign: np.ndarray) -> np.ndarra
     """Orientations over a spanning tree of the root's component of the dual graph.
 
     ``sign[e]`` relates the orientations across dual edge e: ``o2 = sign * o1``
-    (the rule of :meth:`~crustview.core.grow.Grower._induced_orientation`).
+    (the rule of :meth:`~crustview.core.robust.grow.Grower._induced_orientation`).
     The orientation of a simplex is the product of the signs on its tree path
     to the root, found by pointer doubling.
     """

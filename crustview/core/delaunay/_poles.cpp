@@ -1,5 +1,5 @@
 // One round of Algorithm 1's greedy pole search over every (sample, Voronoi
-// vertex) pair, as crustview.core.normals does it in numpy.
+// vertex) pair, as crustview.core.paper.normals does it in numpy.
 //
 // Round j: for every vertex a of every Delaunay simplex sid that is a sample
 // s (entry position sid * w + a, in that order), the vector centre(sid) - s

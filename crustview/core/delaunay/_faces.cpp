@@ -1,5 +1,5 @@
 // The Delaunay d-faces among the samples and the simplices around each
-// (Algorithm 2's input), as crustview.core.faces computes them in numpy, in
+// (Algorithm 2's input), as crustview.core.delaunay.faces computes them in numpy, in
 // one pass and one radix sort.  Integer work only, so the arrays are the same
 // as numpy's, not just close.
 //

@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 try:  # one greedy round in compiled code (setup.py builds it; numpy does the same without it)
-    from . import _poles as _native
+    from ..delaunay import _poles as _native
 except ImportError:  # pragma: no cover - depends on the build
     _native = None
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
 from .sampling import Chart, TestManifold
 
 _TAU = 2.0 * np.pi

@@ -45,8 +45,8 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .compare import dense_samples
-from .result import Reconstruction
-from .sampling import TestManifold, get_manifold
+from ..result import Reconstruction
+from ..samples.sampling import TestManifold, get_manifold
 
 #: Dense points of M per sample spacing, roughly, by intrinsic dimension.
 DENSE = {1: 200_000, 2: 400_000, 3: 1_500_000}
@@ -346,7 +346,7 @@ def check_theorems(rec: Reconstruction, manifold: TestManifold | str, tangents: 
     -------
     TheoremChecks
     """
-    from .errors import Cancelled
+    from ..errors import Cancelled
 
     def report(stage: str, fraction: float) -> None:
         if cancel is not None and cancel.is_set():

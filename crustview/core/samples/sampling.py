@@ -11,7 +11,7 @@ estimated normals of Algorithm 1 can be compared with the truth.
 
 Examples
 --------
->>> from crustview.core.sampling import get_manifold
+>>> from crustview.core.samples.sampling import get_manifold
 >>> torus = get_manifold("torus")
 >>> s = torus.sample(500, seed=1)
 >>> s.points.shape, s.tangents.shape
@@ -29,7 +29,7 @@ from functools import cached_property
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .errors import InputError
+from ..errors import InputError
 
 #: Accepted values of ``density`` and ``method`` in :meth:`TestManifold.sample`.
 DENSITIES = ("uniform", "nonuniform")
@@ -435,7 +435,7 @@ def get_manifold(name: str) -> TestManifold:
 
 
 def __getattr__(name: str) -> object:
-    # The catalogue (crustview.core.manifolds) needs the classes above, so it
+    # The catalogue (crustview.core.samples.manifolds) needs the classes above, so it
     # is imported on first use rather than at the top.
     if name == "MANIFOLDS":
         from .manifolds import MANIFOLDS

@@ -6,7 +6,7 @@ the Rayleigh quotient ``|N^T x|^2 / |x|^2``.  Its minimum over the linear span
 of a few generators is the smallest eigenvalue of a small symmetric matrix;
 the minimiser lies in their convex cone iff its coefficients share one sign.
 These batched primitives serve the cocone test of Algorithm 2
-(:mod:`crustview.core.candidates`), together with cheap one-sided bounds
+(:mod:`crustview.core.paper.candidates`), together with cheap one-sided bounds
 (:func:`lean_bound`) that settle most pairs without an eigenproblem.
 """
 

@@ -1,12 +1,12 @@
 """Growing a manifold over the Delaunay d-faces (the robust extension's main phase).
 
-See :mod:`crustview.core.robust` for the rules and why they exist.  This
+See :mod:`crustview.core.robust.driver` for the rules and why they exist.  This
 module holds the mechanics: a priority queue of (boundary face, candidate
 simplex) pairs, validity tests that keep the complex a manifold with
 boundary, and seeding of new components.
 
 All per-candidate arrays are laid out in the CSR order of
-:func:`~crustview.core.extraction.facet_structure`: entry ``j`` pairs facet
+:func:`~crustview.core.paper.extraction.facet_structure`: entry ``j`` pairs facet
 ``fg[j]`` with simplex ``inc[j]``, whose vertex opposite that facet is
 ``apex[j]`` and whose unit vector from the facet to that vertex is ``ucsr[j]``.
 """
@@ -20,8 +20,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .errors import Cancelled
-from .extraction import facet_structure
+from ..errors import Cancelled
+from ..paper.extraction import facet_structure
 from .handles import HandleGuard
 
 #: Largest size ratio (circumradius over the local spacing) of a grown simplex.
@@ -77,7 +77,7 @@ def size_ratio(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
 def unit_normals_to_facets(points: np.ndarray, simplices: np.ndarray) -> np.ndarray:
     """Unit vectors from each facet's affine hull to the opposite vertex.
 
-    The same quantity as :func:`crustview.core.extraction.opposite_vectors`,
+    The same quantity as :func:`crustview.core.paper.extraction.opposite_vectors`,
     computed by vectorised Gram-Schmidt instead of batched QR (several times
     faster on hundreds of thousands of simplices).
 
@@ -252,7 +252,7 @@ class Grower(HandleGuard):
 
         Leaves the state :meth:`add` would leave after adding them one by one;
         ``ids`` must form a manifold with boundary (see
-        :func:`crustview.core.core_seed.manifold_core`).
+        :func:`crustview.core.robust.seed_core.manifold_core`).
         """
         if len(ids) == 0:
             return
@@ -271,7 +271,7 @@ class Grower(HandleGuard):
         self.vcount = np.bincount(self.faces[ids].ravel(), minlength=self.n).tolist()
         self.vfront = np.bincount(self.facets[cnt == 1].ravel(), minlength=self.n).tolist()
         # pieces of the core: components of its vertex graph, each vertex pointing at one root
-        from .topology import graph_components
+        from ..analysis.topology import graph_components
 
         rows = self.faces[ids]
         edges = np.concatenate([rows[:, [0, a]] for a in range(1, self.dp1)])

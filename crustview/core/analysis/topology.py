@@ -26,9 +26,9 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from .memory import release_free_memory
-from .result import TopologyReport
-from .rows import unique_rows
+from ..util.memory import release_free_memory
+from ..result import TopologyReport
+from ..util.rows import unique_rows
 
 
 def all_faces(simplices: np.ndarray, facets: np.ndarray | None = None) -> list[np.ndarray]:

@@ -1,5 +1,5 @@
 // Algorithm 2's cocone score in codimension 1, first two steps, as
-// crustview.core.candidates._score_segments does them in numpy.
+// crustview.core.paper.candidates._score_segments does them in numpy.
 //
 // In codimension 1 the dual cell of a face is a segment between two Voronoi
 // vertices c0, c1 and every sample has one unit normal n.  For each face and

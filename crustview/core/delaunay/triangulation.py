@@ -40,8 +40,8 @@ import numpy as np
 from scipy.spatial import Delaunay
 from scipy.spatial import QhullError
 
-from .errors import QhullFailure
-from .rows import index_dtype
+from ..errors import QhullFailure
+from ..util.rows import index_dtype
 
 #: Radius of the far bounding points relative to the data radius (which is 1
 #: in working coordinates).
@@ -73,7 +73,7 @@ BACKENDS = ("auto", "qhull", "cgal")
 
 def backend_for(r: int) -> str:
     """The backend ``"auto"`` picks in working dimension ``r``."""
-    from .delaunay_cgal import cgal_available, native_d_available
+    from .cgal import cgal_available, native_d_available
 
     if r == 3 and cgal_available() or r in CGAL_D_DIMENSIONS and native_d_available():
         return "cgal"
@@ -85,7 +85,7 @@ def backend_label(r: int) -> str:
     if backend_for(r) == "cgal" and r in CGAL_D_DIMENSIONS:
         return f"CGAL dD Delaunay_triangulation, Epick_d<{r}> (crustview extension)"
     if backend_for(r) == "cgal":
-        from .delaunay_cgal import cgal_route
+        from .cgal import cgal_route
 
         via = "crustview extension" if cgal_route() == "extension" else "cgal wheel"
         return f"CGAL Delaunay_triangulation_3 ({via})"
@@ -133,7 +133,7 @@ def delaunay(
         r = allpts.shape[1]
         if r != 3 and r not in CGAL_D_DIMENSIONS:
             raise ValueError(f"the CGAL backend works in R^3 to R^5 only; got points in R^{r}")
-        from .delaunay_cgal import delaunay_3d, delaunay_d
+        from .cgal import delaunay_3d, delaunay_d
 
         try:
             return delaunay_3d(allpts, neighbors) if r == 3 else delaunay_d(allpts, neighbors)
@@ -175,7 +175,7 @@ def circumcenters(pts: np.ndarray, simplices: np.ndarray) -> np.ndarray:
     is many times faster than a batched LAPACK call on millions of r x r
     systems; blocks of :data:`CIRCUM_BLOCK` simplices bound the memory.
     """
-    from .parallel import chunks, run_in_order
+    from ..util.parallel import chunks, run_in_order
 
     r = pts.shape[1]
     out = np.empty((len(simplices), r))

@@ -1,12 +1,12 @@
 """Telling a handle across an undersampling gap from a real one, during the walk.
 
-A gluing move of :class:`crustview.core.grow.Grower` joins the growing
+A gluing move of :class:`crustview.core.robust.grow.Grower` joins the growing
 surface to itself at a far boundary vertex c.  Within one boundary component
 that only splits the component; between two pieces it joins them.  Between
 two boundary components of one piece it makes a handle (for d > 2, another
 new cycle).  Real handles are closed that way too -- the last seam of a
 noisy torus is two long boundary components side by side -- but when either
-component is a hole that ``fill-hole`` (:mod:`crustview.core.holes`) would
+component is a hole that ``fill-hole`` (:mod:`crustview.core.robust.holes`) would
 close, the handle bridges an undersampling gap: on a decimated figure, arm
 to torso.  The walk refuses such moves and leaves the hole to be filled.
 
@@ -24,7 +24,7 @@ from .holes import FILL_MAX_FACES, FILL_MAX_SPAN
 
 
 class HandleGuard:
-    """Gap-handle test for :class:`~crustview.core.grow.Grower` (see the module docstring)."""
+    """Gap-handle test for :class:`~crustview.core.robust.grow.Grower` (see the module docstring)."""
 
     def _find(self, v: int) -> int:
         uf = self._uf

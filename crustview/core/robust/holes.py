@@ -1,6 +1,6 @@
 """Closing small holes, dropping strays and unpinching (the robust extension's last phase).
 
-Works on the complex that :mod:`crustview.core.grow` produced, with a
+Works on the complex that :mod:`crustview.core.robust.grow` produced, with a
 dictionary of (d-1)-faces so that simplices outside the Delaunay
 triangulation can be added where no Delaunay face fits:
 
@@ -17,7 +17,7 @@ triangulation can be added where no Delaunay face fits:
 * ``drop-stray``: a component far smaller than the largest (a seed that
   closed three or four samples into a tiny loop or bubble) is removed, and
   its samples go to ``insert-sample``.
-* ``insert-sample`` (:mod:`crustview.core.insertion`): a sample that is no
+* ``insert-sample`` (:mod:`crustview.core.robust.insert_sample`): a sample that is no
   vertex of M_S and lies within :data:`INSERT_MAX` spacings of it is made a
   vertex by a stellar subdivision of the nearest face, which keeps a
   manifold a manifold in every dimension.
@@ -32,8 +32,8 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from .extraction import facet_structure
-from .insertion import INSERT_MAX, SampleInsertion
+from ..paper.extraction import facet_structure
+from .insert_sample import INSERT_MAX, SampleInsertion
 from .polygons import is_ear, min_angle, orientation, plane_polygon
 
 #: Largest hole, in boundary (d-1)-faces, that ``fill-hole`` closes.

@@ -60,8 +60,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .faces import enumerate_faces
-from .result import Reconstruction
+from ..delaunay.faces import enumerate_faces
+from ..result import Reconstruction
 
 #: Number of tangent directions tried per sample for d = 2.
 N_DIRECTIONS_2D = 16
@@ -266,7 +266,7 @@ def sampling_quality(
     >>> bool(np.allclose(q.epsilon, np.tan(np.pi / 60), rtol=0.02))
     True
     """
-    from .errors import Cancelled
+    from ..errors import Cancelled
 
     def part(lo: float, hi: float) -> Callable[[float], None]:
         def step(fraction: float) -> None:

@@ -23,11 +23,11 @@ The extension
    closing section names: Cocone's "walk on the outer boundary").  The
    walk starts from the largest piece of the *manifold core* of T_S, the
    faces it would take without a choice, added in one step (rule
-   ``seed-core``, :mod:`crustview.core.core_seed`); where there is none,
+   ``seed-core``, :mod:`crustview.core.robust.seed_core`); where there is none,
    and for every later component, from the best-scored free candidate
    (rule ``seed``).  Delaunay d-faces are then added across the current
    boundary, one per step, always keeping a manifold with boundary
-   (:mod:`crustview.core.grow`).  A face f may be
+   (:mod:`crustview.core.robust.grow`).  A face f may be
    added across a boundary (d-1)-face tau of simplex sigma when
 
    * f and sigma meet at phi > pi/2 at tau (the paper's line 4: a pair
@@ -44,15 +44,15 @@ The extension
 
    Candidates are taken smallest first, by size (circumradius over the mean
    nearest-neighbour distance of the vertices, about 1 for a good face;
-   never above :data:`~crustview.core.grow.SIZE_MAX`), doubled outside T_S
+   never above :data:`~crustview.core.robust.grow.SIZE_MAX`), doubled outside T_S
    and weighted by the candidate score.  Faces of T_S at phi > pi/2 are rule
    ``grow``; the others are ``grow-relaxed`` (theta, or the angle, relaxed
    only where the boundary needs it).
-3. **Closing gaps, keeping holes** (:mod:`crustview.core.holes`).  Stray
+3. **Closing gaps, keeping holes** (:mod:`crustview.core.robust.holes`).  Stray
    components far smaller than the largest are dropped (``drop-stray``).
    A boundary component with at most
-   :data:`~crustview.core.holes.FILL_MAX_FACES` faces spanning at most
-   :data:`~crustview.core.holes.FILL_MAX_SPAN` local spacings is an
+   :data:`~crustview.core.robust.holes.FILL_MAX_FACES` faces spanning at most
+   :data:`~crustview.core.robust.holes.FILL_MAX_SPAN` local spacings is an
    undersampling gap, closed by Delaunay faces, ears in the hole's plane
    (d = 2) or joined ends (d = 1) (``fill-hole``).  Larger holes are real
    boundary (an open scan) and stay open, so no ribbon is drawn across a
@@ -73,17 +73,17 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .errors import Cancelled
-from .extraction import extract
+from ..errors import Cancelled
+from ..paper.extraction import extract
 from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 
 #: Rounds of hole filling, sample insertion, unpinching and stray dropping (each can leave
 #: work for the others; real scans settle in two or three).
 PATCH_ROUNDS = 5
 from .holes import Patcher
-from .core_seed import manifold_core
-from .result import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
-from .topology import analyse
+from .seed_core import manifold_core
+from ..result import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
+from ..analysis.topology import analyse
 
 
 
@@ -114,7 +114,7 @@ def extract_robust(
     spacing : float
         Median nearest-neighbour distance of the samples (for hole sizes).
     cancel, progress
-        As in :func:`crustview.core.extraction.extract`.
+        As in :func:`crustview.core.paper.extraction.extract`.
 
     Returns
     -------
@@ -164,7 +164,7 @@ def extract_robust(
 
 def _row_keys(rows: np.ndarray, base: int) -> np.ndarray:
     """One int64 (or byte-string) key per sorted row of vertex ids below ``base``."""
-    from .rows import row_keys
+    from ..util.rows import row_keys
 
     rows = np.asarray(rows, dtype=np.int64).reshape(len(rows), -1)
     keys = row_keys(rows, base)

@@ -80,12 +80,12 @@ from scipy.spatial import cKDTree
 
 from .conemin import cone_min, dot_rows, lean_bound, over_cell
 from .dualcells import CellFaces, cell_boundary_min
-from .faces import enumerate_faces, sort_rows  # noqa: F401 - part of this module's API
+from ..delaunay.faces import enumerate_faces, sort_rows  # noqa: F401 - part of this module's API
 from .literal import _orthonormal, literal_angles  # noqa: F401 - literal_angles is part of this module's API
-from .parallel import chunks, run_in_order
+from ..util.parallel import chunks, run_in_order
 
 try:  # codimension 1's segment ends in compiled code (setup.py builds it; numpy does the same without it)
-    from . import _segments as _native_segments
+    from ..delaunay import _segments as _native_segments
 except ImportError:  # pragma: no cover - depends on the build
     _native_segments = None
 

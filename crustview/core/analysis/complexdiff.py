@@ -14,7 +14,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .compare import HausdorffEstimate, hausdorff
-from .result import TopologyReport
+from ..result import TopologyReport
 from .topology import analyse
 
 #: Vertices closer than this times the diameter of A count as the same point.

@@ -13,7 +13,7 @@ way (both valid Delaunay triangulations).  The far bounding points of
 
 Two ways to CGAL
 ----------------
-1. crustview's own small extension :mod:`crustview.core._delaunay3`
+1. crustview's own small extension :mod:`crustview.core.delaunay._delaunay3`
    (``_delaunay3.cpp``, built at install time against Debian's header-only
    ``libcgal-dev``): it triangulates a float64 buffer with the GIL released
    and hands the finite tetrahedra back as one int32 buffer that numpy wraps
@@ -27,7 +27,7 @@ return the same tetrahedra.
 
 R^4 and R^5
 -----------
-crustview's second extension :mod:`crustview.core._delaunay_d`
+crustview's second extension :mod:`crustview.core.delaunay._delaunay_d`
 (``_delaunay_d.cpp``) runs CGAL's dD ``Delaunay_triangulation`` with the
 dimension fixed at compile time (``Epick_d<Dimension_tag<4>>``, resp. 5):
 filtered exact predicates, symbolic perturbation, Hilbert-sorted insertion.
@@ -55,7 +55,7 @@ import tempfile
 
 import numpy as np
 
-from .rows import index_dtype
+from ..util.rows import index_dtype
 
 #: Bytes of the cell block parsed per chunk (bounds the parser's memory).
 CHUNK_BYTES = 1 << 25

@@ -25,8 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .errors import InputError
-from .result import TopologyReport
+from ..errors import InputError
+from ..result import TopologyReport
 from .topology import analyse
 
 #: Dense samples per complex at most (the step grows to stay below it).

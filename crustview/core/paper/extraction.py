@@ -49,8 +49,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .rows import unique_rows
-from .result import RULE_PRUNE, RULE_RESOLVE, Extraction, Step
+from ..util.rows import unique_rows
+from ..result import RULE_PRUNE, RULE_RESOLVE, Extraction, Step
 
 HALF_PI = np.pi / 2
 #: Largest prune cascade simulated when choosing a pair (see _choose_pair).
@@ -301,7 +301,7 @@ def extract(
     -------
     Extraction
     """
-    from .errors import Cancelled
+    from ..errors import Cancelled
 
     simplices = np.asarray(simplices, dtype=np.int64)
     d1 = simplices.shape[1] if simplices.ndim == 2 else 1

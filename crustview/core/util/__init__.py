@@ -1,0 +1,8 @@
+"""Plumbing shared by the whole core: no geometry, no algorithm.
+
+* :mod:`.rows`: integer row keys and unique rows.
+* :mod:`.memory`: garbage collection paused over big builds, memory handed back.
+* :mod:`.parallel`: chunks on a thread pool, results in order.
+
+May import: numpy and the standard library only.
+"""
