@@ -19,7 +19,7 @@ from scipy.spatial import Delaunay
 
 from crustview.core import CANDIDATE_TESTS, reconstruct, reextract
 from crustview.core.prepare import prepare_points
-from crustview.core.samples.sampling import MANIFOLDS
+from crustview.core.samples.manifolds import MANIFOLDS
 
 
 def verdict(rec, m) -> str:

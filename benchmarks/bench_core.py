@@ -22,7 +22,7 @@ from scipy.spatial import Delaunay
 
 from crustview.core import reconstruct
 from crustview.core.prepare import prepare_points
-from crustview.core.samples.sampling import get_manifold
+from crustview.core.samples.manifolds import get_manifold
 
 CASES = {
     "torus-20k": ("torus", 20000),

@@ -19,7 +19,7 @@ import numpy as np
 from scipy.spatial import Delaunay
 
 from crustview.core import reconstruct
-from crustview.core.samples.sampling import MANIFOLDS
+from crustview.core.samples.manifolds import MANIFOLDS
 
 NAMES = ["circle", "ellipse", "trefoil", "hopf-link", "sphere", "ellipsoid", "torus",
          "clifford-torus", "flat-klein", "sphere-r4", "s3", "circle-r4"]

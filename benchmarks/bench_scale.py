@@ -47,7 +47,7 @@ def _gudhi_seconds(points, d: int, fix: bool) -> float:  # noqa: ANN001
 def run_one(case: str) -> dict:
     """Run one case in this process and return its measurements."""
     from crustview.core import reconstruct
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     name, n, method = CASES[case]
     m = get_manifold(name)

@@ -44,7 +44,7 @@ def build(path: Path, d: int, target: int | None, torus: int | None = None):
     from crustview.io import read_points
 
     if torus:
-        from crustview.core.samples.sampling import get_manifold
+        from crustview.core.samples.manifolds import get_manifold
 
         points, name = get_manifold("torus").sample(torus, seed=0, method="random").points, f"torus {torus:,}"
     else:

@@ -278,7 +278,7 @@ def comparison_summary(c, name: str) -> str:
 
 
 def _cmd_sample(args: argparse.Namespace) -> int:
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
     from crustview.io import write_points
 
     manifold = get_manifold(args.name)
@@ -295,7 +295,7 @@ def _cmd_sample(args: argparse.Namespace) -> int:
 
 
 def _cmd_list() -> int:
-    from crustview.core.samples.sampling import MANIFOLDS
+    from crustview.core.samples.manifolds import MANIFOLDS
 
     print(f"{'name':<15} {'k':>2} {'d':>2}  {'betti (Z/2)':<13} {'euler':>5}  "
           f"{'orient.':<7} {'cosph.':<6} {'n':>5}  description")  # fmt: skip

@@ -60,7 +60,7 @@ def add_parser(sub) -> None:
 def load(source: str, d: int | None, mode: str):
     """Reconstruct ``source`` (a built-in name or a file): returns (rec, truth, label)."""
     from .core import reconstruct
-    from .core.samples.sampling import MANIFOLDS
+    from .core.samples.manifolds import MANIFOLDS
 
     path = Path(source)
     if not path.exists() and source in MANIFOLDS:

@@ -27,7 +27,7 @@ except ImportError:  # pragma: no cover
 def torus_run():
     """A real reconstruction of the built-in torus (closed, ~3k triangles)."""
     from crustview.core import reconstruct
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     m = get_manifold("torus")
     sample = m.sample(m.default_n, seed=0)
@@ -39,7 +39,7 @@ def torus_run():
 def s3_run():
     """A real reconstruction of S^3 in R^4 (d = 3)."""
     from crustview.core import reconstruct
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     m = get_manifold("s3")
     sample = m.sample(600, seed=0)

@@ -10,7 +10,7 @@ import meshio
 import numpy as np
 import pytest
 
-from crustview.core.samples.sampling import MANIFOLDS
+from crustview.core.samples.manifolds import MANIFOLDS
 from crustview.core.analysis.topology import analyse
 
 

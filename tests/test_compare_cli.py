@@ -40,7 +40,7 @@ def test_diff_without_shared_vertices_reports_only_the_distance():
 def test_cli_compare_saved_result_against_another_test(tmp_path, capsys):
     from crustview.__main__ import main
     from crustview.core import reconstruct
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
     from crustview.io import write_points, write_result
 
     s = get_manifold("sphere").sample(400, seed=0)

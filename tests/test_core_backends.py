@@ -142,7 +142,7 @@ def test_unknown_backend_and_cgal_outside_r3_to_r5_are_errors():
 
 
 def test_the_result_names_the_delaunay_code_that_ran():
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
     from crustview.report import report_dict
 
     m = get_manifold("torus")

@@ -7,7 +7,7 @@ from crustview.core.paper import candidates as cand
 from crustview.core.util import parallel
 from crustview.core.delaunay.triangulation import bounding_points, circumcenters, delaunay
 from crustview.core.paper.normals import greedy_poles
-from crustview.core.samples.sampling import get_manifold
+from crustview.core.samples.manifolds import get_manifold
 
 
 def _stage_inputs(name: str, n: int):

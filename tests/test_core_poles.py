@@ -7,7 +7,7 @@ from crustview.core.paper import normals as normals_mod
 from crustview.core.delaunay.triangulation import bounding_points, circumcenters, delaunay
 from crustview.core.paper.normals import greedy_poles
 from crustview.core.prepare import prepare_points
-from crustview.core.samples.sampling import get_manifold
+from crustview.core.samples.manifolds import get_manifold
 
 
 def _both(monkeypatch, *args):

@@ -97,7 +97,7 @@ def test_core_imports_no_gui_library():
         names = [m.name for m in pkgutil.walk_packages(core.__path__, "crustview.core.")]
         for name in names:
             importlib.import_module(name)
-        from crustview.core.samples.sampling import get_manifold
+        from crustview.core.samples.manifolds import get_manifold
         rec = core.reconstruct(get_manifold("circle").sample(60, seed=0).points, 1)
         assert rec.topology.closed_manifold
         gui = ("PySide6", "PySide2", "PyQt5", "PyQt6", "qtpy", "shiboken6", "pyvista", "pyvistaqt",

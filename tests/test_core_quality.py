@@ -9,7 +9,7 @@ import pytest
 
 from crustview.core import reconstruct
 from crustview.core.analysis.quality import delaunay_edges, sampling_quality, summary, thresholds
-from crustview.core.samples.sampling import get_manifold
+from crustview.core.samples.manifolds import get_manifold
 
 
 def circle(n: int, skip=None) -> np.ndarray:

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from crustview.core import Cancelled, InputError, reconstruct, reextract
-from crustview.core.samples.sampling import get_manifold
+from crustview.core.samples.manifolds import get_manifold
 
 
 # Textbook topology, written down here independently of the library's own

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from crustview.core import reconstruct
-from crustview.core.samples.sampling import get_manifold
+from crustview.core.samples.manifolds import get_manifold
 from crustview.core.analysis.theorems import (
     LFS_FORMS,
     check_theorems,

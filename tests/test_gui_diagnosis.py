@@ -128,7 +128,7 @@ def test_a_robust_run_whose_paper_loop_succeeded_does_not_say_the_loop_was_aband
     # S^3 in R^4: T_S is already a closed manifold, so the robust run is the
     # paper's own (empty) log; the cascade box must say so, not that the
     # paper's loop was abandoned and M_S grown
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     pts = get_manifold("s3").sample(600, seed=0).points
     window.run_panel.set_mode("robust")

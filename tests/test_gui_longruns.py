@@ -13,7 +13,7 @@ from PySide6.QtCore import QPoint, Qt  # noqa: E402
 def long_run():
     """The paper's Algorithm 3 with the literal test on 4,700 torus samples: over 20,000 steps."""
     from crustview.core import reconstruct
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     sample = get_manifold("torus").sample(4700, seed=0)
     rec = reconstruct(sample.points, 2, mode="paper", test="literal")

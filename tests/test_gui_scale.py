@@ -19,7 +19,7 @@ N = 20_000
 @pytest.fixture(scope="module")
 def big_torus():
     from crustview.core import reconstruct
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     return reconstruct(get_manifold("torus").sample(N, seed=0, method="random").points, 2)
 

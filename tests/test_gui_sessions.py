@@ -62,7 +62,7 @@ def test_save_then_open_restores_run_step_camera_layers_and_projection(qtbot, wi
 
 
 def test_a_file_session_reopens_and_a_moved_or_changed_file_gives_one_line(qtbot, window, tmp_path):
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     pts = tmp_path / "torus.xyz"
     np.savetxt(pts, get_manifold("torus").sample(500, seed=1).points)

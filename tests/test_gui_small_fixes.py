@@ -66,7 +66,7 @@ def test_a_reopened_saved_built_in_shows_its_expected_topology_again(qtbot, wind
 
 
 def test_text_file_header_is_said_and_a_garbage_first_line_is_refused(qtbot, window, tmp_path):
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     pts = get_manifold("circle").sample(60, seed=0).points
     good = tmp_path / "named.csv"
@@ -175,7 +175,7 @@ def _run_dialog(qtbot, open_it) -> tuple[str, list[str]]:
 
 
 def test_open_and_save_dialogs_start_in_the_last_folder_with_a_suggested_name(qtbot, window, tmp_path):
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
     from crustview.io import write_points
 
     folder = tmp_path / "data"

@@ -66,7 +66,7 @@ def test_menu_dialog_dimension_question_and_drop(qtbot, window, tmp_path):
 
     # a file without d: the question suggests d from local PCA (a surface: 2)
     pts = tmp_path / "torus.xyz"
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     np.savetxt(pts, get_manifold("torus").sample(600, seed=1).points)
     asked = []
@@ -300,7 +300,7 @@ def test_reextract_with_another_theta_and_save(qtbot, window, tmp_path):
 
 
 def test_prune_boundary_checkbox_reextracts_a_torus_with_holes(qtbot, window):
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     pts = get_manifold("torus").sample(1500, seed=0).points
     holed = pts[pts[:, 0] <= 0.6]  # cut open: a tube with two boundary circles, like a scan with holes
@@ -366,7 +366,7 @@ def test_saved_result_reopens_with_its_own_run_and_wrong_topology_is_flagged(qtb
     and a closed result with the wrong Betti numbers is not called a success."""
     from crustview import io
     from crustview.core import reconstruct
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     sample = get_manifold("torus").sample(1500, seed=0)
     saved = reconstruct(sample.points, 2, test="literal", theta=np.radians(30))
@@ -540,7 +540,7 @@ def test_the_out_of_date_note_does_not_squash_the_run_panel(qtbot, window):
 def test_saved_result_with_another_d_keeps_its_test_and_theta(qtbot, window, tmp_path):
     from crustview import io
     from crustview.core import reconstruct
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     saved = reconstruct(get_manifold("sphere").sample(300, seed=0).points, 2, test="literal",
                         theta=np.radians(30))
@@ -608,7 +608,7 @@ def test_keys_in_a_floating_dock_and_a_busy_window(qtbot, window, tmp_path):
 
 def test_a_result_between_slider_steps_is_not_out_of_date(qtbot, window):
     from crustview.core import reconstruct
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     sample = get_manifold("circle").sample(80, seed=0)
     rec = reconstruct(sample.points, 1, theta=np.radians(22.3))
@@ -634,7 +634,7 @@ def test_legend_names_all_poles_and_a_colouring_that_needs_the_truth(qtbot, wind
 
 
 def load_points_of(name, n=600):
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     return get_manifold(name).sample(n, seed=0).points
 

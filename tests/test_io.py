@@ -10,7 +10,7 @@ import pytest
 
 from crustview.core import reconstruct
 from crustview.core.errors import InputError
-from crustview.core.samples.sampling import get_manifold
+from crustview.core.samples.manifolds import get_manifold
 from crustview.io import (
     read_points,
     read_run_parameters,

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from crustview.core import InputError, reconstruct
-from crustview.core.samples.sampling import get_manifold
+from crustview.core.samples.manifolds import get_manifold
 from crustview.io import read_mesh, read_points, write_points, write_result
 from crustview.meshfiles import read_mesh as read_any
 

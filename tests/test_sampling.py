@@ -9,7 +9,8 @@ import pytest
 from scipy.spatial import cKDTree
 
 from crustview.core.errors import InputError
-from crustview.core.samples.sampling import MANIFOLDS, NONUNIFORM_RATIO, Sample, get_manifold
+from crustview.core.samples.sampling import NONUNIFORM_RATIO, Sample
+from crustview.core.samples.manifolds import MANIFOLDS, get_manifold
 
 EXPECTED_NAMES = {
     "circle", "ellipse", "trefoil", "hopf-link", "sphere", "ellipsoid", "torus",

@@ -67,7 +67,7 @@ def test_interpretation_rows_of_a_closed_result(torus_run):
 
 def test_interpretation_and_verdict_of_a_torus_with_holes():
     from crustview.core import reconstruct
-    from crustview.core.samples.sampling import get_manifold
+    from crustview.core.samples.manifolds import get_manifold
 
     pts = get_manifold("torus").sample(1500, seed=0).points
     holed = pts[pts[:, 0] <= 0.6]  # cut open: a tube with two boundary circles

@@ -4,7 +4,7 @@ import pytest
 
 from crustview.core import reconstruct
 from crustview.core.samples.manifolds import projective_plane_points
-from crustview.core.samples.sampling import MANIFOLDS, get_manifold
+from crustview.core.samples.manifolds import MANIFOLDS, get_manifold
 from crustview.scene.shapes import name_of, shape_name
 
 TRUE_NAMES = {

@@ -19,7 +19,7 @@ class BuiltinDialog(QDialog):
 
     def __init__(self, parent: QWidget | None = None, current: str = "torus") -> None:
         super().__init__(parent)
-        from ..core.samples.sampling import MANIFOLDS
+        from ..core.samples.manifolds import MANIFOLDS
 
         self.manifolds = MANIFOLDS
         self.setWindowTitle("Open built-in sample")

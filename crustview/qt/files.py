@@ -41,7 +41,8 @@ def builtin_truth(info: dict, points: np.ndarray):
     Otherwise the saved points stand with the manifold and no tangents.
     Returns None for a name crustview does not know.
     """
-    from ..core.samples.sampling import Sample, get_manifold
+    from ..core.samples.sampling import Sample
+    from ..core.samples.manifolds import get_manifold
 
     try:
         m = get_manifold(info["name"])

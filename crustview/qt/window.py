@@ -308,7 +308,7 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
 
         The run's parameters default to the Run panel's (pruning: on).
         """
-        from ..core.samples.sampling import get_manifold
+        from ..core.samples.manifolds import get_manifold
 
         try:
             m = get_manifold(name)

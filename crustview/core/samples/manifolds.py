@@ -1,8 +1,7 @@
 """The catalogue of built-in test manifolds: parametrizations and true topology.
 
 The sampling machinery (charts, rejection sampling, farthest-point thinning)
-is in :mod:`.sampling`, which re-exports :data:`MANIFOLDS` and
-:func:`get_manifold` from here.
+is in :mod:`.sampling`; this module builds on it, and it knows no manifold.
 """
 
 from __future__ import annotations

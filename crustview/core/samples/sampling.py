@@ -1,4 +1,4 @@
-"""Built-in test manifolds of known topology, and point samples of them.
+"""Test manifolds of known topology given by charts, and point samples of them.
 
 Every manifold is given by one or more *charts*: smooth maps from a
 parameter box ``lower <= u < upper`` in R^d into R^k that together cover the
@@ -7,11 +7,13 @@ with respect to the d-volume by rejection on the volume element
 ``sqrt(det(J^T J))`` of each chart, optionally re-weighted by a smooth
 density factor, and thinned to a near-even spacing by farthest-point
 sampling.  Each sample carries the true tangent space at every point so the
-estimated normals of Algorithm 1 can be compared with the truth.
+estimated normals of Algorithm 1 can be compared with the truth.  The
+built-in manifolds are in :mod:`.manifolds`, which imports this module (and
+not the other way round).
 
 Examples
 --------
->>> from crustview.core.samples.sampling import get_manifold
+>>> from crustview.core.samples.manifolds import get_manifold
 >>> torus = get_manifold("torus")
 >>> s = torus.sample(500, seed=1)
 >>> s.points.shape, s.tangents.shape
@@ -418,38 +420,11 @@ def farthest_point_sampling(
     return chosen
 
 
-# ---------------------------------------------------------------- parametrizations
-
-
-def get_manifold(name: str) -> TestManifold:
-    """The built-in manifold called ``name`` (see :data:`MANIFOLDS`).
-
-    Raises
-    ------
-    InputError
-        For an unknown name, listing the valid ones.
-    """
-    from .manifolds import get_manifold as _get
-
-    return _get(name)
-
-
-def __getattr__(name: str) -> object:
-    # The catalogue (crustview.core.samples.manifolds) needs the classes above, so it
-    # is imported on first use rather than at the top.
-    if name == "MANIFOLDS":
-        from .manifolds import MANIFOLDS
-
-        return MANIFOLDS
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
 __all__ = [
     "DENSITIES",
-    "MANIFOLDS",
     "METHODS",
     "Chart",
     "Sample",
     "TestManifold",
     "farthest_point_sampling",
-    "get_manifold",
 ]
