@@ -218,7 +218,7 @@ def test_open_scan_keeps_its_cut_open_and_zips_the_slit_of_a_thin_ear(monkeypatc
     # camelhead.off is open (its neck is cut: 56 boundary edges).  The cut stays open, while the
     # rim of an ear, a thin plate whose two sides were grown but not its edge, is a slit: a long
     # hole only a spacing or two wide, closed by ears
-    from crustview.core.robust import holes
+    from crustview.core.robust import fill_hole as holes
 
     pts = scan_points("camelhead.off")
     rec = reconstruct(pts, 2)
@@ -235,7 +235,7 @@ def test_open_scan_keeps_its_cut_open_and_zips_the_slit_of_a_thin_ear(monkeypatc
 def test_a_slit_whose_rim_folds_in_its_plane_is_zipped_in_space(monkeypatch):
     # a lip of camelhead.off: a 68-edge slit about 2.6 spacings wide whose best-fit plane folds
     # its rim over itself, so planar ear clipping cannot start; the zipper closes it in space
-    from crustview.core.robust import holes
+    from crustview.core.robust import patcher as holes
 
     pts = scan_points("camelhead.off")
     rec = reconstruct(pts, 2)

@@ -48,11 +48,11 @@ The extension
    and weighted by the candidate score.  Faces of T_S at phi > pi/2 are rule
    ``grow``; the others are ``grow-relaxed`` (theta, or the angle, relaxed
    only where the boundary needs it).
-3. **Closing gaps, keeping holes** (:mod:`crustview.core.robust.holes`).  Stray
+3. **Closing gaps, keeping holes** (:mod:`crustview.core.robust.patcher`).  Stray
    components far smaller than the largest are dropped (``drop-stray``).
    A boundary component with at most
-   :data:`~crustview.core.robust.holes.FILL_MAX_FACES` faces spanning at most
-   :data:`~crustview.core.robust.holes.FILL_MAX_SPAN` local spacings is an
+   :data:`~crustview.core.robust.fill_hole.FILL_MAX_FACES` faces spanning at most
+   :data:`~crustview.core.robust.fill_hole.FILL_MAX_SPAN` local spacings is an
    undersampling gap, closed by Delaunay faces, ears in the hole's plane
    (d = 2) or joined ends (d = 1) (``fill-hole``).  Larger holes are real
    boundary (an open scan) and stay open, so no ribbon is drawn across a
@@ -80,7 +80,7 @@ from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 #: Rounds of hole filling, sample insertion, unpinching and stray dropping (each can leave
 #: work for the others; real scans settle in two or three).
 PATCH_ROUNDS = 5
-from .holes import Patcher
+from .patcher import Patcher
 from .seed_core import manifold_core
 from ..result import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
 from ..analysis.topology import analyse

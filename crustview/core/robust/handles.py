@@ -6,7 +6,7 @@ that only splits the component; between two pieces it joins them.  Between
 two boundary components of one piece it makes a handle (for d > 2, another
 new cycle).  Real handles are closed that way too -- the last seam of a
 noisy torus is two long boundary components side by side -- but when either
-component is a hole that ``fill-hole`` (:mod:`crustview.core.robust.holes`) would
+component is a hole that ``fill-hole`` (:mod:`crustview.core.robust.fill_hole`) would
 close, the handle bridges an undersampling gap: on a decimated figure, arm
 to torso.  The walk refuses such moves and leaves the hole to be filled.
 
@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .holes import FILL_MAX_FACES, FILL_MAX_SPAN
+from .fill_hole import FILL_MAX_FACES, FILL_MAX_SPAN
 
 
 class HandleGuard:

@@ -8,7 +8,7 @@ simplex sigma containing that face tau is replaced by the simplices
 sample (a triangle three), or an edge's two triangles become four; this
 keeps a manifold a manifold, and its orientation, in every dimension.
 
-The methods here are mixed into :class:`crustview.core.robust.holes.Patcher`, whose
+The methods here are mixed into :class:`crustview.core.robust.patcher.Patcher`, whose
 dictionaries of simplices, stars and facets they edit.
 """
 
@@ -25,7 +25,7 @@ INSERT_PASSES = 4
 
 
 class SampleInsertion:
-    """``insert-sample`` for :class:`~crustview.core.robust.holes.Patcher` (see the module docstring)."""
+    """``insert-sample`` for :class:`~crustview.core.robust.patcher.Patcher` (see the module docstring)."""
 
     def insert_unused(self) -> list[int]:
         """Insert left-out samples by stellar subdivision; returns those left out still.

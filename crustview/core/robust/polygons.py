@@ -1,6 +1,6 @@
 """Planar polygons for ear clipping: a hole's rim in its best-fit plane, ears, triangle shape.
 
-Used by :mod:`crustview.core.robust.holes` to close a surface hole by ears: the rim
+Used by :mod:`crustview.core.robust.fill_hole` to close a surface hole by ears: the rim
 is projected to the plane of its two main directions; if that polygon is
 simple, ear clipping there always succeeds (two ears theorem).
 """

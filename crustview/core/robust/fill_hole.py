@@ -1,39 +1,29 @@
-"""Closing small holes, dropping strays and unpinching (the robust extension's last phase).
+"""Rule ``fill-hole``: closing small holes and slits, and unpinching (the robust extension's last phase).
 
-Works on the complex that :mod:`crustview.core.robust.grow` produced, with a
-dictionary of (d-1)-faces so that simplices outside the Delaunay
-triangulation can be added where no Delaunay face fits:
+A hole (boundary (d-1)-faces connected through their vertices) with at most
+:data:`FILL_MAX_FACES` faces and a span of at most :data:`FILL_MAX_SPAN`
+sample spacings is an undersampling gap.  It is closed first with Delaunay
+d-faces among its own vertices (flattest first, creases up to 120 deg
+allowed), then -- for d = 2 -- by clipping ears off each boundary loop
+(triangles need not be Delaunay, :mod:`.polygons`), for d = 1 by joining its
+two ends.  Larger holes are real boundary and stay open, except a *slit*
+(surfaces): one long rim loop only a few spacings wide, the unfinished edge
+of a thin plate sampled on both sides, which is closed by ears alone (see
+:meth:`FillHole._slit_width`).  A vertex where M_S pinches (its simplices
+form several fans) keeps only its largest fan, so that the hole left can be
+closed; those steps are ``fill-hole`` steps too.
 
-* ``fill-hole``: a hole (boundary (d-1)-faces connected through their
-  vertices) with at most :data:`FILL_MAX_FACES` faces and a span of at most
-  :data:`FILL_MAX_SPAN` sample spacings is an undersampling gap.  It is
-  closed first with Delaunay d-faces among its own vertices (flattest
-  first, creases up to 120 deg allowed), then -- for d = 2 -- by clipping
-  ears off each boundary loop (triangles need not be Delaunay), for d = 1 by
-  joining its two ends.  Larger holes are real boundary and stay open,
-  except a *slit* (surfaces): one long rim loop only a few spacings wide,
-  the unfinished edge of a thin plate sampled on both sides, which is
-  closed by ears alone (see :meth:`Patcher._slit_width`).
-* ``drop-stray``: a component far smaller than the largest (a seed that
-  closed three or four samples into a tiny loop or bubble) is removed, and
-  its samples go to ``insert-sample``.
-* ``insert-sample`` (:mod:`crustview.core.robust.insert_sample`): a sample that is no
-  vertex of M_S and lies within :data:`INSERT_MAX` spacings of it is made a
-  vertex by a stellar subdivision of the nearest face, which keeps a
-  manifold a manifold in every dimension.
+The methods here are mixed into :class:`~.patcher.Patcher`, whose
+:class:`~.complex.EditableComplex` they edit.
 """
 
 from __future__ import annotations
 
 import itertools
-from functools import cached_property
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
-from ..paper.extraction import facet_structure
-from .insert_sample import INSERT_MAX, SampleInsertion
+from .complex import Simplex, _facets
 from .polygons import is_ear, min_angle, orientation, plane_polygon
 
 #: Largest hole, in boundary (d-1)-faces, that ``fill-hole`` closes.
@@ -46,223 +36,12 @@ FILL_MAX_SPAN = 18.0
 SLIT_MAX_FACES = 400
 SLIT_HOPS = 8
 SLIT_MAX_WIDTH = 4.0
-#: Components with fewer simplices than this, and under STRAY_SHARE of the largest, are stray.
-STRAY_MAX = 128
-STRAY_SHARE = 0.05
-#: A closing simplex may meet its neighbours at phi > 60 deg (creases up to 120 deg).
-COS_FILL = 0.5
 #: An ear may meet its neighbours at phi > 25 deg: a hole's rim leaves no other choice.
 COS_EAR = 0.9
 
-Simplex = tuple[int, ...]
 
-
-def _facets(s: Simplex) -> list[Simplex]:
-    return [s[:a] + s[a + 1:] for a in range(len(s))]
-
-
-class Patcher(SampleInsertion):
-    """A d-complex as dictionaries, for local edits.
-
-    Parameters
-    ----------
-    points : ndarray of shape (n, k)
-    simplices : list of sorted tuples
-        The current complex.
-    delaunay : ndarray of shape (f, d + 1)
-        Sorted Delaunay d-faces, preferred for closing holes.
-    spacing : float
-        Median nearest-neighbour distance.
-    """
-
-    def __init__(self, points: np.ndarray, simplices: list[Simplex], delaunay: np.ndarray, spacing: float,
-                 orient: list[int] | None = None, orientable: bool = False) -> None:
-        self.points = points
-        #: +1/-1 per simplex (relative to its sorted vertex order); 0 when unknown
-        self.orient: list[int] = []
-        #: codimension 1: refuse every addition that would make M_S non-orientable
-        self.orientable = orientable
-        self.spacing = float(spacing)
-        self.simp: list[Simplex] = []
-        self.alive: list[bool] = []
-        self.fmap: dict[Simplex, list[int]] = {}
-        self.bset: set[Simplex] = set()  # facets with exactly one simplex
-        self.index: dict[Simplex, int] = {}  # alive simplex -> id
-        self.star: dict[int, set[int]] = {}  # vertex -> alive simplex ids (see _star)
-        self._star_ptr: np.ndarray | None = None
-        self._star_own = np.empty(0, dtype=np.int64)
-        self._used0 = np.zeros(len(points), dtype=bool)
-        #: vertices whose star changed since the last :meth:`unpinch_all` (where pinches can appear)
-        self.suspects: set[int] = set()
-        self.log: list[tuple[str, Simplex, tuple[int, ...], tuple[int, ...], float, str]] = []
-        self._bulk_insert(simplices, orient)
-        self.delaunay = delaunay
-
-    # -- lookups built on first use (most runs never need them) ---------------
-    @cached_property
-    def nn(self) -> np.ndarray:
-        """Distance from each sample to its nearest other sample."""
-        from scipy.spatial import cKDTree
-
-        return cKDTree(self.points).query(self.points, k=2)[0][:, 1]
-
-    @cached_property
-    def _vstar(self) -> tuple[np.ndarray, np.ndarray]:
-        """CSR of the Delaunay faces at each vertex: (pointer, face ids)."""
-        flat = self.delaunay.ravel()
-        order = np.argsort(flat, kind="stable")
-        vptr = np.concatenate([[0], np.cumsum(np.bincount(flat, minlength=len(self.points)))])
-        return vptr, (order // self.delaunay.shape[1] if self.delaunay.size else order)
-
-    @property
-    def vptr(self) -> np.ndarray:
-        return self._vstar[0]
-
-    @property
-    def vfaces(self) -> np.ndarray:
-        return self._vstar[1]
-
-    def _ids(self, f: Simplex) -> list[int]:
-        """The alive simplices at (d-1)-face f, ascending; built from the stars on first use."""
-        ids = self.fmap.get(f)
-        if ids is None:
-            simp = self.simp
-            ids = sorted(i for i in self._star(f[0]) if all(v in simp[i] for v in f[1:]))
-            self.fmap[f] = ids
-        return ids
-
-    # -- editing ------------------------------------------------------------
-    def _bulk_insert(self, simplices: list[Simplex], orient: list[int] | None) -> None:
-        """The state :meth:`_insert` would build for ``simplices``, built with array operations."""
-        m = len(simplices)
-        self.simp = list(simplices)
-        self.alive = [True] * m
-        self.orient = list(orient) if orient is not None else [0] * m
-        self.index = {t: i for i, t in enumerate(self.simp)}
-        if m == 0:
-            return
-        arr = np.array(self.simp, dtype=np.int64)
-        facets, _, ptr, _ = facet_structure(arr)
-        # the facet -> simplices map is filled lazily by _ids (from the stars)
-        self.bset = set(map(tuple, facets[np.diff(ptr) == 1].tolist()))
-        # vertex stars as CSR; a vertex's set in self.star is made on first use (see _star)
-        flat = arr.ravel()
-        order = np.argsort(flat, kind="stable")
-        self._star_ptr = np.concatenate([[0], np.cumsum(np.bincount(flat, minlength=len(self.points)))])
-        self._star_own = order // arr.shape[1]
-        self._used0 = np.zeros(len(self.points), dtype=bool)
-        self._used0[flat] = True
-
-
-    def _star(self, v: int) -> set[int]:
-        """The alive simplices at vertex v (made from the initial complex on first use, then kept)."""
-        st = self.star.get(v)
-        if st is None:
-            if self._star_ptr is not None and v < len(self._star_ptr) - 1:
-                st = set(self._star_own[self._star_ptr[v]:self._star_ptr[v + 1]].tolist())
-            else:
-                st = set()
-            self.star[v] = st
-        return st
-
-    def _insert(self, s: Simplex, orient: int = 0) -> int:
-        i = len(self.simp)
-        self.simp.append(s)
-        self.orient.append(orient)
-        self.alive.append(True)
-        at = [(f, self._ids(f)) for f in _facets(s)]  # before i joins the stars
-        self.index[s] = i
-        for v in s:
-            self._star(v).add(i)
-        self.suspects.update(s)
-        for f, ids in at:
-            ids.append(i)
-            self._mark(f, ids)
-        return i
-
-    def _delete(self, i: int) -> None:
-        self.alive[i] = False
-        s = self.simp[i]
-        at = [(f, self._ids(f)) for f in _facets(s)]
-        del self.index[s]
-        for v in s:
-            self._star(v).discard(i)
-        self.suspects.update(s)
-        for f, ids in at:
-            ids.remove(i)
-            self._mark(f, ids)
-
-    def _mark(self, f: Simplex, ids: list[int]) -> None:
-        if len(ids) == 1:
-            self.bset.add(f)
-        else:
-            self.bset.discard(f)
-
-    def at(self, f: Simplex) -> list[int]:
-        return self._ids(f)
-
-    def boundary(self) -> list[Simplex]:
-        return sorted(self.bset)
-
-    def used(self) -> np.ndarray:
-        mask = self._used0.copy()
-        for v, ids in self.star.items():  # the stars made so far are the ones that changed
-            mask[v] = bool(ids)
-        return mask
-
-    # -- geometry -----------------------------------------------------------
-    def _u(self, s: Simplex, f: Simplex) -> np.ndarray:
-        """Unit vector from aff(f) to the vertex of s opposite f."""
-        (apex,) = set(s) - set(f)
-        p = self.points
-        v = p[apex] - p[f[0]]
-        if len(f) == 2:  # an edge: one projection (what QR does, without its overhead)
-            e = p[f[1]] - p[f[0]]
-            v = v - (float(v @ e) / max(float(e @ e), 1e-300)) * e
-        elif len(f) > 2:
-            q, _ = np.linalg.qr((p[list(f[1:])] - p[f[0]]).T)
-            v = v - q @ (q.T @ v)
-        return v / max(float(np.linalg.norm(v)), 1e-300)
-
-    def fits(self, s: Simplex) -> tuple[bool, float]:
-        """Whether ``s`` can be added: every facet in at most one simplex, none folded.
-
-        Returns (ok, largest cos phi with an existing neighbour).
-        """
-        if s in self.index or not self.consistent(s):
-            return False, 2.0
-        worst = -1.0
-        touching = 0
-        for f in _facets(s):
-            ids = self.at(f)
-            if len(ids) >= 2:
-                return False, 2.0
-            if ids:
-                touching += 1
-                c = float(self._u(s, f) @ self._u(self.simp[ids[0]], f))
-                worst = max(worst, c)
-        return touching > 0 and worst < COS_FILL, worst
-
-    def induced(self, s: Simplex) -> set[int]:
-        """Orientations that the neighbours of ``s`` (across its facets) ask it to take."""
-        out = set()
-        for a, f in enumerate(_facets(s)):
-            ids = self.at(f)
-            if len(ids) == 1 and self.orient[ids[0]]:
-                t = self.simp[ids[0]]
-                (apex,) = set(t) - set(f)
-                b = t.index(apex)
-                out.add(-self.orient[ids[0]] * (-1 if (a + b) % 2 else 1))
-        return out
-
-    def consistent(self, s: Simplex) -> bool:
-        """Whether ``s`` can be oriented to agree with all its neighbours (or need not)."""
-        return not self.orientable or len(self.induced(s)) <= 1
-
-    def add(self, s: Simplex, rule: str, tau: Simplex, angle: float, why: str) -> None:
-        ind = self.induced(s)
-        i = self._insert(s, ind.pop() if len(ind) == 1 else 0)
-        self.log.append((rule, tau, (i,), (), angle, why))
+class FillHole:
+    """``fill-hole`` for :class:`~.patcher.Patcher` (see the module docstring)."""
 
     # -- holes --------------------------------------------------------------
     def holes(self) -> list[list[Simplex]]:
@@ -562,40 +341,6 @@ class Patcher(SampleInsertion):
                      f"closing a {why}: joined ends {a} and {b}, {dist / local:.1f} local spacings apart")
             done.update((a, b))
 
-    # -- stray components ------------------------------------------------------
-    def drop_small_components(self) -> int:
-        """Remove components far smaller than the largest; returns how many.
-
-        A component with fewer than :data:`STRAY_MAX` simplices and under
-        :data:`STRAY_SHARE` of the largest one is a stray piece that a seed
-        grew in an undersampled spot (three samples closed into a tiny loop,
-        four into a tetrahedron).  Its samples go back to ``insert-sample``.
-        """
-        ids = np.flatnonzero(np.fromiter(self.alive, dtype=bool, count=len(self.alive)))
-        if len(ids) == 0:
-            return 0
-        simp = np.array([self.simp[i] for i in ids.tolist()], dtype=np.int64)
-        _, _, ptr, inc = facet_structure(simp)
-        cnt = np.diff(ptr)
-        two = np.flatnonzero(cnt == 2)
-        a, b = inc[ptr[two]], inc[ptr[two] + 1]
-        graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(len(ids), len(ids)))
-        n_comp, label = connected_components(graph, directed=False)
-        if n_comp < 2:
-            return 0
-        sizes = np.bincount(label)
-        largest = int(sizes.max())
-        dropped = 0
-        # labels number the components in the order of their first simplex
-        for lab in np.flatnonzero((sizes < STRAY_MAX) & (sizes < STRAY_SHARE * largest)).tolist():
-            comp = ids[label == lab].tolist()
-            for i in comp:
-                self._delete(i)
-            self.log.append(("drop-stray", self.simp[comp[0]], (), tuple(comp), float("nan"),
-                             f"a stray component of {len(comp)} simplices (the largest has {largest}) "
-                             "was removed; its samples are inserted into the rest"))
-            dropped += 1
-        return dropped
 
     # -- pinched vertices -----------------------------------------------------
     def fans(self, v: int) -> list[list[int]]:
@@ -638,5 +383,3 @@ class Patcher(SampleInsertion):
                                  f"M_S pinches at sample {v} (its simplices form {len(fans)} fans); removed "
                                  f"a fan of {len(fan)} so the hole it leaves can be closed"))
         return fixed
-
-    # -- left-out samples ---------------------------------------------------
