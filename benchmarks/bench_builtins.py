@@ -51,8 +51,12 @@ def main(names: list[str]) -> None:
             verdicts.append(verdict(other, m))
         stages = " ".join(f"{v:.3f}" for v in rec.timings.values())
         total = sum(rec.timings.values())
-        print(f"{name:15s} {m.k:2d} {m.d:2d} {m.default_n:5d} | " + " | ".join(f"{v:28s}" for v in verdicts)
-              + f" | {stages} | {total / floor:.1f}", flush=True)
+        print(
+            f"{name:15s} {m.k:2d} {m.d:2d} {m.default_n:5d} | "
+            + " | ".join(f"{v:28s}" for v in verdicts)
+            + f" | {stages} | {total / floor:.1f}",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

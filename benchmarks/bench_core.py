@@ -76,8 +76,10 @@ def run(case: str) -> None:
         Delaunay(exact[: min(n, 3000)])
         raw = time.perf_counter() - t0
         floor_small = floor_delaunay(exact[: min(n, 3000)], m.d)
-        print(f"{'':20s} cospherical: Qhull without joggle is {raw / floor_small:5.1f}x slower "
-              f"({min(n, 3000)} points)", flush=True)
+        print(
+            f"{'':20s} cospherical: Qhull without joggle is {raw / floor_small:5.1f}x slower ({min(n, 3000)} points)",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

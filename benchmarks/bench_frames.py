@@ -129,16 +129,25 @@ def main() -> None:
             busy[name].append(clock.busy)
             counts[name].add((renders, swaps))
     w, h = view.width(), view.height()
-    print(f"{args.file.name}: n = {rec.n}, {n:,} steps ({rec.mode}), final M_S {len(np.asarray(rec.manifold).reshape(-1, rec.d + 1)):,} "
-          f"simplices; view {w}x{h} in a {args.size[0]}x{args.size[1]} window")
+    print(
+        f"{args.file.name}: n = {rec.n}, {n:,} steps ({rec.mode}), final M_S {len(np.asarray(rec.manifold).reshape(-1, rec.d + 1)):,} "
+        f"simplices; view {w}x{h} in a {args.size[0]}x{args.size[1]} window"
+    )
     floor = float(np.median(times["frame (floor)"]))
     for name, values in times.items():
         med = float(np.median(values))
-        extra = "" if name not in counts else (
-            f"   busy {1000 * float(np.median(busy[name])):6.1f} ms;  renders, compositions: "
-            + "; ".join(f"{r}, {s}" for r, s in sorted(counts[name])))
-        print(f"  {name:14s} median {1000 * med:6.1f} ms  p90 {1000 * np.percentile(values, 90):6.1f} ms  "
-              f"{med / floor:4.2f} x floor{extra}")
+        extra = (
+            ""
+            if name not in counts
+            else (
+                f"   busy {1000 * float(np.median(busy[name])):6.1f} ms;  renders, compositions: "
+                + "; ".join(f"{r}, {s}" for r, s in sorted(counts[name]))
+            )
+        )
+        print(
+            f"  {name:14s} median {1000 * med:6.1f} ms  p90 {1000 * np.percentile(values, 90):6.1f} ms  "
+            f"{med / floor:4.2f} x floor{extra}"
+        )
     win.close()
     app.quit()
 

@@ -21,8 +21,20 @@ from scipy.spatial import Delaunay
 from crustview.core import reconstruct
 from crustview.core.samples.manifolds import MANIFOLDS
 
-NAMES = ["circle", "ellipse", "trefoil", "hopf-link", "sphere", "ellipsoid", "torus",
-         "clifford-torus", "flat-klein", "sphere-r4", "s3", "circle-r4"]
+NAMES = [
+    "circle",
+    "ellipse",
+    "trefoil",
+    "hopf-link",
+    "sphere",
+    "ellipsoid",
+    "torus",
+    "clifford-torus",
+    "flat-klein",
+    "sphere-r4",
+    "s3",
+    "circle-r4",
+]
 
 
 def gudhi_betti(points: np.ndarray, d: int, fix: bool) -> tuple[tuple[int, ...], int, float]:
@@ -49,8 +61,10 @@ def gudhi_betti(points: np.ndarray, d: int, fix: bool) -> tuple[tuple[int, ...],
 
 
 def main(names: list[str]) -> None:
-    print(f"{'manifold':15s} {'n':>5s} {'truth':12s} | {'crustview':28s} | {'gudhi tangential':32s} | "
-          f"{'gudhi + fix_inconsistencies':32s}")
+    print(
+        f"{'manifold':15s} {'n':>5s} {'truth':12s} | {'crustview':28s} | {'gudhi tangential':32s} | "
+        f"{'gudhi + fix_inconsistencies':32s}"
+    )
     for name in names:
         m = MANIFOLDS[name]
         pts = m.sample(m.default_n, seed=0).points

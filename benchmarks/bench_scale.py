@@ -79,7 +79,9 @@ def main(cases: list[str]) -> None:
     for case in cases:
         proc = subprocess.run(
             [sys.executable, str(Path(__file__).resolve()), "--one", case],
-            capture_output=True, text=True, check=False,
+            capture_output=True,
+            text=True,
+            check=False,
         )
         if proc.returncode != 0:
             print(f"{case}: failed\n{proc.stderr.strip()[-2000:]}", flush=True)

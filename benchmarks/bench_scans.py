@@ -77,10 +77,27 @@ def run_crustview(name: str, points: np.ndarray) -> list[Row]:
     robust_total = paper_total - paper.timings["extraction"] - paper.timings["topology"] + robust_after
     dl = paper.timings["delaunay"]
     return [
-        Row(name, "crustview robust", len(points), robust.topology, robust.n, robust.timings["extraction"],
-            robust_total, dl, robust_total / paper_total),
-        Row(name, "crustview --paper", len(points), paper.topology, paper.n, paper.timings["extraction"],
-            paper_total, dl),
+        Row(
+            name,
+            "crustview robust",
+            len(points),
+            robust.topology,
+            robust.n,
+            robust.timings["extraction"],
+            robust_total,
+            dl,
+            robust_total / paper_total,
+        ),
+        Row(
+            name,
+            "crustview --paper",
+            len(points),
+            paper.topology,
+            paper.n,
+            paper.timings["extraction"],
+            paper_total,
+            dl,
+        ),
     ]
 
 
@@ -98,13 +115,31 @@ def run_cgal(name: str, points: np.ndarray, delaunay: float) -> Row:
     advancing_front_surface_reconstruction(cloud, flat)
     total = time.perf_counter() - t0
     triangles = np.asarray(flat, dtype=np.int64).reshape(-1, 3)
-    return Row(name, "CGAL advancing front", len(points), analyse(triangles, len(points), 2), len(points),
-               None, total, delaunay)
+    return Row(
+        name,
+        "CGAL advancing front",
+        len(points),
+        analyse(triangles, len(points), 2),
+        len(points),
+        None,
+        total,
+        delaunay,
+    )
 
 
 def table_header() -> str:
-    cols = ["file", "method", "points", "closed", "genus right", "samples used / n", "extraction s",
-            "total s", "total/Delaunay", "robust/paper total"]
+    cols = [
+        "file",
+        "method",
+        "points",
+        "closed",
+        "genus right",
+        "samples used / n",
+        "extraction s",
+        "total s",
+        "total/Delaunay",
+        "robust/paper total",
+    ]
     return "| " + " | ".join(cols) + " |\n|" + "---|" * len(cols)
 
 
@@ -112,10 +147,15 @@ def table_row(row: Row, truth: dict) -> str:
     top = row.topology
     used = row.n - top.unused_samples if top.n_simplices else 0
     cells = [
-        row.name, row.method, f"{row.points:,}", "yes" if top.closed_manifold else "no", verdict(top, truth),
+        row.name,
+        row.method,
+        f"{row.points:,}",
+        "yes" if top.closed_manifold else "no",
+        verdict(top, truth),
         f"{used:,} / {row.n:,}",
         "–" if row.extraction is None else f"{row.extraction:.2f}",
-        f"{row.total:.2f}", f"{row.total / row.delaunay:.2f}",
+        f"{row.total:.2f}",
+        f"{row.total / row.delaunay:.2f}",
         "–" if row.versus_paper is None else f"{row.versus_paper:.2f}",
     ]
     return "| " + " | ".join(cells) + " |"
@@ -124,8 +164,12 @@ def table_row(row: Row, truth: dict) -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--dir", type=Path, default=SCANS, help=f"folder of scans with truth.json (default {SCANS})")
-    parser.add_argument("--only", action="append", metavar="NAME",
-                        help="run only this file (repeatable; the name with or without suffix)")
+    parser.add_argument(
+        "--only",
+        action="append",
+        metavar="NAME",
+        help="run only this file (repeatable; the name with or without suffix)",
+    )
     parser.add_argument("--cgal", action="store_true", help="also run CGAL's Advancing Front reconstruction")
     args = parser.parse_args(argv)
     truth = json.loads((args.dir / "truth.json").read_text())

@@ -60,8 +60,10 @@ def build(path: Path, d: int, target: int | None, torus: int | None = None):
     if abs(len(rec.extraction.simplices) - target) > 0.05 * target:
         t = time.perf_counter()
         rec = reextract(rec, rec.test, theta)
-        print(f"re-extract at θ = {np.degrees(theta):.1f}°: |T_S| = {len(rec.extraction.simplices)}, "
-              f"{rec.extraction.n_steps} steps, {time.perf_counter() - t:.1f} s")
+        print(
+            f"re-extract at θ = {np.degrees(theta):.1f}°: |T_S| = {len(rec.extraction.simplices)}, "
+            f"{rec.extraction.n_steps} steps, {time.perf_counter() - t:.1f} s"
+        )
     return rec
 
 
@@ -76,8 +78,10 @@ def timed(fn, reps: int) -> np.ndarray:
 
 
 def report(name: str, arr: np.ndarray, floor: float) -> None:
-    print(f"  {name:44s} median {np.median(arr):7.1f} ms   p90 {np.percentile(arr, 90):7.1f} ms"
-          f"   {np.median(arr) / floor:5.2f}x floor")
+    print(
+        f"  {name:44s} median {np.median(arr):7.1f} ms   p90 {np.percentile(arr, 90):7.1f} ms"
+        f"   {np.median(arr) / floor:5.2f}x floor"
+    )
 
 
 def measure(model, view, render, label: str, rng, reps: int = 20) -> None:
@@ -117,15 +121,23 @@ def measure(model, view, render, label: str, rng, reps: int = 20) -> None:
     proj = timed(lambda: (model.projection.set_angle(0, 2, float(next(angles))), render()), max(3, reps // 4))
     view.auto_render = True
     alive = int(ext.alive(model.player.position).sum())
-    print(f"[{label}] n = {model.rec.n:,}, |T_S| = {len(ext.simplices):,}, M_S shown ≈ {alive:,} triangles, "
-          f"{n:,} steps; floor = whole frame {floor:.0f} ms")
+    print(
+        f"[{label}] n = {model.rec.n:,}, |T_S| = {len(ext.simplices):,}, M_S shown ≈ {alive:,} triangles, "
+        f"{n:,} steps; floor = whole frame {floor:.0f} ms"
+    )
     if thinned:
         print("  thinned while moving: " + ", ".join(f"{k} {a:,} of {b:,}" for k, (a, b) in drawn.items()))
-    for name, arr in ((f"whole frame at step 0 ({shown0:,} tri)", frame0), ("whole frame (render only)", frame),
-                      ("step, whole: update + render", whole), ("step: update only", update),
-                      ("step, thinned: update + render", seq), ("random jump, thinned: update + render", jump),
-                      ("rotate 2 deg, whole", rotate), ("rotate 2 deg, thinned", rotate_lod),
-                      ("projection change + whole render", proj)):
+    for name, arr in (
+        (f"whole frame at step 0 ({shown0:,} tri)", frame0),
+        ("whole frame (render only)", frame),
+        ("step, whole: update + render", whole),
+        ("step: update only", update),
+        ("step, thinned: update + render", seq),
+        ("random jump, thinned: update + render", jump),
+        ("rotate 2 deg, whole", rotate),
+        ("rotate 2 deg, thinned", rotate_lod),
+        ("projection change + whole render", proj),
+    ):
         report(name, arr, floor)
     for layer in model.layers.values():
         if layer.note:
@@ -191,8 +203,13 @@ def qt(rec, size) -> None:
     def render():
         win.plotter.ren_win.Render()
 
-    measure(win.model, win.view, render, f"QtInteractor in the main window, view {view_size[0]}x{view_size[1]}",
-            np.random.default_rng(0))
+    measure(
+        win.model,
+        win.view,
+        render,
+        f"QtInteractor in the main window, view {view_size[0]}x{view_size[1]}",
+        np.random.default_rng(0),
+    )
     win.close()
 
 
@@ -201,10 +218,19 @@ def main() -> None:
     ap.add_argument("file", nargs="?", type=Path, default=DEFAULT_FILE)
     ap.add_argument("-d", type=int, default=2)
     ap.add_argument("--target", type=int, default=100_000, help="candidate simplices wanted in T_S")
-    ap.add_argument("--torus", type=int, default=None,
-                    help="an i.i.d. torus sample of this many points instead of a file (T_S as extracted)")
-    ap.add_argument("--size", type=int, nargs=2, default=None,
-                    help="window size (default: 1024 768 off-screen; 1600 1000, the app's default, with --qt)")
+    ap.add_argument(
+        "--torus",
+        type=int,
+        default=None,
+        help="an i.i.d. torus sample of this many points instead of a file (T_S as extracted)",
+    )
+    ap.add_argument(
+        "--size",
+        type=int,
+        nargs=2,
+        default=None,
+        help="window size (default: 1024 768 off-screen; 1600 1000, the app's default, with --qt)",
+    )
     ap.add_argument("--qt", action="store_true", help="measure the Qt main window (needs X)")
     args = ap.parse_args()
     rec = build(args.file, args.d, None if args.torus else args.target, args.torus)

@@ -62,8 +62,10 @@ def _angle_degrees(text: str) -> float:
     return value  # the core checks the range (and says so in degrees)
 
 
-_PAPER_HELP = ("extract with the paper's Algorithm 3 exactly as printed (default: the robust extension, "
-               "which returns the paper's result whenever that is a closed manifold through every sample)")
+_PAPER_HELP = (
+    "extract with the paper's Algorithm 3 exactly as printed (default: the robust extension, "
+    "which returns the paper's result whenever that is a closed manifold through every sample)"
+)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -85,31 +87,44 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("reconstruct", help="reconstruct a manifold and write the result")
     p.add_argument("input", type=Path, help="point file")
     p.add_argument("-d", type=_positive_int, required=True, help="intrinsic dimension")
-    p.add_argument("-o", "--output", type=Path, required=True,
-                   help="result file: .npz, or .ply .obj .off .vtk .stl for d <= 2, k <= 3")
+    p.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        required=True,
+        help="result file: .npz, or .ply .obj .off .vtk .stl for d <= 2, k <= 3",
+    )
     p.add_argument("--report", type=Path, default=None, help="also write a JSON report")
-    p.add_argument("--test", choices=CANDIDATE_TESTS, default="cocone",
-                   help="candidate test of Algorithm 2 (default: cocone)")
-    p.add_argument("--theta", type=_angle_degrees, default=22.5,
-                   help="angle threshold in degrees (default: 22.5 = pi/8)")
+    p.add_argument(
+        "--test", choices=CANDIDATE_TESTS, default="cocone", help="candidate test of Algorithm 2 (default: cocone)"
+    )
+    p.add_argument(
+        "--theta", type=_angle_degrees, default=22.5, help="angle threshold in degrees (default: 22.5 = pi/8)"
+    )
     p.add_argument("--paper", action="store_true", help=_PAPER_HELP)
-    p.add_argument("--keep-boundary", action="store_true",
-                   help="paper mode only (implies --paper): do not prune (d-1)-faces with a single "
-                        "d-simplex (the paper prunes them); for looking at scans with holes, which "
-                        "cannot give a closed manifold")
+    p.add_argument(
+        "--keep-boundary",
+        action="store_true",
+        help="paper mode only (implies --paper): do not prune (d-1)-faces with a single "
+        "d-simplex (the paper prunes them); for looking at scans with holes, which "
+        "cannot give a closed manifold",
+    )
 
     p = sub.add_parser("sample", help="sample a built-in manifold to a point file")
     p.add_argument("name", help="manifold name (see 'crustview list')")
-    p.add_argument("-n", type=_positive_int, default=None,
-                   help="number of points (default: the manifold's default)")
+    p.add_argument("-n", type=_positive_int, default=None, help="number of points (default: the manifold's default)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
-    p.add_argument("--noise", type=_nonnegative_float, default=0.0,
-                   help="Gaussian noise in units of the point spacing (default: 0)")
+    p.add_argument(
+        "--noise",
+        type=_nonnegative_float,
+        default=0.0,
+        help="Gaussian noise in units of the point spacing (default: 0)",
+    )
     p.add_argument("--density", choices=("uniform", "nonuniform"), default="uniform")
-    p.add_argument("--method", choices=("even", "random"), default="even",
-                   help="even spacing (default) or i.i.d. points")
-    p.add_argument("-o", "--output", type=Path, required=True,
-                   help="point file (.npy .npz .csv .txt .xyz .ply .vtk)")
+    p.add_argument(
+        "--method", choices=("even", "random"), default="even", help="even spacing (default) or i.i.d. points"
+    )
+    p.add_argument("-o", "--output", type=Path, required=True, help="point file (.npy .npz .csv .txt .xyz .ply .vtk)")
 
     sub.add_parser("list", help="list the built-in manifolds")
     _add_demo_commands(sub)
@@ -126,8 +141,7 @@ def _add_demo_commands(sub) -> None:
 
 def _check_display() -> None:
     """Fail with one line when no screen is reachable (Qt would abort the process)."""
-    if not sys.platform.startswith("linux") or os.environ.get("QT_QPA_PLATFORM") or \
-            os.environ.get("WAYLAND_DISPLAY"):
+    if not sys.platform.startswith("linux") or os.environ.get("QT_QPA_PLATFORM") or os.environ.get("WAYLAND_DISPLAY"):
         return
     hint = "run it on a desktop, under 'xvfb-run', or use 'crustview reconstruct' for headless work"
     display = os.environ.get("DISPLAY")
@@ -176,8 +190,7 @@ def _summary(rec, seconds: float, output: Path) -> str:
     dup = f" ({merged} duplicates merged)" if merged else ""
     closed = "a closed manifold" if top.closed_manifold else "NOT a closed manifold"
     parts = [
-        f"Reconstructed a {word} in R^{rec.k} from {rec.n} points{dup}: "
-        f"{top.n_simplices} {rec.d}-simplices, {closed}",
+        f"Reconstructed a {word} in R^{rec.k} from {rec.n} points{dup}: {top.n_simplices} {rec.d}-simplices, {closed}",
         f"Betti numbers (Z/2) {tuple(int(b) for b in top.betti)}, Euler characteristic {top.euler}",
     ]
     if top.orientable is not None:
@@ -238,12 +251,17 @@ def _cmd_reconstruct(args: argparse.Namespace) -> int:
     if note:
         print(f"{PROG}: warning: {note}", file=sys.stderr, flush=True)
     if args.keep_boundary and not args.paper:
-        print(f"{PROG}: note: --keep-boundary belongs to the paper's Algorithm 3 (the robust extension "
-              "never prunes); running it as with --paper", file=sys.stderr, flush=True)
+        print(
+            f"{PROG}: note: --keep-boundary belongs to the paper's Algorithm 3 (the robust extension "
+            "never prunes); running it as with --paper",
+            file=sys.stderr,
+            flush=True,
+        )
     mode = "paper" if args.paper or args.keep_boundary else "robust"
     start = time.perf_counter()
-    rec = reconstruct(points, args.d, test=args.test, theta=math.radians(args.theta),
-                      prune_boundary=not args.keep_boundary, mode=mode)
+    rec = reconstruct(
+        points, args.d, test=args.test, theta=math.radians(args.theta), prune_boundary=not args.keep_boundary, mode=mode
+    )
     seconds = time.perf_counter() - start
     comparison = None
     if truth is not None:
@@ -271,10 +289,12 @@ def comparison_summary(c, name: str) -> str:
 
     h = c.hausdorff
     collapsed = f" ({c.collapsed_faces} collapsed by duplicate merging)" if c.collapsed_faces else ""
-    return (f"Against the faces of {name}: {c.recovered} of {c.mesh_faces} mesh faces recovered "
-            f"({100 * c.recovered_share:.1f}%){collapsed}, {c.extra} extra; mesh {top(c.mesh_topology)}; "
-            f"M_S {top(c.result_topology)}; Hausdorff distance {h.distance:.4g} "
-            f"(sampled, within {h.error_bound:.2g}).")
+    return (
+        f"Against the faces of {name}: {c.recovered} of {c.mesh_faces} mesh faces recovered "
+        f"({100 * c.recovered_share:.1f}%){collapsed}, {c.extra} extra; mesh {top(c.mesh_topology)}; "
+        f"M_S {top(c.result_topology)}; Hausdorff distance {h.distance:.4g} "
+        f"(sampled, within {h.error_bound:.2g})."
+    )
 
 
 def _cmd_sample(args: argparse.Namespace) -> int:
@@ -283,9 +303,7 @@ def _cmd_sample(args: argparse.Namespace) -> int:
 
     manifold = get_manifold(args.name)
     n = manifold.default_n if args.n is None else args.n
-    sample = manifold.sample(
-        n, seed=args.seed, noise=args.noise, density=args.density, method=args.method
-    )
+    sample = manifold.sample(n, seed=args.seed, noise=args.noise, density=args.density, method=args.method)
     write_points(args.output, sample.points)
     print(
         f"Wrote {n} points of {manifold.name} (d={manifold.d}, k={manifold.k}) to {args.output}; "

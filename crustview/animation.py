@@ -59,7 +59,9 @@ class ReplayPlan:
         if not self.subsampled:
             return f"steps {self.first}-{self.last} of {self.total}, every step"
         every = span / max(len(self.positions), 1)
-        return f"steps {self.first}-{self.last} of {self.total}: {len(self.positions)} frames, about every {every:.3g}th"
+        return (
+            f"steps {self.first}-{self.last} of {self.total}: {len(self.positions)} frames, about every {every:.3g}th"
+        )
 
 
 def parse_steps(text: str | None, total: int) -> tuple[int, int]:
@@ -192,8 +194,9 @@ class OffscreenScene:
         ext = self.model.rec.extraction
         for j in range(frames):
             tour.advance(1.0 / fps)
-            yield self.frame(f"grand tour of R^{self.model.rec.k}, frame {j + 1} of {frames} "
-                             f"(M_S at step {step} of {ext.n_steps})")
+            yield self.frame(
+                f"grand tour of R^{self.model.rec.k}, frame {j + 1} of {frames} (M_S at step {step} of {ext.n_steps})"
+            )
 
     def close(self) -> None:
         self.plotter.close()
@@ -259,9 +262,17 @@ class FrameWriter:
             if self._writer is None:
                 import imageio
 
-                self._writer = imageio.get_writer(self.partial, format="FFMPEG", mode="I", fps=self.fps,
-                                                  codec="libx264", quality=6, macro_block_size=8,
-                                                  pixelformat="yuv420p", ffmpeg_log_level="error")
+                self._writer = imageio.get_writer(
+                    self.partial,
+                    format="FFMPEG",
+                    mode="I",
+                    fps=self.fps,
+                    codec="libx264",
+                    quality=6,
+                    macro_block_size=8,
+                    pixelformat="yuv420p",
+                    ffmpeg_log_level="error",
+                )
             self._writer.append_data(img)
         self.count += 1
 
@@ -296,8 +307,9 @@ class FrameWriter:
             self.partial.unlink(missing_ok=True)
 
 
-def write_frames(path: str | os.PathLike, frames: Iterator[np.ndarray], total: int, fps: float,
-                 progress: Progress | None = None) -> int:
+def write_frames(
+    path: str | os.PathLike, frames: Iterator[np.ndarray], total: int, fps: float, progress: Progress | None = None
+) -> int:
     """Encode ``frames`` to ``path`` (see :func:`output_kind`); returns the number written.
 
     ``progress(done, total)`` is called after every frame; when it returns

@@ -104,8 +104,10 @@ def run(args: argparse.Namespace) -> int:
     else:
         words = "the two do not share vertices, so only the distance is compared"
     print(f"A = {a.label}: {len(a.simplices)} simplices; B = {b.label}: {len(b.simplices)} simplices")
-    print(f"{words}; Hausdorff distance {h.distance:.4g} (A to B {h.a_to_b:.4g}, B to A {h.b_to_a:.4g}, "
-          f"sampled, within {h.error_bound:.2g}).")
+    print(
+        f"{words}; Hausdorff distance {h.distance:.4g} (A to B {h.a_to_b:.4g}, B to A {h.b_to_a:.4g}, "
+        f"sampled, within {h.error_bound:.2g})."
+    )
     if args.json is not None:
         args.json.write_text(json.dumps(out, indent=2, default=float) + "\n")
     return 0

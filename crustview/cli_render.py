@@ -50,11 +50,18 @@ def add_parser(sub) -> None:
     p.add_argument("--size", type=_size, default=DEFAULT_SIZE, help="frame size WxH (default 640x480)")
     p.add_argument("--fps", type=_fps, default=12.0, help="frames per second (default 12)")
     p.add_argument("--steps", default=None, help="replay only steps A:B (default: all)")
-    p.add_argument("--frames", type=int, default=None,
-                   help="frame budget: a longer replay is subsampled (default 90); tour length (default 8 s)")
+    p.add_argument(
+        "--frames",
+        type=int,
+        default=None,
+        help="frame budget: a longer replay is subsampled (default 90); tour length (default 8 s)",
+    )
     p.add_argument("--mode", choices=("robust", "paper"), default="robust", help="extraction mode (default robust)")
-    p.add_argument("--layers", default=None,
-                   help="comma-separated layers to show instead of the defaults, e.g. manifold,points,step")
+    p.add_argument(
+        "--layers",
+        default=None,
+        help="comma-separated layers to show instead of the defaults, e.g. manifold,points,step",
+    )
 
 
 def load(source: str, d: int | None, mode: str):
@@ -86,8 +93,16 @@ def load(source: str, d: int | None, mode: str):
 
 def run(args: argparse.Namespace) -> int:
     """Run ``crustview render``; returns the exit status."""
-    from .animation import DEFAULT_BUDGET, OffscreenScene, even_size, output_kind, parse_steps, plan_replay, \
-        text_progress, write_frames
+    from .animation import (
+        DEFAULT_BUDGET,
+        OffscreenScene,
+        even_size,
+        output_kind,
+        parse_steps,
+        plan_replay,
+        text_progress,
+        write_frames,
+    )
     from .scene.model import SceneModel
 
     try:
@@ -97,8 +112,11 @@ def run(args: argparse.Namespace) -> int:
     size = even_size(args.size) if kind == "mp4" else args.size
     t0 = time.perf_counter()
     rec, truth, label = load(args.input, args.d, args.mode)
-    print(f"reconstructed {label}: {rec.n} samples, {len(rec.manifold)} simplices, "
-          f"{rec.extraction.n_steps} steps ({time.perf_counter() - t0:.1f} s)", file=sys.stderr)
+    print(
+        f"reconstructed {label}: {rec.n} samples, {len(rec.manifold)} simplices, "
+        f"{rec.extraction.n_steps} steps ({time.perf_counter() - t0:.1f} s)",
+        file=sys.stderr,
+    )
     model = SceneModel()
     model.set_reconstruction(rec, truth=truth, source=label)
     if args.layers:
@@ -132,6 +150,8 @@ def run(args: argparse.Namespace) -> int:
     size_note = ""
     if args.output.is_file():
         size_note = f", {args.output.stat().st_size / 1e6:.2f} MB"
-    print(f"wrote {written} frames of {size[0]}x{size[1]} to {args.output}{size_note} "
-          f"({secs:.1f} s, {1000 * secs / max(written, 1):.0f} ms a frame)")
+    print(
+        f"wrote {written} frames of {size[0]}x{size[1]} to {args.output}{size_note} "
+        f"({secs:.1f} s, {1000 * secs / max(written, 1):.0f} ms a frame)"
+    )
     return 0

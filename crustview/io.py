@@ -49,7 +49,6 @@ ND_RESULT_SUFFIXES = (".ply", ".off", ".noff")
 RESULT_SUFFIXES = (".npz", *RESULT_MESH_SUFFIXES)
 
 
-
 def _reason(err: BaseException) -> str:
     """A short one-line rendering of an exception."""
     text = " ".join(str(err).split()) or type(err).__name__
@@ -63,10 +62,7 @@ def _suffix(path: Path, allowed: tuple[str, ...], action: str) -> str:
     suffix = path.suffix.lower()
     if suffix not in allowed:
         shown = suffix or "no suffix"
-        raise InputError(
-            f"Cannot {action} '{path}': unsupported file type ({shown}); "
-            f"use one of {' '.join(allowed)}."
-        )
+        raise InputError(f"Cannot {action} '{path}': unsupported file type ({shown}); use one of {' '.join(allowed)}.")
     return suffix
 
 
@@ -192,16 +188,12 @@ def _check_points(data: Any, path: Path) -> np.ndarray:
     if arr.dtype.kind not in "iuf":
         raise InputError(f"Cannot use '{path}': it holds {arr.dtype} values, not numbers.")
     if arr.ndim != 2:
-        raise InputError(
-            f"Cannot use '{path}': expected a 2-D array of shape (n, k), got shape {arr.shape}."
-        )
+        raise InputError(f"Cannot use '{path}': expected a 2-D array of shape (n, k), got shape {arr.shape}.")
     n, k = arr.shape
     if n == 0:
         raise InputError(f"Cannot use '{path}': it contains no points.")
     if k < 2:
-        raise InputError(
-            f"Cannot use '{path}': points need at least 2 coordinates, the file has {k} column."
-        )
+        raise InputError(f"Cannot use '{path}': points need at least 2 coordinates, the file has {k} column.")
     arr = arr.astype(np.float64)
     bad = ~np.isfinite(arr).all(axis=1)
     if bad.any():
@@ -295,9 +287,7 @@ def write_points(path: str | os.PathLike, points: np.ndarray) -> None:
     suffix = _suffix(path, POINT_WRITE_SUFFIXES, "write points to")
     points = np.asarray(points, dtype=np.float64)
     if points.ndim != 2:
-        raise InputError(
-            f"Cannot write '{path}': points must have shape (n, k), got {points.shape}."
-        )
+        raise InputError(f"Cannot write '{path}': points must have shape (n, k), got {points.shape}.")
     if suffix == ".ply":
         _write_nd(path, points, None, "crustview points")
         return
@@ -385,8 +375,9 @@ def write_result(path: str | os.PathLike, rec: Reconstruction, builtin: dict[str
             raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
         return
     if suffix in ND_RESULT_SUFFIXES:
-        _write_nd(path, rec.input_points, simplices,
-                  f"crustview: M_S, d = {rec.d}, k = {rec.k}, {len(simplices)} simplices")
+        _write_nd(
+            path, rec.input_points, simplices, f"crustview: M_S, d = {rec.d}, k = {rec.k}, {len(simplices)} simplices"
+        )
         return
     if rec.d > 2:
         raise InputError(
@@ -467,7 +458,7 @@ def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
     except Exception as err:  # noqa: BLE001
         raise InputError(f"Cannot read '{path}' as a NumPy .npz archive ({_reason(err)}).") from None
     if out["mode"] not in EXTRACTION_MODES:
-        raise InputError(f"Cannot use '{path}': its extraction mode {out['mode']!r} is not one of "
-                         f"{', '.join(EXTRACTION_MODES)}.")
+        raise InputError(
+            f"Cannot use '{path}': its extraction mode {out['mode']!r} is not one of {', '.join(EXTRACTION_MODES)}."
+        )
     return out
-

@@ -137,8 +137,7 @@ def _check_indices(cells: list[np.ndarray], n: int, path: Path) -> None:
     for block in cells:
         if len(block) and (block.min() < 0 or block.max() >= n):
             bad = block[(block < 0) | (block >= n)][0]
-            raise _bad(path, f"a face refers to vertex {int(bad)} but the file has {n} vertices "
-                             f"(indices 0 to {n - 1})")
+            raise _bad(path, f"a face refers to vertex {int(bad)} but the file has {n} vertices (indices 0 to {n - 1})")
 
 
 #: Suffixes whose faces :func:`read_mesh` reads.
@@ -216,7 +215,7 @@ def read_off(path: Path) -> MeshData:
     key = first[0].decode("ascii", "replace") if first else ""
     m = _OFF_KEY.match(key)
     if m is not None and len(first) > 1 and first[1] == b"BINARY":
-        return _read_off_binary(path, data[data.index(b"\n") + 1:], m)
+        return _read_off_binary(path, data[data.index(b"\n") + 1 :], m)
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError:
@@ -241,7 +240,7 @@ def read_off(path: Path) -> MeshData:
                 raise _bad(path, f"it ends early, while reading {what}")
             row = lines[pos[0]]
             need = count - len(out)
-            out.extend(row[pos[1]: pos[1] + need])
+            out.extend(row[pos[1] : pos[1] + need])
             pos[1] += need
             if pos[1] >= len(row):
                 pos[0], pos[1] = pos[0] + 1, 0
@@ -256,10 +255,13 @@ def read_off(path: Path) -> MeshData:
     dim = ints(take(1, "the dimension"), "the dimension (nOFF)")[0] if ndim else 3
     if dim < 1:
         raise _bad(path, f"the nOFF dimension must be at least 1, found {dim}")
-    counts_line = lines[pos[0]][pos[1]:] if pos[0] < len(lines) else []
+    counts_line = lines[pos[0]][pos[1] :] if pos[0] < len(lines) else []
     if four and not ndim and len(counts_line) == 4:
-        raise _bad(path, "it looks like Stella4D's 4OFF (counts of vertices, faces, edges and cells), which is "
-                         "not supported; in Geomview's 4OFF the 4th coordinate is homogeneous; use nOFF for R^4")
+        raise _bad(
+            path,
+            "it looks like Stella4D's 4OFF (counts of vertices, faces, edges and cells), which is "
+            "not supported; in Geomview's 4OFF the 4th coordinate is homogeneous; use nOFF for R^4",
+        )
     nv, nf, _ = ints(take(3, "the counts"), "the vertex, face and edge counts")
     if nv < 0 or nf < 0:
         raise _bad(path, "the vertex and face counts must not be negative")
@@ -283,7 +285,7 @@ def read_off(path: Path) -> MeshData:
         size = ints(row[:1], f"face {i + 1}'s vertex count")[0]
         if size < 1 or len(row) < 1 + size:
             raise _bad(path, f"face {i + 1} (counting from 1) says it has {size} vertices but lists {len(row) - 1}")
-        polys.append(ints(row[1: 1 + size], f"face {i + 1}'s vertex indices"))
+        polys.append(ints(row[1 : 1 + size], f"face {i + 1}'s vertex indices"))
         pos[0], pos[1] = pos[0] + 1, 0
     cells = _blocks(polys)
     _check_indices(cells, nv, path)
@@ -333,8 +335,7 @@ def _read_off_binary(path: Path, body: bytes, m: re.Match) -> MeshData:
     return MeshData(points, cells, path)
 
 
-def write_off(path: Path, points: np.ndarray, simplices: np.ndarray, *, ndim: bool = False,
-              comment: str = "") -> None:
+def write_off(path: Path, points: np.ndarray, simplices: np.ndarray, *, ndim: bool = False, comment: str = "") -> None:
     """Write points and simplices as ASCII OFF (k <= 3, padded to 3-D) or nOFF.
 
     Parameters
@@ -367,9 +368,22 @@ def write_off(path: Path, points: np.ndarray, simplices: np.ndarray, *, ndim: bo
 
 # ---------------------------------------------------------------- PLY
 _PLY_TYPES = {
-    "char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2",
-    "ushort": "u2", "uint16": "u2", "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
-    "float": "f4", "float32": "f4", "double": "f8", "float64": "f8",
+    "char": "i1",
+    "int8": "i1",
+    "uchar": "u1",
+    "uint8": "u1",
+    "short": "i2",
+    "int16": "i2",
+    "ushort": "u2",
+    "uint16": "u2",
+    "int": "i4",
+    "int32": "i4",
+    "uint": "u4",
+    "uint32": "u4",
+    "float": "f4",
+    "float32": "f4",
+    "double": "f8",
+    "float64": "f8",
 }
 
 
@@ -454,7 +468,7 @@ def _ply_ascii(body: bytes, elements: list[_Element], path: Path) -> dict[str, d
         if r + el.count > len(rows):
             raise _bad(path, f"it ends early in the '{el.name}' element")
         cols: dict[str, list] = {p[0]: [] for p in el.props}
-        for row in rows[r: r + el.count]:
+        for row in rows[r : r + el.count]:
             j = 0
             try:
                 for name, typ, ltyp in el.props:
@@ -463,7 +477,7 @@ def _ply_ascii(body: bytes, elements: list[_Element], path: Path) -> dict[str, d
                         j += 1
                     else:
                         cnt = int(row[j])
-                        cols[name].append([int(v) for v in row[j + 1: j + 1 + cnt]])
+                        cols[name].append([int(v) for v in row[j + 1 : j + 1 + cnt]])
                         if len(cols[name][-1]) != cnt:
                             raise IndexError
                         j += 1 + cnt
@@ -529,8 +543,9 @@ def ply_coordinate_names(k: int) -> list[str]:
     return [f"x{i}" for i in range(k)]
 
 
-def write_ply(path: Path, points: np.ndarray, simplices: np.ndarray | None, *, comment: str = "",
-              binary: bool = True) -> None:
+def write_ply(
+    path: Path, points: np.ndarray, simplices: np.ndarray | None, *, comment: str = "", binary: bool = True
+) -> None:
     """Write points (any k) and simplices as PLY (see the module docstring).
 
     Parameters

@@ -64,15 +64,22 @@ def _cascades(rec: Reconstruction) -> dict[str, Any]:
     return {
         "n_cascades": len(cascades),
         "cascades": [
-            {"origin": c.origin, "tau": [int(rec.point_input[v]) for v in c.tau], "rule": c.rule, "hole": c.hole,
-             "steps": len(c.steps), "removed": c.removed}
+            {
+                "origin": c.origin,
+                "tau": [int(rec.point_input[v]) for v in c.tau],
+                "rule": c.rule,
+                "hole": c.hole,
+                "steps": len(c.steps),
+                "removed": c.removed,
+            }
             for c in cascades[:REPORT_CASCADES]
         ],
     }
 
 
-def report_dict(rec: Reconstruction, comparison: MeshComparison | None = None,
-                quality: dict[str, Any] | None = None) -> dict[str, Any]:
+def report_dict(
+    rec: Reconstruction, comparison: MeshComparison | None = None, quality: dict[str, Any] | None = None
+) -> dict[str, Any]:
     """The content of :func:`write_report` as plain Python objects.
 
     Parameters
@@ -117,8 +124,7 @@ def report_dict(rec: Reconstruction, comparison: MeshComparison | None = None,
     )
 
 
-def write_report(path: str | os.PathLike, rec: Reconstruction,
-                 comparison: MeshComparison | None = None) -> None:
+def write_report(path: str | os.PathLike, rec: Reconstruction, comparison: MeshComparison | None = None) -> None:
     """Write a JSON summary of a reconstruction.
 
     Keys: ``d k n n_input test theta theta_degrees mode prune_boundary

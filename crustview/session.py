@@ -145,16 +145,22 @@ def resolve_input(source: FileSource, session_file: str | os.PathLike | None = N
     name = Path(source.path).name
     found = next((p for p in tried if p.is_file()), None)
     if found is None:
-        raise SessionError(f"the session's input file '{name}' is no longer at {source.path}"
-                           + (" nor beside the session" if len(tried) > 1 else "")
-                           + "; it was moved or deleted (open the file itself with File ▸ Open)")
+        raise SessionError(
+            f"the session's input file '{name}' is no longer at {source.path}"
+            + (" nor beside the session" if len(tried) > 1 else "")
+            + "; it was moved or deleted (open the file itself with File ▸ Open)"
+        )
     size = found.stat().st_size
     if size != source.size:
-        raise SessionError(f"the session's input file '{found}' changed since the session was saved "
-                           f"({source.size:,} bytes then, {size:,} now); open it with File ▸ Open instead")
+        raise SessionError(
+            f"the session's input file '{found}' changed since the session was saved "
+            f"({source.size:,} bytes then, {size:,} now); open it with File ▸ Open instead"
+        )
     if sha1_of(found) != source.sha1:
-        raise SessionError(f"the session's input file '{found}' changed since the session was saved "
-                           "(same size, other content); open it with File ▸ Open instead")
+        raise SessionError(
+            f"the session's input file '{found}' changed since the session was saved "
+            "(same size, other content); open it with File ▸ Open instead"
+        )
     note = "" if found == tried[0] else f"input file found beside the session: {found}"
     return found, note
 
@@ -218,8 +224,10 @@ class Session:
             raise SessionError("not a crustview session (no 'crustview_session' version key)")
         version = data["crustview_session"]
         if version != VERSION:
-            raise SessionError(f"session format version {version!r} is not supported (this crustview reads "
-                               f"version {VERSION}); save the session again with this version")
+            raise SessionError(
+                f"session format version {version!r} is not supported (this crustview reads "
+                f"version {VERSION}); save the session again with this version"
+            )
         src = _source(data.get("source"))
         d = _int(data, "d", 1)
         test = data.get("test", "cocone")
@@ -234,8 +242,19 @@ class Session:
         prune = data.get("prune_boundary", True)
         if not isinstance(prune, bool):
             raise SessionError("'prune_boundary' must be true or false")
-        return cls(src, d, test, theta, prune, mode, _int(data, "step", 0) if "step" in data else 0, _camera(data.get("camera")),
-                   _projection(data.get("projection")), _layers(data.get("layers", {})), _slice(data.get("slice")))
+        return cls(
+            src,
+            d,
+            test,
+            theta,
+            prune,
+            mode,
+            _int(data, "step", 0) if "step" in data else 0,
+            _camera(data.get("camera")),
+            _projection(data.get("projection")),
+            _layers(data.get("layers", {})),
+            _slice(data.get("slice")),
+        )
 
 
 def write_session(path: str | os.PathLike, session: Session) -> Path:
@@ -264,8 +283,7 @@ def read_session(path: str | os.PathLike) -> Session:
     try:
         data = json.loads(text)
     except json.JSONDecodeError as err:
-        raise SessionError(f"'{p.name}' is not valid JSON (line {err.lineno}, column {err.colno}: "
-                           f"{err.msg})") from None
+        raise SessionError(f"'{p.name}' is not valid JSON (line {err.lineno}, column {err.colno}: {err.msg})") from None
     try:
         return Session.from_dict(data)
     except SessionError as err:
@@ -288,8 +306,11 @@ def _float(data: dict, key: str) -> float:
 
 
 def _floats(v: Any, n: int | None, key: str) -> list[float]:
-    if not isinstance(v, list) or (n is not None and len(v) != n) or not all(
-            isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in v):
+    if (
+        not isinstance(v, list)
+        or (n is not None and len(v) != n)
+        or not all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in v)
+    ):
         size = f"{n} " if n is not None else ""
         raise SessionError(f"'{key}' must be a list of {size}finite numbers")
     return [float(x) for x in v]
@@ -302,8 +323,9 @@ def _source(v: Any) -> FileSource | BuiltinSource:
         if v["kind"] == "builtin":
             src = BuiltinSource(str(v["name"]), _int(v, "n", 1), _int(v, "seed", 0) if "seed" in v else 0)
         else:
-            src = FileSource(str(v["path"]), str(v.get("relative", "")), _int(v, "size", 0), str(v["sha1"]),
-                             _float(v, "mtime"))
+            src = FileSource(
+                str(v["path"]), str(v.get("relative", "")), _int(v, "size", 0), str(v["sha1"]), _float(v, "mtime")
+            )
     except KeyError as err:
         raise SessionError(f"'source' lacks {err.args[0]!r}") from None
     return src
@@ -339,18 +361,29 @@ def _projection(v: Any) -> dict | None:
         if not (i.is_integer() and j.is_integer() and 0 <= i < j < k):
             raise SessionError(f"'projection.angles' names the plane ({i}, {j}), not one of R^{k}")
         rows.append([int(i), int(j), ang])
-    return {"k": k, "origin": _floats(v.get("origin"), k, "projection.origin"),
-            "base": [_floats(r, 3, "projection.base[]") for r in base], "angles": rows,
-            "source": str(v.get("source", "custom")),
-            "stereo_radius": _float(v, "stereo_radius") if "stereo_radius" in v else 0.0}
+    return {
+        "k": k,
+        "origin": _floats(v.get("origin"), k, "projection.origin"),
+        "base": [_floats(r, 3, "projection.base[]") for r in base],
+        "angles": rows,
+        "source": str(v.get("source", "custom")),
+        "stereo_radius": _float(v, "stereo_radius") if "stereo_radius" in v else 0.0,
+    }
 
 
 def _layers(v: Any) -> dict[str, dict]:
     if not isinstance(v, dict):
         raise SessionError("'layers' must be an object of layer name to style")
     out = {}
-    types = {"visible": bool, "color": str, "opacity": (int, float), "size": (int, float), "colorby": str,
-             "mode": str, "shrink": (int, float)}
+    types = {
+        "visible": bool,
+        "color": str,
+        "opacity": (int, float),
+        "size": (int, float),
+        "colorby": str,
+        "mode": str,
+        "shrink": (int, float),
+    }
     for name, style in v.items():
         if not isinstance(style, dict):
             raise SessionError(f"layer '{name}' must be an object")

@@ -49,8 +49,10 @@ class TextPoints:
         """A sentence saying that the header line was skipped (None without a header)."""
         if self.header is None:
             return None
-        return (f"{Path(path).name}: line {self.header_line} was read as column names "
-                f"({', '.join(self.header)}), not as a point.")
+        return (
+            f"{Path(path).name}: line {self.header_line} was read as column names "
+            f"({', '.join(self.header)}), not as a point."
+        )
 
 
 def _shown(line: str, limit: int = 40) -> str:
@@ -130,8 +132,7 @@ def read_text_points(path: str | Path) -> TextPoints:
             )
         if rows and len(values) != len(rows[0]):
             raise InputError(
-                f"Cannot read '{path}': line {lineno} has {len(values)} values "
-                f"but earlier lines have {len(rows[0])}."
+                f"Cannot read '{path}': line {lineno} has {len(values)} values but earlier lines have {len(rows[0])}."
             )
         rows.append(values)  # type: ignore[arg-type]
     if not rows:
@@ -154,7 +155,9 @@ def check_signature(path: Path, kind: str) -> None:
         reason = (err.strerror or str(err)).rstrip(".")
         raise InputError(f"Cannot read '{path}': {reason}.") from None
     if kind == "npy" and not head.startswith(NPY_MAGIC):
-        raise InputError(f"Cannot read '{path}': not a NumPy array file (a .npy file starts with "
-                         "the bytes \\x93NUMPY; this one does not).")
+        raise InputError(
+            f"Cannot read '{path}': not a NumPy array file (a .npy file starts with "
+            "the bytes \\x93NUMPY; this one does not)."
+        )
     if kind == "npz" and not head.startswith(ZIP_MAGICS):
         raise InputError(f"Cannot read '{path}': not a NumPy .npz archive (it is not a zip file).")

@@ -284,8 +284,9 @@ def test_view_without_a_display_is_one_line(capsys, bad_files, monkeypatch):
     assert_one_line_error(proc, "no display", "xvfb-run")
     assert_one_line_error(run_main(capsys), "no display")
     monkeypatch.setenv("DISPLAY", ":9731")  # no X server there
-    assert_one_line_error(run_main(capsys, "view", bad_files / "plane.npy", "-d", 1),
-                          "cannot connect to the X display ':9731'")
+    assert_one_line_error(
+        run_main(capsys, "view", bad_files / "plane.npy", "-d", 1), "cannot connect to the X display ':9731'"
+    )
 
 
 def test_high_dimensions_get_a_warning_first(capsys, tmp_path):
@@ -383,8 +384,7 @@ def knight_runs(tmp_path_factory):
     runs = {}
     for mode, extra in (("robust", ()), ("paper", ("--paper",))):
         npz, report = out / f"{mode}.npz", out / f"{mode}.json"
-        proc = run("reconstruct", RESOURCES / "decimated-knight.off", "-d", 2, "-o", npz, "--report", report,
-                   *extra)
+        proc = run("reconstruct", RESOURCES / "decimated-knight.off", "-d", 2, "-o", npz, "--report", report, *extra)
         assert proc.returncode == 0 and proc.stderr == "", proc.stderr
         runs[mode] = (proc.stdout.splitlines(), npz, report)
     return runs
@@ -451,8 +451,7 @@ def test_report_says_which_extraction_ran_and_why(knight_runs):
     q = rep["sampling_quality"]
     points = read_mesh(RESOURCES / "decimated-knight.off").points
     expected = summary(reconstruct(points, 2, mode="paper"))
-    assert {k: v for k, v in q.items() if k != "seconds"} == \
-        {k: v for k, v in expected.items() if k != "seconds"}
+    assert {k: v for k, v in q.items() if k != "seconds"} == {k: v for k, v in expected.items() if k != "seconds"}
     assert all(0 <= b <= rep["n"] for b in q["beyond"].values())
 
     rep = json.loads(knight_runs["robust"][2].read_text())

@@ -48,8 +48,18 @@ def test_cli_compare_saved_result_against_another_test(tmp_path, capsys):
     rec = reconstruct(s.points, 2)
     write_result(tmp_path / "s.npz", rec)
     lit = reconstruct(s.points, 2, test="literal")
-    assert main(["compare", str(tmp_path / "s.npz"), f"{tmp_path / 's.npy'}@d=2,test=literal",
-                 "--json", str(tmp_path / "c.json")]) == 0
+    assert (
+        main(
+            [
+                "compare",
+                str(tmp_path / "s.npz"),
+                f"{tmp_path / 's.npy'}@d=2,test=literal",
+                "--json",
+                str(tmp_path / "c.json"),
+            ]
+        )
+        == 0
+    )
     text = capsys.readouterr().out
     got = json.loads((tmp_path / "c.json").read_text())
     a = {tuple(r) for r in np.sort(rec.manifold_input_simplices(), axis=1)}

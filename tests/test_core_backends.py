@@ -13,7 +13,6 @@ from crustview.core.prepare import prepare_points
 from delaunay_checks import assert_delaunay_of_a_box, lattice
 
 
-
 def _rows(simplices: np.ndarray) -> np.ndarray:
     return np.unique(np.sort(simplices, axis=1), axis=0)
 
@@ -151,7 +150,8 @@ def test_the_result_names_the_delaunay_code_that_ran():
     assert report_dict(rec)["delaunay_backend"] == rec.delaunay_backend
     k = get_manifold("flat-klein")
     assert reconstruct(k.sample(300, seed=0).points, 2).delaunay_backend == (
-        "CGAL dD Delaunay_triangulation, Epick_d<4> (crustview extension)")
+        "CGAL dD Delaunay_triangulation, Epick_d<4> (crustview extension)"
+    )
     circle = get_manifold("circle")
     assert reconstruct(circle.sample(50, seed=0).points, 1).delaunay_backend == "Qhull (scipy.spatial.Delaunay)"
     # a flat sample in R^4 whose affine hull is 3-dimensional runs in R^3, so CGAL

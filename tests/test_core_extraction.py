@@ -15,6 +15,7 @@ OCTA = np.array([[a, b, c] for a in (0, 1) for b in (2, 3) for c in (4, 5)])
 
 def grid_surface(nu, nv, klein=False):
     """Triangulated torus (or Klein bottle) on an nu x nv grid."""
+
     def vid(i, j):
         if klein and i == nu:  # glue with a flip
             return (0 * nv) + (-j) % nv
@@ -233,8 +234,26 @@ def test_replay_is_exact_and_cheap():
         (grid_surface(4, 5), 20, (1, 2, 1), 0, True),
         (grid_surface(4, 5, klein=True), 20, (1, 2, 1), 0, False),
         # minimal 6-vertex RP^2: Z/2 Betti numbers (1, 1, 1)
-        (np.array([[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5], [0, 5, 1],
-                   [1, 2, 4], [2, 3, 5], [3, 4, 1], [4, 5, 2], [5, 1, 3]]), 6, (1, 1, 1), 1, False),
+        (
+            np.array(
+                [
+                    [0, 1, 2],
+                    [0, 2, 3],
+                    [0, 3, 4],
+                    [0, 4, 5],
+                    [0, 5, 1],
+                    [1, 2, 4],
+                    [2, 3, 5],
+                    [3, 4, 1],
+                    [4, 5, 2],
+                    [5, 1, 3],
+                ]
+            ),
+            6,
+            (1, 1, 1),
+            1,
+            False,
+        ),
         (OCTA, 6, (1, 0, 1), 2, True),
     ],
 )

@@ -30,8 +30,9 @@ def test_chunks_and_threads_give_the_serial_result(monkeypatch, name, n):
     whole = cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp, workers=1)
     monkeypatch.setattr(cand, "CHUNK_CELL_VERTICES", 200)  # many small chunks
     fracs = []
-    threaded = cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp, workers=2,
-                                  progress=fracs.append)
+    threaded = cand.cocone_angles(
+        work, normals, centres, faces, ptr, cs, simplices=simp, workers=2, progress=fracs.append
+    )
     assert np.array_equal(threaded, whole)
     assert len(fracs) > 10 and fracs == sorted(fracs) and fracs[-1] == 1.0
     lit = cand.literal_angles(work[: len(normals)], normals, faces, workers=1)
@@ -79,8 +80,10 @@ def test_the_compiled_face_lists_reject_bad_shapes_clearly():
 
 
 @pytest.mark.parametrize("native", [True, False])
-@pytest.mark.parametrize("backend,k,bounded", [("cgal", 3, True), ("qhull", 3, False), ("qhull", 2, True),
-                                               ("cgal", 4, True), ("cgal", 4, False)])
+@pytest.mark.parametrize(
+    "backend,k,bounded",
+    [("cgal", 3, True), ("qhull", 3, False), ("qhull", 2, True), ("cgal", 4, True), ("cgal", 4, False)],
+)
 def test_facets_from_the_neighbour_table_equal_the_general_enumeration(backend, k, bounded, native, monkeypatch):
     # codimension 1: faces paired through the backend's neighbour table, by the
     # compiled _faces or by numpy; with no bounding points the hull facets
@@ -164,5 +167,12 @@ def test_codimension_1_segment_ends_compiled_equal_numpy_bit_for_bit(monkeypatch
     from crustview.core.delaunay import _segments
 
     with pytest.raises(ValueError, match="outside"):
-        _segments.segments(work, normals[:, :, 0], centres, np.full((1, 3), 10**9, dtype=np.int64),
-                           np.zeros((1, 2), dtype=np.int64), 3, 3)
+        _segments.segments(
+            work,
+            normals[:, :, 0],
+            centres,
+            np.full((1, 3), 10**9, dtype=np.int64),
+            np.zeros((1, 2), dtype=np.int64),
+            3,
+            3,
+        )

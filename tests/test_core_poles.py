@@ -38,8 +38,9 @@ def test_greedy_poles_break_ties_by_the_first_entry(dtype):
     assert pole[0].tolist() == [0, 1]
 
 
-@pytest.mark.parametrize("name, n", [("torus", 1500), ("flat-klein", 700), ("trefoil", 300), ("torus-r5", 250),
-                                     ("s3", 400)])
+@pytest.mark.parametrize(
+    "name, n", [("torus", 1500), ("flat-klein", 700), ("trefoil", 300), ("torus-r5", 250), ("s3", 400)]
+)
 def test_kernel_and_numpy_choose_the_same_poles(name, n, monkeypatch):
     # with the far bounding points: hull samples get a vertex at infinity that
     # competes with the finite vertices in every round

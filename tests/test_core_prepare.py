@@ -130,6 +130,7 @@ def test_extreme_scales_give_the_same_result_as_unit_scale(scale):
     with np.errstate(over="raise", invalid="raise", divide="raise"):
         got = reconstruct(base * scale, 1)
     assert got.topology.closed_manifold and got.topology.betti == (1, 1)
+
     # compared through input rows: subnormal coordinates may number the samples differently
     def by_input(rec):
         faces = np.sort(rec.point_input[rec.manifold], axis=1)

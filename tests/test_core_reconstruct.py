@@ -239,7 +239,6 @@ def test_robust_leaves_a_large_cut_open():
     assert rec.topology.betti[2] == 0
 
 
-
 def test_a_hole_the_paper_itself_caps_stays_capped():
     """A sphere without its cap z > 0.7: T_S has big flat triangles over the hole (their dual
     Voronoi edges run along the normals of the rim samples), and the paper's loop keeps them,

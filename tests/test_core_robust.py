@@ -19,6 +19,7 @@ RESOURCES = Path(__file__).resolve().parents[1] / "resources"
 def scan_points(name):
     return read_mesh(RESOURCES / name).points
 
+
 OCTA_PTS = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], float)
 OCTA = np.sort(np.array([[a, b, c] for a in (0, 1) for b in (2, 3) for c in (4, 5)]), axis=1)
 THETA = np.pi / 8

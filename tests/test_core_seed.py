@@ -133,5 +133,6 @@ def test_bulk_add_leaves_the_state_of_adding_one_by_one():
     assert bulk.orient == one.orient
     # the same pieces: two vertices share a root in one exactly when they do in the other
     verts = range(len(OCTA_PTS))
-    assert [[bulk._find(a) == bulk._find(b) for b in verts] for a in verts] == \
-        [[one._find(a) == one._find(b) for b in verts] for a in verts]
+    assert [[bulk._find(a) == bulk._find(b) for b in verts] for a in verts] == [
+        [one._find(a) == one._find(b) for b in verts] for a in verts
+    ]

@@ -181,8 +181,12 @@ def test_cocone_score_matches_brute_force_on_real_cells():
     assert per_vertex.shape == faces.shape
     score = per_vertex.max(axis=1)
     # a mix of admitted and rejected faces, each checked at every vertex
-    pick = np.concatenate([rng.choice(np.flatnonzero(score < np.pi / 8), 15, replace=False),
-                           rng.choice(np.flatnonzero(score >= np.pi / 8), 15, replace=False)])
+    pick = np.concatenate(
+        [
+            rng.choice(np.flatnonzero(score < np.pi / 8), 15, replace=False),
+            rng.choice(np.flatnonzero(score >= np.pi / 8), 15, replace=False),
+        ]
+    )
     exact = 0
     for fi in pick:
         cell = cc[cs[ptr[fi] : ptr[fi + 1]]]
@@ -245,8 +249,15 @@ def test_cell_boundary_with_no_polygon_worth_a_look_returns_nothing():
     x = np.array([[[0.1, 1, 1, 1], [0.0, 1, 1.2, 1], [0.1, 1.1, 1, 1], [0.0, 1, 1, 1.3]]])
     polygons = np.array([[0, 0, 1, 2, 0, 3]])
     members = np.array([0, 1, 2])
-    out = dualcells.cell_boundary_min(x, nrm, np.zeros((1, 4)), np.empty((0, 3), np.int64),
-                                  (polygons, members), np.array([0.01]), cKDTree(np.zeros((1, 4))))
+    out = dualcells.cell_boundary_min(
+        x,
+        nrm,
+        np.zeros((1, 4)),
+        np.empty((0, 3), np.int64),
+        (polygons, members),
+        np.array([0.01]),
+        cKDTree(np.zeros((1, 4))),
+    )
     assert out.shape == (1,) and np.isinf(out[0])
 
 

@@ -28,8 +28,9 @@ def test_distance_to_filled_ellipse_matches_circle_and_segment():
     np.testing.assert_allclose(seg, [math.hypot(2, 4), 0.2, 1.0, 1.0], atol=1e-9)
 
 
-@pytest.mark.parametrize("name, reach", [("circle", 1.0), ("torus", 0.45), ("clifford-torus", 1 / math.sqrt(2)),
-                                         ("ellipse", 0.25)])
+@pytest.mark.parametrize(
+    "name, reach", [("circle", 1.0), ("torus", 0.45), ("clifford-torus", 1 / math.sqrt(2)), ("ellipse", 0.25)]
+)
 def test_numeric_reach_agrees_with_known_reach(name, reach):
     # the ellipse's reach is its smallest radius of curvature b^2 / a = 0.25
     pts, tan = dense_points(get_manifold(name), 3000, seed=3)

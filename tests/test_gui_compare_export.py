@@ -12,12 +12,6 @@ from crustview.core import reextract  # noqa: E402
 from crustview.core.analysis.complexdiff import diff_complexes  # noqa: E402
 
 
-
-
-
-
-
-
 @pytest.fixture()
 def torus(qtbot, window):
     assert window.load_builtin("torus", n=700)
@@ -47,8 +41,11 @@ def test_compare_with_another_test_through_the_dialog_and_frame_a_listed_simplex
     # the same numbers as an independent run of the core
     other = reextract(rec, "literal", np.radians(15.0), prune_boundary=rec.prune_boundary, mode=rec.mode)
     ref = diff_complexes(rec.points, rec.manifold, other.points, other.manifold, 2)
-    assert (len(c.diff.both), len(c.diff.only_a), len(c.diff.only_b)) == \
-        (len(ref.both), len(ref.only_a), len(ref.only_b))
+    assert (len(c.diff.both), len(c.diff.only_a), len(c.diff.only_b)) == (
+        len(ref.both),
+        len(ref.only_a),
+        len(ref.only_b),
+    )
     assert len(ref.only_a) + len(ref.only_b) > 0
     text = panel.label.text()
     assert f"{len(ref.only_a):,} only in A" in text and f"{len(ref.only_b):,} only in B" in text

@@ -91,6 +91,7 @@ def test_steps_and_jumps_cost_little_more_than_a_frame(qtbot, window, fertility_
         "end": lambda: QTest.keyClick(view, Qt.Key.Key_End),
         "jump": lambda: window.model.player.set_step(int(rng.integers(1, n))),
     }
+
     def middle():
         window.model.player.set_step(n // 2)
 
@@ -112,5 +113,3 @@ def test_steps_and_jumps_cost_little_more_than_a_frame(qtbot, window, fertility_
     assert manifold.GetPoints() is points_before
     for name in actions:
         assert med[name] <= 1.6 * med["floor"] + 0.015, (name, med)
-
-

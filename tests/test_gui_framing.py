@@ -5,6 +5,8 @@ import pytest
 
 pytest.importorskip("pytestqt")
 from gui_helpers import display_xy, load  # noqa: E402
+
+
 def test_a_step_on_the_underside_of_the_torus_is_seen_without_the_top_in_front(qtbot, window):
     rec = load(qtbot, window)
     m = window.model

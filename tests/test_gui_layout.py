@@ -13,9 +13,11 @@ def overlapping(panel: QWidget) -> list[tuple[str, str]]:
     for parent in parents:
         kids = [w for w in parent.children() if isinstance(w, QWidget) and w.isVisible() and not w.isWindow()]
         for i, a in enumerate(kids):
-            for b in kids[i + 1:]:
-                if a.geometry().intersected(b.geometry()).width() > 1 and \
-                        a.geometry().intersected(b.geometry()).height() > 1:
+            for b in kids[i + 1 :]:
+                if (
+                    a.geometry().intersected(b.geometry()).width() > 1
+                    and a.geometry().intersected(b.geometry()).height() > 1
+                ):
                     bad.append((a.objectName() or type(a).__name__, b.objectName() or type(b).__name__))
     return bad
 

@@ -6,6 +6,8 @@ import pytest
 pytest.importorskip("pytestqt")
 from gui_helpers import display_xy, load  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
+
+
 def ray_hits(origin, target, tris):
     """Parameters t in (0, 1) where the segment origin -> target crosses triangles ``tris`` (m, 3, 3)."""
     d = target - origin

@@ -6,6 +6,7 @@ import pytest
 pytest.importorskip("pytestqt")
 from gui_helpers import load as load_builtin  # noqa: E402
 
+
 def topology_row(win, name):
     table = win.info_panel.topology
     for r in range(table.rowCount()):

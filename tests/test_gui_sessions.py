@@ -9,12 +9,6 @@ pytest.importorskip("pytestqt")
 from gui_helpers import answer_file_dialog, wait_idle  # noqa: E402
 
 
-
-
-
-
-
-
 def trigger(win, text):
     next(a for a in win.actions() if a.text() == text).trigger()
 

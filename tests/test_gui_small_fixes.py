@@ -8,6 +8,7 @@ pytest.importorskip("pytestqt")
 from gui_helpers import load  # noqa: E402
 from PySide6.QtCore import Qt  # noqa: E402
 
+
 def test_status_bar_counts_the_candidates_the_layer_shows_while_a_change_is_pending(qtbot, window):
     load(qtbot, window)
     layer = window.model.layers["candidates"]
@@ -147,7 +148,7 @@ def test_the_ground_truth_shows_over_an_opaque_m_s(qtbot, window, source):
     window.view.render()
     on = window.plotter.screenshot(return_img=True).astype(int)
     assert window.view.adapters["truth"].part.n_cells > 0
-    surface = (np.abs(off - off[2, -3]).sum(axis=2) > 40)  # M_S, not the background
+    surface = np.abs(off - off[2, -3]).sum(axis=2) > 40  # M_S, not the background
     changed = np.abs(on - off).sum(axis=2) > 24
     assert (changed & surface).sum() > 0.12 * surface.sum(), (changed & surface).sum() / surface.sum()
 

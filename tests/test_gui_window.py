@@ -11,6 +11,7 @@ from PySide6.QtCore import Qt  # noqa: E402
 
 from crustview.qt.info_dock import BANNER_STYLE  # noqa: E402
 
+
 def shot(win):
     win.view.render()
     return win.plotter.screenshot(return_img=True)
@@ -27,6 +28,7 @@ def front_sample(win):
     p = win.model.projection.project(rec.points)
     return int(np.argmin(np.linalg.norm(p - cam, axis=1)))
 
+
 def test_loading_a_builtin_sample(qtbot, window):
     rec = load(qtbot, window)
     m = window.model
@@ -40,7 +42,6 @@ def test_loading_a_builtin_sample(qtbot, window):
     assert found["Betti numbers (Z/2)"] == ", ".join(map(str, rec.topology.betti))
     assert "torus" in window.windowTitle()
     assert window.run_panel.d.value() == 2
-
 
 
 def test_menu_dialog_dimension_question_and_drop(qtbot, window, tmp_path):
@@ -88,8 +89,9 @@ def test_menu_dialog_dimension_question_and_drop(qtbot, window, tmp_path):
     on_next_dialog(lambda dlg: (dlg.setIntValue(1), dlg.accept()))
     mime = QMimeData()
     mime.setUrls([QUrl.fromLocalFile(str(curve))])
-    drop = QDropEvent(QPoint(10, 10), Qt.DropAction.CopyAction, mime, Qt.MouseButton.NoButton,
-                      Qt.KeyboardModifier.NoModifier)
+    drop = QDropEvent(
+        QPoint(10, 10), Qt.DropAction.CopyAction, mime, Qt.MouseButton.NoButton, Qt.KeyboardModifier.NoModifier
+    )
     window.dropEvent(drop)
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
     assert window.model.source == "trefoil.csv" and window.model.rec.d == 1 and window.model.rec.n == 150
@@ -103,12 +105,18 @@ def test_keyboard_and_slider_stepping_follow_the_recorded_steps(qtbot, window):
     def recorded(i):
         """Simplices alive after i steps, from the step records alone."""
         return len(ext.simplices) - sum(len(s.removed) for s in ext.steps[:i])
+
     manifold = window.view.adapters["manifold"].part
     window.activateWindow()
     qtbot.waitActive(window)
     window.plotter.setFocus()
-    for key, want in ((Qt.Key.Key_Right, 1), (Qt.Key.Key_Right, 2), (Qt.Key.Key_Left, 1),
-                      (Qt.Key.Key_End, ext.n_steps), (Qt.Key.Key_Home, 0)):
+    for key, want in (
+        (Qt.Key.Key_Right, 1),
+        (Qt.Key.Key_Right, 2),
+        (Qt.Key.Key_Left, 1),
+        (Qt.Key.Key_End, ext.n_steps),
+        (Qt.Key.Key_Home, 0),
+    ):
         qtbot.keyClick(window.plotter, key)
         assert window.model.player.position == want
         assert manifold.n_cells == recorded(want)
@@ -542,8 +550,7 @@ def test_saved_result_with_another_d_keeps_its_test_and_theta(qtbot, window, tmp
     from crustview.core import reconstruct
     from crustview.core.samples.manifolds import get_manifold
 
-    saved = reconstruct(get_manifold("sphere").sample(300, seed=0).points, 2, test="literal",
-                        theta=np.radians(30))
+    saved = reconstruct(get_manifold("sphere").sample(300, seed=0).points, 2, test="literal", theta=np.radians(30))
     path = tmp_path / "s.npz"
     io.write_result(path, saved)
     assert window.open_file(path, d=1)

@@ -67,9 +67,7 @@ def test_points_round_trip(tmp_path, suffix, k):
 def test_text_formats_comments_header_and_separators(tmp_path):
     f = tmp_path / "a.csv"
     f.write_text("# exported\nx, y, z\n\n1, 2, 3\n# mid comment\n4,5,6\n  7\t8  9  \n1e-3;2.5;-3\n")
-    np.testing.assert_array_equal(
-        read_points(f), [[1, 2, 3], [4, 5, 6], [7, 8, 9], [1e-3, 2.5, -3]]
-    )
+    np.testing.assert_array_equal(read_points(f), [[1, 2, 3], [4, 5, 6], [7, 8, 9], [1e-3, 2.5, -3]])
 
 
 @pytest.mark.parametrize("suffix", [".obj", ".off", ".stl", ".vtu"])
@@ -326,10 +324,21 @@ def test_run_parameters_round_trip_and_plain_files_have_none(tmp_path):
     rec = reconstruct(pts, 1, test="cocone-all", theta=0.3, prune_boundary=False, mode="paper")
     write_result(tmp_path / "r.npz", rec)
     got = read_run_parameters(tmp_path / "r.npz")
-    assert (got["d"], got["test"], got["theta"], got["prune_boundary"], got["mode"]) == \
-        (1, "cocone-all", 0.3, False, "paper")
-    again = reconstruct(read_points(tmp_path / "r.npz"), got["d"], test=got["test"], theta=got["theta"],
-                        prune_boundary=got["prune_boundary"], mode=got["mode"])
+    assert (got["d"], got["test"], got["theta"], got["prune_boundary"], got["mode"]) == (
+        1,
+        "cocone-all",
+        0.3,
+        False,
+        "paper",
+    )
+    again = reconstruct(
+        read_points(tmp_path / "r.npz"),
+        got["d"],
+        test=got["test"],
+        theta=got["theta"],
+        prune_boundary=got["prune_boundary"],
+        mode=got["mode"],
+    )
     assert _rows(again.point_input[again.manifold]) == _rows(got["simplices"])  # the same M_S
     np.savez(tmp_path / "plain.npz", points=pts)
     np.save(tmp_path / "plain.npy", pts)
@@ -366,8 +375,14 @@ def test_saved_mode_round_trip(tmp_path):
         write_result(path, rec)
         got = read_run_parameters(path)
         assert got["mode"] == rec.mode
-        again = reconstruct(read_points(path), got["d"], test=got["test"], theta=got["theta"],
-                            prune_boundary=got["prune_boundary"], mode=got["mode"])
+        again = reconstruct(
+            read_points(path),
+            got["d"],
+            test=got["test"],
+            theta=got["theta"],
+            prune_boundary=got["prune_boundary"],
+            mode=got["mode"],
+        )
         assert _rows(again.point_input[again.manifold]) == _rows(got["simplices"])
 
     # a result saved before the robust extraction existed has no mode: the paper's loop made it

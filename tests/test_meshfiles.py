@@ -63,9 +63,11 @@ def test_4off_is_homogeneous(tmp_path):
 
 
 def test_noff_in_r4_with_comments_and_face_colours(tmp_path):
-    text = ("nOFF # four dimensions\n4\n5 2 0\n"
-            "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1 # last vertex\n"
-            "3 0 1 2 255 0 0\n4 1 2 3 4 0.5 0.5 0.5 1\n")
+    text = (
+        "nOFF # four dimensions\n4\n5 2 0\n"
+        "0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1 # last vertex\n"
+        "3 0 1 2 255 0 0\n4 1 2 3 4 0.5 0.5 0.5 1\n"
+    )
     mesh = read_any(_write(tmp_path, "a.noff", text))
     assert mesh.points.shape == (5, 4) and mesh.points[4, 3] == 1
     assert [c.tolist() for c in mesh.cells] == [[[0, 1, 2]], [[1, 2, 3, 4]]]
@@ -78,8 +80,9 @@ def test_4noff_has_ndim_plus_one_components(tmp_path):
 
 def test_normals_colours_and_texture_prefixes_are_skipped(tmp_path):
     """'N' (upper case) is normals, 'n' (lower case) is n-dimensional."""
-    text = "STCNOFF\n3 1 0\n" + "".join(
-        f"{i} {i + 1} {i + 2}  0 0 1  1 0 0 1  0.5 0.5\n" for i in range(3)) + "3 2 1 0\n"
+    text = (
+        "STCNOFF\n3 1 0\n" + "".join(f"{i} {i + 1} {i + 2}  0 0 1  1 0 0 1  0.5 0.5\n" for i in range(3)) + "3 2 1 0\n"
+    )
     mesh = read_any(_write(tmp_path, "c.off", text))
     np.testing.assert_array_equal(mesh.points, [[0, 1, 2], [1, 2, 3], [2, 3, 4]])
     assert mesh.cells[0].tolist() == [[2, 1, 0]]
@@ -94,7 +97,13 @@ def test_binary_off_written_by_hand(tmp_path):
     """'OFF BINARY': big-endian int32 counts and indices, float32 coordinates, a colour count per face."""
     body = struct.pack(">3i", 4, 2, 0)
     body += struct.pack(">12f", 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1)
-    body += struct.pack(">4i", 3, 0, 1, 2, ) + struct.pack(">i", 0)
+    body += struct.pack(
+        ">4i",
+        3,
+        0,
+        1,
+        2,
+    ) + struct.pack(">i", 0)
     body += struct.pack(">4i", 3, 0, 2, 3) + struct.pack(">i3f", 3, 1, 0, 0)
     path = tmp_path / "bin.off"
     path.write_bytes(b"OFF BINARY\n" + body)
@@ -126,8 +135,7 @@ def test_bad_off_files_are_one_sentence(tmp_path, text, fragment):
 
 # ---------------------------------------------------------------- faces as d-simplices
 def test_quads_and_pentagons_become_triangle_fans(tmp_path):
-    path = _write(tmp_path, "q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 2 0\nv 0 0 1\n"
-                                     "f 1 2 3 4\nf 1 2 6\n")
+    path = _write(tmp_path, "q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 2 0\nv 0 0 1\nf 1 2 3 4\nf 1 2 6\n")
     simp = read_mesh(path).simplices(2)
     assert {tuple(r) for r in simp.tolist()} == {(0, 1, 2), (0, 2, 3), (0, 1, 5)}
     pent = read_any(_write(tmp_path, "p.off", "OFF\n5 1 0\n0 0 0\n1 0 0\n1 1 0\n0.5 2 0\n0 1 0\n5 0 1 2 3 4\n"))
@@ -153,10 +161,12 @@ def test_obj_relative_indices_are_refused(tmp_path):
 
 # ---------------------------------------------------------------- PLY variants
 def test_ply_ascii_with_w_and_ignored_properties(tmp_path):
-    text = ("ply\nformat ascii 1.0\ncomment hand-made\nelement vertex 4\nproperty float x\nproperty float y\n"
-            "property float z\nproperty float w\nproperty float nx\nelement face 1\n"
-            "property list uchar int vertex_indices\nelement edge 1\nproperty int vertex1\nproperty int vertex2\n"
-            "end_header\n0 0 0 0 9\n1 0 0 1 9\n0 1 0 2 9\n0 0 1 3 9\n3 0 1 2\n2 3\n")
+    text = (
+        "ply\nformat ascii 1.0\ncomment hand-made\nelement vertex 4\nproperty float x\nproperty float y\n"
+        "property float z\nproperty float w\nproperty float nx\nelement face 1\n"
+        "property list uchar int vertex_indices\nelement edge 1\nproperty int vertex1\nproperty int vertex2\n"
+        "end_header\n0 0 0 0 9\n1 0 0 1 9\n0 1 0 2 9\n0 0 1 3 9\n3 0 1 2\n2 3\n"
+    )
     mesh = read_any(_write(tmp_path, "w.ply", text))
     np.testing.assert_array_equal(mesh.points[:, 3], [0, 1, 2, 3])
     assert mesh.points.shape == (4, 4)
@@ -167,9 +177,11 @@ def test_ply_big_endian_binary_x0_to_x4(tmp_path):
     pts = np.arange(30, dtype=">f8").reshape(6, 5)
     faces = np.zeros(2, dtype=[("n", "u1"), ("v", ">i4", (3,))])
     faces["n"], faces["v"] = 3, [[0, 1, 2], [3, 4, 5]]
-    head = ("ply\nformat binary_big_endian 1.0\nelement vertex 6\n"
-            + "".join(f"property double x{i}\n" for i in range(5))
-            + "element face 2\nproperty list uchar int vertex_indices\nend_header\n")
+    head = (
+        "ply\nformat binary_big_endian 1.0\nelement vertex 6\n"
+        + "".join(f"property double x{i}\n" for i in range(5))
+        + "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+    )
     path = tmp_path / "be.ply"
     path.write_bytes(head.encode() + pts.tobytes() + faces.tobytes())
     mesh = read_mesh(path)
@@ -179,8 +191,10 @@ def test_ply_big_endian_binary_x0_to_x4(tmp_path):
 
 def test_truncated_binary_ply_is_one_sentence(tmp_path):
     path = tmp_path / "cut.ply"
-    path.write_bytes(b"ply\nformat binary_little_endian 1.0\nelement vertex 9\nproperty double x\n"
-                     b"property double y\nend_header\n" + b"\0" * 20)
+    path.write_bytes(
+        b"ply\nformat binary_little_endian 1.0\nelement vertex 9\nproperty double x\n"
+        b"property double y\nend_header\n" + b"\0" * 20
+    )
     with pytest.raises(InputError, match="ends early or is malformed"):
         read_points(path)
 

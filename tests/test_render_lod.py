@@ -57,4 +57,5 @@ def test_even_subset_and_its_note():
     assert len(idx) == 100_000 and np.all(np.diff(idx) == 10)
     assert subset_note("Normal planes", 10, 10) == ""
     assert subset_note("Normal planes", 100_000, 1_000_000).startswith(
-        "Normal planes: drawn 100,000 of 1,000,000 (every 10th sample)")
+        "Normal planes: drawn 100,000 of 1,000,000 (every 10th sample)"
+    )

@@ -80,20 +80,26 @@ def test_planar_voronoi_edges_match_scipy():
 
     rng = np.random.default_rng(2)
     pts = rng.random((40, 2))
-    ring = 10 * np.stack([np.cos(np.linspace(0, 2 * np.pi, 12, endpoint=False)),
-                          np.sin(np.linspace(0, 2 * np.pi, 12, endpoint=False))], axis=1)
+    ring = 10 * np.stack(
+        [np.cos(np.linspace(0, 2 * np.pi, 12, endpoint=False)), np.sin(np.linspace(0, 2 * np.pi, 12, endpoint=False))],
+        axis=1,
+    )
     allp = np.vstack([pts, ring])
     tri = Delaunay(allp)
     vor = Voronoi(allp)
-    a, b = planar_voronoi_edges(tri.simplices, _circumcentres(allp, tri.simplices), len(pts),
-                                np.full(2, -100.0), np.full(2, 100.0))
+    a, b = planar_voronoi_edges(
+        tri.simplices, _circumcentres(allp, tri.simplices), len(pts), np.full(2, -100.0), np.full(2, 100.0)
+    )
 
     def key(p, q):
         return tuple(sorted([tuple(np.round(p, 6)), tuple(np.round(q, 6))]))
 
     # each finite ridge between two points with at least one sample
-    want = {key(*vor.vertices[r]) for (p, q), r in zip(vor.ridge_points, vor.ridge_vertices)
-            if min(p, q) < len(pts) and -1 not in r}
+    want = {
+        key(*vor.vertices[r])
+        for (p, q), r in zip(vor.ridge_points, vor.ridge_vertices)
+        if min(p, q) < len(pts) and -1 not in r
+    }
     got = [key(p, q) for p, q in zip(a, b)]
     assert len(got) == len(set(got)) == len(want)
     assert set(got) == want

@@ -69,7 +69,7 @@ def test_model_open_faces_match_a_direct_count(torus_run):
         for s in simp:
             s = sorted(s)
             for a in range(len(s)):
-                c[tuple(s[:a] + s[a + 1:])] += 1
+                c[tuple(s[:a] + s[a + 1 :])] += 1
         want = {f: n for f, n in c.items() if n == 1 or n > 2}
         got = {tuple(int(v) for v in f): int(n) for f, n in zip(faces, counts)}
         assert got == want

@@ -8,9 +8,18 @@ from crustview.core.samples.manifolds import MANIFOLDS, get_manifold
 from crustview.scene.shapes import name_of, shape_name
 
 TRUE_NAMES = {
-    "circle": "circle", "ellipse": "circle", "trefoil": "circle", "hopf-link": "2 circles",
-    "circle-r4": "circle", "sphere": "sphere", "ellipsoid": "sphere", "sphere-r4": "sphere",
-    "torus": "torus", "clifford-torus": "torus", "torus-r5": "torus", "flat-klein": "Klein bottle",
+    "circle": "circle",
+    "ellipse": "circle",
+    "trefoil": "circle",
+    "hopf-link": "2 circles",
+    "circle-r4": "circle",
+    "sphere": "sphere",
+    "ellipsoid": "sphere",
+    "sphere-r4": "sphere",
+    "torus": "torus",
+    "clifford-torus": "torus",
+    "torus-r5": "torus",
+    "flat-klein": "Klein bottle",
     "s3": "S³ (a Z/2-homology 3-sphere)",
 }
 

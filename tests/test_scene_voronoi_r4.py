@@ -19,5 +19,5 @@ def test_the_4_cube_has_24_square_2_faces():
         assert (np.ptp(t, axis=0) < 1e-9).sum() == 2
     u, v = verts[tris[:, 1]] - verts[tris[:, 0]], verts[tris[:, 2]] - verts[tris[:, 0]]
     uu, vv, uv = (u * u).sum(1), (v * v).sum(1), (u * v).sum(1)
-    area = 0.5 * np.sqrt(uu * vv - uv ** 2).sum()
+    area = 0.5 * np.sqrt(uu * vv - uv**2).sum()
     assert np.isclose(area, 24 * 4.0)  # the squares are covered once, not folded

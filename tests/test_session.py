@@ -30,14 +30,36 @@ def _full_session(tmp_path) -> tuple[Session, object]:
     np.savetxt(pts, np.random.default_rng(0).normal(size=(30, 3)))
     proj = Projection(4)
     proj.set_angle(0, 3, 0.4)
-    s = Session(file_source(pts, tmp_path / "s.crustview.json"), d=2, test="literal", theta=0.3,
-                prune_boundary=False, mode="paper", step=17,
-                camera={"position": [1.0, 2.0, 3.0], "focal_point": [0.0, 0.0, 0.0], "up": [0.0, 0.0, 1.0],
-                        "view_angle": 30.0, "parallel": False, "parallel_scale": 1.0},
-                projection=proj.state(),
-                layers={"points": {"visible": False, "color": "#123456", "opacity": 0.5, "size": 4.0,
-                                   "colorby": "x4", "mode": "", "shrink": 1.0}},
-                slice={"offset": -0.25, "cut": True})
+    s = Session(
+        file_source(pts, tmp_path / "s.crustview.json"),
+        d=2,
+        test="literal",
+        theta=0.3,
+        prune_boundary=False,
+        mode="paper",
+        step=17,
+        camera={
+            "position": [1.0, 2.0, 3.0],
+            "focal_point": [0.0, 0.0, 0.0],
+            "up": [0.0, 0.0, 1.0],
+            "view_angle": 30.0,
+            "parallel": False,
+            "parallel_scale": 1.0,
+        },
+        projection=proj.state(),
+        layers={
+            "points": {
+                "visible": False,
+                "color": "#123456",
+                "opacity": 0.5,
+                "size": 4.0,
+                "colorby": "x4",
+                "mode": "",
+                "shrink": 1.0,
+            }
+        },
+        slice={"offset": -0.25, "cut": True},
+    )
     return s, pts
 
 
@@ -94,7 +116,7 @@ def test_changed_input_is_refused_even_at_the_same_size(tmp_path):
         resolve_input(read_session(path).source, path)
     swapped = bytearray(text)
     i = swapped.index(b"1")
-    swapped[i:i + 1] = b"2"  # same size, other content
+    swapped[i : i + 1] = b"2"  # same size, other content
     pts.write_bytes(bytes(swapped))
     with pytest.raises(SessionError, match="same size, other content"):
         resolve_input(read_session(path).source, path)
@@ -102,23 +124,37 @@ def test_changed_input_is_refused_even_at_the_same_size(tmp_path):
     assert resolve_input(read_session(path).source, path)[0] == pts.resolve()
 
 
-@pytest.mark.parametrize("content, words", [
-    ("{not json", "not valid JSON (line 1"),
-    ("[1, 2]", "holds no JSON object"),
-    ("{}", "no 'crustview_session' version key"),
-    ('{"crustview_session": 2}', "version 2 is not supported"),
-    ('{"crustview_session": 1, "source": {"kind": "url"}}', "kind 'file' or 'builtin'"),
-    ('{"crustview_session": 1, "source": {"kind": "builtin", "name": "torus", "n": 10}, "d": 0}', "'d' must be"),
-    ('{"crustview_session": 1, "source": {"kind": "builtin", "name": "torus", "n": 10}, "d": 2, '
-     '"test": "magic", "theta": 0.3}', "'test' is 'magic'"),
-    ('{"crustview_session": 1, "source": {"kind": "builtin", "name": "torus", "n": 10}, "d": 2, '
-     '"theta": 3.0}', "between 0 and"),
-    ('{"crustview_session": 1, "source": {"kind": "builtin", "name": "torus", "n": 10}, "d": 2, '
-     '"theta": 0.3, "camera": {"position": [1, 2]}}', "camera.position"),
-    ('{"crustview_session": 1, "source": {"kind": "builtin", "name": "torus", "n": 10}, "d": 2, '
-     '"theta": 0.3, "layers": {"points": {"opacity": "high"}}}', "'opacity' has the wrong type"),
-    ('{"crustview_session": 1, "source": {"kind": "file", "path": "/x"}, "d": 2, "theta": 0.3}', "'size'"),
-])
+@pytest.mark.parametrize(
+    "content, words",
+    [
+        ("{not json", "not valid JSON (line 1"),
+        ("[1, 2]", "holds no JSON object"),
+        ("{}", "no 'crustview_session' version key"),
+        ('{"crustview_session": 2}', "version 2 is not supported"),
+        ('{"crustview_session": 1, "source": {"kind": "url"}}', "kind 'file' or 'builtin'"),
+        ('{"crustview_session": 1, "source": {"kind": "builtin", "name": "torus", "n": 10}, "d": 0}', "'d' must be"),
+        (
+            '{"crustview_session": 1, "source": {"kind": "builtin", "name": "torus", "n": 10}, "d": 2, '
+            '"test": "magic", "theta": 0.3}',
+            "'test' is 'magic'",
+        ),
+        (
+            '{"crustview_session": 1, "source": {"kind": "builtin", "name": "torus", "n": 10}, "d": 2, "theta": 3.0}',
+            "between 0 and",
+        ),
+        (
+            '{"crustview_session": 1, "source": {"kind": "builtin", "name": "torus", "n": 10}, "d": 2, '
+            '"theta": 0.3, "camera": {"position": [1, 2]}}',
+            "camera.position",
+        ),
+        (
+            '{"crustview_session": 1, "source": {"kind": "builtin", "name": "torus", "n": 10}, "d": 2, '
+            '"theta": 0.3, "layers": {"points": {"opacity": "high"}}}',
+            "'opacity' has the wrong type",
+        ),
+        ('{"crustview_session": 1, "source": {"kind": "file", "path": "/x"}, "d": 2, "theta": 0.3}', "'size'"),
+    ],
+)
 def test_malformed_or_other_version_files_give_one_line(tmp_path, content, words):
     path = tmp_path / "bad.crustview.json"
     path.write_text(content)
@@ -145,7 +181,8 @@ def test_view_command_reports_a_bad_session_in_one_line(tmp_path):
     bad = tmp_path / "x.crustview.json"
     bad.write_text('{"crustview_session": 7}')
     env = {**os.environ, "QT_QPA_PLATFORM": "offscreen"}
-    out = subprocess.run([sys.executable, "-m", "crustview", "view", str(bad)], capture_output=True, text=True,
-                         env=env, timeout=60)
+    out = subprocess.run(
+        [sys.executable, "-m", "crustview", "view", str(bad)], capture_output=True, text=True, env=env, timeout=60
+    )
     assert out.returncode == 2
     assert out.stderr.strip().count("\n") == 0 and "version 7 is not supported" in out.stderr

@@ -259,9 +259,7 @@ def prepare_points(
     small = uniq / unit
     n = len(uniq)
     if n < k + 2:
-        raise InputError(
-            f"only {n} distinct points remain after merging duplicates; need at least {k + 2} in R^{k}"
-        )
+        raise InputError(f"only {n} distinct points remain after merging duplicates; need at least {k + 2} in R^{k}")
     center_small = small.mean(axis=0)
     centred = small - center_small
     center = center_small * unit

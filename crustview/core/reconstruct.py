@@ -44,9 +44,7 @@ def _validate_params(test: str, theta: float, mode: str = "robust") -> float:
     except (TypeError, ValueError):
         raise InputError(f"theta must be an angle in radians; got {theta!r}") from None
     if not 0 < theta <= SCORE_LIMIT:
-        raise InputError(
-            f"theta must lie in (0, {np.degrees(SCORE_LIMIT):.0f} deg]; got {np.degrees(theta):.3g} deg"
-        )
+        raise InputError(f"theta must lie in (0, {np.degrees(SCORE_LIMIT):.0f} deg]; got {np.degrees(theta):.3g} deg")
     return theta
 
 
@@ -169,7 +167,13 @@ def reconstruct(
     lit = cand.literal_angles(prep.work, normals_w, faces)
     _next_stage(cancel)
     coc = cand.cocone_angles(
-        work_all, normals_w, centres, faces, cptr, csimp, simplices=simplices,
+        work_all,
+        normals_w,
+        centres,
+        faces,
+        cptr,
+        csimp,
+        simplices=simplices,
         progress=lambda f: (report("candidates", f), _check(cancel)),
     )
     del cptr, csimp  # the dual cells' incidences: the largest temporaries of the run
@@ -213,8 +217,7 @@ def reconstruct(
         delaunay_backend=backend_label(r),
     )
     del faces, lit, coc, simplices, normals, tangents, candidates, voronoi  # held by rec only
-    return reextract(rec, test, theta, prune_boundary=prune_boundary, mode=mode, progress=progress,
-                     cancel=cancel)
+    return reextract(rec, test, theta, prune_boundary=prune_boundary, mode=mode, progress=progress, cancel=cancel)
 
 
 def reextract(
@@ -251,12 +254,23 @@ def reextract(
     scale = prescale(rec.points)
     with gc_paused():  # see memory.gc_paused: the extraction makes many long-lived small objects
         if mode == "robust":
-            ext = extract_robust(rec.points / scale, rec.candidates.faces, rec.candidates.angles[test], theta,
-                                 spacing=rec.spacing / scale, cancel=cancel,
-                                 progress=lambda f: report("extraction", f))
+            ext = extract_robust(
+                rec.points / scale,
+                rec.candidates.faces,
+                rec.candidates.angles[test],
+                theta,
+                spacing=rec.spacing / scale,
+                cancel=cancel,
+                progress=lambda f: report("extraction", f),
+            )
         else:
-            ext = extract(rec.points / scale, tset, prune_boundary=prune_boundary, cancel=cancel,
-                          progress=lambda f: report("extraction", f))
+            ext = extract(
+                rec.points / scale,
+                tset,
+                prune_boundary=prune_boundary,
+                cancel=cancel,
+                progress=lambda f: report("extraction", f),
+            )
     manifold = ext.complex_at(ext.n_steps)
     timings["extraction"] = time.perf_counter() - t0
     t0 = time.perf_counter()
@@ -291,8 +305,18 @@ def reextract(
     timings["topology"] = time.perf_counter() - t0
     report("done", 1.0)
     cands = replace(rec.candidates, theta=theta)
-    return replace(rec, candidates=cands, test=test, theta=theta, extraction=ext, manifold=manifold,
-                   topology=topo, timings=timings, prune_boundary=prune_boundary, mode=mode)
+    return replace(
+        rec,
+        candidates=cands,
+        test=test,
+        theta=theta,
+        extraction=ext,
+        manifold=manifold,
+        topology=topo,
+        timings=timings,
+        prune_boundary=prune_boundary,
+        mode=mode,
+    )
 
 
 def _robust_messages(ext, topo) -> None:
@@ -301,11 +325,11 @@ def _robust_messages(ext, topo) -> None:
     counts = ext.counts_by_rule()
     extra = {r: c["added"] for r, c in counts.items() if c.get("added")}
     if extra:
-        topo.messages.append("steps beyond the paper: "
-                             + ", ".join(f"{r} added {c}" for r, c in extra.items()))
+        topo.messages.append("steps beyond the paper: " + ", ".join(f"{r} added {c}" for r, c in extra.items()))
     if topo.boundary_faces:
         topo.messages.append(
             f"{topo.boundary_faces} boundary faces remain: holes too large to be undersampling gaps "
-            "(an open scan), or gaps the extension could not close")
+            "(an open scan), or gaps the extension could not close"
+        )
     if topo.unused_samples:
         topo.messages.append(f"{topo.unused_samples} samples are not vertices of M_S")

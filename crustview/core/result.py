@@ -214,9 +214,16 @@ class Extraction:
             st = self.steps[o]
             if st.rule == RULE_RESOLVE and counts[o] <= 1:
                 continue  # a decision that exposed nothing is no cascade
-            out.append(Cascade(int(o), st.tau, st.rule, st.rule == RULE_PRUNE and st.tau in hole_set
-                               and len(st.removed) == 1, np.sort(order[starts[o]:starts[o + 1]]),
-                               int(sizes[o])))
+            out.append(
+                Cascade(
+                    int(o),
+                    st.tau,
+                    st.rule,
+                    st.rule == RULE_PRUNE and st.tau in hole_set and len(st.removed) == 1,
+                    np.sort(order[starts[o] : starts[o + 1]]),
+                    int(sizes[o]),
+                )
+            )
         out.sort(key=lambda c: (-c.removed, c.origin))
         return out
 

@@ -25,8 +25,9 @@ def _excepthook(window):
     return hook
 
 
-def run_app(path: str | os.PathLike | None = None, d: int | None = None, demo: bool = True,
-            mode: str | None = None) -> int:
+def run_app(
+    path: str | os.PathLike | None = None, d: int | None = None, demo: bool = True, mode: str | None = None
+) -> int:
     """Open the main window and run the Qt event loop.
 
     Parameters

@@ -43,15 +43,24 @@ from .worker import Runner
 #: At most this many differing simplices are listed.
 MAX_LISTED = 500
 
-_WHAT = {"result": "a saved result (.npz): its M_S", "mesh": "a mesh file: its faces",
-         "run": "M_S under another test, θ or extraction"}
+_WHAT = {
+    "result": "a saved result (.npz): its M_S",
+    "mesh": "a mesh file: its faces",
+    "run": "M_S under another test, θ or extraction",
+}
 
 
 class CompareDialog(QDialog):
     """Choose B: a saved result, a mesh file or another run of Algorithm 3."""
 
-    def __init__(self, parent: QWidget | None = None, test: str = "cocone", theta: float = math.pi / 8,
-                 mode: str = "robust", folder: str = "") -> None:
+    def __init__(
+        self,
+        parent: QWidget | None = None,
+        test: str = "cocone",
+        theta: float = math.pi / 8,
+        mode: str = "robust",
+        folder: str = "",
+    ) -> None:
         super().__init__(parent)
         self.setWindowTitle("Compare M_S with…")
         self.folder = folder
@@ -87,8 +96,9 @@ class CompareDialog(QDialog):
         self.mode.addItem("the paper's Algorithm 3", "paper")
         self.mode.setCurrentIndex(max(0, self.mode.findData(mode)))
         form.addRow("extraction", self.mode)
-        self.buttons = QDialogButtonBox(QDialogButtonBox.StandardButton.Ok | QDialogButtonBox.StandardButton.Cancel,
-                                        self)
+        self.buttons = QDialogButtonBox(
+            QDialogButtonBox.StandardButton.Ok | QDialogButtonBox.StandardButton.Cancel, self
+        )
         self.buttons.accepted.connect(self.accept)
         self.buttons.rejected.connect(self.reject)
         form.addRow(self.buttons)
@@ -110,8 +120,11 @@ class CompareDialog(QDialog):
         ok.setEnabled(run or bool(self.path.text().strip()))
 
     def _browse(self) -> None:
-        pattern = "Saved results (*.npz)" if self.kind == "result" else \
-            "Meshes (*.off *.noff *.ply *.obj *.vtk *.stl);;All files (*)"
+        pattern = (
+            "Saved results (*.npz)"
+            if self.kind == "result"
+            else "Meshes (*.off *.noff *.ply *.obj *.vtk *.stl);;All files (*)"
+        )
         path, _ = QFileDialog.getOpenFileName(self, "Compare with", self.folder, pattern)
         if path:
             self.path.setText(path)
@@ -119,8 +132,12 @@ class CompareDialog(QDialog):
     def spec(self) -> dict:
         """What :func:`~crustview.scene.comparison.comparison_job` takes."""
         if self.kind == "run":
-            return {"kind": "run", "test": self.test.currentText(), "theta": math.radians(self.theta.value()),
-                    "mode": self.mode.currentData()}
+            return {
+                "kind": "run",
+                "test": self.test.currentText(),
+                "theta": math.radians(self.theta.value()),
+                "mode": self.mode.currentData(),
+            }
         return {"kind": self.kind, "path": self.path.text().strip()}
 
 
@@ -164,8 +181,9 @@ class ComparePanel(QGroupBox):
         self.list.itemActivated.connect(self._item)
         lay.addWidget(self.list)
         self.runner = Runner(self)
-        self.runner.progress.connect(lambda stage, f: (self.progress.setValue(int(100 * f)),
-                                                       self.progress.setFormat(f"{stage} %p%")))
+        self.runner.progress.connect(
+            lambda stage, f: (self.progress.setValue(int(100 * f)), self.progress.setFormat(f"{stage} %p%"))
+        )
         self.runner.done.connect(self._done)
         self.runner.failed.connect(lambda msg: self._ended(f"The comparison failed: {escape(msg)}"))
         self.runner.cancelled.connect(lambda: self._ended("Comparison cancelled."))
@@ -224,7 +242,8 @@ class ComparePanel(QGroupBox):
         self.label.setText(
             f"<b>A</b> = {escape(c.label_a)}: {ta.n_simplices:,} simplices, Betti {fmt_tuple(ta.betti)}<br>"
             f"<b>B</b> = {escape(c.label_b)}: {tb.n_simplices:,} simplices, Betti {fmt_tuple(tb.betti)}<br>"
-            + escape(c.summary()))
+            + escape(c.summary())
+        )
         rows = c.differing()
         half = MAX_LISTED // 2  # both sides get listed
         shown = [x for x in rows if x[0] == "A"][:half] + [x for x in rows if x[0] == "B"][:half]

@@ -53,8 +53,10 @@ class EpsilonHistogram(QWidget):
         self.edges = np.zeros(0)
         self.counts = np.zeros(0, dtype=np.int64)
         self.bounds: dict[str, float] = {}
-        self.setToolTip("Estimated ε of the samples (cell radius in the tangent plane / distance to the "
-                        "nearest pole). Dashed: the paper's bounds; bars beyond them are undersampled.")
+        self.setToolTip(
+            "Estimated ε of the samples (cell radius in the tangent plane / distance to the "
+            "nearest pole). Dashed: the paper's bounds; bars beyond them are undersampled."
+        )
 
     def set_quality(self, q: SamplingQuality | None) -> None:
         if q is None:
@@ -106,8 +108,7 @@ class EpsilonHistogram(QWidget):
         p.setPen(QColor("#333333"))
         p.drawLine(8, h - 16, self.width() - 8, h - 16)
         p.drawText(QRectF(8, h - 15, 60, 14), Qt.AlignmentFlag.AlignLeft, "0")
-        p.drawText(QRectF(self.width() - 80, h - 15, 72, 14), Qt.AlignmentFlag.AlignRight,
-                   f"≥ {self.edges[-1]:.2g}")
+        p.drawText(QRectF(self.width() - 80, h - 15, 72, 14), Qt.AlignmentFlag.AlignRight, f"≥ {self.edges[-1]:.2g}")
         pen = QPen(QColor("#111111"))
         pen.setStyle(Qt.PenStyle.DashLine)
         p.setPen(pen)
@@ -117,8 +118,9 @@ class EpsilonHistogram(QWidget):
         for j, (b, names) in enumerate(sorted(seen.items())):
             x = self.x_of(b)
             p.drawLine(int(x), 14, int(x), h - 16)
-            p.drawText(QRectF(x + 3, 1 + 12 * j, 220, 13), Qt.AlignmentFlag.AlignLeft,
-                       f"ε = {b:.3g} ({'; '.join(names)})")
+            p.drawText(
+                QRectF(x + 3, 1 + 12 * j, 220, 13), Qt.AlignmentFlag.AlignLeft, f"ε = {b:.3g} ({'; '.join(names)})"
+            )
         p.end()
 
 
@@ -176,14 +178,16 @@ class DiagnosisPanel(QWidget):
         self.cascade_label.setWordWrap(True)
         bl.addWidget(self.cascade_label)
         self.to_paper = QPushButton("Look at the paper's run (re-extract with Algorithm 3)", box)
-        self.to_paper.setToolTip("Switch the Run panel's extraction to the paper's Algorithm 3; "
-                                 "only Algorithm 3 runs again")
+        self.to_paper.setToolTip(
+            "Switch the Run panel's extraction to the paper's Algorithm 3; only Algorithm 3 runs again"
+        )
         self.to_paper.clicked.connect(self.paper_requested)
         bl.addWidget(self.to_paper)
         self.cascades = QListWidget(box)
         self.cascades.setMinimumHeight(110)
-        self.cascades.setToolTip("Click a cascade: the view frames its origin face and highlights every "
-                                 "simplex its steps removed")
+        self.cascades.setToolTip(
+            "Click a cascade: the view frames its origin face and highlights every simplex its steps removed"
+        )
         self.cascades.itemClicked.connect(self._clicked)
         self.cascades.itemActivated.connect(self._clicked)
         bl.addWidget(self.cascades)
@@ -208,16 +212,20 @@ class DiagnosisPanel(QWidget):
             self.cascade_label.setText(
                 "This robust run's log has no prune cascades: the paper's loop was abandoned "
                 "(see the notes above) and M_S was grown instead. The paper's run shows where its "
-                "pruning cascaded.")
+                "pruning cascaded."
+            )
             self.to_paper.setVisible(True)
         else:
             total = sum(c.removed for c in self.list)
             holes = sum(c.hole for c in self.list)
             self.cascade_label.setText(
                 f"{len(self.list):,} cascades ({holes:,} from holes of T_S) removed {total:,} of "
-                f"{len(ext.simplices):,} simplices" + (f"; the first {MAX_CASCADES} listed" if len(self.list) > MAX_CASCADES
-                                                      else "") + ". Click one to frame and highlight it."
-                if self.list else "No prune cascades: Algorithm 3 removed nothing that exposed other faces.")
+                f"{len(ext.simplices):,} simplices"
+                + (f"; the first {MAX_CASCADES} listed" if len(self.list) > MAX_CASCADES else "")
+                + ". Click one to frame and highlight it."
+                if self.list
+                else "No prune cascades: Algorithm 3 removed nothing that exposed other faces."
+            )
             self.to_paper.setVisible(False)
         for c in self.list[:MAX_CASCADES]:
             item = QListWidgetItem(cascade_words(c))

@@ -55,8 +55,10 @@ class BuiltinDialog(QDialog):
         m = self.manifolds[self.name.currentData()]
         self.n.setValue(m.default_n)
         betti = ", ".join(map(str, m.betti))
-        self.description.setText(f"{m.description}<br><small>Betti {betti}; χ = {m.euler}; "
-                                 f"{'orientable' if m.orientable else 'non-orientable'}</small>")
+        self.description.setText(
+            f"{m.description}<br><small>Betti {betti}; χ = {m.euler}; "
+            f"{'orientable' if m.orientable else 'non-orientable'}</small>"
+        )
 
     def values(self) -> tuple[str, int, int]:
         return self.name.currentData(), self.n.value(), self.seed.value()

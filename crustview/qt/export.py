@@ -91,8 +91,10 @@ class ExportDialog(QDialog):
         self.frames = QSpinBox(self)
         self.frames.setRange(2, 5000)
         self.frames.setValue(DEFAULT_BUDGET)
-        self.frames.setToolTip("Replay: at most this many frames (a longer range is subsampled evenly; the "
-                               "caption says which steps); tour: its number of frames")
+        self.frames.setToolTip(
+            "Replay: at most this many frames (a longer range is subsampled evenly; the "
+            "caption says which steps); tour: its number of frames"
+        )
         form.addRow("frames (budget)", self.frames)
         self.format = QComboBox(self)
         self.format.addItems(list(FORMATS))
@@ -125,8 +127,13 @@ class ExportDialog(QDialog):
         buttons.rejected.connect(self.reject)
         form.addRow(buttons)
         self.n_steps, self.step = n_steps, step
-        for sig in (self.kind.currentIndexChanged, self.first.valueChanged, self.last.valueChanged,
-                    self.frames.valueChanged, self.format.currentIndexChanged):
+        for sig in (
+            self.kind.currentIndexChanged,
+            self.first.valueChanged,
+            self.last.valueChanged,
+            self.frames.valueChanged,
+            self.format.currentIndexChanged,
+        ):
             sig.connect(self._changed)
         self._changed()
 
@@ -143,8 +150,10 @@ class ExportDialog(QDialog):
             plan = plan_replay(self.n_steps, (lo, hi), self.frames.value())
             self.note.setText(f"{plan.note()}." if plan.subsampled else f"{len(plan.positions)} frames: {plan.note()}.")
         else:
-            self.note.setText(f"{self.frames.value()} frames of the grand tour around M_S at step {self.step}, "
-                              f"{self.frames.value() / self.fps.value():.1f} s.")
+            self.note.setText(
+                f"{self.frames.value()} frames of the grand tour around M_S at step {self.step}, "
+                f"{self.frames.value() / self.fps.value():.1f} s."
+            )
 
     def _browse(self) -> None:
         ending = FORMATS[self.format.currentText()]
@@ -158,8 +167,15 @@ class ExportDialog(QDialog):
 
     def options(self) -> ExportOptions:
         lo, hi = sorted((self.first.value(), self.last.value()))
-        return ExportOptions(self.path.text().strip(), self.kind.currentData(), lo, hi, self.frames.value(),
-                             (self.width_.value(), self.height_.value()), self.fps.value())
+        return ExportOptions(
+            self.path.text().strip(),
+            self.kind.currentData(),
+            lo,
+            hi,
+            self.frames.value(),
+            (self.width_.value(), self.height_.value()),
+            self.fps.value(),
+        )
 
 
 class AnimationExport(QObject):
@@ -244,10 +260,20 @@ class ExportActions:
     export: AnimationExport | None = None
 
     def add_tool_actions(self, menu: QMenu) -> None:
-        self._action(menu, "E&xport animation…", self.export_dialog, "Ctrl+Shift+E",
-                     "A replay of the steps or a grand tour to GIF, MP4 or PNGs, as the view shows it")
-        self._action(menu, "Co&mpare with…", self.compare_dialog, "Ctrl+Shift+C",
-                     "Compare M_S with a saved result, a mesh file's faces or another run")
+        self._action(
+            menu,
+            "E&xport animation…",
+            self.export_dialog,
+            "Ctrl+Shift+E",
+            "A replay of the steps or a grand tour to GIF, MP4 or PNGs, as the view shows it",
+        )
+        self._action(
+            menu,
+            "Co&mpare with…",
+            self.compare_dialog,
+            "Ctrl+Shift+C",
+            "Compare M_S with a saved result, a mesh file's faces or another run",
+        )
 
     def compare_dialog(self) -> None:
         if self.model.rec is None:

@@ -29,8 +29,14 @@ def builtin_description(truth) -> dict | None:
     m = getattr(truth, "manifold", None)
     if m is None or not hasattr(truth, "seed"):
         return None
-    return {"name": m.name, "n": len(truth.points), "seed": truth.seed, "noise": truth.noise,
-            "density": truth.density, "method": truth.method}
+    return {
+        "name": m.name,
+        "n": len(truth.points),
+        "seed": truth.seed,
+        "noise": truth.noise,
+        "density": truth.density,
+        "method": truth.method,
+    }
 
 
 def builtin_truth(info: dict, points: np.ndarray):
@@ -56,8 +62,15 @@ def builtin_truth(info: dict, points: np.ndarray):
             again = None
         if again is not None and np.array_equal(again.points, points):
             return again
-    return Sample(points=points, tangents=None, manifold=m, seed=info.get("seed"), noise=info.get("noise", 0.0),
-                  density=info.get("density", "uniform"), method=info.get("method", "even"))
+    return Sample(
+        points=points,
+        tangents=None,
+        manifold=m,
+        seed=info.get("seed"),
+        noise=info.get("noise", 0.0),
+        density=info.get("density", "uniform"),
+        method=info.get("method", "even"),
+    )
 
 
 def _result_suffixes() -> tuple[str, ...]:
@@ -76,12 +89,15 @@ class FileActions:
     # -- opening -----------------------------------------------------------------
     def open_dialog(self) -> None:
         pattern = " ".join(f"*{s}" for s in _read_suffixes())
-        path, _ = QFileDialog.getOpenFileName(self, "Open point file", self._last_dir(), f"Point files ({pattern});;All files (*)")
+        path, _ = QFileDialog.getOpenFileName(
+            self, "Open point file", self._last_dir(), f"Point files ({pattern});;All files (*)"
+        )
         if path:
             self.open_file(path)
 
-    def open_file(self, path: str | os.PathLike, d: int | None = None, mode: str | None = None,
-                  run: dict | None = None) -> bool:
+    def open_file(
+        self, path: str | os.PathLike, d: int | None = None, mode: str | None = None, run: dict | None = None
+    ) -> bool:
         """Read a point file and start its reconstruction.
 
         When ``d`` is None the user is asked, with a local-PCA suggestion.
@@ -136,8 +152,10 @@ class FileActions:
             if d is None:
                 d = saved["d"]
             elif d != saved["d"]:
-                note = (f"{name} was saved with d = {saved['d']}; reconstructing with d = {d}, "
-                        f"keeping its test ({saved['test']}) and θ = {np.degrees(saved['theta']):.1f}°.")
+                note = (
+                    f"{name} was saved with d = {saved['d']}; reconstructing with d = {d}, "
+                    f"keeping its test ({saved['test']}) and θ = {np.degrees(saved['theta']):.1f}°."
+                )
         if run:
             params.update(run)
         if mode is not None:
@@ -175,7 +193,9 @@ class FileActions:
         return True
 
     def open_builtin_dialog(self) -> None:
-        dlg = BuiltinDialog(self, current=getattr(self.model.truth, "manifold", None) and self.model.truth.manifold.name or "torus")
+        dlg = BuiltinDialog(
+            self, current=getattr(self.model.truth, "manifold", None) and self.model.truth.manifold.name or "torus"
+        )
         if dlg.exec():
             name, n, seed = dlg.values()
             self.load_builtin(name, n, seed)
@@ -219,8 +239,10 @@ class FileActions:
         rec = self.model.rec
         if rec is None or (self.model.test, self.model.theta) == (rec.test, float(rec.theta)):
             return ""
-        return (f"the shown test {self.model.test}, θ = {np.degrees(self.model.theta):.1f}° is not extracted yet; "
-                f"the saved result is {rec.test}, θ = {np.degrees(rec.theta):.1f}° (press Re-extract to save the other)")
+        return (
+            f"the shown test {self.model.test}, θ = {np.degrees(self.model.theta):.1f}° is not extracted yet; "
+            f"the saved result is {rec.test}, θ = {np.degrees(rec.theta):.1f}° (press Re-extract to save the other)"
+        )
 
     # -- saving ---------------------------------------------------------------------
     def save_result_dialog(self) -> None:
@@ -252,9 +274,9 @@ class FileActions:
         return True
 
     def save_screenshot_dialog(self) -> None:
-        path, _ = QFileDialog.getSaveFileName(self, "Save screenshot",
-                                              self.suggested_path(f"-step{self.model.player.position}.png"),
-                                              "PNG image (*.png)")
+        path, _ = QFileDialog.getSaveFileName(
+            self, "Save screenshot", self.suggested_path(f"-step{self.model.player.position}.png"), "PNG image (*.png)"
+        )
         if path:
             self.save_screenshot(path)
 

@@ -106,9 +106,11 @@ class InfoPanel(QWidget):
         self.truth_text = QLabel(gt)
         self.truth_text.setWordWrap(True)
         self.truth_text.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        gt.setToolTip("M_S against the faces of the opened mesh: a face is recovered when M_S has a "
-                      "simplex on exactly its samples. The Hausdorff distance is sampled on both "
-                      "complexes (± the sampling's error bound).")
+        gt.setToolTip(
+            "M_S against the faces of the opened mesh: a face is recovered when M_S has a "
+            "simplex on exactly its samples. The Hausdorff distance is sampled on both "
+            "complexes (± the sampling's error bound)."
+        )
         gl.addWidget(self.truth_text)
         gt.setVisible(False)
         lay.addWidget(gt)
@@ -196,8 +198,9 @@ class InfoPanel(QWidget):
         msgs = rec.topology.messages
         self.banner.setStyleSheet(BANNER_STYLE[level])
         which = "robust extraction" if rec.mode == "robust" else "the paper's Algorithm 3"
-        self.banner.setText(f"<b>{escape(words)}</b> — {escape(which, quote=False)}"
-                            + "".join(f"<br>• {escape(m)}" for m in msgs))
+        self.banner.setText(
+            f"<b>{escape(words)}</b> — {escape(which, quote=False)}" + "".join(f"<br>• {escape(m)}" for m in msgs)
+        )
         self.banner.setVisible(True)
         self.refresh_truth()
         rows = interpretation_rows(rec)

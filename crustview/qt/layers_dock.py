@@ -20,8 +20,22 @@ from PySide6.QtWidgets import (
 from ..scene.layers import POLE_MODES, Layer
 
 #: Order of the rows in the panel.
-ORDER = ("points", "manifold", "slice", "step", "removed", "holes", "cascade", "candidates", "normals", "poles", "voronoi",
-         "selection", "compare", "truth")
+ORDER = (
+    "points",
+    "manifold",
+    "slice",
+    "step",
+    "removed",
+    "holes",
+    "cascade",
+    "candidates",
+    "normals",
+    "poles",
+    "voronoi",
+    "selection",
+    "compare",
+    "truth",
+)
 
 
 def _swatch(button: QToolButton, color: str) -> None:

@@ -84,4 +84,3 @@ class DockLayout:
     def _size_column(self) -> None:
         column = int(self.width() * (1.0 - VIEW_SHARE) - 12)
         self.resizeDocks([self.docks["steps"]], [max(240, column)], Qt.Orientation.Horizontal)
-

@@ -58,9 +58,11 @@ class ProjectionPanel(QWidget):
         row2.addWidget(self.tour_speed)
         self.lay.addLayout(row2)
         self.stereo = QCheckBox("Stereographic view (k ≥ 4, data on a 3-sphere)", self)
-        self.stereo.setToolTip("Project the 3-sphere through the data from its point in the direction the view "
-                               "drops: the Clifford torus becomes a torus of revolution, S^3 fills R^3. "
-                               "Needs k >= 4.")
+        self.stereo.setToolTip(
+            "Project the 3-sphere through the data from its point in the direction the view "
+            "drops: the Clifford torus becomes a torus of revolution, S^3 fills R^3. "
+            "Needs k >= 4."
+        )
         self.stereo.toggled.connect(self._stereo)
         self.lay.addWidget(self.stereo)
         self.planes = QGridLayout()
@@ -188,6 +190,4 @@ class ProjectionPanel(QWidget):
             u = p.hidden
             terms = " + ".join(f"{c:.2f} x{i + 1}" for i, c in enumerate(u) if abs(c) > 0.005).replace("+ -", "- ")
             hidden = f"<br>hidden: {terms}" + (" (stereographic pole)" if p.stereographic else "")
-        self.basis.setText(
-            f"<b>basis</b> ({p.description})<br>X = {lab[0]}<br>Y = {lab[1]}<br>Z = {lab[2]}{hidden}"
-        )
+        self.basis.setText(f"<b>basis</b> ({p.description})<br>X = {lab[0]}<br>Y = {lab[1]}<br>Z = {lab[2]}{hidden}")

@@ -67,8 +67,9 @@ class RunPanel(QWidget):
         self.test = QComboBox(self)
         self.test.addItems(list(CANDIDATE_TESTS))
         for i, t in enumerate(CANDIDATE_TESTS):
-            self.test.setItemData(i, f"{t}: a d-face is a candidate when {TEST_WORDS.get(t, t)}",
-                                  Qt.ItemDataRole.ToolTipRole)
+            self.test.setItemData(
+                i, f"{t}: a d-face is a candidate when {TEST_WORDS.get(t, t)}", Qt.ItemDataRole.ToolTipRole
+            )
         self.test.setToolTip(
             "<p>Candidate test of Algorithm 2 (all three are computed; switching re-runs only Algorithm 3):</p>"
             "<p><b>cocone</b> (default): the dual Voronoi cell meets the tangent cocone of <i>some</i> vertex "
@@ -82,8 +83,10 @@ class RunPanel(QWidget):
         self.theta = QSlider(Qt.Orientation.Horizontal, self)
         self.theta.setRange(1, int(round(np.degrees(SCORE_LIMIT) * 2)))  # half degrees
         self.theta.setValue(45)
-        self.theta.setToolTip("Angle threshold θ of the candidate test (paper: π/8 = 22.5°); "
-                              "the candidates layer follows at once, Reconstruct re-extracts")
+        self.theta.setToolTip(
+            "Angle threshold θ of the candidate test (paper: π/8 = 22.5°); "
+            "the candidates layer follows at once, Reconstruct re-extracts"
+        )
         self.theta_label = QLabel(self)
         self.theta_label.setMinimumWidth(48)
         row.addWidget(self.theta)
@@ -120,8 +123,9 @@ class RunPanel(QWidget):
         lay.addLayout(form)
         buttons = QHBoxLayout()
         self.run = QPushButton("Reconstruct", self)
-        self.run.setToolTip("Run the reconstruction with these parameters (only Algorithm 3 again when "
-                            "just the test or θ changed)")
+        self.run.setToolTip(
+            "Run the reconstruction with these parameters (only Algorithm 3 again when just the test or θ changed)"
+        )
         self.cancel = QPushButton("Cancel", self)
         self.cancel.setEnabled(False)
         self.cancel.setToolTip("Stop the running reconstruction; the previous result stays")
@@ -165,8 +169,7 @@ class RunPanel(QWidget):
         self.prune.setEnabled(self.mode == "paper" and self.run.isEnabled())
         rec = self.model.rec
         if rec is not None and rec.mode != self.mode:
-            self.reconstruct_requested.emit(rec.d, self.test.currentText(), self.theta_radians,
-                                            self.prune.isChecked())
+            self.reconstruct_requested.emit(rec.d, self.test.currentText(), self.theta_radians, self.prune.isChecked())
 
     @property
     def theta_radians(self) -> float:
@@ -200,8 +203,9 @@ class RunPanel(QWidget):
         self.run.setStyleSheet("QPushButton { font-weight: bold; }" if stale else "")
 
     def _request(self) -> None:
-        self.reconstruct_requested.emit(self.d.value(), self.test.currentText(), self.theta_radians,
-                                        self.prune.isChecked())
+        self.reconstruct_requested.emit(
+            self.d.value(), self.test.currentText(), self.theta_radians, self.prune.isChecked()
+        )
 
     def _prune_toggled(self, on: bool) -> None:
         rec = self.model.rec

@@ -34,11 +34,20 @@ class SessionActions:
 
     def add_session_actions(self, menu: QMenu) -> None:
         """The two session entries of the File menu."""
-        self._action(menu, "Save sess&ion…", self.save_session_dialog, "Ctrl+Shift+S",
-                     "Save the input, the run's parameters, camera, projection, layers and step "
-                     f"to a {SUFFIX} file")
-        self._action(menu, "Open sessio&n…", self.open_session_dialog, "Ctrl+Shift+O",
-                     f"Reopen a {SUFFIX} file: reconstruct its input again and restore its view")
+        self._action(
+            menu,
+            "Save sess&ion…",
+            self.save_session_dialog,
+            "Ctrl+Shift+S",
+            f"Save the input, the run's parameters, camera, projection, layers and step to a {SUFFIX} file",
+        )
+        self._action(
+            menu,
+            "Open sessio&n…",
+            self.open_session_dialog,
+            "Ctrl+Shift+O",
+            f"Reopen a {SUFFIX} file: reconstruct its input again and restore its view",
+        )
 
     # -- saving ---------------------------------------------------------------------
     def current_session(self, path: str | os.PathLike | None = None) -> Session:
@@ -55,8 +64,10 @@ class SessionActions:
             raise SessionError("there is no result to save in a session yet")
         origin = self.origin
         if origin is None:
-            raise SessionError("this data was read from neither a file nor a built-in sample, so a session "
-                               "could not reopen it; save the points to a file first")
+            raise SessionError(
+                "this data was read from neither a file nor a built-in sample, so a session "
+                "could not reopen it; save the points to a file first"
+            )
         if isinstance(origin, FileSource) and path is not None:
             try:
                 rel = os.path.relpath(origin.path, Path(path).resolve().parent)
@@ -65,16 +76,27 @@ class SessionActions:
             origin = dataclasses.replace(origin, relative=rel)
         m = self.model
         layers = {name: {f: getattr(layer, f) for f in LAYER_FIELDS} for name, layer in m.layers.items()}
-        return Session(origin, rec.d, rec.test, float(rec.theta), bool(rec.prune_boundary), rec.mode,
-                       int(m.player.position), camera_state(self.plotter), m.projection.state(), layers,
-                       {"offset": float(m.slice_offset), "cut": bool(m.slice_cut)})
+        return Session(
+            origin,
+            rec.d,
+            rec.test,
+            float(rec.theta),
+            bool(rec.prune_boundary),
+            rec.mode,
+            int(m.player.position),
+            camera_state(self.plotter),
+            m.projection.state(),
+            layers,
+            {"offset": float(m.slice_offset), "cut": bool(m.slice_cut)},
+        )
 
     def save_session_dialog(self) -> None:
         if self.model.rec is None:
             self.show_error("There is nothing to save in a session yet.")
             return
-        path, _ = QFileDialog.getSaveFileName(self, "Save session", self.suggested_path(SUFFIX),
-                                              f"crustview session (*{SUFFIX})")
+        path, _ = QFileDialog.getSaveFileName(
+            self, "Save session", self.suggested_path(SUFFIX), f"crustview session (*{SUFFIX})"
+        )
         if path:
             self.save_session(path)
 
@@ -95,8 +117,9 @@ class SessionActions:
 
     # -- opening --------------------------------------------------------------------
     def open_session_dialog(self) -> None:
-        path, _ = QFileDialog.getOpenFileName(self, "Open session", self._last_dir(),
-                                              f"crustview session (*{SUFFIX});;All files (*)")
+        path, _ = QFileDialog.getOpenFileName(
+            self, "Open session", self._last_dir(), f"crustview session (*{SUFFIX});;All files (*)"
+        )
         if path:
             self.open_session(path)
 

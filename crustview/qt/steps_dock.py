@@ -39,8 +39,15 @@ FRAME_RATE = 30
 MAX_SPEED = 20_000
 
 #: Short rule names in the step table.
-RULE_SHORT = {"prune-sharp": "prune", "resolve-nonmanifold": "resolve", "seed-core": "core", "grow-relaxed": "relax", "fill-hole": "fill",
-              "insert-sample": "insert", "drop-stray": "stray"}
+RULE_SHORT = {
+    "prune-sharp": "prune",
+    "resolve-nonmanifold": "resolve",
+    "seed-core": "core",
+    "grow-relaxed": "relax",
+    "fill-hole": "fill",
+    "insert-sample": "insert",
+    "drop-stray": "stray",
+}
 
 
 def _ids(t) -> str:
@@ -97,8 +104,15 @@ class StepLog(QAbstractTableModel):
                 if len(self._rows) > 4096:  # a few screens of rows: enough to scroll without formatting again
                     self._rows.clear()
                 s = ext.steps[row]
-                texts = self._rows[row] = (str(s.index + 1), RULE_SHORT.get(s.rule, s.rule), fmt_tuple(s.tau),
-                                           _ids(s.kept), _ids(s.removed), _ids(s.added), deg(s.angle))
+                texts = self._rows[row] = (
+                    str(s.index + 1),
+                    RULE_SHORT.get(s.rule, s.rule),
+                    fmt_tuple(s.tau),
+                    _ids(s.kept),
+                    _ids(s.removed),
+                    _ids(s.added),
+                    deg(s.angle),
+                )
             return texts[index.column()]
         if role == Qt.ItemDataRole.ToolTipRole:
             ext = self.model.player.extraction
@@ -143,8 +157,10 @@ class StepsPanel(QWidget):
         self.speed.setDecimals(1)
         self.speed.setValue(player.speed)
         self.speed.setSuffix(" steps/s")
-        self.speed.setToolTip(f"Playback speed. The view is drawn at most {FRAME_RATE} times a second; "
-                              "faster playback applies the steps in between without drawing them.")
+        self.speed.setToolTip(
+            f"Playback speed. The view is drawn at most {FRAME_RATE} times a second; "
+            "faster playback applies the steps in between without drawing them."
+        )
         row.addWidget(self.speed)
         self.counter = SteadyLabel(self)
         self.counter.setText("step 0 / 0")
@@ -176,9 +192,11 @@ class StepsPanel(QWidget):
         self.rule = QComboBox(self)
         self.rule.addItems(list(RULES))
         self.rule.currentTextChanged.connect(lambda *_: self._rule_filter(self.only_rule.isChecked()))
-        self.rule.setToolTip("prune-sharp: line 2 of Algorithm 3; resolve-nonmanifold: lines 3-5; seed, grow, "
-                             "grow-relaxed, fill-hole, drop-stray, insert-sample: the robust extension, which "
-                             "mostly adds simplices")
+        self.rule.setToolTip(
+            "prune-sharp: line 2 of Algorithm 3; resolve-nonmanifold: lines 3-5; seed, grow, "
+            "grow-relaxed, fill-hole, drop-stray, insert-sample: the robust extension, which "
+            "mostly adds simplices"
+        )
         self.to_rule = QPushButton("Run to next step of rule", self)
         self.to_rule.setToolTip("Jump to just after the next step that applied the chosen rule")
         self.to_rule.clicked.connect(self._run_to_rule)
@@ -296,8 +314,9 @@ class StepsPanel(QWidget):
         if not self.model.player.run_to_rule(rule):
             # said beside the button; the current step's description stays
             self.to_rule.setToolTip(f"No further step of rule {rule} after step {self.model.player.position}.")
-            QToolTip.showText(self.to_rule.mapToGlobal(self.to_rule.rect().bottomLeft()),
-                              self.to_rule.toolTip(), self.to_rule)
+            QToolTip.showText(
+                self.to_rule.mapToGlobal(self.to_rule.rect().bottomLeft()), self.to_rule.toolTip(), self.to_rule
+            )
             window = self.window()
             if hasattr(window, "statusBar"):
                 window.statusBar().showMessage(self.to_rule.toolTip(), 8000)

@@ -36,9 +36,11 @@ class TheoremScatter(QWidget):
         self.setMinimumHeight(150)
         self.checks: TheoremChecks | None = None
         self.x_max, self.y_max = 1.0, 1.0
-        self.setToolTip("Each dot is a sample: x its true ε (largest |p - s| / LFS(p) over the points p of M "
-                        "nearest to it), y the angle between AN_s and the true normal plane. Curve: Theorem 2's "
-                        "bound asin(2ε√(k-d)); dashed: its precondition ε = 0.25/(k-d). Red dots break the bound.")
+        self.setToolTip(
+            "Each dot is a sample: x its true ε (largest |p - s| / LFS(p) over the points p of M "
+            "nearest to it), y the angle between AN_s and the true normal plane. Curve: Theorem 2's "
+            "bound asin(2ε√(k-d)); dashed: its precondition ε = 0.25/(k-d). Red dots break the bound."
+        )
 
     def set_checks(self, checks: TheoremChecks | None) -> None:
         self.checks = checks
@@ -72,8 +74,9 @@ class TheoremScatter(QWidget):
         p.drawLine(int(left), int(top), int(left), int(h - bottom))
         p.drawText(QRectF(0, top - 4, left - 3, 14), Qt.AlignmentFlag.AlignRight, f"{self.y_max:.0f}°")
         p.drawText(QRectF(left, h - bottom + 2, 120, 14), Qt.AlignmentFlag.AlignLeft, "ε = 0")
-        p.drawText(QRectF(self.width() - 130, h - bottom + 2, 122, 14), Qt.AlignmentFlag.AlignRight,
-                   f"{self.x_max:.3g}")
+        p.drawText(
+            QRectF(self.width() - 130, h - bottom + 2, 122, 14), Qt.AlignmentFlag.AlignRight, f"{self.x_max:.3g}"
+        )
         xs = np.linspace(0, self.x_max, 120)
         bx, by = self.to_widget(xs, np.degrees(theorem2_bound(xs, c.codim)))
         p.setPen(QPen(QColor("#1f5fd6"), 1.5))
@@ -114,10 +117,13 @@ def theorem_text(c: TheoremChecks) -> str:
         pre = "holds" if t10["precondition_holds"] else "<b>fails</b>"
         lines.append(
             f"<b>Theorem 10</b> (ε &lt; {t10['epsilon_limit']:.3g}: {pre}): M_S is at most {t10['max_distance']:.3g} "
-            f"from M, {t10['max_ratio']:.3g}·ε·LFS (bound 2.65·ε·LFS); {t10['simplices_beyond']} simplices beyond.")
+            f"from M, {t10['max_ratio']:.3g}·ε·LFS (bound 2.65·ε·LFS); {t10['simplices_beyond']} simplices beyond."
+        )
     lines += [f"Note: {x}." for x in s["notes"]]
-    lines.append(f"{s['seconds']:.1f} s. Colour the samples by 'Thm 2 error / bound' or 'true epsilon', "
-                 "and M_S by 'distance to M', in the Layers panel.")
+    lines.append(
+        f"{s['seconds']:.1f} s. Colour the samples by 'Thm 2 error / bound' or 'true epsilon', "
+        "and M_S by 'distance to M', in the Layers panel."
+    )
     return "<br>".join(lines)
 
 
@@ -129,8 +135,10 @@ class TheoremPanel(QGroupBox):
         self.model = model
         lay = QVBoxLayout(self)
         self.button = QPushButton("Check Theorems 2 and 10", self)
-        self.button.setToolTip("Sample M densely, compute every sample's true ε and normal error, and the "
-                               "distance of M_S to M (a few seconds)")
+        self.button.setToolTip(
+            "Sample M densely, compute every sample's true ε and normal error, and the "
+            "distance of M_S to M (a few seconds)"
+        )
         self.button.clicked.connect(self.run)
         row = QHBoxLayout()
         row.addWidget(self.button, 1)
@@ -205,7 +213,10 @@ class TheoremPanel(QGroupBox):
         if self.runner.busy:
             return
         if c is None:
-            self.label.setText("Only for noise-free samples of a built-in manifold, where M is known."
-                               if not builtin else "Not checked yet (a few seconds).")
+            self.label.setText(
+                "Only for noise-free samples of a built-in manifold, where M is known."
+                if not builtin
+                else "Not checked yet (a few seconds)."
+            )
         else:
             self.label.setText(theorem_text(c))

@@ -37,8 +37,10 @@ class TimelineView(QWidget):
         self.model = model
         self.setMinimumHeight(64)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
-        self.setToolTip("|M_S| (amber), boundary faces (blue) and non-manifold faces (red) at every step, "
-                        "each scaled to its own maximum. Click or drag to go to a step.")
+        self.setToolTip(
+            "|M_S| (amber), boundary faces (blue) and non-manifold faces (red) at every step, "
+            "each scaled to its own maximum. Click or drag to go to a step."
+        )
         self.setMouseTracking(False)
         #: The curves drawn once (for a size and a reconstruction); each step paints only the cursor.
         self._picture: QPixmap | None = None

@@ -127,8 +127,11 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
             "steps": self._dock("Steps of Algorithm 3", self.steps_panel, right),
             "info": self._dock("Information", _scrolled(self.info_panel), right),
         }
-        self.resizeDocks([self.docks["run"], self.docks["layers"], self.docks["projection"]], [150, 330, 260],
-                         Qt.Orientation.Vertical)
+        self.resizeDocks(
+            [self.docks["run"], self.docks["layers"], self.docks["projection"]],
+            [150, 330, 260],
+            Qt.Orientation.Vertical,
+        )
         self.resizeDocks([self.docks["steps"], self.docks["info"]], [380, 620], Qt.Orientation.Vertical)
         self.resizeDocks([self.docks["run"], self.docks["steps"]], [400, 400], Qt.Orientation.Horizontal)
 
@@ -195,8 +198,11 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         presses that reach no shortcut (window not active) are handled here.
         """
         kind = event.type()
-        if kind in (QEvent.Type.KeyPress, QEvent.Type.ShortcutOverride) and isinstance(obj, QWidget) \
-                and self._owns(obj):
+        if (
+            kind in (QEvent.Type.KeyPress, QEvent.Type.ShortcutOverride)
+            and isinstance(obj, QWidget)
+            and self._owns(obj)
+        ):
             fn = self._step_keys.get(event.key())
             if fn is None or event.modifiers() != Qt.KeyboardModifier.NoModifier:
                 return False
@@ -214,8 +220,11 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         dock = QDockWidget(title, self)
         dock.setObjectName(title)
         dock.setWidget(widget)
-        dock.setFeatures(QDockWidget.DockWidgetFeature.DockWidgetMovable | QDockWidget.DockWidgetFeature.DockWidgetFloatable
-                         | QDockWidget.DockWidgetFeature.DockWidgetClosable)
+        dock.setFeatures(
+            QDockWidget.DockWidgetFeature.DockWidgetMovable
+            | QDockWidget.DockWidgetFeature.DockWidgetFloatable
+            | QDockWidget.DockWidgetFeature.DockWidgetClosable
+        )
         self.addDockWidget(area, dock)
         return dock
 
@@ -235,13 +244,23 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         bar = self.menuBar()
         f = bar.addMenu("&File")
         self._action(f, "&Open…", self.open_dialog, QKeySequence.StandardKey.Open, "Open a point file")
-        self._action(f, "Open &built-in sample…", self.open_builtin_dialog, "Ctrl+B",
-                     "Sample a built-in manifold of known topology")
+        self._action(
+            f,
+            "Open &built-in sample…",
+            self.open_builtin_dialog,
+            "Ctrl+B",
+            "Sample a built-in manifold of known topology",
+        )
         self.recent_menu = f.addMenu("Open &recent")
         self._fill_recent()
         f.addSeparator()
-        self._action(f, "&Save result…", self.save_result_dialog, QKeySequence.StandardKey.Save,
-                     "Write M_S and the recorded steps (npz) or the mesh (ply, obj, off, vtk, stl)")
+        self._action(
+            f,
+            "&Save result…",
+            self.save_result_dialog,
+            QKeySequence.StandardKey.Save,
+            "Write M_S and the recorded steps (npz) or the mesh (ply, obj, off, vtk, stl)",
+        )
         self._action(f, "Save s&creenshot…", self.save_screenshot_dialog, "Ctrl+P", "Save the 3-D view as PNG")
         f.addSeparator()
         self.add_session_actions(f)
@@ -257,8 +276,9 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         self._action(s, "Last (M_S)", p.last, Qt.Key.Key_End)
         v = bar.addMenu("&View")
         self._action(v, "Reset camera", lambda: (self.view.reset_camera(), self.view.render()), "R")
-        self.y_up = self._action(v, "Y axis up", self._set_y_up, "Y",
-                                 "View with the Y axis up (scans such as the bunny are stored Y-up)")
+        self.y_up = self._action(
+            v, "Y axis up", self._set_y_up, "Y", "View with the Y axis up (scans such as the bunny are stored Y-up)"
+        )
         self.y_up.setCheckable(True)  # for this session only: the demo and R^4 data read Z-up
         self._action(v, "Clear selection", self.model.selection.clear, Qt.Key.Key_Escape)
         v.addSeparator()
@@ -275,10 +295,18 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         self.statusBar().showMessage(label)
         return self.runner.start(fn, label)
 
-    def start_reconstruction(self, points: np.ndarray, d: int, truth=None, source: str = "",
-                             test: str | None = None, theta: float | None = None,
-                             prune_boundary: bool | None = None, mode: str | None = None,
-                             origin=None) -> bool:
+    def start_reconstruction(
+        self,
+        points: np.ndarray,
+        d: int,
+        truth=None,
+        source: str = "",
+        test: str | None = None,
+        theta: float | None = None,
+        prune_boundary: bool | None = None,
+        mode: str | None = None,
+        origin=None,
+    ) -> bool:
         """Reconstruct ``points`` in the worker; ``origin`` is where they came from (for sessions)."""
         test = test or self.run_panel.test.currentText()
         theta = self.run_panel.theta_radians if theta is None else theta
@@ -288,8 +316,9 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         mode = mode or self.run_panel.mode
 
         def job(progress, cancel):
-            rec = reconstruct(points, d, test=test, theta=theta, prune_boundary=prune, mode=mode,
-                              progress=progress, cancel=cancel)
+            rec = reconstruct(
+                points, d, test=test, theta=theta, prune_boundary=prune, mode=mode, progress=progress, cancel=cancel
+            )
             return {"rec": rec, "truth": truth, "points": points, "quality": _quality(rec, progress, cancel)}
 
         job = _comparing(job, truth, points)
@@ -298,12 +327,26 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         if note:
             self.show_error(note + " Cancel stops it at any time.")
 
-        return self.start_job(job, f"Reconstructing {source} (d = {d})…", points=points, truth=truth,
-                              source=source, keep_view=False, origin=origin)
+        return self.start_job(
+            job,
+            f"Reconstructing {source} (d = {d})…",
+            points=points,
+            truth=truth,
+            source=source,
+            keep_view=False,
+            origin=origin,
+        )
 
-    def load_builtin(self, name: str, n: int | None = None, seed: int = 0, test: str | None = None,
-                     theta: float | None = None, prune_boundary: bool | None = None,
-                     mode: str | None = None) -> bool:
+    def load_builtin(
+        self,
+        name: str,
+        n: int | None = None,
+        seed: int = 0,
+        test: str | None = None,
+        theta: float | None = None,
+        prune_boundary: bool | None = None,
+        mode: str | None = None,
+    ) -> bool:
         """Sample a built-in manifold and reconstruct it (in the worker).
 
         The run's parameters default to the Run panel's (pruning: on).
@@ -331,12 +374,25 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         def job(progress, cancel):
             progress("prepare", 0.0)
             sample = early if early is not None else m.sample(n, seed=seed)
-            rec = reconstruct(sample.points, m.d, test=test, theta=theta, prune_boundary=prune, mode=mode,
-                              progress=progress, cancel=cancel)
+            rec = reconstruct(
+                sample.points,
+                m.d,
+                test=test,
+                theta=theta,
+                prune_boundary=prune,
+                mode=mode,
+                progress=progress,
+                cancel=cancel,
+            )
             return {"rec": rec, "truth": sample, "points": sample.points, "quality": _quality(rec, progress, cancel)}
 
-        return self.start_job(job, f"Sampling and reconstructing {name} (n = {n})…", source=f"{name} (n = {n})",
-                              keep_view=False, origin=BuiltinSource(name, int(n), int(seed)))
+        return self.start_job(
+            job,
+            f"Sampling and reconstructing {name} (n = {n})…",
+            source=f"{name} (n = {n})",
+            keep_view=False,
+            origin=BuiltinSource(name, int(n), int(seed)),
+        )
 
     def _default_prune(self) -> None:
         """New data starts with the paper's boundary pruning on again, and says so if it was off."""
@@ -359,20 +415,30 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
             return
         mode = self.run_panel.mode
         if rec is not None and rec.d == d:  # same points and d: only Algorithm 3 again
+
             def job(progress, cancel):
-                return reextract(rec, test, theta, prune_boundary=prune, mode=mode, progress=progress,
-                                 cancel=cancel)
+                return reextract(rec, test, theta, prune_boundary=prune, mode=mode, progress=progress, cancel=cancel)
 
             job = _comparing(job, self.model.truth, self.points)
 
-            label = (f"Re-extracting ({MODE_WORDS[mode]}) with {test}, θ = {np.degrees(theta):.1f}°"
-                     + (f", boundary faces {'pruned' if prune else 'kept'}…" if mode == "paper" else "…"))
-            if not self.start_job(job, label, points=self.points, truth=self.model.truth,
-                                  source=self.model.source, keep_view=True):
+            label = f"Re-extracting ({MODE_WORDS[mode]}) with {test}, θ = {np.degrees(theta):.1f}°" + (
+                f", boundary faces {'pruned' if prune else 'kept'}…" if mode == "paper" else "…"
+            )
+            if not self.start_job(
+                job, label, points=self.points, truth=self.model.truth, source=self.model.source, keep_view=True
+            ):
                 self.run_panel.sync_prune()
         else:
-            self.start_reconstruction(self.points, d, truth=self.model.truth, source=self.model.source,
-                                      test=test, theta=theta, prune_boundary=prune, origin=self.origin)
+            self.start_reconstruction(
+                self.points,
+                d,
+                truth=self.model.truth,
+                source=self.model.source,
+                test=test,
+                theta=theta,
+                prune_boundary=prune,
+                origin=self.origin,
+            )
 
     def _job_done(self, result) -> None:
         pending = self._pending
@@ -383,9 +449,13 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         self.points = points
         if "origin" in pending:  # new data (a re-extraction keeps the origin)
             self.origin = pending["origin"]
-        self.model.set_reconstruction(rec, truth=truth, source=pending.get("source", ""),
-                                      keep_view=bool(pending.get("keep_view")),
-                                      quality=result.get("quality") if isinstance(result, dict) else None)
+        self.model.set_reconstruction(
+            rec,
+            truth=truth,
+            source=pending.get("source", ""),
+            keep_view=bool(pending.get("keep_view")),
+            quality=result.get("quality") if isinstance(result, dict) else None,
+        )
         t = rec.topology
         verdict = "closed manifold" if t.closed_manifold else f"NOT a closed manifold ({rec.extraction.stopped})"
         expected = truth.manifold if truth is not None else None
@@ -401,13 +471,18 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
             verdict = "WRONG: " + ", ".join(problems)
         ok = t.closed_manifold and not problems
         self.run_panel.show_idle(f"{rec.mode}: done in {sum(rec.timings.values()):.2f} s — {verdict}", ok=ok)
-        message = (f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} steps of "
-                   f"{MODE_WORDS.get(rec.mode, rec.mode)}.")
+        message = (
+            f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} steps of "
+            f"{MODE_WORDS.get(rec.mode, rec.mode)}."
+        )
         saved = pending.get("saved")
         if saved is not None:
             same = _same_simplices(rec, saved[0])
-            message += (f" Same M_S as saved in {saved[1]}." if same else
-                        f" M_S DIFFERS from the one saved in {saved[1]} (other crustview version?).")
+            message += (
+                f" Same M_S as saved in {saved[1]}."
+                if same
+                else f" M_S DIFFERS from the one saved in {saved[1]} (other crustview version?)."
+            )
         for extra in pending.get("notes", ()):
             message += " " + extra
         if getattr(self, "prune_note", None):
@@ -447,7 +522,8 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, QMainWi
         shown = int(np.count_nonzero(self.model.candidate_mask()))  # the candidates layer's count
         pending = (self.model.test, self.model.theta) != (rec.test, float(rec.theta))
         self.status_counts.setText(
-            f"n = {rec.n} · candidates {shown:,}" + (" (pending change)" if pending else "")
+            f"n = {rec.n} · candidates {shown:,}"
+            + (" (pending change)" if pending else "")
             + f" · M_S now {alive:,} · step {self.model.player.position}/{rec.extraction.n_steps}"
         )
 

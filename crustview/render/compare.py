@@ -29,8 +29,9 @@ class CompareAdapter(LayerAdapter):
         if c is None or rec is None or c.diff.points.shape[1] != self.model.projection.k:
             self.drawings = [None, None, None]
             for p in self.parts:
-                SimplexDrawing(np.zeros((0, 2 if rec is None else rec.d + 1)), 1 if rec is None else rec.d) \
-                    .apply(p.mesh, None)
+                SimplexDrawing(np.zeros((0, 2 if rec is None else rec.d + 1)), 1 if rec is None else rec.d).apply(
+                    p.mesh, None
+                )
             self.layer.count = 0
             return
         d = c.diff

@@ -133,7 +133,9 @@ class ComplexAdapter(LayerAdapter):
         # (d >= 3 draws every simplex's boundary: there, edges on see-through cells are clutter)
         d = self.model.rec.d if self.model.rec is not None else 2
         self.part.actor.prop.show_edges = (
-            (not lines) and self.layer.size > 0 and self.part.n_cells <= EDGE_LIMIT
+            (not lines)
+            and self.layer.size > 0
+            and self.part.n_cells <= EDGE_LIMIT
             and (d <= 2 or self.layer.opacity >= 0.99)
         )
         self.part.actor.prop.edge_color = "#5a4a32"
@@ -271,8 +273,12 @@ class ManifoldAdapter(ComplexAdapter):
 #: Colour map of the step that removed each simplex.
 STEP_CMAP = "viridis"
 #: Colours of the rules that remove simplices.
-RULE_COLORS = {"prune-sharp": "#d62728", "resolve-nonmanifold": "#9467bd", "fill-hole": "#8c564b",
-               "insert-sample": "#e377c2"}
+RULE_COLORS = {
+    "prune-sharp": "#d62728",
+    "resolve-nonmanifold": "#9467bd",
+    "fill-hole": "#8c564b",
+    "insert-sample": "#e377c2",
+}
 
 
 class RemovedAdapter(ManifoldAdapter):
@@ -429,8 +435,13 @@ class StepAdapter(LayerAdapter):
     def restyle(self) -> None:
         lines = self.model.rec is not None and self.model.rec.d == 1
         self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=lines)
-        self.parts[1].style(STEP_COLORS["tau"], 1.0, self.layer.size * (2.0 if len(getattr(self, "tau", ())) == 1 else 1.0),
-                            lines=True, spheres=False)
+        self.parts[1].style(
+            STEP_COLORS["tau"],
+            1.0,
+            self.layer.size * (2.0 if len(getattr(self, "tau", ())) == 1 else 1.0),
+            lines=True,
+            spheres=False,
+        )
         for p, off in ((self.part, -2), (self.parts[1], -4)):
             p.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(off, off)
             p.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(off, off)

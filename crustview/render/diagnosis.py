@@ -75,8 +75,10 @@ class CascadeAdapter(LayerAdapter):
         self.tau = np.array(c.tau if c is not None else (), dtype=np.int64)
         self.project()
         self.drawing.apply(self.part.mesh, None)
-        set_cells(self.parts[1].mesh, **face_cells(np.arange(len(self.tau))[None] if len(self.tau) else
-                                                   np.zeros((0, 0), np.int64)))
+        set_cells(
+            self.parts[1].mesh,
+            **face_cells(np.arange(len(self.tau))[None] if len(self.tau) else np.zeros((0, 0), np.int64)),
+        )
         if len(self.tau) == 2:  # an edge: its end points too, so it reads at any zoom
             set_cells(self.parts[1].mesh, verts=np.array([[0], [1]]), lines=np.array([[0, 1]]))
         self.layer.count = len(ids)

@@ -49,8 +49,9 @@ def step_normal(pts: np.ndarray) -> np.ndarray:
     return vt[-1] / np.linalg.norm(vt[-1])
 
 
-def frame_for(proj: np.ndarray, tau: np.ndarray, patch: np.ndarray, spacing: float, centre: np.ndarray,
-              up_hint: np.ndarray) -> StepFrame:
+def frame_for(
+    proj: np.ndarray, tau: np.ndarray, patch: np.ndarray, spacing: float, centre: np.ndarray, up_hint: np.ndarray
+) -> StepFrame:
     """Camera frame for a step.
 
     Parameters

@@ -80,8 +80,9 @@ class VoronoiAdapter(LayerAdapter):
         if k >= 4:  # R^4: the 2-faces as translucent patches carry the shape; thin, faint edges
             self.part.style(self.layer.color, 0.35, 1.0, lines=True)
         else:
-            self.part.style(self.layer.color, 0.9 if not flat else max(self.layer.opacity, 0.5), self.layer.size,
-                            lines=True)
+            self.part.style(
+                self.layer.color, 0.9 if not flat else max(self.layer.opacity, 0.5), self.layer.size, lines=True
+            )
         self.part.actor.prop.point_size = 2 * self.layer.size
         self.parts[1].style(self.layer.color, self.layer.opacity, self.layer.size)
 

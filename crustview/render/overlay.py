@@ -74,8 +74,9 @@ class Legend:
                 self.actors.append(a)
         self._shown = lines
 
-    def _restyle(self, a: vtkTextActor, text: str, color, y: float, x_px: float, bold: bool,
-                 swatch: str | None) -> None:
+    def _restyle(
+        self, a: vtkTextActor, text: str, color, y: float, x_px: float, bold: bool, swatch: str | None
+    ) -> None:
         a.SetInput(text)
         tp = a.GetTextProperty()
         tp.SetColor(*pv.Color(color).float_rgb)

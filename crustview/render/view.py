@@ -226,20 +226,30 @@ class SceneView:
         points_layer = self.model.layers["points"]
         points_layer.count = len(keep)  # the layer panel counts what is drawn
         points_layer.total = n if len(keep) < n else 0
-        points_layer.note = (f"Raw points: drawn {len(keep):,} of {n:,} while the reconstruction runs"
-                             if len(keep) < n else "")
+        points_layer.note = (
+            f"Raw points: drawn {len(keep):,} of {n:,} while the reconstruction runs" if len(keep) < n else ""
+        )
         p = p[keep] - p.mean(axis=0)
         flat = p.shape[1] == 2
         p3 = np.zeros((len(p), 3))
         p3[:, : min(3, p.shape[1])] = p[:, :3]
         import pyvista as pv
 
-        self.plotter.add_mesh(pv.PolyData(p3), name="preview", color="#34495e", point_size=3.0,
-                              render_points_as_spheres=False, pickable=False, reset_camera=False, render=False)
+        self.plotter.add_mesh(
+            pv.PolyData(p3),
+            name="preview",
+            color="#34495e",
+            point_size=3.0,
+            render_points_as_spheres=False,
+            pickable=False,
+            reset_camera=False,
+            render=False,
+        )
         if flat:
             self.plotter.view_xy(render=False)
-        self.plotter.reset_camera(render=False,
-                                  bounds=tuple(np.ravel(np.stack([p3.min(axis=0), p3.max(axis=0)], axis=1))))
+        self.plotter.reset_camera(
+            render=False, bounds=tuple(np.ravel(np.stack([p3.min(axis=0), p3.max(axis=0)], axis=1)))
+        )
         self.render()
 
     def on_reconstruction(self) -> None:
@@ -315,9 +325,19 @@ class SceneView:
             if title not in self._bars:
                 # horizontal, bottom right, below the data: the title fits and stays readable
                 bar = self.plotter.add_scalar_bar(
-                    title=title, mapper=mapper, vertical=False, position_x=0.58, position_y=0.05 + 0.13 * j,
-                    height=0.07, width=0.38, n_labels=5, fmt="%.3g", color="#222222",
-                    title_font_size=14, label_font_size=12, bold=False,
+                    title=title,
+                    mapper=mapper,
+                    vertical=False,
+                    position_x=0.58,
+                    position_y=0.05 + 0.13 * j,
+                    height=0.07,
+                    width=0.38,
+                    n_labels=5,
+                    fmt="%.3g",
+                    color="#222222",
+                    title_font_size=14,
+                    label_font_size=12,
+                    bold=False,
                 )
                 bar.GetTitleTextProperty().SetBackgroundColor(1.0, 1.0, 1.0)
                 bar.GetTitleTextProperty().SetBackgroundOpacity(0.75)
@@ -327,8 +347,18 @@ class SceneView:
         """(label, colour) of the visible solid-colour layers and the step highlight."""
         out = []
         layers = self.model.layers
-        for name in ("points", "manifold", "slice", "removed", "holes", "candidates", "normals", "poles", "voronoi",
-                     "truth"):
+        for name in (
+            "points",
+            "manifold",
+            "slice",
+            "removed",
+            "holes",
+            "candidates",
+            "normals",
+            "poles",
+            "voronoi",
+            "truth",
+        ):
             layer = layers[name]
             a = self.adapters[name]
             if not layer.visible or a.shown_cells() == 0:
@@ -336,15 +366,19 @@ class SceneView:
             if name == "points" and getattr(a, "scalar_title", None) and a.n_missing:
                 out.append((f"{a.scalar_title}: none (pole at infinity)", NAN_COLOR))
             if name == "points" and layer.colorby != "none" and not getattr(a, "scalar_title", None):
-                why = ("needs points in R^4 or more" if layer.colorby == "hidden depth" else
-                       "no such coordinate" if layer.colorby.startswith("x") else
-                       "needs the true manifold of a built-in sample")
+                why = (
+                    "needs points in R^4 or more"
+                    if layer.colorby == "hidden depth"
+                    else "no such coordinate"
+                    if layer.colorby.startswith("x")
+                    else "needs the true manifold of a built-in sample"
+                )
                 out.append((f"{layer.colorby}: not available here ({why})", NAN_COLOR))
             if getattr(a, "scalar_title", None):
                 continue
             if name == "removed" and layer.colorby == "rule":
                 codes = self.model.rule_codes()
-                used = {codes.names[c] for c in np.unique(codes.codes[:self.model.player.position])}
+                used = {codes.names[c] for c in np.unique(codes.codes[: self.model.player.position])}
                 out.extend((f"removed by {r}", c) for r, c in RULE_COLORS.items() if r in used)
                 continue
             if name == "poles" and a.n_infinite:
@@ -439,8 +473,14 @@ class SceneView:
             return
         proj = self.model.projection.project(rec.points)
         cam = self.plotter.renderer.GetActiveCamera()
-        frame = frame_for(proj, tau, np.asarray(patch, dtype=np.int64), float(np.median(self.model.spacing)),
-                          proj.mean(axis=0), np.asarray(cam.GetViewUp()))
+        frame = frame_for(
+            proj,
+            tau,
+            np.asarray(patch, dtype=np.int64),
+            float(np.median(self.model.spacing)),
+            proj.mean(axis=0),
+            np.asarray(cam.GetViewUp()),
+        )
         self.plotter.disable_parallel_projection()
         place_camera(cam, frame)
         self.set_clip(front_plane(frame))
@@ -488,8 +528,9 @@ class SceneView:
             return
         proj = self.model.projection.project(rec.points)
         cam = self.plotter.renderer.GetActiveCamera()
-        frame = frame_for(proj, tau, tau, float(np.median(self.model.spacing)), proj.mean(axis=0),
-                          np.asarray(cam.GetViewUp()))
+        frame = frame_for(
+            proj, tau, tau, float(np.median(self.model.spacing)), proj.mean(axis=0), np.asarray(cam.GetViewUp())
+        )
         self.plotter.disable_parallel_projection()
         place_camera(cam, frame)
         self.set_clip(front_plane(frame))
@@ -502,8 +543,9 @@ class SceneView:
         if rec is None or cascade is None:
             return
         first = rec.extraction.steps[cascade.origin]
-        ids = np.concatenate([np.asarray(cascade.tau, dtype=np.int64),
-                              rec.extraction.simplices[list(first.removed)].ravel()])
+        ids = np.concatenate(
+            [np.asarray(cascade.tau, dtype=np.int64), rec.extraction.simplices[list(first.removed)].ravel()]
+        )
         self.frame_points(np.unique(ids))
 
     def frame_face(self, face) -> None:

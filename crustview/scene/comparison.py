@@ -48,12 +48,13 @@ class Comparison:
     def summary(self) -> str:
         """Counts and distance in one or two plain sentences."""
         d, h = self.diff, self.diff.hausdorff
-        dist = (f"Hausdorff distance {h.distance:.4g} (A to B {h.a_to_b:.4g}, B to A {h.b_to_a:.4g}; "
-                f"sampled, within {h.error_bound:.2g}).")
+        dist = (
+            f"Hausdorff distance {h.distance:.4g} (A to B {h.a_to_b:.4g}, B to A {h.b_to_a:.4g}; "
+            f"sampled, within {h.error_bound:.2g})."
+        )
         if not d.matched:
             return "A and B do not share vertices, so only their distance is compared: " + dist
-        return (f"{len(d.both):,} simplices in both, {len(d.only_a):,} only in A, "
-                f"{len(d.only_b):,} only in B. " + dist)
+        return f"{len(d.both):,} simplices in both, {len(d.only_a):,} only in A, {len(d.only_b):,} only in B. " + dist
 
 
 def _check_rec(rec: Reconstruction, d: int, label: str) -> None:
@@ -72,8 +73,9 @@ def load_other(rec: Reconstruction, spec: dict, progress=None, cancel=None) -> t
         test, theta, mode = spec.get("test", rec.test), float(spec.get("theta", rec.theta)), spec.get("mode", rec.mode)
         if test not in CANDIDATE_TESTS:
             raise InputError(f"test {test!r} is not one of {', '.join(CANDIDATE_TESTS)}")
-        other = reextract(rec, test, theta, prune_boundary=rec.prune_boundary, mode=mode, progress=progress,
-                          cancel=cancel)
+        other = reextract(
+            rec, test, theta, prune_boundary=rec.prune_boundary, mode=mode, progress=progress, cancel=cancel
+        )
         label = f"M_S with {test}, θ = {math.degrees(theta):.4g}°, {mode}"
         return label, other.points, np.asarray(other.manifold)
     from .. import io

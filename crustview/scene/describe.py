@@ -41,20 +41,21 @@ def step_words(step: Step | None, position: int, n_steps: int) -> str:
     """One or two sentences about the step just applied at ``position``."""
     if step is None:
         if n_steps == 0:
-            return ("Step 0 / 0: T_S already is a closed manifold, so Algorithm 3 had nothing to do; "
-                    "M_S = T_S.")
-        return (
-            f"Step 0 / {n_steps}: the candidate complex T_S before extraction. "
-            "Press → to apply the first step."
-        )
+            return "Step 0 / 0: T_S already is a closed manifold, so Algorithm 3 had nothing to do; M_S = T_S."
+        return f"Step 0 / {n_steps}: the candidate complex T_S before extraction. Press → to apply the first step."
     rule = {"prune-sharp": "Prune sharp/boundary face", "resolve-nonmanifold": "Resolve non-manifold face"}.get(
         step.rule, step.rule
     )
     kept = f"; kept {fmt_tuple(step.kept)}" if step.kept else ""
     if step.added and not step.removed:
-        words = {"seed-core": "Seed M_S with the manifold core of T_S", "seed": "Seed M_S", "grow": "Grow across a boundary face",
-                 "grow-relaxed": "Grow across a boundary face (θ relaxed)", "fill-hole": "Fill a hole",
-                 "insert-sample": "Insert a left-out sample"}
+        words = {
+            "seed-core": "Seed M_S with the manifold core of T_S",
+            "seed": "Seed M_S",
+            "grow": "Grow across a boundary face",
+            "grow-relaxed": "Grow across a boundary face (θ relaxed)",
+            "fill-hole": "Fill a hole",
+            "insert-sample": "Insert a left-out sample",
+        }
         return (
             f"Step {position} / {n_steps} — {words.get(step.rule, step.rule)} at τ = {fmt_tuple(step.tau)}: added "
             f"{len(step.added)} simplex{'es' if len(step.added) != 1 else ''} "
@@ -81,12 +82,15 @@ def sample_text(model: SceneModel, i: int) -> str:
     kinds = pole_kinds(rec)[i]
     for j, p in enumerate(rec.pole_index[i]):
         if kinds[j] == POLE_NONE:
-            lines.append(f"pole {j + 1}: none (normal direction orthogonal to the samples' "
-                         f"{rec.subspace_dim}-dimensional affine hull)")
+            lines.append(
+                f"pole {j + 1}: none (normal direction orthogonal to the samples' "
+                f"{rec.subspace_dim}-dimensional affine hull)"
+            )
         elif kinds[j] == POLE_INFINITE:
             u = pole_direction(rec, i, j)
-            lines.append(f"pole {j + 1}: vertex at infinity (hull sample), direction "
-                         "(" + ", ".join(f"{v:.3f}" for v in u) + ")")
+            lines.append(
+                f"pole {j + 1}: vertex at infinity (hull sample), direction (" + ", ".join(f"{v:.3f}" for v in u) + ")"
+            )
         else:
             dist = np.linalg.norm(rec.voronoi_vertices[p] - rec.points[i])
             lines.append(f"pole {j + 1}: vertex {int(p)}, distance {dist:.4g}")
@@ -119,8 +123,7 @@ def simplex_text(model: SceneModel, row: int) -> tuple[str, int | None]:
     if c.vertex_angles is not None:
         va = c.vertex_angles[row]
         parts = [f"{int(v)}: {deg(float(a))}" for v, a in zip(face, va)]
-        lines.append("cocone angle at each vertex: " + ", ".join(parts)
-                     + " (cocone = smallest, cocone-all = largest)")
+        lines.append("cocone angle at each vertex: " + ", ".join(parts) + " (cocone = smallest, cocone-all = largest)")
     removed_step = None
     if e < 0:
         lines.append(f"not in T_S of the extraction ({rec.test}, θ = {deg(rec.theta)})")
@@ -150,51 +153,67 @@ def interpretation_rows(rec: Reconstruction) -> list[tuple[str, str, str]]:
     """(choice, value, explanation) rows: how the core read the paper for this result."""
     rows = []
     rel = rec.joggle / rec.spacing if rec.spacing > 0 else 0.0
-    rows.append((
-        "joggle",
-        "none" if rec.joggle == 0 else f"{rec.joggle:.3g} ({rel:.1e} × spacing)",
-        "deterministic perturbation before Qhull, so cospherical points are in general position; "
-        "no quantity the algorithm uses moves by more than this",
-    ))
+    rows.append(
+        (
+            "joggle",
+            "none" if rec.joggle == 0 else f"{rec.joggle:.3g} ({rel:.1e} × spacing)",
+            "deterministic perturbation before Qhull, so cospherical points are in general position; "
+            "no quantity the algorithm uses moves by more than this",
+        )
+    )
     if rec.subspace_dim < rec.k:
-        rows.append((
-            "affine hull",
-            f"{rec.subspace_dim}-dimensional (k = {rec.k})",
-            f"the pipeline ran in that subspace; the {rec.k - rec.subspace_dim} orthogonal directions "
-            "were added to every normal plane (poles 'none')",
-        ))
+        rows.append(
+            (
+                "affine hull",
+                f"{rec.subspace_dim}-dimensional (k = {rec.k})",
+                f"the pipeline ran in that subspace; the {rec.k - rec.subspace_dim} orthogonal directions "
+                "were added to every normal plane (poles 'none')",
+            )
+        )
     hull = int(hull_samples(rec).sum())
-    rows.append((
-        "hull samples",
-        f"{hull} of {rec.n} with first pole at infinity",
-        "samples on the convex hull have unbounded Voronoi cells; their first pole is the vertex at "
-        "infinity (mean direction of the cut-off cell), drawn towards the edge of the box",
-    ))
-    rows.append((
-        "candidate test",
-        f"{rec.test} ({TEST_QUANTIFIER.get(rec.test, '')}), θ = {deg(rec.theta)}",
-        f"a d-face is a candidate when {TEST_WORDS.get(rec.test, rec.test)}",
-    ))
-    rows.append((
-        "extraction",
-        "robust (the paper's Algorithm 3, extended)" if rec.mode == "robust" else "the paper's Algorithm 3",
-        "robust: the paper's loop first; if it cannot give a closed manifold through every sample, M_S is "
-        "grown across boundaries instead (rules seed, grow, grow-relaxed, fill-hole, drop-stray, insert-sample)" if rec.mode == "robust"
-        else "exactly as printed: prune sharp and boundary faces, resolve non-manifold faces",
-    ))
-    rows.append((
-        "boundary faces",
-        "pruned (paper)" if rec.prune_boundary else "kept (prune off)",
-        "Algorithm 3 removes simplices at faces with a single simplex; on a scan with holes this "
-        "cascades until nothing is left" if rec.prune_boundary else
-        "faces with a single simplex are kept, so a scan with holes shows as an open surface; "
-        "the result cannot be closed",
-    ))
-    rows.append((
-        "extraction stopped",
-        rec.extraction.stopped,
-        STOPPED_WORDS.get(rec.extraction.stopped, rec.extraction.stopped),
-    ))
+    rows.append(
+        (
+            "hull samples",
+            f"{hull} of {rec.n} with first pole at infinity",
+            "samples on the convex hull have unbounded Voronoi cells; their first pole is the vertex at "
+            "infinity (mean direction of the cut-off cell), drawn towards the edge of the box",
+        )
+    )
+    rows.append(
+        (
+            "candidate test",
+            f"{rec.test} ({TEST_QUANTIFIER.get(rec.test, '')}), θ = {deg(rec.theta)}",
+            f"a d-face is a candidate when {TEST_WORDS.get(rec.test, rec.test)}",
+        )
+    )
+    rows.append(
+        (
+            "extraction",
+            "robust (the paper's Algorithm 3, extended)" if rec.mode == "robust" else "the paper's Algorithm 3",
+            "robust: the paper's loop first; if it cannot give a closed manifold through every sample, M_S is "
+            "grown across boundaries instead (rules seed, grow, grow-relaxed, fill-hole, drop-stray, insert-sample)"
+            if rec.mode == "robust"
+            else "exactly as printed: prune sharp and boundary faces, resolve non-manifold faces",
+        )
+    )
+    rows.append(
+        (
+            "boundary faces",
+            "pruned (paper)" if rec.prune_boundary else "kept (prune off)",
+            "Algorithm 3 removes simplices at faces with a single simplex; on a scan with holes this "
+            "cascades until nothing is left"
+            if rec.prune_boundary
+            else "faces with a single simplex are kept, so a scan with holes shows as an open surface; "
+            "the result cannot be closed",
+        )
+    )
+    rows.append(
+        (
+            "extraction stopped",
+            rec.extraction.stopped,
+            STOPPED_WORDS.get(rec.extraction.stopped, rec.extraction.stopped),
+        )
+    )
     return rows
 
 

@@ -90,8 +90,10 @@ def normal_glyphs(points: np.ndarray, normals: np.ndarray, scale: np.ndarray, si
         return verts, empty_l, polys
     # c == 1: one segment through s; c >= 3: c axes through s
     ends = np.concatenate(
-        [points[:, None, :] - normals.transpose(0, 2, 1) * scale[:, :, None],
-         points[:, None, :] + normals.transpose(0, 2, 1) * scale[:, :, None]],
+        [
+            points[:, None, :] - normals.transpose(0, 2, 1) * scale[:, :, None],
+            points[:, None, :] + normals.transpose(0, 2, 1) * scale[:, :, None],
+        ],
         axis=1,
     )  # (n, 2c, k)
     verts = ends.reshape(-1, k)

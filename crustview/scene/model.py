@@ -82,8 +82,14 @@ class SceneModel:
         self.comparison = None
 
     # -- setting data ----------------------------------------------------
-    def set_reconstruction(self, rec: Reconstruction, truth=None, source: str = "", keep_view: bool = False,
-                           quality: SamplingQuality | None = None) -> None:
+    def set_reconstruction(
+        self,
+        rec: Reconstruction,
+        truth=None,
+        source: str = "",
+        keep_view: bool = False,
+        quality: SamplingQuality | None = None,
+    ) -> None:
         """Show ``rec``; ``keep_view`` keeps projection and step (re-extraction).
 
         ``quality``: the samples' :func:`~crustview.core.analysis.quality.sampling_quality`

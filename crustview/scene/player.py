@@ -93,7 +93,7 @@ class StepPlayer:
         """
         if self.extraction is None:
             return None
-        later = np.flatnonzero(self._rules[self.position:] == rule)
+        later = np.flatnonzero(self._rules[self.position :] == rule)
         if len(later) == 0:
             return None
         return self.position + int(later[min(count, len(later)) - 1]) + 1

@@ -169,9 +169,14 @@ class Projection:
         ``k``, ``origin``, ``base`` (k x 3), ``angles`` (rows ``[i, j, radians]``),
         ``source`` and ``stereo_radius``; :meth:`restore` takes it back.
         """
-        return {"k": self.k, "origin": self.origin.tolist(), "base": self._base.tolist(),
-                "angles": [[i, j, a] for (i, j), a in sorted(self._angles.items())],
-                "source": self.source, "stereo_radius": self.stereo_radius}
+        return {
+            "k": self.k,
+            "origin": self.origin.tolist(),
+            "base": self._base.tolist(),
+            "angles": [[i, j, a] for (i, j), a in sorted(self._angles.items())],
+            "source": self.source,
+            "stereo_radius": self.stereo_radius,
+        }
 
     def restore(self, state: dict) -> None:
         """Show the view of :meth:`state` again (same ``k`` only).
@@ -283,8 +288,11 @@ class Projection:
         if self.k < 3 or len(planes) > max_planes:
             self.set_base(target, source)
             return
-        start = np.array([self._angles.get(p, 0.0) for p in planes]) if np.allclose(
-            self._base, np.eye(self.k, 3)) else np.zeros(len(planes))
+        start = (
+            np.array([self._angles.get(p, 0.0) for p in planes])
+            if np.allclose(self._base, np.eye(self.k, 3))
+            else np.zeros(len(planes))
+        )
         e = np.eye(self.k, 3)
 
         def residual(a: np.ndarray) -> np.ndarray:

@@ -16,8 +16,9 @@ def surface_name(orientable: bool | None, b1: int) -> str:
     if orientable or orientable is None:
         g = b1 // 2
         return {0: "sphere", 1: "torus"}.get(g, f"genus-{g} surface")
-    return {1: "projective plane", 2: "Klein bottle"}.get(b1, f"non-orientable surface of genus {b1} "
-                                                               f"(sum of {b1} projective planes)")
+    return {1: "projective plane", 2: "Klein bottle"}.get(
+        b1, f"non-orientable surface of genus {b1} (sum of {b1} projective planes)"
+    )
 
 
 def shape_name(d: int, betti: tuple[int, ...], orientable: bool | None, closed: bool = True) -> str:

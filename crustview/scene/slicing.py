@@ -22,8 +22,7 @@ def _crossing(x: np.ndarray, s: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.
     return x[a] + t[:, None] * (x[b] - x[a])
 
 
-def slice_complex(points: np.ndarray, simplices: np.ndarray, u: np.ndarray, c: float
-                  ) -> tuple[np.ndarray, np.ndarray]:
+def slice_complex(points: np.ndarray, simplices: np.ndarray, u: np.ndarray, c: float) -> tuple[np.ndarray, np.ndarray]:
     """The cross-section of ``simplices`` by the hyperplane ``x . u = c``.
 
     Parameters

@@ -31,5 +31,7 @@ def subset_note(what: str, drawn: int, total: int) -> str:
     """The sentence a layer shows when it draws ``drawn`` of its ``total`` elements ('' if all)."""
     if drawn >= total:
         return ""
-    return (f"{what}: drawn {drawn:,} of {total:,} (every {math.ceil(total / max(drawn, 1))}th sample), "
-            "too many to draw whole")
+    return (
+        f"{what}: drawn {drawn:,} of {total:,} (every {math.ceil(total / max(drawn, 1))}th sample), "
+        "too many to draw whole"
+    )

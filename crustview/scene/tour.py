@@ -111,9 +111,7 @@ class GrandTour:
         Returns the new basis.  Works whether or not the tour is playing (the
         Qt timer only calls it while playing).
         """
-        moved = self._last is not None and not np.allclose(
-            self.projection.basis[:, : self.m], self._last, atol=1e-9
-        )
+        moved = self._last is not None and not np.allclose(self.projection.basis[:, : self.m], self._last, atol=1e-9)
         if self._log is None or self._t >= 1.0 or self._start is None or moved:
             self._new_target()
         assert self._log is not None and self._start is not None

@@ -55,10 +55,16 @@ def comparison_rows(c: MeshComparison) -> list[tuple[str, str, str]]:
     return [
         ("faces", f"{c.result_faces:,}", f"{c.mesh_faces:,}{collapsed}"),
         ("shape", shape(c.result_topology), shape(c.mesh_topology)),
-        ("Betti numbers (Z/2)", ", ".join(map(str, c.result_topology.betti)),
-         ", ".join(map(str, c.mesh_topology.betti))),
+        (
+            "Betti numbers (Z/2)",
+            ", ".join(map(str, c.result_topology.betti)),
+            ", ".join(map(str, c.mesh_topology.betti)),
+        ),
         ("mesh faces recovered", f"{c.recovered:,} ({100 * c.recovered_share:.1f} %)", ""),
         ("extra faces (not in mesh)", f"{c.extra:,}", ""),
-        ("Hausdorff distance", f"{h.distance:.4g} ± {h.error_bound:.2g}",
-         f"mesh→M_S {h.a_to_b:.3g}, M_S→mesh {h.b_to_a:.3g}"),
+        (
+            "Hausdorff distance",
+            f"{h.distance:.4g} ± {h.error_bound:.2g}",
+            f"mesh→M_S {h.a_to_b:.3g}, M_S→mesh {h.b_to_a:.3g}",
+        ),
     ]

@@ -43,10 +43,12 @@ def clipped_cell(vertices: np.ndarray, site: np.ndarray, lo: np.ndarray, hi: np.
     try:
         hull = ConvexHull(vertices, qhull_options="QJ" if len(vertices) <= k + 1 else "")
         eq = _unique_planes(hull.equations)
-        box = np.vstack([
-            np.hstack([-np.eye(k), lo[:, None]]),  # -x + lo <= 0
-            np.hstack([np.eye(k), -hi[:, None]]),  # x - hi <= 0
-        ])
+        box = np.vstack(
+            [
+                np.hstack([-np.eye(k), lo[:, None]]),  # -x + lo <= 0
+                np.hstack([np.eye(k), -hi[:, None]]),  # x - hi <= 0
+            ]
+        )
         planes = np.vstack([eq, box])
         # the site must be strictly inside every plane
         inner = site.copy()

@@ -270,8 +270,9 @@ CASES = {
     "fertility-epsilon": lambda app, win: epsilon_and_cascade(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
     "nefertiti-epsilon": lambda app, win: epsilon_and_cascade(app, win, "nefertiti.obj", (0.3, 0.4, 3.0), 1.6),
     "fertility-robust": lambda app, win: robust_result(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
-    "nefertiti-robust": lambda app, win: robust_result(app, win, "nefertiti.obj", (1.2, -3.0, 0.6), 1.5,
-                                                       up=(0.0, 0.0, 1.0)),
+    "nefertiti-robust": lambda app, win: robust_result(
+        app, win, "nefertiti.obj", (1.2, -3.0, 0.6), 1.5, up=(0.0, 0.0, 1.0)
+    ),
     "torus-step": torus_step,
     "torus-framed": torus_framed,
     "torus-underside": torus_underside,

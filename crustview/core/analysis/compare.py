@@ -110,9 +110,16 @@ class MeshComparison:
         h = self.hausdorff
 
         def top(t: TopologyReport) -> dict:
-            return {"closed_manifold": t.closed_manifold, "betti": list(t.betti), "genus": self.genus(t),
-                    "orientable": t.orientable, "components": t.components, "n_simplices": t.n_simplices,
-                    "boundary_faces": t.boundary_faces, "nonmanifold_faces": t.nonmanifold_faces}
+            return {
+                "closed_manifold": t.closed_manifold,
+                "betti": list(t.betti),
+                "genus": self.genus(t),
+                "orientable": t.orientable,
+                "components": t.components,
+                "n_simplices": t.n_simplices,
+                "boundary_faces": t.boundary_faces,
+                "nonmanifold_faces": t.nonmanifold_faces,
+            }
 
         return {
             "mesh_faces": self.mesh_faces,
@@ -169,8 +176,9 @@ def dense_samples(points: np.ndarray, simplices: np.ndarray, step: float) -> tup
     return np.concatenate(out), delta
 
 
-def hausdorff(points: np.ndarray, a: np.ndarray, b: np.ndarray, *, step: float | None = None,
-              max_samples: int = MAX_SAMPLES) -> HausdorffEstimate:
+def hausdorff(
+    points: np.ndarray, a: np.ndarray, b: np.ndarray, *, step: float | None = None, max_samples: int = MAX_SAMPLES
+) -> HausdorffEstimate:
     """Sampled symmetric Hausdorff distance between complexes ``a`` and ``b`` on ``points``.
 
     Parameters
@@ -233,8 +241,10 @@ def _directed(samples: np.ndarray, tree: cKDTree, eps: float = 1.0) -> float:
 def _grid_count(points: np.ndarray, simplices: np.ndarray, step: float, d: int) -> float:
     """Number of grid points :func:`dense_samples` draws at ``step``: sum of C(m + d, d)."""
     corners = points[simplices]
-    longest = np.max([np.linalg.norm(corners[:, i] - corners[:, j], axis=1)
-                      for i, j in itertools.combinations(range(d + 1), 2)], axis=0)
+    longest = np.max(
+        [np.linalg.norm(corners[:, i] - corners[:, j], axis=1) for i, j in itertools.combinations(range(d + 1), 2)],
+        axis=0,
+    )
     m = np.maximum(1, np.ceil(longest / step))
     return float(np.sum(np.prod([m + i for i in range(1, d + 1)], axis=0)) / math.factorial(d))
 
@@ -253,9 +263,16 @@ def _count_common(a: np.ndarray, b: np.ndarray) -> int:
     return int((counts == 2).sum())
 
 
-def compare_complexes(points: np.ndarray, mesh: np.ndarray, result: np.ndarray, d: int, *,
-                      result_topology: TopologyReport | None = None, collapsed: int = 0,
-                      step: float | None = None) -> MeshComparison:
+def compare_complexes(
+    points: np.ndarray,
+    mesh: np.ndarray,
+    result: np.ndarray,
+    d: int,
+    *,
+    result_topology: TopologyReport | None = None,
+    collapsed: int = 0,
+    step: float | None = None,
+) -> MeshComparison:
     """Compare two d-complexes on the same vertex rows ``points``.
 
     Parameters
@@ -321,13 +338,17 @@ def compare_to_mesh(rec, mesh_faces: np.ndarray, *, step: float | None = None) -
     d = rec.d
     n_in = len(rec.input_points)
     if faces.ndim != 2 or faces.shape[1] != d + 1 or faces.dtype.kind not in "iu":
-        raise InputError(f"mesh faces must be an integer array of shape (m, {d + 1}) for d = {d}; "
-                         f"got shape {faces.shape}")
+        raise InputError(
+            f"mesh faces must be an integer array of shape (m, {d + 1}) for d = {d}; got shape {faces.shape}"
+        )
     if len(faces) and (faces.min() < 0 or faces.max() >= n_in):
-        raise InputError(f"mesh faces refer to vertex {int(faces.max() if faces.max() >= n_in else faces.min())}, "
-                         f"but there are {n_in} input points")
+        raise InputError(
+            f"mesh faces refer to vertex {int(faces.max() if faces.max() >= n_in else faces.min())}, "
+            f"but there are {n_in} input points"
+        )
     mapped = np.asarray(rec.input_index)[faces.astype(np.int64)]
     srt = np.sort(mapped, axis=1)
     ok = (srt[:, 1:] != srt[:, :-1]).all(axis=1)
-    return compare_complexes(rec.points, mapped[ok], rec.manifold, d, result_topology=rec.topology,
-                             collapsed=int((~ok).sum()), step=step)
+    return compare_complexes(
+        rec.points, mapped[ok], rec.manifold, d, result_topology=rec.topology, collapsed=int((~ok).sum()), step=step
+    )

@@ -51,8 +51,11 @@ class ComplexDiff:
         """JSON-serialisable counts, distances and topologies."""
 
         def top(t: TopologyReport) -> dict:
-            return {"closed_manifold": bool(t.closed_manifold), "betti": [int(b) for b in t.betti],
-                    "simplices": int(t.n_simplices)}
+            return {
+                "closed_manifold": bool(t.closed_manifold),
+                "betti": [int(b) for b in t.betti],
+                "simplices": int(t.n_simplices),
+            }
 
         h = self.hausdorff
         return {
@@ -60,8 +63,12 @@ class ComplexDiff:
             "both": len(self.both) if self.matched else None,
             "only_a": len(self.only_a) if self.matched else None,
             "only_b": len(self.only_b) if self.matched else None,
-            "hausdorff": h.distance, "a_to_b": h.a_to_b, "b_to_a": h.b_to_a, "hausdorff_error_bound": h.error_bound,
-            "topology_a": top(self.topology_a), "topology_b": top(self.topology_b),
+            "hausdorff": h.distance,
+            "a_to_b": h.a_to_b,
+            "b_to_a": h.b_to_a,
+            "hausdorff_error_bound": h.error_bound,
+            "topology_a": top(self.topology_a),
+            "topology_b": top(self.topology_b),
         }
 
 
@@ -120,5 +127,14 @@ def diff_complexes(pa: np.ndarray, a: np.ndarray, pb: np.ndarray, b: np.ndarray,
         points = np.concatenate([pa, pb])
         rb = _rows(np.asarray(b, dtype=np.int64) + len(pa), d)
         both = only_a = only_b = ra[:0]
-    return ComplexDiff(points, d, both, only_a, only_b, m is not None, hausdorff(points, ra, rb),
-                       analyse(ra, len(points), d), analyse(rb, len(points), d))
+    return ComplexDiff(
+        points,
+        d,
+        both,
+        only_a,
+        only_b,
+        m is not None,
+        hausdorff(points, ra, rb),
+        analyse(ra, len(points), d),
+        analyse(rb, len(points), d),
+    )

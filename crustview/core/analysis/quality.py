@@ -148,8 +148,13 @@ QUALITY_BLOCK = 1 << 18
 QUALITY_ROWS = 1 << 20
 
 
-def cell_radius(points: np.ndarray, neighbours: np.ndarray, edges: np.ndarray, tangents: np.ndarray,
-                step: Callable[[float], None] | None = None) -> np.ndarray:
+def cell_radius(
+    points: np.ndarray,
+    neighbours: np.ndarray,
+    edges: np.ndarray,
+    tangents: np.ndarray,
+    step: Callable[[float], None] | None = None,
+) -> np.ndarray:
     """Radius of each sample's Voronoi cell within its tangent plane.
 
     Parameters
@@ -274,6 +279,7 @@ def sampling_quality(
                 raise Cancelled("sampling quality cancelled")
             if progress is not None:
                 progress(lo + (hi - lo) * fraction)
+
         return step
 
     t0 = time.perf_counter()

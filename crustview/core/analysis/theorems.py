@@ -104,8 +104,7 @@ LFS_FORMS: dict[str, tuple[LfsFunction, str]] = {
     "sphere": (_constant(1.0), "1 (the medial axis is the centre)"),
     "s3": (_constant(1.0), "1 (the medial axis is the centre)"),
     "torus": (_constant(0.45), "0.45, the tube radius (core circle; the z-axis is >= 0.55 away)"),
-    "clifford-torus": (_constant(1 / math.sqrt(2)),
-                       "1/sqrt 2 (the medial axis is the two coordinate 2-planes)"),
+    "clifford-torus": (_constant(1 / math.sqrt(2)), "1/sqrt 2 (the medial axis is the two coordinate 2-planes)"),
     "ellipse": (_ellipse_lfs, "distance to the segment |x| <= 0.75 of the x-axis (the medial axis)"),
     "ellipsoid": (_ellipsoid_lfs, "distance to the filled ellipse of the medial axis in z = 0"),
 }
@@ -146,7 +145,7 @@ def numeric_reach(points: np.ndarray, tangents: np.ndarray, chunk: int = 400) ->
     """
     best = math.inf
     for lo in range(0, len(points), chunk):
-        x, t = points[lo:lo + chunk], tangents[lo:lo + chunk]
+        x, t = points[lo : lo + chunk], tangents[lo : lo + chunk]
         v = points[None, :, :] - x[:, None, :]  # (c, m, k)
         sq = np.einsum("cmk,cmk->cm", v, v)
         tv = np.einsum("cmk,ckd->cmd", v, t)
@@ -181,8 +180,14 @@ def lfs_function(name: str) -> tuple[LfsFunction, bool, str]:
         fn, how = LFS_FORMS[name]
         return fn, True, f"closed form: {how}"
     r = reach_of(name)
-    return _constant(r), False, (f"no closed form: the reach {r:.4g} (Federer's formula on a dense sample) "
-                                 "is used as a lower bound of f, so ε is an upper bound")
+    return (
+        _constant(r),
+        False,
+        (
+            f"no closed form: the reach {r:.4g} (Federer's formula on a dense sample) "
+            "is used as a lower bound of f, so ε is an upper bound"
+        ),
+    )
 
 
 def true_tangents_at(points: np.ndarray, dense: np.ndarray, dense_tangents: np.ndarray) -> np.ndarray:
@@ -317,14 +322,21 @@ def _query(tree: cKDTree, pts: np.ndarray, report: Callable[[float], None], chun
     dist = np.empty(len(pts))
     idx = np.empty(len(pts), dtype=np.intp)
     for lo in range(0, len(pts), chunk):
-        dist[lo:lo + chunk], idx[lo:lo + chunk] = tree.query(pts[lo:lo + chunk])
+        dist[lo : lo + chunk], idx[lo : lo + chunk] = tree.query(pts[lo : lo + chunk])
         report(min(1.0, (lo + chunk) / max(len(pts), 1)))
     return dist, idx
 
 
-def check_theorems(rec: Reconstruction, manifold: TestManifold | str, tangents: np.ndarray | None = None,
-                   *, dense: int | None = None, seed: int = 0,
-                   progress: Callable[[str, float], None] | None = None, cancel=None) -> TheoremChecks:
+def check_theorems(
+    rec: Reconstruction,
+    manifold: TestManifold | str,
+    tangents: np.ndarray | None = None,
+    *,
+    dense: int | None = None,
+    seed: int = 0,
+    progress: Callable[[str, float], None] | None = None,
+    cancel=None,
+) -> TheoremChecks:
     """Measure Theorems 2 and 10 on ``rec``, a reconstruction of samples of ``manifold``.
 
     Parameters
@@ -387,12 +399,29 @@ def check_theorems(rec: Reconstruction, manifold: TestManifold | str, tangents: 
     missing = int(np.isnan(eps).sum())
     if missing:
         notes.append(f"{missing} samples own no dense point of M (off M or duplicated)")
-    return TheoremChecks(m.name, m.k, m.d, exact, how, eps, err, bound, eps_g, covering, ms_d, ms_r, step,
-                         time.perf_counter() - t0, len(pts), notes)
+    return TheoremChecks(
+        m.name,
+        m.k,
+        m.d,
+        exact,
+        how,
+        eps,
+        err,
+        bound,
+        eps_g,
+        covering,
+        ms_d,
+        ms_r,
+        step,
+        time.perf_counter() - t0,
+        len(pts),
+        notes,
+    )
 
 
-def _ms_distance(rec: Reconstruction, pts: np.ndarray, tan: np.ndarray, f: np.ndarray,
-                 eps: float) -> tuple[np.ndarray, np.ndarray, float]:
+def _ms_distance(
+    rec: Reconstruction, pts: np.ndarray, tan: np.ndarray, f: np.ndarray, eps: float
+) -> tuple[np.ndarray, np.ndarray, float]:
     """Per simplex of M_S: largest distance to M, and largest distance / (eps f)."""
     simp = np.asarray(rec.manifold, dtype=np.int64)
     if len(simp) == 0:

@@ -55,11 +55,13 @@ def _face_index(faces: np.ndarray, query: np.ndarray) -> np.ndarray:
         return np.searchsorted(faces[:, 0], query[:, 0])
     base = int(max(faces.max(), query.max())) + 1
     if float(base) ** faces.shape[1] < 2**62:
+
         def key(a: np.ndarray) -> np.ndarray:
             k = np.zeros(len(a), dtype=np.int64)
             for c in range(a.shape[1]):
                 k = k * base + a[:, c]
             return k
+
         return np.searchsorted(key(faces), key(query))
     view = np.ascontiguousarray(faces).view([("", faces.dtype)] * faces.shape[1]).ravel()
     qv = np.ascontiguousarray(query).view([("", query.dtype)] * query.shape[1]).ravel()
@@ -142,10 +144,12 @@ def orientable(simplices: np.ndarray, pairs: tuple | None = None) -> bool:
     # node 2s is simplex s with orientation +1, 2s + 1 with -1; o2 = -o1 * (-1)^(a1 + a2)
     plus1, plus2 = 2 * s1, 2 * s2
     del s1, s2
-    e = np.concatenate([
-        np.stack([plus1, np.where(same, plus2, plus2 + 1)], axis=1),
-        np.stack([plus1 + 1, np.where(same, plus2 + 1, plus2)], axis=1),
-    ])
+    e = np.concatenate(
+        [
+            np.stack([plus1, np.where(same, plus2, plus2 + 1)], axis=1),
+            np.stack([plus1 + 1, np.where(same, plus2 + 1, plus2)], axis=1),
+        ]
+    )
     del plus1, plus2, same
     _, labels = graph_components(2 * c, e)
     return bool((labels[0::2] != labels[1::2]).all())
@@ -232,12 +236,15 @@ def analyse(simplices: np.ndarray, n_samples: int, d: int) -> TopologyReport:
     global _LAST
     simplices = np.asarray(simplices, dtype=np.int64).reshape(-1, d + 1)
     if len(simplices) == 0:
-        return TopologyReport(0, False, 0, 0, 0, n_samples, tuple([0] * (d + 1)), 0, None, 0,
-                              ["the complex is empty"])
+        return TopologyReport(0, False, 0, 0, 0, n_samples, tuple([0] * (d + 1)), 0, None, 0, ["the complex is empty"])
     key = None
     if len(simplices) >= REMEMBER_MIN:
-        key = (n_samples, d, simplices.shape,
-               hashlib.blake2b(np.ascontiguousarray(simplices).data, digest_size=20).digest())
+        key = (
+            n_samples,
+            d,
+            simplices.shape,
+            hashlib.blake2b(np.ascontiguousarray(simplices).data, digest_size=20).digest(),
+        )
         if _LAST is not None and _LAST[0] == key:
             return replace(_LAST[1], messages=list(_LAST[1].messages))
     if len(simplices) >= RELEASE_MIN:

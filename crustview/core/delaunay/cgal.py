@@ -110,9 +110,7 @@ def _temp_dir() -> str | None:
     return None
 
 
-def delaunay_3d(
-    points: np.ndarray, neighbors: bool = False
-) -> np.ndarray | tuple[np.ndarray, np.ndarray | None]:
+def delaunay_3d(points: np.ndarray, neighbors: bool = False) -> np.ndarray | tuple[np.ndarray, np.ndarray | None]:
     """Delaunay tetrahedra of points in R^3 with CGAL.
 
     Parameters
@@ -198,9 +196,7 @@ def _unpack(result: tuple, pts: np.ndarray, neighbors: bool) -> np.ndarray | tup
     dim, nverts, cells, nbrs, itemsize, nitemsize = result
     r = pts.shape[1]
     if dim != r or nverts != len(pts):
-        raise RuntimeError(
-            f"CGAL built a {dim}-dimensional triangulation with {nverts} of {len(pts)} vertices"
-        )
+        raise RuntimeError(f"CGAL built a {dim}-dimensional triangulation with {nverts} of {len(pts)} vertices")
     simplices = np.frombuffer(cells, dtype=np.int32 if itemsize == 4 else np.int64).reshape(-1, r + 1)
     if not neighbors:
         return simplices

@@ -162,8 +162,10 @@ def cocone_angles(
     for nv, sel in groups:
         subsets = [] if own_faces and nv > m + 1 else _boundary_subsets(nv, m)
         # a slice needs no gathers of faces and pointers, and no scatter of the result
-        tasks += [(nv, c if sel is None else sel[c], subsets) for c in chunks(f if sel is None else len(sel),
-                                                                              CHUNK_CELL_VERTICES // nv)]
+        tasks += [
+            (nv, c if sel is None else sel[c], subsets)
+            for c in chunks(f if sel is None else len(sel), CHUNK_CELL_VERTICES // nv)
+        ]
     if workers is None and len(cell_simplices) < CHUNK_CELL_VERTICES:  # one chunk's worth: threads only add overhead
         workers = 1
 
@@ -246,9 +248,18 @@ def _score_chunk(
         best = np.where(certified, lean**2, best)
         if len(todo):
             best[todo] = _exact_min(
-                x_t[:, todo].transpose(1, 2, 0), nrm[todo], np.take(tangents, fc[todo, a], axis=0),
+                x_t[:, todo].transpose(1, 2, 0),
+                nrm[todo],
+                np.take(tangents, fc[todo, a], axis=0),
                 np.take(work, fc[todo], axis=0),
-                s[todo], best[todo], subsets, m, tree, sin_lim**2, cell_faces, todo,
+                s[todo],
+                best[todo],
+                subsets,
+                m,
+                tree,
+                sin_lim**2,
+                cell_faces,
+                todo,
             )
         out[:, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
     return out
@@ -284,11 +295,23 @@ def _score_segments(
         if len(todo):
             va = fc[todo, a]
             s = np.take(work, va, axis=0)
-            x = np.stack([np.take(centres, cell_ids[todo, 0], axis=0) - s,
-                          np.take(centres, cell_ids[todo, 1], axis=0) - s], axis=1)
+            x = np.stack(
+                [np.take(centres, cell_ids[todo, 0], axis=0) - s, np.take(centres, cell_ids[todo, 1], axis=0) - s],
+                axis=1,
+            )
             best[todo] = _exact_min(
-                x, np.take(normals, va, axis=0), np.take(tangents, va, axis=0), np.take(work, fc[todo], axis=0),
-                s, best[todo], subsets, 1, tree, sin_lim**2, None, todo,
+                x,
+                np.take(normals, va, axis=0),
+                np.take(tangents, va, axis=0),
+                np.take(work, fc[todo], axis=0),
+                s,
+                best[todo],
+                subsets,
+                1,
+                tree,
+                sin_lim**2,
+                None,
+                todo,
             )
         out[:, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
     return out
@@ -336,9 +359,13 @@ def _segment_ends_native(
     """:func:`_segment_ends` through the extension :mod:`._segments` (same values, bit for bit)."""
     f, w = fc.shape
     best, lean = _native_segments.segments(
-        np.ascontiguousarray(work), np.ascontiguousarray(normals), np.ascontiguousarray(centres),
-        np.ascontiguousarray(fc, dtype=np.int64), np.ascontiguousarray(cell_ids, dtype=np.int64),
-        work.shape[1], w,
+        np.ascontiguousarray(work),
+        np.ascontiguousarray(normals),
+        np.ascontiguousarray(centres),
+        np.ascontiguousarray(fc, dtype=np.int64),
+        np.ascontiguousarray(cell_ids, dtype=np.int64),
+        work.shape[1],
+        w,
     )
     best = np.frombuffer(best, dtype=np.float64).reshape(f, w)
     lean = np.frombuffer(lean, dtype=np.float64).reshape(f, w)

@@ -21,9 +21,7 @@ def cone_min_pair(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarra
     return segment_min(x[..., 0, :], x[..., 1, :], xn[..., 0, :], xn[..., 1, :])
 
 
-def segment_min(
-    x1: np.ndarray, x2: np.ndarray, n1: np.ndarray, n2: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
+def segment_min(x1: np.ndarray, x2: np.ndarray, n1: np.ndarray, n2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Minimum of sin^2 angle(., AT) over the cone of two generators.
 
     ``x1, x2`` (..., r) are the generators, ``n1, n2`` (..., m) their normal
@@ -140,10 +138,16 @@ def span_min3(x: np.ndarray, nrm: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
     lam_min = np.where(p > 1e-300, q + 2 * p * np.cos(phi + 2 * np.pi / 3), q)
     # eigenvector: the longest cross product of two rows of M - lam I
     rows = np.stack(
-        [np.stack([m00 - lam_min, m01, m02], 1), np.stack([m01, m11 - lam_min, m12], 1),
-         np.stack([m02, m12, m22 - lam_min], 1)], axis=1)
-    cands = np.stack([np.cross(rows[:, 0], rows[:, 1]), np.cross(rows[:, 0], rows[:, 2]),
-                      np.cross(rows[:, 1], rows[:, 2])], axis=1)
+        [
+            np.stack([m00 - lam_min, m01, m02], 1),
+            np.stack([m01, m11 - lam_min, m12], 1),
+            np.stack([m02, m12, m22 - lam_min], 1),
+        ],
+        axis=1,
+    )
+    cands = np.stack(
+        [np.cross(rows[:, 0], rows[:, 1]), np.cross(rows[:, 0], rows[:, 2]), np.cross(rows[:, 1], rows[:, 2])], axis=1
+    )
     size = dot(cands, cands)
     v = cands[np.arange(len(x)), size.argmax(axis=1)]
     flat = size.max(axis=1) <= 1e-300  # repeated smallest eigenvalue: any vector in its space

@@ -59,8 +59,10 @@ CASCADE_LIMIT = 64
 OPPOSITE_BLOCK = 1 << 16
 
 
-def facet_structure(simplices: np.ndarray, positions: bool = False,
-                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def facet_structure(
+    simplices: np.ndarray,
+    positions: bool = False,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(d-1)-faces of a d-complex.
 
     Parameters
@@ -154,7 +156,7 @@ def _opposite_small(points: np.ndarray, simplices: np.ndarray, out: np.ndarray) 
 
 def _max_pair(ang: list[list[float]]) -> float:
     """Largest off-diagonal entry of a symmetric angle matrix (m >= 2 rows)."""
-    return max(max(row[i + 1:]) for i, row in enumerate(ang[:-1]))
+    return max(max(row[i + 1 :]) for i, row in enumerate(ang[:-1]))
 
 
 class _Extractor:
@@ -187,7 +189,7 @@ class _Extractor:
     def alive_at(self, g: int) -> list[int]:
         alive = self.alive
         ptr = self.ptr
-        return [s for s in self.inc[ptr[g]:ptr[g + 1]].tolist() if alive[s]]
+        return [s for s in self.inc[ptr[g] : ptr[g + 1]].tolist() if alive[s]]
 
     def pair_angles(self, g: int, simp: list[int]) -> list[list[float]]:
         """Angles ``phi`` between the simplices ``simp`` at facet ``g`` (m x m, symmetric, diagonal 0).
@@ -252,7 +254,7 @@ def _initial_sharp(ex: _Extractor) -> list[int]:
     sharp = (cnt == 1) if ex.prune_boundary else np.zeros(len(cnt), dtype=bool)
     for m in np.unique(cnt[cnt >= 2]).tolist():
         for lo in range(0, len(cnt), OPPOSITE_BLOCK):  # blocks of facets keep temporaries small
-            g = lo + np.flatnonzero(cnt[lo:lo + OPPOSITE_BLOCK] == m)
+            g = lo + np.flatnonzero(cnt[lo : lo + OPPOSITE_BLOCK] == m)
             if len(g) == 0:
                 continue
             simp = ex.inc[ex.ptr[g][:, None] + np.arange(m)]  # (G, m)
@@ -335,8 +337,7 @@ def extract(
                 if len(simp) == 1
                 else f"all {len(simp)} d-simplices meet within {np.degrees(best):.1f} deg < 90 deg (sharp)"
             )
-            ex.steps.append(Step(idx, RULE_PRUNE, ex.tau(g), (), tuple(simp), best, why,
-                                 cause=cause))
+            ex.steps.append(Step(idx, RULE_PRUNE, ex.tau(g), (), tuple(simp), best, why, cause=cause))
             for h in sorted(touched):
                 if h != g and ex.count[h] > 0 and h not in queued:
                     prune.append(h)

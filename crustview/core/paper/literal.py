@@ -37,9 +37,7 @@ def _orthonormal(vectors: np.ndarray) -> np.ndarray:
     return np.stack([e1, e2], axis=-1)
 
 
-def literal_angles(
-    work: np.ndarray, normals: np.ndarray, faces: np.ndarray, workers: int | None = None
-) -> np.ndarray:
+def literal_angles(work: np.ndarray, normals: np.ndarray, faces: np.ndarray, workers: int | None = None) -> np.ndarray:
     """Paper's test: min over vertices of the angle between aff(sigma) and AT_s.
 
     Parameters

@@ -165,8 +165,15 @@ def _farthest(inc: "_Incidences", basis: np.ndarray, j: int) -> tuple[np.ndarray
     """
     r = inc.work.shape[1]
     first, best, max_abs = _native.farthest(
-        np.ascontiguousarray(inc.centres, dtype=np.float64), np.ascontiguousarray(inc.work, dtype=np.float64),
-        np.ascontiguousarray(inc.simplices), np.ascontiguousarray(basis), inc.n, r, r + 1, basis.shape[2], j,
+        np.ascontiguousarray(inc.centres, dtype=np.float64),
+        np.ascontiguousarray(inc.work, dtype=np.float64),
+        np.ascontiguousarray(inc.simplices),
+        np.ascontiguousarray(basis),
+        inc.n,
+        r,
+        r + 1,
+        basis.shape[2],
+        j,
     )
     return np.frombuffer(first, dtype=np.int64).copy(), np.frombuffer(best, dtype=np.float64), max_abs
 
@@ -217,8 +224,13 @@ class _Incidences:
         if len(vec):
             self.max_abs = max(self.max_abs, float(np.abs(vec).max()))
 
-    def blocks(self, with_pos: bool = False, geometry: bool = True, finite: bool = True,  # noqa: ANN201
-               extra: bool = True):
+    def blocks(
+        self,
+        with_pos: bool = False,
+        geometry: bool = True,
+        finite: bool = True,  # noqa: ANN201
+        extra: bool = True,
+    ):
         """Yield ``(owner, sid, vec[, pos])`` per block; ``vec`` is None without geometry.
 
         ``finite`` and ``extra`` select the simplex entries and the vertices at

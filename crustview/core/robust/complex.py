@@ -23,7 +23,7 @@ Simplex = tuple[int, ...]
 
 
 def _facets(s: Simplex) -> list[Simplex]:
-    return [s[:a] + s[a + 1:] for a in range(len(s))]
+    return [s[:a] + s[a + 1 :] for a in range(len(s))]
 
 
 class EditableComplex:
@@ -40,8 +40,15 @@ class EditableComplex:
         Median nearest-neighbour distance.
     """
 
-    def __init__(self, points: np.ndarray, simplices: list[Simplex], delaunay: np.ndarray, spacing: float,
-                 orient: list[int] | None = None, orientable: bool = False) -> None:
+    def __init__(
+        self,
+        points: np.ndarray,
+        simplices: list[Simplex],
+        delaunay: np.ndarray,
+        spacing: float,
+        orient: list[int] | None = None,
+        orientable: bool = False,
+    ) -> None:
         self.points = points
         #: +1/-1 per simplex (relative to its sorted vertex order); 0 when unknown
         self.orient: list[int] = []
@@ -118,13 +125,12 @@ class EditableComplex:
         self._used0 = np.zeros(len(self.points), dtype=bool)
         self._used0[flat] = True
 
-
     def _star(self, v: int) -> set[int]:
         """The alive simplices at vertex v (made from the initial complex on first use, then kept)."""
         st = self.star.get(v)
         if st is None:
             if self._star_ptr is not None and v < len(self._star_ptr) - 1:
-                st = set(self._star_own[self._star_ptr[v]:self._star_ptr[v + 1]].tolist())
+                st = set(self._star_own[self._star_ptr[v] : self._star_ptr[v + 1]].tolist())
             else:
                 st = set()
             self.star[v] = st
@@ -228,4 +234,3 @@ class EditableComplex:
         ind = self.induced(s)
         i = self._insert(s, ind.pop() if len(ind) == 1 else 0)
         self.log.append((rule, tau, (i,), (), angle, why))
-

@@ -86,8 +86,6 @@ from ..result import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, St
 from ..analysis.topology import analyse
 
 
-
-
 def extract_robust(
     points: np.ndarray,
     faces: np.ndarray,
@@ -141,14 +139,17 @@ def extract_robust(
             final = paper.complex_at(paper.n_steps)
             if analyse(final, n, d1 - 1).closed_manifold:
                 paper.mode = "robust"
-                paper.notes.append("the paper's Algorithm 3 gave a closed manifold through every sample; "
-                                   "the extension was not needed")
+                paper.notes.append(
+                    "the paper's Algorithm 3 gave a closed manifold through every sample; the extension was not needed"
+                )
                 return paper
             note_paper = "the paper's Algorithm 3 ended with a pinched complex"
         elif paper.stopped == "sample-lost":
-            note_paper = (f"the paper's Algorithm 3 was abandoned after {paper.n_steps} steps, "
-                          f"when {paper.notes[-1].split(' lost')[0]} lost its last simplex "
-                          f"({len(paper.holes)} holes in T_S)")
+            note_paper = (
+                f"the paper's Algorithm 3 was abandoned after {paper.n_steps} steps, "
+                f"when {paper.notes[-1].split(' lost')[0]} lost its last simplex "
+                f"({len(paper.holes)} holes in T_S)"
+            )
         else:
             note_paper = f"the paper's Algorithm 3 ended {paper.stopped}"
         holes = paper.holes
@@ -173,8 +174,9 @@ def _row_keys(rows: np.ndarray, base: int) -> np.ndarray:
     return keys
 
 
-def _prepare_growth(points: np.ndarray, faces: np.ndarray, scores: np.ndarray,
-                    admitted: np.ndarray) -> tuple[np.ndarray, np.ndarray, int, Grower, np.ndarray]:
+def _prepare_growth(
+    points: np.ndarray, faces: np.ndarray, scores: np.ndarray, admitted: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, int, Grower, np.ndarray]:
     """The walk's faces (T_S first), its Grower, and the manifold core added to it.
 
     Pure array work on its own inputs.
@@ -187,8 +189,9 @@ def _prepare_growth(points: np.ndarray, faces: np.ndarray, scores: np.ndarray,
     n_ts = int(admitted.sum())
     tier = (np.arange(len(F)) >= n_ts).astype(np.int8)
     gr = Grower(points, F, S, tier, size[order])
-    core, core_orient = manifold_core(F, gr.facet_of, gr.u, tier == 0, gr.size <= SIZE_MAX, gr.cost,
-                                      COS_PAPER, gr.orientable, gr.by_facet)
+    core, core_orient = manifold_core(
+        F, gr.facet_of, gr.u, tier == 0, gr.size <= SIZE_MAX, gr.cost, COS_PAPER, gr.orientable, gr.by_facet
+    )
     gr.add_bulk(core, core_orient, RULE_CORE)
     return F, S, n_ts, gr, core
 
@@ -212,8 +215,14 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
     if cancel is not None and cancel.is_set():
         raise Cancelled("reconstruction cancelled")
     grown = np.array([f for f, *_ in gr.log], dtype=np.int64)
-    pt = Patcher(points, list(map(tuple, F[grown].tolist())), F, spacing,
-                 orient=[gr.orient[f] for f in grown.tolist()], orientable=gr.orientable)
+    pt = Patcher(
+        points,
+        list(map(tuple, F[grown].tolist())),
+        F,
+        spacing,
+        orient=[gr.orient[f] for f in grown.tolist()],
+        orientable=gr.orientable,
+    )
     # only gluing moves leave pinched vertices behind in the grown complex
     pt.suspects = set(gr.glued)
     pt.drop_small_components()
@@ -245,7 +254,7 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
         keys = _row_keys(F[:n_ts], len(points))
         order = np.argsort(keys, kind="stable")
         sorted_keys = keys[order]
-        new_keys = _row_keys(np.array(pt.simp[len(grown):], dtype=np.int64), len(points))
+        new_keys = _row_keys(np.array(pt.simp[len(grown) :], dtype=np.int64), len(points))
         row_of: dict[tuple[int, ...], int] = {}
         taken = set(grown_rows_l)  # a row is added at most once; a re-added simplex gets a new row
         for i in range(len(grown), len(pt.simp)):
@@ -264,11 +273,20 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
             patch_rows.append(r)
     steps: list[Step] = []
     if n_core:
-        steps.append(Step(0, RULE_CORE, tuple(F[core[0]].tolist()), (), (), math.nan,
-                          f"seeded M_S with the manifold core of T_S: {n_core} faces where T_S is already a "
-                          "manifold and the cheapest choice on both sides of every face, which growing "
-                          "would take one by one without a choice",
-                          added=tuple(grown_rows_l[:n_core])))
+        steps.append(
+            Step(
+                0,
+                RULE_CORE,
+                tuple(F[core[0]].tolist()),
+                (),
+                (),
+                math.nan,
+                f"seeded M_S with the manifold core of T_S: {n_core} faces where T_S is already a "
+                "manifold and the cheapest choice on both sides of every face, which growing "
+                "would take one by one without a choice",
+                added=tuple(grown_rows_l[:n_core]),
+            )
+        )
     log_f = [e[0] for e in gr.log]
     score_deg = np.degrees(S[log_f]).tolist() if log_f else []
     sizes = gr.size[log_f].tolist() if log_f else []
@@ -276,19 +294,32 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
     fv = gr._fverts  # flat facet vertex lists
     for idx in range(n_core, len(gr.log)):
         f, rule, g, angle = gr.log[idx]
-        tau = tuple(fv[g * (dp1 - 1):(g + 1) * (dp1 - 1)]) if g >= 0 else tuple(F[f].tolist())
+        tau = tuple(fv[g * (dp1 - 1) : (g + 1) * (dp1 - 1)]) if g >= 0 else tuple(F[f].tolist())
         if rule == RULE_SEED:
-            why = (f"new component started at the best free candidate (score {score_deg[idx]:.1f} deg, "
-                   f"size {sizes[idx]:.2f})")
+            why = (
+                f"new component started at the best free candidate (score {score_deg[idx]:.1f} deg, "
+                f"size {sizes[idx]:.2f})"
+            )
         else:
-            where = ("a face of T_S" if f < n_ts
-                     else f"a Delaunay face outside T_S (score {score_deg[idx]:.1f} deg)")
-            why = (f"added {where} across a boundary face, meeting its neighbour at "
-                   f"{math.degrees(angle):.1f} deg (180 = flat), size {sizes[idx]:.2f}")
+            where = "a face of T_S" if f < n_ts else f"a Delaunay face outside T_S (score {score_deg[idx]:.1f} deg)"
+            why = (
+                f"added {where} across a boundary face, meeting its neighbour at "
+                f"{math.degrees(angle):.1f} deg (180 = flat), size {sizes[idx]:.2f}"
+            )
         steps.append(Step(len(steps), rule, tau, (), (), angle, why, added=(grown_rows_l[idx],)))
     for rule, tau, added, removed, angle, why in pt.log:
-        steps.append(Step(len(steps), rule, tau, (), tuple(patch_rows[i] for i in removed), angle, why,
-                          added=tuple(patch_rows[i] for i in added)))
+        steps.append(
+            Step(
+                len(steps),
+                rule,
+                tau,
+                (),
+                tuple(patch_rows[i] for i in removed),
+                angle,
+                why,
+                added=tuple(patch_rows[i] for i in added),
+            )
+        )
     n_steps = len(steps)
     dp1 = F.shape[1]
     simplices = np.vstack([F[:n_ts], F[outside], np.array(extra, dtype=np.int64).reshape(-1, dp1)])
@@ -308,10 +339,11 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
     in_ts = np.arange(len(simplices)) < n_ts
     if extra:  # a simplex the patch added may be a face of T_S, re-added under a new row
         in_ts[n_base:] = np.isin(_row_keys(simplices[n_base:], len(points)), _row_keys(F[:n_ts], len(points)))
-    ext = Extraction(simplices, steps, removed_at, stopped, added_at=added_at, mode="robust",
-                     in_candidates=in_ts)
+    ext = Extraction(simplices, steps, removed_at, stopped, added_at=added_at, mode="robust", in_candidates=in_ts)
     if left:
         shown = ", ".join(str(x) for x in left[:10]) + (" ..." if len(left) > 10 else "")
-        ext.notes.append(f"{len(left)} samples are farther than the insertion limit from M_S and were left "
-                         f"out (outliers or unreachable): {shown}")
+        ext.notes.append(
+            f"{len(left)} samples are farther than the insertion limit from M_S and were left "
+            f"out (outliers or unreachable): {shown}"
+        )
     return ext

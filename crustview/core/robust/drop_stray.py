@@ -51,8 +51,16 @@ class DropStray:
             comp = ids[label == lab].tolist()
             for i in comp:
                 self._delete(i)
-            self.log.append(("drop-stray", self.simp[comp[0]], (), tuple(comp), float("nan"),
-                             f"a stray component of {len(comp)} simplices (the largest has {largest}) "
-                             "was removed; its samples are inserted into the rest"))
+            self.log.append(
+                (
+                    "drop-stray",
+                    self.simp[comp[0]],
+                    (),
+                    tuple(comp),
+                    float("nan"),
+                    f"a stray component of {len(comp)} simplices (the largest has {largest}) "
+                    "was removed; its samples are inserted into the rest",
+                )
+            )
             dropped += 1
         return dropped

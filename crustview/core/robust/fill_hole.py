@@ -83,8 +83,10 @@ class FillHole:
             width = self._slit_width(hole, local) if len(hole[0]) == 2 and len(hole) <= SLIT_MAX_FACES else None
             if width is None or width > SLIT_MAX_WIDTH:
                 return False
-            why = (f"slit of {len(hole)} boundary faces, {span / local:.1f} local spacings long but only "
-                   f"{width:.1f} wide (a thin part sampled on both sides)")
+            why = (
+                f"slit of {len(hole)} boundary faces, {span / local:.1f} local spacings long but only "
+                f"{width:.1f} wide (a thin part sampled on both sides)"
+            )
             # ears only: a disc across the slit, never Delaunay faces between far parts of its
             # rim or erosion of its sides (both split long rims into pinched pieces)
             self._ear_clip(hole, why, zip_3d=True)
@@ -134,9 +136,17 @@ class FillHole:
         touched = {v for i in rim for v in self.simp[i]}
         for i in rim:
             self._delete(i)
-        self.log.append(("fill-hole", edges[0], (), tuple(rim), float("nan"),
-                         f"{why}: no ear fits, so the {len(rim)} simplices on its rim were removed "
-                         "and the wider hole is closed again"))
+        self.log.append(
+            (
+                "fill-hole",
+                edges[0],
+                (),
+                tuple(rim),
+                float("nan"),
+                f"{why}: no ear fits, so the {len(rim)} simplices on its rim were removed "
+                "and the wider hole is closed again",
+            )
+        )
         return [f for f in self.boundary() if any(x in touched for x in f)]
 
     def _unpinch(self, edges: list[Simplex], why: str) -> list[Simplex]:
@@ -157,15 +167,23 @@ class FillHole:
                 for i in fan:
                     touched.update(self.simp[i])
                     self._delete(i)
-                self.log.append(("fill-hole", (v,), (), tuple(fan), float("nan"),
-                                 f"{why}: its boundary pinches at sample {v}; removed the smaller fan of "
-                                 f"{len(fan)} simplices there so the hole has a simple rim"))
+                self.log.append(
+                    (
+                        "fill-hole",
+                        (v,),
+                        (),
+                        tuple(fan),
+                        float("nan"),
+                        f"{why}: its boundary pinches at sample {v}; removed the smaller fan of "
+                        f"{len(fan)} simplices there so the hole has a simple rim",
+                    )
+                )
         return [f for f in self.boundary() if any(x in touched for x in f)]
 
     def _fill_delaunay(self, verts: set[int], why: str) -> None:
         cand = set()
         for v in verts:
-            for fi in self.vfaces[self.vptr[v]:self.vptr[v + 1]]:
+            for fi in self.vfaces[self.vptr[v] : self.vptr[v + 1]]:
                 row = tuple(int(x) for x in self.delaunay[fi])
                 if all(x in verts for x in row):
                     cand.add(row)
@@ -187,8 +205,9 @@ class FillHole:
             touched = set(_facets(s))
             known = {t: got for t, got in known.items() if touched.isdisjoint(_facets(t))}
             tau = next(f for f in _facets(s) if len(self.at(f)) == 1)
-            self.add(s, "fill-hole", tau, float(np.arccos(np.clip(worst, -1, 1))),
-                     f"closing a {why} with a Delaunay face")
+            self.add(
+                s, "fill-hole", tau, float(np.arccos(np.clip(worst, -1, 1))), f"closing a {why} with a Delaunay face"
+            )
 
     def _loops(self, edges: list[Simplex]) -> list[list[int]] | None:
         """Boundary edges as simple cycles, or None when a vertex is pinched."""
@@ -263,9 +282,14 @@ class FillHole:
                 _, t, tri = best
                 near = (idx[t - 1], idx[(t + 1) % m])
                 valid = {k: v for k, v in valid.items() if near[0] not in k and near[1] not in k}
-                self.add(tri, "fill-hole", tuple(sorted((loop[idx[t - 1]], loop[idx[t]]))), float("nan"),
-                         f"closing a {why}: ear at sample {loop[idx[t]]} clipped in the hole's plane "
-                         "(need not be a Delaunay face)")
+                self.add(
+                    tri,
+                    "fill-hole",
+                    tuple(sorted((loop[idx[t - 1]], loop[idx[t]]))),
+                    float("nan"),
+                    f"closing a {why}: ear at sample {loop[idx[t]]} clipped in the hole's plane "
+                    "(need not be a Delaunay face)",
+                )
                 idx.pop(t)
                 if len(idx) < 3:
                     break
@@ -299,9 +323,14 @@ class FillHole:
             _, t, tri = best
             a, c = loop[idx[t - 1]], loop[idx[(t + 1) % m]]
             known = {k: v for k, v in known.items() if a not in k and c not in k}
-            self.add(tri, "fill-hole", tuple(sorted((loop[idx[t - 1]], loop[idx[t]]))), float("nan"),
-                     f"closing a {why}: ear at sample {loop[idx[t]]} chosen in space (the rim has no "
-                     "simple planar projection; need not be a Delaunay face)")
+            self.add(
+                tri,
+                "fill-hole",
+                tuple(sorted((loop[idx[t - 1]], loop[idx[t]]))),
+                float("nan"),
+                f"closing a {why}: ear at sample {loop[idx[t]]} chosen in space (the rim has no "
+                "simple planar projection; need not be a Delaunay face)",
+            )
             idx.pop(t)
 
     def _zip_ear(self, a: int, b: int, c: int, closing: bool) -> float | None:
@@ -324,8 +353,7 @@ class FillHole:
         """Join curve ends in pairs, closest first, up to FILL_MAX_SPAN local spacings apart."""
         pts = [f[0] for f in ends]
         pairs = sorted(
-            (float(np.linalg.norm(self.points[a] - self.points[b])), a, b)
-            for a, b in itertools.combinations(pts, 2)
+            (float(np.linalg.norm(self.points[a] - self.points[b])), a, b) for a, b in itertools.combinations(pts, 2)
         )
         done: set[int] = set()
         for dist, a, b in pairs:
@@ -337,10 +365,14 @@ class FillHole:
             s = (min(a, b), max(a, b))
             if s in self.index:
                 continue
-            self.add(s, "fill-hole", (a,), float("nan"),
-                     f"closing a {why}: joined ends {a} and {b}, {dist / local:.1f} local spacings apart")
+            self.add(
+                s,
+                "fill-hole",
+                (a,),
+                float("nan"),
+                f"closing a {why}: joined ends {a} and {b}, {dist / local:.1f} local spacings apart",
+            )
             done.update((a, b))
-
 
     # -- pinched vertices -----------------------------------------------------
     def fans(self, v: int) -> list[list[int]]:
@@ -379,7 +411,15 @@ class FillHole:
             for fan in sorted(fans, key=len)[:-1]:
                 for i in fan:
                     self._delete(i)
-                self.log.append(("fill-hole", (v,), (), tuple(fan), float("nan"),
-                                 f"M_S pinches at sample {v} (its simplices form {len(fans)} fans); removed "
-                                 f"a fan of {len(fan)} so the hole it leaves can be closed"))
+                self.log.append(
+                    (
+                        "fill-hole",
+                        (v,),
+                        (),
+                        tuple(fan),
+                        float("nan"),
+                        f"M_S pinches at sample {v} (its simplices form {len(fans)} fans); removed "
+                        f"a fan of {len(fan)} so the hole it leaves can be closed",
+                    )
+                )
         return fixed

@@ -138,8 +138,14 @@ class Grower(HandleGuard):
         0 for faces of T_S, 1 for the other Delaunay faces.
     """
 
-    def __init__(self, points: np.ndarray, faces: np.ndarray, scores: np.ndarray, tier: np.ndarray,
-                 size: np.ndarray | None = None) -> None:
+    def __init__(
+        self,
+        points: np.ndarray,
+        faces: np.ndarray,
+        scores: np.ndarray,
+        tier: np.ndarray,
+        size: np.ndarray | None = None,
+    ) -> None:
         self.points = points
         self.faces = faces
         self.scores = scores
@@ -209,7 +215,7 @@ class Grower(HandleGuard):
 
     def _facets_of(self, f: int) -> list[int]:
         dp1 = self.dp1
-        return self._fo[f * dp1:(f + 1) * dp1]
+        return self._fo[f * dp1 : (f + 1) * dp1]
 
     def _u_at(self, f: int, h: int) -> np.ndarray:
         return self.u[f, self._facets_of(f).index(h)]
@@ -226,14 +232,14 @@ class Grower(HandleGuard):
         self.orient[f] = self._induced_orientation(f, g) if g >= 0 else 1
         count, xor, vfront = self.count, self.xor, self.vfront
         d, dp1 = self.dp1 - 1, self.dp1
-        hs = self._fo[f * dp1:(f + 1) * dp1]
+        hs = self._fo[f * dp1 : (f + 1) * dp1]
         for h in hs:
             count[h] += 1
             xor[h] ^= f + 1
             delta = 1 if count[h] == 1 else -1
-            for v in self._fverts[h * d:(h + 1) * d]:
+            for v in self._fverts[h * d : (h + 1) * d]:
                 vfront[v] += delta
-        vs = self._verts[f * dp1:(f + 1) * dp1]
+        vs = self._verts[f * dp1 : (f + 1) * dp1]
         for v in vs:
             self.vcount[v] += 1
         self._union(vs)
@@ -314,7 +320,7 @@ class Grower(HandleGuard):
                 continue
             closing = False
             full = False
-            for h in fo[f * dp1:(f + 1) * dp1]:
+            for h in fo[f * dp1 : (f + 1) * dp1]:
                 if h != g:
                     ch = count[h]
                     if ch >= 2:
@@ -378,8 +384,12 @@ class Grower(HandleGuard):
         self.add(int(best), "seed", -1, float(self.scores[best]))
         return True
 
-    def grow(self, rule_of: Callable[[int, float], str], cancel: object | None = None,
-             progress: Callable[[float], None] | None = None) -> None:
+    def grow(
+        self,
+        rule_of: Callable[[int, float], str],
+        cancel: object | None = None,
+        progress: Callable[[float], None] | None = None,
+    ) -> None:
         """Pop candidates until none is valid; ``rule_of(face, cos)`` names each step."""
         heap = self.heap
         alive, count, inc, fg = self.alive, self.count, self._inc, self._fg

@@ -48,7 +48,7 @@ class HandleGuard:
             order = np.argsort(flat, kind="stable")
             ptr = np.concatenate([[0], np.cumsum(np.bincount(flat, minlength=self.n))]).tolist()
             own = alive[order // self.dp1].tolist()
-            self._vstar = [own[ptr[v]:ptr[v + 1]] for v in range(self.n)]
+            self._vstar = [own[ptr[v] : ptr[v + 1]] for v in range(self.n)]
         return self._vstar
 
     def boundary_component(self, v: int, cap: int | None = None) -> tuple[set[int], bool]:
@@ -80,7 +80,7 @@ class HandleGuard:
                     h = fo[base + q]
                     if count[h] != 1:
                         continue
-                    for w in fv[h * d:(h + 1) * d]:
+                    for w in fv[h * d : (h + 1) * d]:
                         if w not in seen:
                             seen.add(w)
                             todo.append(w)

@@ -86,10 +86,18 @@ class SampleInsertion:
             for i in star:
                 self._delete(i)
             added = [self._insert(t, o) for o, t in plan]
-            self.log.append(("insert-sample", (x,), tuple(added), tuple(removed), float("nan"),
-                             f"sample {x} was no vertex; it lies {dist / self.spacing:.2f} spacings from the "
-                             f"face {tau}, which is split around it ({len(removed)} simplices become "
-                             f"{len(added)})"))
+            self.log.append(
+                (
+                    "insert-sample",
+                    (x,),
+                    tuple(added),
+                    tuple(removed),
+                    float("nan"),
+                    f"sample {x} was no vertex; it lies {dist / self.spacing:.2f} spacings from the "
+                    f"face {tau}, which is split around it ({len(removed)} simplices become "
+                    f"{len(added)})",
+                )
+            )
         return left
 
     def _nearest_face(self, x: int, s: Simplex) -> tuple[float, Simplex]:

@@ -35,9 +35,17 @@ from ..analysis.topology import graph_components
 MOEBIUS_CUTS = 8
 
 
-def manifold_core(faces: np.ndarray, facet_of: np.ndarray, u: np.ndarray, in_ts: np.ndarray,
-                  fits: np.ndarray, cost: np.ndarray, cos_limit: float,
-                  orientable: bool, by_facet: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+def manifold_core(
+    faces: np.ndarray,
+    facet_of: np.ndarray,
+    u: np.ndarray,
+    in_ts: np.ndarray,
+    fits: np.ndarray,
+    cost: np.ndarray,
+    cos_limit: float,
+    orientable: bool,
+    by_facet: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
     """Select the manifold core of T_S and orient it.
 
     Parameters
@@ -164,8 +172,9 @@ def _minima(c: np.ndarray, starts: np.ndarray, group: np.ndarray) -> tuple[np.nd
     return at, np.bincount(group[at], minlength=len(starts))
 
 
-def _pinched_vertices(faces: np.ndarray, ok: np.ndarray, s1: np.ndarray, s2: np.ndarray,
-                      only: np.ndarray | None = None) -> np.ndarray:
+def _pinched_vertices(
+    faces: np.ndarray, ok: np.ndarray, s1: np.ndarray, s2: np.ndarray, only: np.ndarray | None = None
+) -> np.ndarray:
     """Vertices whose star in the selected faces is more than one fan.
 
     ``only`` (a boolean mask over the vertices) restricts the test to those
@@ -207,9 +216,13 @@ def _orient(f: int, root: int, edges: np.ndarray, sign: np.ndarray) -> np.ndarra
     from scipy.sparse.csgraph import breadth_first_order
 
     code = np.where(sign > 0, 1, 2)  # stored values must be non-zero
-    graph = coo_matrix((np.concatenate([code, code]),
-                        (np.concatenate([edges[:, 0], edges[:, 1]]), np.concatenate([edges[:, 1], edges[:, 0]]))),
-                       shape=(f, f)).tocsr()
+    graph = coo_matrix(
+        (
+            np.concatenate([code, code]),
+            (np.concatenate([edges[:, 0], edges[:, 1]]), np.concatenate([edges[:, 1], edges[:, 0]])),
+        ),
+        shape=(f, f),
+    ).tocsr()
     reached, pred = breadth_first_order(graph, root, directed=False, return_predecessors=True)
     up = np.arange(f)
     up[reached] = np.where(pred[reached] < 0, reached, pred[reached])

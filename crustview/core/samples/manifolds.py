@@ -79,16 +79,12 @@ def _klein(u: np.ndarray) -> np.ndarray:
     a, b = u[:, 0], u[:, 1]
     rho = 1.0 + 0.45 * np.cos(b)
     s = 0.45 * np.sin(b)
-    return np.stack(
-        [rho * np.cos(a), rho * np.sin(a), s * np.cos(a / 2), s * np.sin(a / 2)], axis=1
-    )
+    return np.stack([rho * np.cos(a), rho * np.sin(a), s * np.cos(a / 2), s * np.sin(a / 2)], axis=1)
 
 
 def _torus_r5(u: np.ndarray) -> np.ndarray:
     a, b = u[:, 0], u[:, 1]
-    return np.stack(
-        [np.cos(a), np.sin(a), np.cos(b), np.sin(b), 0.3 * np.sin(a + b)], axis=1
-    )
+    return np.stack([np.cos(a), np.sin(a), np.cos(b), np.sin(b), 0.3 * np.sin(a + b)], axis=1)
 
 
 def _s3(u: np.ndarray) -> np.ndarray:
@@ -170,9 +166,7 @@ def get_manifold(name: str) -> TestManifold:
     try:
         return MANIFOLDS[name]
     except KeyError:
-        raise InputError(
-            f"Unknown manifold {name!r}; choose one of {', '.join(MANIFOLDS)}."
-        ) from None
+        raise InputError(f"Unknown manifold {name!r}; choose one of {', '.join(MANIFOLDS)}.") from None
 
 
 def projective_plane_points(n: int = 1000) -> np.ndarray:

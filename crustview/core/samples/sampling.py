@@ -106,10 +106,7 @@ class Chart:
     def grid(self, total: int) -> np.ndarray:
         """A regular grid of about ``total`` cell-centred parameters, shape (g, d)."""
         per_axis = max(2, int(round(total ** (1.0 / self.d))))
-        axes = [
-            lo + (hi - lo) * (np.arange(per_axis) + 0.5) / per_axis
-            for lo, hi in zip(self.lower, self.upper)
-        ]
+        axes = [lo + (hi - lo) * (np.arange(per_axis) + 0.5) / per_axis for lo, hi in zip(self.lower, self.upper)]
         mesh = np.meshgrid(*axes, indexing="ij")
         return np.stack([m.ravel() for m in mesh], axis=1)
 
@@ -224,9 +221,7 @@ class TestManifold:
         s = np.clip((np.asarray(points)[:, 0] - lo) / (hi - lo), 0.0, 1.0)
         return NONUNIFORM_RATIO**s
 
-    def _draw(
-        self, m: int, rng: np.random.Generator, nonuniform: bool
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _draw(self, m: int, rng: np.random.Generator, nonuniform: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Rejection-sample ``m`` points: parameters (m, d), chart ids (m,), points (m, k)."""
         bound, mass, _ = self._bounds
         prob = mass / mass.sum()
