@@ -130,7 +130,8 @@ def main() -> None:
             counts[name].add((renders, swaps))
     w, h = view.width(), view.height()
     print(
-        f"{args.file.name}: n = {rec.n}, {n:,} steps ({rec.mode}), final M_S {len(np.asarray(rec.manifold).reshape(-1, rec.d + 1)):,} "
+        f"{args.file.name}: n = {rec.n}, {n:,} steps ({rec.mode}), "
+        f"final M_S {len(np.asarray(rec.manifold).reshape(-1, rec.d + 1)):,} "
         f"simplices; view {w}x{h} in a {args.size[0]}x{args.size[1]} window"
     )
     floor = float(np.median(times["frame (floor)"]))

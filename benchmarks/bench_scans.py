@@ -34,8 +34,8 @@ from pathlib import Path
 import numpy as np
 
 from crustview.core import reconstruct, reextract
-from crustview.core.result import TopologyReport
 from crustview.core.analysis.topology import analyse
+from crustview.core.result import TopologyReport
 from crustview.io import read_mesh
 
 #: ``../shared/data/scans`` beside the repository

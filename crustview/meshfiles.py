@@ -471,7 +471,7 @@ def _ply_ascii(body: bytes, elements: list[_Element], path: Path) -> dict[str, d
         for row in rows[r : r + el.count]:
             j = 0
             try:
-                for name, typ, ltyp in el.props:
+                for name, _typ, ltyp in el.props:
                     if ltyp is None:
                         cols[name].append(float(row[j]))
                         j += 1

@@ -79,7 +79,6 @@ def test_render_replay_gif_has_the_planned_frames_and_differs_between_steps(tmp_
 
 
 def test_render_tour_mp4_and_png_folder(tmp_path, capsys, monkeypatch):
-    import imageio.v3 as iio
 
     monkeypatch.delenv("DISPLAY", raising=False)
     mp4 = tmp_path / "t.mp4"

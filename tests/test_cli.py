@@ -10,8 +10,8 @@ import meshio
 import numpy as np
 import pytest
 
-from crustview.core.samples.manifolds import MANIFOLDS
 from crustview.core.analysis.topology import analyse
+from crustview.core.samples.manifolds import MANIFOLDS
 
 
 def run(*args, cwd=None):
@@ -426,8 +426,8 @@ def _rows_set(simplices):
 
 
 def test_report_says_which_extraction_ran_and_why(knight_runs):
-    from crustview.core.analysis.quality import summary
     from crustview.core import reconstruct
+    from crustview.core.analysis.quality import summary
     from crustview.io import read_mesh
 
     _, npz, report = knight_runs["paper"]

@@ -4,13 +4,13 @@ import itertools
 
 import numpy as np
 import pytest
+from delaunay_checks import assert_delaunay_of_a_box, lattice
 
 from crustview.core import reconstruct
 from crustview.core.delaunay import cgal as delaunay_cgal
-from crustview.core.paper.candidates import SCORE_LIMIT
 from crustview.core.delaunay.triangulation import bounding_points, delaunay
+from crustview.core.paper.candidates import SCORE_LIMIT
 from crustview.core.samples.manifolds import get_manifold
-from delaunay_checks import assert_delaunay_of_a_box, lattice
 
 
 def _rows(simplices: np.ndarray) -> np.ndarray:

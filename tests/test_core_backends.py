@@ -5,12 +5,12 @@ CGAL's dD extension (R^4, R^5) is tested in ``test_core_backend_dd.py``.
 
 import numpy as np
 import pytest
+from delaunay_checks import assert_delaunay_of_a_box, lattice
 
 from crustview.core import reconstruct
 from crustview.core.delaunay import cgal as delaunay_cgal
 from crustview.core.delaunay.triangulation import backend_for, bounding_points, delaunay
 from crustview.core.prepare import prepare_points
-from delaunay_checks import assert_delaunay_of_a_box, lattice
 
 
 def _rows(simplices: np.ndarray) -> np.ndarray:

@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from crustview.core.paper import candidates as cand
-from crustview.core.util import parallel
 from crustview.core.delaunay.triangulation import bounding_points, circumcenters, delaunay
+from crustview.core.paper import candidates as cand
 from crustview.core.paper.normals import greedy_poles
 from crustview.core.samples.manifolds import get_manifold
+from crustview.core.util import parallel
 
 
 def _stage_inputs(name: str, n: int):

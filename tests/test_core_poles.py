@@ -1,10 +1,13 @@
-"""Algorithm 1's greedy rounds in the compiled kernel (:mod:`crustview.core.delaunay._poles`) and in numpy: the same poles."""
+"""Algorithm 1's greedy rounds in the compiled kernel (:mod:`crustview.core.delaunay._poles`) and in numpy.
+
+The same poles from both.
+"""
 
 import numpy as np
 import pytest
 
-from crustview.core.paper import normals as normals_mod
 from crustview.core.delaunay.triangulation import bounding_points, circumcenters, delaunay
+from crustview.core.paper import normals as normals_mod
 from crustview.core.paper.normals import greedy_poles
 from crustview.core.prepare import prepare_points
 from crustview.core.samples.manifolds import get_manifold

@@ -9,7 +9,6 @@ import pytest
 from crustview.core import Cancelled, InputError, reconstruct, reextract
 from crustview.core.samples.manifolds import get_manifold
 
-
 # Textbook topology, written down here independently of the library's own
 # metadata: Z/2 Betti numbers and orientability.
 TEXTBOOK = {

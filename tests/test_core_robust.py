@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 
 from crustview.core import reconstruct, reextract
+from crustview.core.analysis.topology import analyse
 from crustview.core.paper.extraction import extract
-from crustview.io import read_mesh
 from crustview.core.result import RULE_FILL, RULE_PRUNE, RULE_RELAX
 from crustview.core.robust.driver import extract_robust
 from crustview.core.samples.manifolds import get_manifold
-from crustview.core.analysis.topology import analyse
+from crustview.io import read_mesh
 
 RESOURCES = Path(__file__).resolve().parents[1] / "resources"
 

@@ -1,12 +1,11 @@
 """The manifold core of T_S (rule ``seed-core``) on complexes small enough to check by hand."""
 
 import numpy as np
+from test_core_extraction import grid_surface
 
-from crustview.core.robust.seed_core import manifold_core
 from crustview.core.paper.extraction import facet_structure
 from crustview.core.robust.grow import COS_PAPER, Grower, unit_normals_to_facets
-
-from test_core_extraction import grid_surface
+from crustview.core.robust.seed_core import manifold_core
 
 OCTA_PTS = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], float)
 OCTA = np.sort(np.array([[a, b, c] for a in (0, 1) for b in (2, 3) for c in (4, 5)]), axis=1)

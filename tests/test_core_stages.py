@@ -3,10 +3,9 @@
 import numpy as np
 import pytest
 
-from crustview.core.paper import candidates as cand
-from crustview.core.paper import conemin
-from crustview.core.paper import dualcells
 from crustview.core.delaunay.triangulation import bounding_points, circumcenters, delaunay
+from crustview.core.paper import candidates as cand
+from crustview.core.paper import conemin, dualcells
 from crustview.core.paper.normals import complete_bases, greedy_poles
 
 

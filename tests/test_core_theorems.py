@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 from crustview.core import reconstruct
-from crustview.core.samples.manifolds import get_manifold
 from crustview.core.analysis.theorems import (
     LFS_FORMS,
     check_theorems,
@@ -17,6 +16,7 @@ from crustview.core.analysis.theorems import (
     numeric_reach,
     theorem2_bound,
 )
+from crustview.core.samples.manifolds import get_manifold
 
 
 def test_distance_to_filled_ellipse_matches_circle_and_segment():

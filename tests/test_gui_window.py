@@ -145,7 +145,7 @@ def test_toggling_each_layer_changes_pixels(qtbot, window):
     m.player.set_step(max(i, ext.n_steps // 3))
     m.selection.select_sample(front_sample(window))
     m.layers["poles"].mode = "all"
-    for name, layer in m.layers.items():
+    for _name, layer in m.layers.items():
         layer.visible = True
     m.layers["candidates"].opacity = 1.0
     if m.cascades():

@@ -4,9 +4,8 @@ import numpy as np
 import pyvista as pv
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-from crustview.render.base import set_cell_scalars, set_cells, set_points
+from crustview.render.base import Part, set_cell_scalars, set_cells, set_points
 from crustview.render.lod import LevelOfDetail, strided_copy
-from crustview.render.base import Part
 from crustview.scene.subset import even_subset, subset_note
 
 

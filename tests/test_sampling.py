@@ -9,8 +9,8 @@ import pytest
 from scipy.spatial import cKDTree
 
 from crustview.core.errors import InputError
-from crustview.core.samples.sampling import NONUNIFORM_RATIO, Sample
 from crustview.core.samples.manifolds import MANIFOLDS, get_manifold
+from crustview.core.samples.sampling import NONUNIFORM_RATIO, Sample
 
 EXPECTED_NAMES = {
     "circle", "ellipse", "trefoil", "hopf-link", "sphere", "ellipsoid", "torus",

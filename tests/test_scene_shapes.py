@@ -3,8 +3,7 @@
 import pytest
 
 from crustview.core import reconstruct
-from crustview.core.samples.manifolds import projective_plane_points
-from crustview.core.samples.manifolds import MANIFOLDS, get_manifold
+from crustview.core.samples.manifolds import MANIFOLDS, get_manifold, projective_plane_points
 from crustview.scene.shapes import name_of, shape_name
 
 TRUE_NAMES = {

@@ -8,17 +8,17 @@ from dataclasses import replace
 
 import numpy as np
 
-from .paper import candidates as cand
-from .paper.candidates import SCORE_LIMIT
+from .analysis.topology import analyse
 from .delaunay.triangulation import backend_label, bounding_points, circumcenters, delaunay
 from .errors import Cancelled, InputError
+from .paper import candidates as cand
+from .paper.candidates import SCORE_LIMIT
 from .paper.extraction import extract
-from .util.memory import gc_paused, release_free_memory
 from .paper.normals import complete_bases, greedy_poles
 from .prepare import DEFAULT_JOGGLE, prepare_points, prescale
-from .result import CANDIDATE_TESTS, EXTRACTION_MODES, Candidates, Reconstruction, CandidateAngles
+from .result import CANDIDATE_TESTS, EXTRACTION_MODES, CandidateAngles, Candidates, Reconstruction
 from .robust.driver import extract_robust
-from .analysis.topology import analyse
+from .util.memory import gc_paused, release_free_memory
 
 ProgressFn = Callable[[str, float], None]
 

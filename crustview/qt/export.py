@@ -254,8 +254,10 @@ class AnimationExport(QObject):
 
 
 class ExportActions:
-    """Mixin of :class:`~crustview.qt.window.MainWindow`: the export and compare menu entries,
-    and stopping the background tasks when the window closes."""
+    """Mixin of :class:`~crustview.qt.window.MainWindow`: the export and compare menu entries.
+
+    It also stops the background tasks when the window closes.
+    """
 
     export: AnimationExport | None = None
 

@@ -47,8 +47,8 @@ def builtin_truth(info: dict, points: np.ndarray):
     Otherwise the saved points stand with the manifold and no tangents.
     Returns None for a name crustview does not know.
     """
-    from ..core.samples.sampling import Sample
     from ..core.samples.manifolds import get_manifold
+    from ..core.samples.sampling import Sample
 
     try:
         m = get_manifold(info["name"])
@@ -80,8 +80,10 @@ def _result_suffixes() -> tuple[str, ...]:
 
 
 class FileActions:
-    """Mixin of :class:`~crustview.qt.window.MainWindow` (needs ``settings``,
-    ``model``, ``show_error``, ``start_job`` and ``statusBar``)."""
+    """Mixin of :class:`~crustview.qt.window.MainWindow`: opening files and built-ins.
+
+    Needs ``settings``, ``model``, ``show_error``, ``start_job`` and ``statusBar``.
+    """
 
     settings: QSettings
     recent_menu: QMenu

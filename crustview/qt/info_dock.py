@@ -30,8 +30,8 @@ from ..scene.describe import (
     verdict,
 )
 from ..scene.model import SceneModel
-from .diagnosis import DiagnosisPanel
 from .compare_panel import ComparePanel
+from .diagnosis import DiagnosisPanel
 from .steady import SteadyText
 from .theorems_panel import TheoremPanel
 

@@ -10,9 +10,11 @@ VIEW_SHARE = 0.6
 
 
 class DockLayout:
-    """Mixin of :class:`~crustview.qt.window.MainWindow` (needs ``plotter``, ``docks``,
-    ``layers_panel``, ``steps_panel`` and ``compact``): collapse the docks to one tabbed
-    column whenever the view would get less than :data:`VIEW_SHARE` of the window.
+    """Mixin of :class:`~crustview.qt.window.MainWindow`: the docks in one tabbed column when space is short.
+
+    The docks collapse to one tabbed column whenever the view would get less
+    than :data:`VIEW_SHARE` of the window.  Needs ``plotter``, ``docks``,
+    ``layers_panel``, ``steps_panel`` and ``compact``.
     """
 
     def fit_to_screen(self, width: int, height: int) -> None:

@@ -108,7 +108,8 @@ class RunPanel(QWidget):
         self.extraction.setToolTip(
             "<p><b>robust</b> (default): the paper's Algorithm 3, and where it cannot give a closed "
             "manifold through every sample, an extension that grows M_S across boundaries (rules seed, "
-            "grow, grow-relaxed, fill-hole, drop-stray, insert-sample) instead of pruning it. The result is identical whenever the "
+            "grow, grow-relaxed, fill-hole, drop-stray, insert-sample) instead of pruning it. "
+            "The result is identical whenever the "
             "paper's loop succeeds.</p><p><b>paper's Algorithm 3</b>: exactly as printed (prune sharp "
             "and boundary faces, resolve non-manifold faces); its prune cascades are listed in the "
             "Information panel.</p><p>Switching re-runs only Algorithm 3 on the current result.</p>"
@@ -193,7 +194,8 @@ class RunPanel(QWidget):
         )
         if stale:
             self.stale.setText(
-                f"The candidates layer shows <b>{self.test.currentText()}</b>, θ = {np.degrees(self.theta_radians):.1f}°; "
+                f"The candidates layer shows <b>{self.test.currentText()}</b>, "
+                f"θ = {np.degrees(self.theta_radians):.1f}°; "
                 f"M_S, the steps and the report are still from <b>{rec.test}</b>, θ = {np.degrees(rec.theta):.1f}°. "
                 "Press <b>Re-extract</b> (Algorithm 3 only) to bring them in line."
             )

@@ -28,9 +28,12 @@ from ..session import (
 
 
 class SessionActions:
-    """Mixin of :class:`~crustview.qt.window.MainWindow` (needs ``model``, ``plotter``, ``view``,
-    ``origin``, ``runner``, ``show_error``, ``open_file``, ``load_builtin``, ``settings``,
-    ``suggested_path``, ``statusBar`` and ``_action``)."""
+    """Mixin of :class:`~crustview.qt.window.MainWindow`: saving and opening sessions.
+
+    Needs ``model``, ``plotter``, ``view``, ``origin``, ``runner``,
+    ``show_error``, ``open_file``, ``load_builtin``, ``settings``,
+    ``suggested_path``, ``statusBar`` and ``_action``.
+    """
 
     def add_session_actions(self, menu: QMenu) -> None:
         """The two session entries of the File menu."""

@@ -82,10 +82,10 @@ class StepLog(QAbstractTableModel):
         #: Display texts of the rows painted lately (the view asks for every cell and role on each paint).
         self._rows: dict[int, tuple[str, ...]] = {}
 
-    def rowCount(self, parent=QModelIndex()) -> int:  # noqa: N802 - Qt API
+    def rowCount(self, parent=QModelIndex()) -> int:  # noqa: B008, N802 - Qt API
         return 0 if parent.isValid() else self.model.player.n_steps
 
-    def columnCount(self, parent=QModelIndex()) -> int:  # noqa: N802
+    def columnCount(self, parent=QModelIndex()) -> int:  # noqa: B008, N802 - Qt API
         return len(COLUMNS)
 
     def headerData(self, section, orientation, role=Qt.ItemDataRole.DisplayRole):  # noqa: N802

@@ -8,7 +8,6 @@ check runs on request (5-60 s) in a worker thread of its own, with progress and 
 
 from __future__ import annotations
 
-
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt
 from PySide6.QtGui import QColor, QPainter, QPen, QPolygonF

@@ -13,8 +13,11 @@ KEYS = ("both", "A", "B")
 
 
 class CompareAdapter(LayerAdapter):
-    """Three parts over the comparison's points: ``both`` (the layer's colour and opacity),
-    ``only A`` and ``only B`` (fixed colours, opaque, slightly thicker, so differences stand out)."""
+    """Three parts over the comparison's points: ``both``, ``only A`` and ``only B``.
+
+    ``both`` has the layer's colour and opacity, ``only A`` and ``only B``
+    fixed colours, opaque and slightly thicker, so differences stand out.
+    """
 
     parts_spec = (("", False), ("-a", False), ("-b", False))
 

@@ -10,8 +10,10 @@ NOTE_COLOR = "#b00000"
 
 
 class Legend:
-    """Swatch + label lines in the upper-left corner of a renderer, optionally
-    under a few lines of notes (e.g. "M_S is NOT a closed manifold")."""
+    """Swatch + label lines in the upper-left corner of a renderer.
+
+    Optionally under a few lines of notes (e.g. "M_S is NOT a closed manifold").
+    """
 
     def __init__(self, plotter, font_size: int = 13) -> None:
         self.plotter = plotter

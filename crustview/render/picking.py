@@ -74,8 +74,10 @@ def pick_layers(view, renderer, names: tuple[str, ...], x: float, y: float, tol:
 
 
 def pick_visible(view, x: float, y: float) -> tuple[str, object] | None:
-    """What the user sees under ``(x, y)``: step overlay, then M_S (and the
-    other simplicial layers), then samples, by depth.
+    """What the user sees under ``(x, y)``.
+
+    The step overlay first, then M_S (and the other simplicial layers), then
+    samples, by depth.
 
     A sample wins over a simplex only when it is not behind it: its depth may
     exceed the simplex's by at most half the median sample spacing (a visible

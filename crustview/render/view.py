@@ -11,6 +11,7 @@ from ..scene.layers import CASCADE_COLOR, COMPARE_COLORS, STEP_COLORS
 from ..scene.model import SceneModel
 from ..scene.subset import even_subset
 from .base import NAN_COLOR, LayerAdapter
+from .compare import CompareAdapter
 from .complexes import (
     RULE_COLORS,
     CandidatesAdapter,
@@ -19,13 +20,12 @@ from .complexes import (
     SliceAdapter,
     StepAdapter,
 )
-from .compare import CompareAdapter
 from .diagnosis import CascadeAdapter, HolesAdapter
-from .overlay import Legend
 from .framing import frame_for, front_plane, place_camera
-from .picking import pick_visible
 from .inspect import SelectionAdapter, VoronoiAdapter
 from .lod import LevelOfDetail
+from .overlay import Legend
+from .picking import pick_visible
 from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter, lighter
 
 #: Adapter of each layer (by layer name), in drawing order.
@@ -517,8 +517,10 @@ class SceneView:
         self.render()
 
     def frame_simplex(self, vertices) -> None:
-        """Look at one simplex (sample indices) along its normal, from its open side, cutting away
-        what lies in front (as :meth:`frame_step` does for a step's tau)."""
+        """Look at one simplex (sample indices) along its normal, from its open side.
+
+        What lies in front is cut away (as :meth:`frame_step` does for a step's tau).
+        """
         rec = self.model.rec
         if rec is None:
             return

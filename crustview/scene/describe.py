@@ -13,7 +13,9 @@ from .shapes import name_of, shape_name
 TEST_WORDS = {
     "cocone": "the dual Voronoi cell meets the tangent cocone of SOME vertex of the face (the paper's quantifier)",
     "cocone-all": "the dual Voronoi cell meets the tangent cocone of EVERY vertex of the face (Cocone's rule)",
-    "literal": "the dual Voronoi cell is within θ of AN_s for some vertex s, by orientation only (the paper, literally)",
+    "literal": (
+        "the dual Voronoi cell is within θ of AN_s for some vertex s, by orientation only (the paper, literally)"
+    ),
 }
 
 #: Short name of each test's quantifier.

@@ -9,8 +9,8 @@ import numpy as np
 from psygnal import Signal
 
 from ..core.analysis.quality import SamplingQuality, sampling_quality
-from ..core.result import Cascade, Reconstruction
 from ..core.analysis.theorems import TheoremChecks, check_theorems
+from ..core.result import Cascade, Reconstruction
 from . import geometry as geo
 from .coloring import coordinate_values, default_coloring
 from .layers import Layer, default_layers
@@ -161,16 +161,21 @@ class SceneModel:
         self.slice_changed.emit()
 
     def _kept_position(self, rec: Reconstruction) -> int:
-        """Where a re-extraction starts: the same step if the new run has it, its end if the
-        old one was at its end (showing M_S), else step 0 (never a clamped, arbitrary last step)."""
+        """Where a re-extraction starts.
+
+        The same step if the new run has it, its end if the old one was at its
+        end (showing M_S), else step 0 (never a clamped, arbitrary last step).
+        """
         old, n_old, n_new = self.player.position, self.player.n_steps, rec.extraction.n_steps
         if old == n_old and old > 0:
             return n_new
         return old if old <= n_new else 0
 
     def set_comparison(self, comparison) -> bool:
-        """Show ``comparison`` (a :class:`~crustview.scene.comparison.Comparison` of the shown
-        result, or None); one made for another result is ignored (returns False)."""
+        """Show ``comparison``, a :class:`~crustview.scene.comparison.Comparison` of the shown result, or None.
+
+        One made for another result is ignored (returns False).
+        """
         if comparison is not None and comparison.rec is not self.rec:
             return False
         self.comparison = comparison

@@ -228,9 +228,9 @@ class Projection:
         self.source = source
         self._update()
 
-    def set_coordinates(self, i: int, j: int, l: int | None = None) -> None:
-        """Show ambient coordinates ``i, j, l`` (0-based) as the view x, y, z."""
-        idx = [i, j] + ([] if l is None else [l])
+    def set_coordinates(self, i: int, j: int, h: int | None = None) -> None:
+        """Show ambient coordinates ``i, j, h`` (0-based) as the view x, y, z."""
+        idx = [i, j] + ([] if h is None else [h])
         if len(set(idx)) != len(idx) or not all(0 <= a < self.k for a in idx):
             raise ValueError(f"need distinct coordinates in 0..{self.k - 1}, got {idx}")
         b = np.zeros((self.k, 3))

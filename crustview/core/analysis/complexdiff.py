@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .compare import HausdorffEstimate, hausdorff
 from ..result import TopologyReport
+from .compare import HausdorffEstimate, hausdorff
 from .topology import analyse
 
 #: Vertices closer than this times the diameter of A count as the same point.
@@ -78,7 +78,7 @@ def _rows(s: np.ndarray, d: int) -> np.ndarray:
 
 
 def _setdiff(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(a ∩ b, a \\ b, b \\ a) of sorted unique rows."""
+    r"""(a ∩ b, a \\ b, b \\ a) of sorted unique rows."""
     if len(a) == 0 or len(b) == 0:
         return a[:0], a, b
     both = np.concatenate([a, b])

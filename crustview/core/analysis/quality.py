@@ -133,7 +133,7 @@ def directions(d: int) -> np.ndarray:
 def delaunay_edges(simplices: np.ndarray) -> np.ndarray:
     """Unique edges ``(a, b)``, ``a < b``, of a table of simplices, lexicographically sorted.
 
-    The 1-faces of :func:`~.faces.enumerate_faces` with every vertex counted
+    The 1-faces of :func:`~crustview.core.delaunay.faces.enumerate_faces` with every vertex counted
     (bounding points included): for int32 simplices its compiled radix sort,
     a fraction of the time and memory of sorting one key per edge instance.
     """

@@ -44,10 +44,10 @@ from functools import lru_cache
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .compare import dense_samples
 from ..result import Reconstruction
-from ..samples.sampling import TestManifold
 from ..samples.manifolds import get_manifold
+from ..samples.sampling import TestManifold
+from .compare import dense_samples
 
 #: Dense points of M per sample spacing, roughly, by intrinsic dimension.
 DENSE = {1: 200_000, 2: 400_000, 3: 1_500_000}

@@ -26,8 +26,8 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from ..util.memory import release_free_memory
 from ..result import TopologyReport
+from ..util.memory import release_free_memory
 from ..util.rows import unique_rows
 
 
@@ -196,7 +196,7 @@ def singular_vertices(simplices: np.ndarray, faces: list[np.ndarray], pairs: tup
 
 
 def _top_cycle_rank(simplices: np.ndarray, pairs: tuple, d: int) -> int:
-    """dim ker(d_d) over Z/2 when every (d-1)-face has at most two d-simplices.
+    """Dim ker(d_d) over Z/2 when every (d-1)-face has at most two d-simplices.
 
     A Z/2 d-cycle then takes both simplices at each interior (d-1)-face or
     neither, so it is a union of whole components of the dual graph (simplices

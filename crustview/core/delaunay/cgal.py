@@ -9,7 +9,7 @@ than Qhull (100,000 torus points: about 1 s against 30 s), and Qhull grows
 faster than linearly there.  In general position both give the same
 tetrahedra; on exactly cospherical input each resolves the degeneracy its own
 way (both valid Delaunay triangulations).  The far bounding points of
-:mod:`.delaunay` are inserted with the samples, as for Qhull.
+:mod:`.triangulation` are inserted with the samples, as for Qhull.
 
 Two ways to CGAL
 ----------------
@@ -192,7 +192,7 @@ def _coordinates(points: np.ndarray, dims: tuple[int, ...]) -> np.ndarray:
 
 
 def _unpack(result: tuple, pts: np.ndarray, neighbors: bool) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
-    """numpy views of an extension's (dimension, vertices, cells, neighbours, sizes) tuple."""
+    """Numpy views of an extension's (dimension, vertices, cells, neighbours, sizes) tuple."""
     dim, nverts, cells, nbrs, itemsize, nitemsize = result
     r = pts.shape[1]
     if dim != r or nverts != len(pts):

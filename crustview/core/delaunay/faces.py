@@ -186,7 +186,7 @@ def _faces_native(simplices: np.ndarray, n_samples: int, d: int) -> tuple[np.nda
 
 
 def _native_arrays(result: tuple, width: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """numpy views of :mod:`._faces`' (faces, ptr, owners, count) bytearrays."""
+    """Numpy views of :mod:`._faces`' (faces, ptr, owners, count) bytearrays."""
     faces, ptr, owners, count = result
     return (
         np.frombuffer(faces, dtype=np.int64).reshape(count, width),

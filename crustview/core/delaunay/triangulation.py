@@ -19,7 +19,7 @@ directly (``scipy.spatial.Voronoi`` would recompute the same hull).
 Backends
 --------
 In R^3 (working dimension 3) the triangulation comes from CGAL's
-``Delaunay_triangulation_3`` (see :mod:`.delaunay_cgal`: exact predicates;
+``Delaunay_triangulation_3`` (see :mod:`.cgal`: exact predicates;
 through crustview's own extension 20-30x faster than Qhull on surface
 samples, through the ``cgal`` wheel's text export about half of that).  In
 R^4 and R^5 it comes from CGAL's dD ``Delaunay_triangulation`` with the
@@ -27,9 +27,10 @@ dimension fixed at compile time, through crustview's second extension (3-5x
 faster than Qhull on a 10,000-point Klein bottle; with a run-time dimension,
 as GUDHI uses it, CGAL measured no faster: 36 s against 41 s).  Elsewhere,
 and when the extensions were not built, it comes from Qhull
-(``scipy.spatial.Delaunay``); in R^2 Qhull takes milliseconds.  Both get the samples *and* the far bounding points, and the
-joggle of :mod:`.prepare` happens before either, so the bounded-cell design
-is the same for both.
+(``scipy.spatial.Delaunay``); in R^2 Qhull takes milliseconds.  Both get
+the samples *and* the far bounding points, and the joggle of
+:mod:`crustview.core.prepare` happens before either, so the bounded-cell
+design is the same for both.
 """
 
 from __future__ import annotations
@@ -37,8 +38,7 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
-from scipy.spatial import Delaunay
-from scipy.spatial import QhullError
+from scipy.spatial import Delaunay, QhullError
 
 from ..errors import QhullFailure
 from ..util.rows import index_dtype

@@ -78,11 +78,11 @@ from collections.abc import Callable
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..delaunay.faces import enumerate_faces, sort_rows  # noqa: F401 - part of this module's API
+from ..util.parallel import chunks, run_in_order
 from .conemin import cone_min, dot_rows, lean_bound, over_cell
 from .dualcells import CellFaces, cell_boundary_min
-from ..delaunay.faces import enumerate_faces, sort_rows  # noqa: F401 - part of this module's API
 from .literal import _orthonormal, literal_angles  # noqa: F401 - literal_angles is part of this module's API
-from ..util.parallel import chunks, run_in_order
 
 try:  # codimension 1's segment ends in compiled code (setup.py builds it; numpy does the same without it)
     from ..delaunay import _segments as _native_segments
@@ -133,7 +133,7 @@ def cocone_angles(
         Called after each chunk of faces, in the calling thread (it may
         raise to cancel: chunks not started are dropped).
     workers : int, optional
-        Threads scoring chunks of faces (default :data:`.parallel.WORKERS`).
+        Threads scoring chunks of faces (default :data:`crustview.core.util.parallel.WORKERS`).
         The result does not depend on it.
 
     Returns

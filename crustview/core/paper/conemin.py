@@ -200,9 +200,11 @@ def lean_bound(unit: np.ndarray, iterations: int = 12) -> np.ndarray:
 
 
 def over_cell(op: np.ufunc, a: np.ndarray) -> np.ndarray:
-    """``op`` (np.minimum or np.maximum) reduced over axis 1, the few cell
-    vertices: a loop of whole-array operations is several times faster than
-    numpy's reduction over a short middle axis."""
+    """``op`` (np.minimum or np.maximum) reduced over axis 1, the few cell vertices.
+
+    A loop of whole-array operations is several times faster than numpy's
+    reduction over a short middle axis.
+    """
     if a.shape[1] > 8:  # large cells: numpy's own reduction wins again
         return op.reduce(a, axis=1)
     out = a[:, 0].copy()
@@ -212,8 +214,10 @@ def over_cell(op: np.ufunc, a: np.ndarray) -> np.ndarray:
 
 
 def dot_rows(unit: np.ndarray, nu: np.ndarray) -> np.ndarray:
-    """``unit[f, v] . nu[f]`` for (F, v, m) and (F, m); a loop over the small m
-    axis beats matmul/einsum on these shapes."""
+    """``unit[f, v] . nu[f]`` for (F, v, m) and (F, m).
+
+    A loop over the small m axis beats matmul/einsum on these shapes.
+    """
     out = unit[..., 0] * nu[:, None, 0]
     for j in range(1, unit.shape[2]):
         out += unit[..., j] * nu[:, None, j]

@@ -31,8 +31,9 @@ ordinary dihedral angle.
   the deviation from flat, ``pi - phi < pi/2``.  Among the eligible pairs we
   keep the one whose removal of the others starts the smallest prune cascade
   (simulated, capped at :data:`CASCADE_LIMIT` simplices), then the flattest
-  (largest ``phi``), then the smallest ids, so the run is deterministic.  Faces are processed most-confident first: largest best
-  ``phi`` first (rule ``resolve-nonmanifold``).
+  (largest ``phi``), then the smallest ids, so the run is deterministic.
+  Faces are processed most-confident first: largest best ``phi`` first
+  (rule ``resolve-nonmanifold``).
 
 The loop stops when no rule applies.  Then every (d-1)-face has 0 or 2
 simplices; if the complex is nevertheless not a closed manifold (a pinched
@@ -49,8 +50,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..util.rows import unique_rows
 from ..result import RULE_PRUNE, RULE_RESOLVE, Extraction, Step
+from ..util.rows import unique_rows
 
 HALF_PI = np.pi / 2
 #: Largest prune cascade simulated when choosing a pair (see _choose_pair).

@@ -87,7 +87,7 @@ def greedy_poles(
     else:
         norm2 = np.empty(inc.size + n_samples)  # room for the vertices at infinity (at most one per sample)
         seg0 = np.full(n_samples, -np.inf)
-        for owner, sid, vec, pos in inc.blocks(with_pos=True, extra=False):
+        for owner, _sid, vec, pos in inc.blocks(with_pos=True, extra=False):
             if len(vec):
                 inc.max_abs = max(inc.max_abs, float(np.abs(vec).max()))
             nb = _sq_norms(vec)
@@ -129,13 +129,13 @@ def greedy_poles(
                 first[inc.extra_owner[wins]] = inc.simplices.size + wins
         else:
             segmax = seg0 if j == 0 else np.full(n_samples, -np.inf)
-            for owner, sid, vec, pos in inc.blocks(with_pos=True, finite=j > 0):
+            for owner, _sid, vec, pos in inc.blocks(with_pos=True, finite=j > 0):
                 resid = _residual(vec, normals[owner, :, :j])
                 nb = _sq_norms(resid)
                 norm2[pos] = nb
                 np.maximum.at(segmax, owner, nb)
             first = np.full(n_samples, inc.size)
-            for owner, sid, vec, pos in inc.blocks(with_pos=True, geometry=False):
+            for owner, _sid, _vec, pos in inc.blocks(with_pos=True, geometry=False):
                 hit = np.flatnonzero(norm2[pos] == segmax[owner])
                 np.minimum.at(first, owner[hit], pos[hit])
         who = np.flatnonzero(has)
@@ -155,7 +155,7 @@ def greedy_poles(
     return pole_index, normals, infinite
 
 
-def _farthest(inc: "_Incidences", basis: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray, float]:
+def _farthest(inc: _Incidences, basis: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray, float]:
     """One greedy round over the finite Voronoi vertices, by the extension :mod:`._poles`.
 
     Returns per sample the first entry attaining the longest residual (-1 if
@@ -250,8 +250,10 @@ class _Incidences:
             yield self.extra_owner, sid, self.extra_vec if geometry else None, pos
 
     def far_blocks(self):  # noqa: ANN201
-        """Yield ``(owner, vec)`` of the entries of simplices with a bounding point, block by block
-        (the blocks of :meth:`blocks`, so per-block sums are added in the same order)."""
+        """Yield ``(owner, vec)`` of the entries of simplices with a bounding point, block by block.
+
+        The blocks are those of :meth:`blocks`, so per-block sums are added in the same order.
+        """
         t, w = len(self.simplices), self.width
         for lo in range(0, t, self.BLOCK):
             sids = lo + np.flatnonzero(self.far[lo : lo + self.BLOCK])

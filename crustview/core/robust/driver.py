@@ -73,17 +73,17 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ..analysis.topology import analyse
 from ..errors import Cancelled
 from ..paper.extraction import extract
+from ..result import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
 from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
+from .patcher import Patcher
+from .seed_core import manifold_core
 
 #: Rounds of hole filling, sample insertion, unpinching and stray dropping (each can leave
 #: work for the others; real scans settle in two or three).
 PATCH_ROUNDS = 5
-from .patcher import Patcher
-from .seed_core import manifold_core
-from ..result import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
-from ..analysis.topology import analyse
 
 
 def extract_robust(

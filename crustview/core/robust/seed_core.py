@@ -5,8 +5,9 @@ face at a time, cheapest first.  Where the faces
 of T_S are the cheapest candidates on both sides of every shared face, that
 walk has no choice to make: whichever side it arrives from, it takes the
 face of T_S.  Thin scans have T_S non-manifold at a fifth of its edges; there
-the two cheapest faces are the walk's choice as well, so they join the core.  The robust extension seeds the growth with all such faces in
-one step (rule ``seed-core``) and walks only where a choice is left.
+the two cheapest faces are the walk's choice as well, so they join the
+core.  The robust extension seeds the growth with all such faces in one
+step (rule ``seed-core``) and walks only where a choice is left.
 
 A face sigma of T_S is in the core when
 
