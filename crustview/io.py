@@ -153,7 +153,7 @@ def read_mesh(path: str | os.PathLike):
     Returns
     -------
     MeshData or None
-        :class:`crustview.meshfiles.MeshData`; its points are those of
+        :class:`crustview.meshfiles.mesh.MeshData`; its points are those of
         :func:`read_points` (a zero third column dropped as there).
 
     Raises
@@ -254,7 +254,8 @@ def _write_obj(path: Path, points: np.ndarray, cell_type: str | None, cells: np.
 
 def _write_nd(path: Path, points: np.ndarray, simplices: np.ndarray | None, comment: str) -> None:
     """PLY, OFF or nOFF in any dimension (:mod:`crustview.meshfiles`)."""
-    from crustview.meshfiles import write_off, write_ply
+    from crustview.meshfiles.off import write_off
+    from crustview.meshfiles.ply import write_ply
 
     try:
         if path.suffix.lower() == ".ply":

@@ -314,7 +314,7 @@ def compare_to_mesh(rec, mesh_faces: np.ndarray, *, step: float | None = None) -
     rec : Reconstruction
     mesh_faces : ndarray of shape (m, d + 1)
         Faces of the ground-truth mesh, indices into ``rec.input_points``
-        (quads already split; see :meth:`crustview.meshfiles.MeshData.simplices`).
+        (quads already split; see :meth:`crustview.meshfiles.mesh.MeshData.simplices`).
     step : float, optional
         See :func:`hausdorff`.
 
