@@ -1,0 +1,151 @@
+"""The camera of a :class:`~crustview.render.view.SceneView`: resetting, framing, clipping and picking."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..scene import geometry as geo
+from .framing import frame_for, front_plane, place_camera
+from .picking import pick_visible
+
+
+class CameraControl:
+    """Mixin of :class:`~crustview.render.view.SceneView` (needs ``model``, ``plotter``, ``adapters``, ``y_up``)."""
+
+    # -- camera and picking ---------------------------------------------------
+    def reset_camera(self) -> None:
+        """Fit the camera to a sphere around the data (stable under rotations); no clipping."""
+        self.clear_clip()
+        if self.model.rec is None:
+            return
+        r = self.model.radius
+        flat = self.model.projection.flat
+        if flat:
+            self.plotter.view_xy(render=False)
+            self.plotter.enable_parallel_projection()
+            bounds = (-r, r, -r, r, 0.0, 0.0)
+        else:
+            self.plotter.disable_parallel_projection()
+            cam = self.plotter.camera
+            cam.focal_point = (0.0, 0.0, 0.0)
+            if self.y_up:  # scans are often stored Y-up (the bunny, spot)
+                cam.position = (1.6 * r, 1.4 * r, 2.2 * r)
+                cam.up = (0.0, 1.0, 0.0)
+            else:
+                cam.position = (1.6 * r, -2.2 * r, 1.4 * r)
+                cam.up = (0.0, 0.0, 1.0)
+            p = self.model.projection.project(self.model.rec.points)
+            lo, hi = p.min(axis=0), p.max(axis=0)
+            bounds = tuple(np.ravel(np.stack([lo, hi], axis=1)))
+        self.plotter.reset_camera(bounds=bounds)
+        self.plotter.camera.zoom(1.1 if not flat else 1.0)
+
+    def frame_step(self, step) -> None:
+        """Look at ``step``'s tau from its open side and cut away the geometry in front (:mod:`.framing`)."""
+        rec = self.model.rec
+        if rec is None or step is None:
+            return
+        ext = rec.extraction
+        ids = list(step.kept) + list(step.removed) + list(step.added)
+        tau = np.asarray(step.tau, dtype=np.int64)
+        patch = ext.simplices[ids].ravel() if ids else tau
+        if self.model.projection.flat:
+            self.frame_points(np.unique(np.concatenate([tau, patch])))
+            return
+        proj = self.model.projection.project(rec.points)
+        cam = self.plotter.renderer.GetActiveCamera()
+        frame = frame_for(
+            proj,
+            tau,
+            np.asarray(patch, dtype=np.int64),
+            float(np.median(self.model.spacing)),
+            proj.mean(axis=0),
+            np.asarray(cam.GetViewUp()),
+        )
+        self.plotter.disable_parallel_projection()
+        place_camera(cam, frame)
+        self.set_clip(front_plane(frame))
+        self.plotter.renderer.ResetCameraClippingRange()
+        self.request_render()
+
+    def set_clip(self, plane) -> None:
+        """Clip every scene actor (not the overlay) by ``plane``; None removes the clip."""
+        self.clip_plane = plane
+        for name, a in self.adapters.items():
+            if name in ("step", "cascade", "selection"):
+                continue
+            for part in a.parts:
+                part.mapper.RemoveAllClippingPlanes()
+                if plane is not None:
+                    part.mapper.AddClippingPlane(plane)
+
+    def clear_clip(self) -> None:
+        """Show the whole scene again (after framing a step)."""
+        if self.clip_plane is not None:
+            self.set_clip(None)
+
+    def frame_points(self, idx) -> None:
+        """Zoom the camera onto samples ``idx`` (keeps the view direction)."""
+        rec = self.model.rec
+        if rec is None or len(idx) == 0:
+            return
+        p = self.model.projection.project(rec.points[np.asarray(idx)])
+        lo, hi = p.min(axis=0), p.max(axis=0)
+        pad = max(float(np.max(hi - lo)), 2.5 * float(np.median(self.model.spacing)))
+        c = (lo + hi) / 2
+        bounds = np.ravel(np.stack([c - pad, c + pad], axis=1))
+        self.plotter.reset_camera(bounds=tuple(bounds))
+        self.render()
+
+    def frame_simplex(self, vertices) -> None:
+        """Look at one simplex (sample indices) along its normal, from its open side.
+
+        What lies in front is cut away (as :meth:`frame_step` does for a step's tau).
+        """
+        rec = self.model.rec
+        if rec is None:
+            return
+        tau = np.asarray(vertices, dtype=np.int64)
+        if self.model.projection.flat or len(tau) < 2:
+            self.frame_points(tau)
+            return
+        proj = self.model.projection.project(rec.points)
+        cam = self.plotter.renderer.GetActiveCamera()
+        frame = frame_for(
+            proj, tau, tau, float(np.median(self.model.spacing)), proj.mean(axis=0), np.asarray(cam.GetViewUp())
+        )
+        self.plotter.disable_parallel_projection()
+        place_camera(cam, frame)
+        self.set_clip(front_plane(frame))
+        self.plotter.renderer.ResetCameraClippingRange()
+        self.render()
+
+    def frame_cascade(self, cascade) -> None:
+        """Frame the origin face of a prune cascade with the simplices its first step removed."""
+        rec = self.model.rec
+        if rec is None or cascade is None:
+            return
+        first = rec.extraction.steps[cascade.origin]
+        ids = np.concatenate(
+            [np.asarray(cascade.tau, dtype=np.int64), rec.extraction.simplices[list(first.removed)].ravel()]
+        )
+        self.frame_points(np.unique(ids))
+
+    def frame_face(self, face) -> None:
+        """Frame a (d-1)-face with its incident simplices at the current step."""
+        rec = self.model.rec
+        if rec is None:
+            return
+        alive = rec.extraction.alive(self.model.player.position)
+        simp = rec.extraction.simplices[alive]
+        inc = simp[geo.simplices_at_face(simp, face)]
+        self.frame_points(np.unique(np.concatenate([np.asarray(face), inc.ravel()])))
+
+    def pick(self, x: float, y: float) -> tuple[str, object] | None:
+        """Element under display position ``(x, y)`` (VTK pixels, origin bottom-left).
+
+        The nearest *visible* thing: the current step's own simplices first
+        (they are drawn over everything), then M_S and the other simplicial
+        layers, then samples, compared by depth (:mod:`.picking`).
+        """
+        return pick_visible(self, x, y)
