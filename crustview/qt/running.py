@@ -1,0 +1,270 @@
+"""Running reconstructions from the window: built-ins, files, re-extractions, and their results."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core import cost_warning, reconstruct, reextract
+from ..scene.shapes import name_of
+from ..session import BuiltinSource
+
+DEMO = "torus"
+
+#: How the window names each extraction mode.
+MODE_WORDS = {"robust": "robust extraction", "paper": "the paper's Algorithm 3"}
+
+
+def _quality(rec, progress, cancel=None):
+    """The samples' estimated epsilon, computed in the worker with the reconstruction (with progress; cancellable)."""
+    from ..core.analysis.quality import sampling_quality
+
+    return sampling_quality(rec, progress=lambda f: progress("quality", f), cancel=cancel)
+
+
+def _same_simplices(rec, saved: np.ndarray) -> bool:
+    """Whether ``rec``'s M_S, in input rows, is the saved simplex list."""
+    mine = np.asarray(rec.point_input)[np.asarray(rec.manifold, dtype=np.intp)].reshape(-1, rec.d + 1)
+    a = np.unique(np.sort(mine, axis=1), axis=0)
+    b = np.unique(np.sort(np.asarray(saved).reshape(-1, rec.d + 1), axis=1), axis=0)
+    return a.shape == b.shape and bool((a == b).all())
+
+
+def _comparing(job, truth, points):
+    """``job`` followed, in the worker, by the comparison with a mesh truth (if any)."""
+    if truth is None or not hasattr(truth, "compared"):
+        return job
+
+    def run(progress, cancel):
+        out = job(progress, cancel)  # a Reconstruction, or a dict holding one under "rec"
+        progress("compare", 0.0)
+        if isinstance(out, dict):
+            return {**out, "truth": truth.compared(out["rec"])}
+        return {"rec": out, "truth": truth.compared(out), "points": points}
+
+    return run
+
+
+class RunActions:
+    """Mixin of :class:`~crustview.qt.window.MainWindow`: starting jobs in the worker and showing what they return.
+
+    Needs ``model``, ``runner``, ``view``, ``run_panel``, ``origin``, ``points``, ``prune_note``,
+    ``restore_view``, ``show_error`` and ``statusBar``.
+    """
+
+    # -- running ----------------------------------------------------------------
+    def start_job(self, fn, label: str, **pending) -> bool:
+        """Run ``fn(progress, cancel)`` in the worker; ``pending`` is used when it ends."""
+        if self.runner.busy:
+            self.show_error("A reconstruction is already running; cancel it first.")
+            return False
+        self._pending = pending
+        self.statusBar().showMessage(label)
+        return self.runner.start(fn, label)
+
+    def start_reconstruction(
+        self,
+        points: np.ndarray,
+        d: int,
+        truth=None,
+        source: str = "",
+        test: str | None = None,
+        theta: float | None = None,
+        prune_boundary: bool | None = None,
+        mode: str | None = None,
+        origin=None,
+    ) -> bool:
+        """Reconstruct ``points`` in the worker; ``origin`` is where they came from (for sessions)."""
+        test = test or self.run_panel.test.currentText()
+        theta = self.run_panel.theta_radians if theta is None else theta
+        if prune_boundary is None:
+            self._default_prune()
+        prune = self.run_panel.prune.isChecked() if prune_boundary is None else bool(prune_boundary)
+        mode = mode or self.run_panel.mode
+
+        def job(progress, cancel):
+            rec = reconstruct(
+                points, d, test=test, theta=theta, prune_boundary=prune, mode=mode, progress=progress, cancel=cancel
+            )
+            return {"rec": rec, "truth": truth, "points": points, "quality": _quality(rec, progress, cancel)}
+
+        job = _comparing(job, truth, points)
+
+        note = cost_warning(points.shape[1], d)
+        if note:
+            self.show_error(note + " Cancel stops it at any time.")
+
+        return self.start_job(
+            job,
+            f"Reconstructing {source} (d = {d})…",
+            points=points,
+            truth=truth,
+            source=source,
+            keep_view=False,
+            origin=origin,
+        )
+
+    def load_builtin(
+        self,
+        name: str,
+        n: int | None = None,
+        seed: int = 0,
+        test: str | None = None,
+        theta: float | None = None,
+        prune_boundary: bool | None = None,
+        mode: str | None = None,
+    ) -> bool:
+        """Sample a built-in manifold and reconstruct it (in the worker).
+
+        The run's parameters default to the Run panel's (pruning: on).
+        """
+        from ..core.samples.manifolds import get_manifold
+
+        try:
+            m = get_manifold(name)
+        except Exception as err:  # noqa: BLE001
+            self.show_error(str(err))
+            return False
+        n = n or m.default_n
+        self._default_prune()
+        test = test or self.run_panel.test.currentText()
+        theta = self.run_panel.theta_radians if theta is None else float(theta)
+        prune = self.run_panel.prune.isChecked() if prune_boundary is None else bool(prune_boundary)
+        mode = mode or self.run_panel.mode
+
+        # with nothing on screen yet, sample here (< 0.2 s up to 3000 points) and show the
+        # raw points while the reconstruction runs; otherwise all of it runs in the worker
+        early = m.sample(n, seed=seed) if self.model.rec is None and n <= 3000 and not self.runner.busy else None
+        if early is not None:
+            self.view.show_preview(early.points)
+
+        def job(progress, cancel):
+            progress("prepare", 0.0)
+            sample = early if early is not None else m.sample(n, seed=seed)
+            rec = reconstruct(
+                sample.points,
+                m.d,
+                test=test,
+                theta=theta,
+                prune_boundary=prune,
+                mode=mode,
+                progress=progress,
+                cancel=cancel,
+            )
+            return {"rec": rec, "truth": sample, "points": sample.points, "quality": _quality(rec, progress, cancel)}
+
+        return self.start_job(
+            job,
+            f"Sampling and reconstructing {name} (n = {n})…",
+            source=f"{name} (n = {n})",
+            keep_view=False,
+            origin=BuiltinSource(name, int(n), int(seed)),
+        )
+
+    def _default_prune(self) -> None:
+        """New data starts with the paper's boundary pruning on again, and says so if it was off."""
+        box = self.run_panel.prune
+        if box.isChecked():
+            return
+        box.blockSignals(True)
+        box.setChecked(True)
+        box.blockSignals(False)
+        self.prune_note = "Prune boundary faces is on again for the new data (it was off for the last one)."
+
+    def load_demo(self) -> bool:
+        return self.load_builtin(DEMO)
+
+    def _reconstruct_requested(self, d: int, test: str, theta: float, prune: bool = True) -> None:
+        rec = self.model.rec
+        if self.points is None:
+            self.show_error("Open a point file or a built-in sample first.")
+            self.run_panel.sync_prune()
+            return
+        mode = self.run_panel.mode
+        if rec is not None and rec.d == d:  # same points and d: only Algorithm 3 again
+
+            def job(progress, cancel):
+                return reextract(rec, test, theta, prune_boundary=prune, mode=mode, progress=progress, cancel=cancel)
+
+            job = _comparing(job, self.model.truth, self.points)
+
+            label = f"Re-extracting ({MODE_WORDS[mode]}) with {test}, θ = {np.degrees(theta):.1f}°" + (
+                f", boundary faces {'pruned' if prune else 'kept'}…" if mode == "paper" else "…"
+            )
+            if not self.start_job(
+                job, label, points=self.points, truth=self.model.truth, source=self.model.source, keep_view=True
+            ):
+                self.run_panel.sync_prune()
+        else:
+            self.start_reconstruction(
+                self.points,
+                d,
+                truth=self.model.truth,
+                source=self.model.source,
+                test=test,
+                theta=theta,
+                prune_boundary=prune,
+                origin=self.origin,
+            )
+
+    def _job_done(self, result) -> None:
+        pending = self._pending
+        if isinstance(result, dict):
+            rec, truth, points = result["rec"], result["truth"], result["points"]
+        else:
+            rec, truth, points = result, pending.get("truth"), pending.get("points")
+        self.points = points
+        if "origin" in pending:  # new data (a re-extraction keeps the origin)
+            self.origin = pending["origin"]
+        self.model.set_reconstruction(
+            rec,
+            truth=truth,
+            source=pending.get("source", ""),
+            keep_view=bool(pending.get("keep_view")),
+            quality=result.get("quality") if isinstance(result, dict) else None,
+        )
+        t = rec.topology
+        verdict = "closed manifold" if t.closed_manifold else f"NOT a closed manifold ({rec.extraction.stopped})"
+        expected = truth.manifold if truth is not None else None
+        problems = []
+        if expected is not None and t.closed_manifold and tuple(t.betti) != tuple(expected.betti):
+            problems.append(f"Betti {tuple(t.betti)} ≠ true {tuple(expected.betti)}")
+        mesh_cmp = getattr(truth, "comparison", None)
+        if mesh_cmp is not None and t.closed_manifold and tuple(t.betti) != tuple(mesh_cmp.mesh_topology.betti):
+            problems.append(f"Betti {tuple(t.betti)} ≠ mesh {tuple(mesh_cmp.mesh_topology.betti)}")
+        if t.closed_manifold and t.unused_samples:
+            problems.append(f"{t.unused_samples} unused")
+        if problems:
+            verdict = "WRONG: " + ", ".join(problems)
+        ok = t.closed_manifold and not problems
+        self.run_panel.show_idle(f"{rec.mode}: done in {sum(rec.timings.values()):.2f} s — {verdict}", ok=ok)
+        message = (
+            f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} steps of "
+            f"{MODE_WORDS.get(rec.mode, rec.mode)}."
+        )
+        saved = pending.get("saved")
+        if saved is not None:
+            same = _same_simplices(rec, saved[0])
+            message += (
+                f" Same M_S as saved in {saved[1]}."
+                if same
+                else f" M_S DIFFERS from the one saved in {saved[1]} (other crustview version?)."
+            )
+        for extra in pending.get("notes", ()):
+            message += " " + extra
+        if getattr(self, "prune_note", None):
+            message += " " + self.prune_note
+            self.prune_note = None
+        self.statusBar().showMessage(message, 20000)
+        self.setWindowTitle(f"crustview — {self.model.source}: {name_of(t, rec.d)} (d = {rec.d} in R^{rec.k})")
+        if pending.get("session") is not None:
+            self.restore_view(*pending["session"])
+
+    def _job_failed(self, message: str) -> None:
+        self.run_panel.sync_prune()
+        self.run_panel.show_idle("failed — previous result kept" if self.model.rec is not None else "failed", ok=False)
+        self.show_error(message)
+
+    def _job_cancelled(self) -> None:
+        self.run_panel.sync_prune()
+        self.run_panel.show_idle("cancelled — previous result kept" if self.model.rec is not None else "cancelled")
+        self.statusBar().showMessage("Cancelled; the previous result is still shown.", 10000)
