@@ -50,6 +50,13 @@ setup(
             extra_compile_args=[*FLAGS, "-ffp-contract=off"],
             optional=True,
         ),
+        Extension(  # no third-party headers: the robust extension's cell labelling (core/robust/labelling.py)
+            "crustview.core.robust._labels",
+            sources=["crustview/core/robust/_labels.cpp"],
+            language="c++",
+            extra_compile_args=FLAGS,
+            optional=True,
+        ),
         Extension(
             "crustview.core.delaunay._delaunay_d",
             sources=["crustview/core/delaunay/_delaunay_d.cpp"],

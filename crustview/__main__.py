@@ -17,6 +17,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from crustview import __version__
+from crustview.core.analysis.features import summary_suffix
 from crustview.core.errors import CrustviewError
 from crustview.core.result import CANDIDATE_TESTS
 
@@ -202,10 +203,11 @@ def _summary(rec, seconds: float, output: Path) -> str:
         )
     text = "; ".join(parts) + f"; {seconds:.2f} s; wrote {output}."
     notes = set(rec.extraction.notes)  # said on the extraction line
-    messages = [m for m in top.messages if m not in notes]
+    messages = [m for m in top.messages if m not in notes and not m.startswith("the sample does not support")]
     if messages:
         text += " Note: " + "; ".join(str(m).rstrip(".") for m in messages) + "."
-    return text
+    suffix = summary_suffix(rec.features)
+    return text + (f" {suffix}" if suffix else "")
 
 
 def extraction_summary(rec) -> str:

@@ -17,9 +17,9 @@ CORE = "crustview.core"
 
 #: What each subpackage of crustview.core may import from crustview (besides itself).
 ALLOWED = {
-    "paper": ("delaunay", "util", "result", "errors"),
+    "paper": ("delaunay", "util", "result", "steps", "errors"),
     "delaunay": ("util", "errors"),
-    "analysis": ("delaunay", "samples", "util", "result", "errors"),
+    "analysis": ("delaunay", "samples", "util", "result", "steps", "errors"),
     "samples": ("errors",),
     "util": (),
 }

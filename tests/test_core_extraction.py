@@ -7,7 +7,7 @@ import pytest
 
 from crustview.core.analysis.topology import all_faces, analyse, boundary_rank_gf2
 from crustview.core.paper.extraction import extract
-from crustview.core.result import RULE_PRUNE, RULE_RESOLVE
+from crustview.core.steps import RULE_PRUNE, RULE_RESOLVE
 
 OCTA_PTS = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], float)
 OCTA = np.array([[a, b, c] for a in (0, 1) for b in (2, 3) for c in (4, 5)])

@@ -204,8 +204,9 @@ class _LateCancel:
 def test_cancel_stops_the_extraction_part_way():
     """reextract checks the flag while Algorithm 3 runs, not only before it."""
     rec = reconstruct(get_manifold("torus").sample(1500, seed=0).points, 2)
-    full = reextract(rec, "literal", np.pi / 8)
-    assert full.extraction.n_steps > 600  # long enough to be cancelled inside
+    # the robust extraction runs the paper's loop first: long enough to be cancelled inside
+    full = reextract(rec, "literal", np.pi / 8, mode="paper")
+    assert full.extraction.n_steps > 600
     late = _LateCancel(after=2)
     with pytest.raises(Cancelled):
         reextract(rec, "literal", np.pi / 8, cancel=late)

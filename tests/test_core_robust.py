@@ -8,9 +8,9 @@ import pytest
 from crustview.core import reconstruct, reextract
 from crustview.core.analysis.topology import analyse
 from crustview.core.paper.extraction import extract
-from crustview.core.result import RULE_FILL, RULE_PRUNE, RULE_RELAX
 from crustview.core.robust.driver import extract_robust
 from crustview.core.samples.manifolds import get_manifold
+from crustview.core.steps import RULE_FILL, RULE_PRUNE, RULE_RELAX
 from crustview.io import read_mesh
 
 RESOURCES = Path(__file__).resolve().parents[1] / "resources"

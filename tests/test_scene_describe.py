@@ -86,7 +86,7 @@ def test_interpretation_and_verdict_of_a_torus_with_holes():
 
 
 def test_step_words_read_well_for_boundary_steps_and_empty_replays():
-    from crustview.core.result import RULE_PRUNE, Step
+    from crustview.core.steps import RULE_PRUNE, Step
     from crustview.scene.describe import step_words
 
     boundary = Step(0, RULE_PRUNE, (3, 4), (), (7,), float("nan"), "only one d-simplex left at this face (boundary)")

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from crustview.core.result import RULES
+from crustview.core.steps import RULES
 from crustview.scene import SceneModel, StepPlayer
 
 

@@ -8,7 +8,8 @@ reextract(rec, test, theta) -> Reconstruction   (Algorithm 3 again, fast)
 
 from .errors import Cancelled, CrustviewError, InputError, QhullFailure
 from .reconstruct import cost_warning, reconstruct, reextract
-from .result import CANDIDATE_TESTS, RULES, Candidates, Extraction, Reconstruction, Step, TopologyReport
+from .result import CANDIDATE_TESTS, Candidates, Reconstruction, TopologyReport
+from .steps import RULES, Extraction, Step
 
 __all__ = [
     "CANDIDATE_TESTS",

@@ -8,6 +8,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from .analysis.features import features, summary_suffix
 from .analysis.topology import analyse
 from .delaunay.triangulation import backend_label, bounding_points, circumcenters, delaunay
 from .errors import Cancelled, InputError
@@ -254,12 +255,17 @@ def reextract(
     scale = prescale(rec.points)
     with gc_paused():  # see memory.gc_paused: the extraction makes many long-lived small objects
         if mode == "robust":
+            cells = None
+            if rec.k - rec.d == 1 and rec.subspace_dim == rec.k:  # hypersurfaces: the labelling path
+                m = len(rec.delaunay_simplices)
+                cells = (rec.delaunay_points / scale, rec.delaunay_simplices, rec.voronoi_vertices[:m] / scale)
             ext = extract_robust(
                 rec.points / scale,
                 rec.candidates.faces,
                 rec.candidates.angles[test],
                 theta,
                 spacing=rec.spacing / scale,
+                cells=cells,
                 cancel=cancel,
                 progress=lambda f: report("extraction", f),
             )
@@ -303,6 +309,20 @@ def reextract(
             + ("" if prune_boundary else ", and boundary faces were kept on request (prune_boundary off)"),
         )
     timings["topology"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    report("topology", 0.5)
+    # on the rescaled samples (sizes are ratios; locations are scaled back)
+    feats = [
+        replace(f, location=f.location * scale)
+        for f in features(rec.points / scale, manifold, rec.d) + list(ext.disputed)
+    ]
+    if any(f.uncertain for f in feats):
+        topo.messages.append(
+            "the sample does not support every feature of M_S: "
+            + summary_suffix(feats).strip("()")
+            + " (see uncertain_features)"
+        )
+    timings["topology"] += time.perf_counter() - t0
     report("done", 1.0)
     cands = replace(rec.candidates, theta=theta)
     return replace(
@@ -316,6 +336,7 @@ def reextract(
         timings=timings,
         prune_boundary=prune_boundary,
         mode=mode,
+        features=feats,
     )
 
 

@@ -24,7 +24,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from ..core.result import RULES
+from ..core.steps import RULES
 from ..scene.describe import deg, fmt_tuple, step_words
 from ..scene.layers import STEP_COLORS
 from ..scene.model import SceneModel

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.result import CANDIDATE_TESTS, Reconstruction, Step
+from ..core.result import CANDIDATE_TESTS, Reconstruction
+from ..core.steps import Step
 from .model import SceneModel
 from .quantities import POLE_INFINITE, POLE_NONE, hull_samples, pole_direction, pole_kinds
 from .shapes import name_of, shape_name

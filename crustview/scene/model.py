@@ -10,7 +10,8 @@ from psygnal import Signal
 
 from ..core.analysis.quality import SamplingQuality, sampling_quality
 from ..core.analysis.theorems import TheoremChecks, check_theorems
-from ..core.result import Cascade, Reconstruction
+from ..core.result import Reconstruction
+from ..core.steps import Cascade
 from . import geometry as geo
 from .coloring import coordinate_values, default_coloring
 from .layers import Layer, default_layers

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from psygnal import Signal
 
-from ..core.result import Extraction, Step
+from ..core.steps import Extraction, Step
 
 
 class StepPlayer:

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.result import Extraction
+from ..core.steps import Extraction
 from . import geometry as geo
 
 

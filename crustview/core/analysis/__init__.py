@@ -9,7 +9,8 @@
 
 May import: numpy, scipy, :mod:`crustview.core.delaunay`,
 :mod:`crustview.core.samples`, :mod:`crustview.core.util`, and the pipeline's
-:mod:`~crustview.core.result` and :mod:`~crustview.core.errors`.  Never the
+:mod:`~crustview.core.result`, :mod:`~crustview.core.steps` and
+:mod:`~crustview.core.errors`.  Never the
 robust extension (:mod:`crustview.core.robust`), the pipeline's
 :mod:`~crustview.core.reconstruct`, nor the viewer (scene, render, qt)
 (``tests/test_core_boundaries.py``).

@@ -13,7 +13,8 @@ here beside the code they decide.
 
 May import: numpy, scipy, :mod:`crustview.core.delaunay` (face lists and the
 compiled kernels), :mod:`crustview.core.util`, and the pipeline's
-:mod:`~crustview.core.result` and :mod:`~crustview.core.errors`.  Never the
+:mod:`~crustview.core.result`, :mod:`~crustview.core.steps` and
+:mod:`~crustview.core.errors`.  Never the
 robust extension (:mod:`crustview.core.robust`) nor the pipeline's
 :mod:`~crustview.core.reconstruct` (``tests/test_core_boundaries.py``).
 """

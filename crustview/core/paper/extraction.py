@@ -50,7 +50,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..result import RULE_PRUNE, RULE_RESOLVE, Extraction, Step
+from ..steps import RULE_PRUNE, RULE_RESOLVE, Extraction, Step
 from ..util.rows import unique_rows
 
 HALF_PI = np.pi / 2

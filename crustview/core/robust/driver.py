@@ -76,14 +76,11 @@ import numpy as np
 from ..analysis.topology import analyse
 from ..errors import Cancelled
 from ..paper.extraction import extract
-from ..result import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
+from ..steps import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
+from .cells import extract_by_labels
 from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 from .patcher import Patcher
 from .seed_core import manifold_core
-
-#: Rounds of hole filling, sample insertion, unpinching and stray dropping (each can leave
-#: work for the others; real scans settle in two or three).
-PATCH_ROUNDS = 5
 
 
 def extract_robust(
@@ -93,10 +90,11 @@ def extract_robust(
     theta: float,
     *,
     spacing: float,
+    cells: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
     cancel: object | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> Extraction:
-    """Algorithm 3, and the growing extension where the paper's loop fails.
+    """Algorithm 3, and the extension (labelling, growing) where the paper's loop fails.
 
     Parameters
     ----------
@@ -111,6 +109,10 @@ def extract_robust(
         The candidate threshold.
     spacing : float
         Median nearest-neighbour distance of the samples (for hole sizes).
+    cells : (delaunay_points, simplices, centres), optional
+        The Delaunay k-cells (over the samples and the bounding points) and
+        their circumcentres.  Given for surfaces in R^3, where the labelling
+        path (:mod:`.cells`) runs before the growing one.
     cancel, progress
         As in :func:`crustview.core.paper.extraction.extract`.
 
@@ -157,10 +159,70 @@ def extract_robust(
         missing = int((~covered).sum())
         note_paper = f"{missing} samples are in no simplex of T_S, so the paper's Algorithm 3 cannot succeed"
         holes = None
-    ext = _grow_and_patch(points, _prepare_growth(points, faces, scores, admitted), spacing, cancel, progress)
+    if cells is not None and d1 == 3 and points.shape[1] == 3:
+        ext = choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progress, note_paper)
+    else:
+        ext = _grow_and_patch(points, _prepare_growth(points, faces, scores, admitted), spacing, cancel, progress)
+        ext.notes.insert(0, note_paper + "; the robust extension grew M_S instead")
     ext.holes = holes
-    ext.notes.insert(0, note_paper + "; the robust extension grew M_S instead")
     return ext
+
+
+def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progress, note_paper) -> Extraction:
+    """The labelling path, and the growing path where the labelling leaves doubt; the better of the two.
+
+    The labelling's result is kept at once when it is a closed manifold
+    through every sample with no uncertain feature
+    (:func:`~crustview.core.analysis.features.features`).  Otherwise M_S is
+    also grown, and the result with fewer problems is kept, in this order:
+    not closed, samples left out, uncertain features, boundary faces.  When
+    both are closed manifolds through every sample, the other one has no
+    uncertain feature of its own, and their Betti numbers differ, the sample
+    supports both answers: the difference is reported as an uncertain feature
+    (:attr:`Extraction.disputed`).
+    """
+    from ..analysis.features import disagreement, features, uncertain
+
+    n = len(points)
+    d = faces.shape[1] - 1
+    lab = extract_by_labels(points, *cells, faces, np.sort(tset, axis=1), spacing)
+    if cancel is not None and cancel.is_set():
+        raise Cancelled("reconstruction cancelled")
+    m_lab = lab.complex_at(lab.n_steps)
+    top_lab = analyse(m_lab, n, d)
+    f_lab = uncertain(features(points, m_lab, d))
+    if top_lab.closed_manifold and top_lab.unused_samples == 0 and not f_lab:
+        lab.notes.insert(0, note_paper + "; the robust extension labelled the Delaunay cells instead")
+        return lab
+    grown = _grow_and_patch(points, _prepare_growth(points, faces, scores, admitted), spacing, cancel, progress)
+    m_gro = grown.complex_at(grown.n_steps)
+    top_gro = analyse(m_gro, n, d)
+    f_gro = uncertain(features(points, m_gro, d))
+
+    def problems(top, unc) -> tuple:
+        return (not top.closed_manifold, top.unused_samples, len(unc), top.boundary_faces)
+
+    p_lab, p_gro = problems(top_lab, f_lab), problems(top_gro, f_gro)
+    keep, why = (lab, "labelled") if p_lab <= p_gro else (grown, "grown")
+    m_keep, m_other = (m_lab, m_gro) if keep is lab else (m_gro, m_lab)
+    t_keep, t_other = (top_lab, top_gro) if keep is lab else (top_gro, top_lab)
+    f_other = f_gro if keep is lab else f_lab
+    keep.notes.insert(
+        0,
+        f"{note_paper}; the robust extension labelled the Delaunay cells (Betti {top_lab.betti}, "
+        f"{top_lab.unused_samples} samples left out, {len(f_lab)} uncertain features) and grew M_S "
+        f"(Betti {top_gro.betti}, {top_gro.unused_samples} left out, {len(f_gro)} uncertain); the {why} "
+        "result is kept",
+    )
+    if (
+        not f_other
+        and t_keep.closed_manifold
+        and t_other.closed_manifold
+        and t_keep.betti != t_other.betti
+        and min(t_keep.unused_samples, t_other.unused_samples) <= 0.01 * n
+    ):
+        keep.disputed = disagreement(points, m_keep, m_other, t_keep.betti, t_other.betti)
+    return keep
 
 
 def _row_keys(rows: np.ndarray, base: int) -> np.ndarray:
@@ -225,23 +287,7 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
     )
     # only gluing moves leave pinched vertices behind in the grown complex
     pt.suspects = set(gr.glued)
-    pt.drop_small_components()
-    left: list[int] = []
-    for _ in range(PATCH_ROUNDS):  # closing, inserting, unpinching and dropping can each leave work for the others
-        for _ in range(4):  # eroding one hole can reach another: repeat while something closes
-            before = len(pt.boundary())
-            for hole in pt.holes():
-                pt.fill(hole)
-            if len(pt.boundary()) in (0, before):
-                break
-        left = pt.insert_unused()
-        # unpinching frees samples and opens holes; the last filling can close off a stray bubble
-        changed = pt.unpinch_all()
-        changed = pt.drop_small_components() or changed
-        if not changed:
-            break
-    else:
-        left = pt.insert_unused()
+    left = pt.settle()
     # rows: T_S first (as in paper mode), then every other simplex in the order it first appeared
     outside = grown[grown >= n_ts]
     grown_rows = grown.copy()

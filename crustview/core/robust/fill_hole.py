@@ -69,8 +69,13 @@ class FillHole:
             groups.setdefault(find(i), []).append(f)
         return sorted(groups.values(), key=len)
 
+    #: Boundary faces of real openings that no rule may close (``open-cap`` leaves them).
+    keep_open: frozenset = frozenset()
+
     def fill(self, hole: list[Simplex]) -> bool:
-        """Close one hole if it is small; True when it was closed."""
+        """Close one hole if it is small and not a real opening; True when it was closed."""
+        if self.keep_open and any(f in self.keep_open for f in hole):
+            return False
         verts = sorted({v for f in hole for v in f})
         p = self.points[verts]
         span = float(np.sqrt(((p[:, None] - p[None]) ** 2).sum(-1).max())) if len(verts) > 1 else 0.0

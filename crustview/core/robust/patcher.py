@@ -25,6 +25,34 @@ from .drop_stray import DropStray
 from .fill_hole import FillHole
 from .insert_sample import SampleInsertion
 
+#: Rounds of hole filling, sample insertion, unpinching and stray dropping (each can leave
+#: work for the others; real scans settle in two or three).
+PATCH_ROUNDS = 5
+
 
 class Patcher(FillHole, DropStray, SampleInsertion, EditableComplex):
     """M_S as an :class:`~.complex.EditableComplex`, with the rules of the last phase as methods."""
+
+    def settle(self) -> list[int]:
+        """Close small holes, insert left-out samples, unpinch and drop strays until nothing changes.
+
+        Returns the samples still left out.
+        """
+        self.drop_small_components()
+        left: list[int] = []
+        for _ in range(PATCH_ROUNDS):  # closing, inserting, unpinching and dropping can each leave work for the others
+            for _ in range(4):  # eroding one hole can reach another: repeat while something closes
+                before = len(self.boundary())
+                for hole in self.holes():
+                    self.fill(hole)
+                if len(self.boundary()) in (0, before):
+                    break
+            left = self.insert_unused()
+            # unpinching frees samples and opens holes; the last filling can close off a stray bubble
+            changed = self.unpinch_all()
+            changed = self.drop_small_components() or changed
+            if not changed:
+                break
+        else:
+            left = self.insert_unused()
+        return left

@@ -1,0 +1,358 @@
+"""Topological features of a result, and whether the sample supports each one.
+
+A reconstruction can be a closed manifold through every sample and still have
+the wrong topology: two parts that nearly touch joined by a bridge (a false
+handle), a thin part cut through (a missing piece), a gap taken for a hole.
+This module names every handle, hole and component of M_S, measures it in
+local sample spacings, and calls it *uncertain* when the sampling cannot tell
+it from a gap.
+
+The measure and its bound
+-------------------------
+All sizes are in units of the local sampling radius h (:func:`local_spacing`:
+about how far a point of M_S gets from every sample).  The paper's guarantees need an epsilon-sample,
+h <= eps * LFS.  Voronoi-based reasoning (poles near the medial axis, Amenta
+and Bern) needs at least eps < 1, so a feature whose local feature size is
+below one spacing is below the resolution of *any* sampling condition:
+
+* **Handle** (a generator of H_1 of a closed surface): a loop of length L
+  around a tube of radius r has L = 2 pi r, and the tube's LFS is at most r.
+  eps < 1 needs h < r, so a loop shorter than :data:`LOOP_MIN` = 2 pi
+  spacings is below resolution: fewer than about six samples around it.
+  Both a false bridge between parts that nearly touch and a tunnel punched
+  through a thin part leave such a short loop.
+* **Component**: two sheets at distance g have LFS <= g / 2 between them,
+  so eps < 1 needs h < g / 2.  A component closer than :data:`GAP_MIN` = 2
+  spacings to another one may be one object with the other.
+* **Hole** (a boundary loop of an open result): a hole whose span is below
+  :data:`LOOP_MIN` / pi = 2 spacings (diameter of a circle of circumference
+  LOOP_MIN) is as wide as one missing sample: it may be an undersampling
+  gap rather than a real opening.
+
+Handles are the loops of a short basis of H_1 (Z/2), found by :mod:`.loops`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from .loops import short_basis
+
+#: Shortest loop (in local spacings) that an eps < 1 sample can resolve: 2 pi (see the module text).
+LOOP_MIN = 2 * math.pi
+#: Closest distance (in local spacings) between two components that an eps < 1 sample can resolve.
+GAP_MIN = 2.0
+
+
+@dataclass(frozen=True)
+class Feature:
+    """One handle, hole or component of M_S.
+
+    Attributes
+    ----------
+    kind : {"handle", "hole", "component"}
+    location : ndarray of shape (k,)
+        A point of the feature in R^k (the middle of a handle's loop, a hole's
+        rim, a component's closest approach to another one).
+    size_spacings : float
+        The loop length (handle), the span of the rim (hole) or the gap to the
+        nearest other component (component), in local spacings.
+    uncertain : bool
+        The sample cannot tell the feature from a gap (size below its bound).
+    vertices : ndarray of int
+        Sample indices along the loop, rim or closest approach (for drawing).
+    reason : str
+        One sentence.
+    """
+
+    kind: str
+    location: np.ndarray
+    size_spacings: float
+    uncertain: bool
+    vertices: np.ndarray
+    reason: str
+
+    def as_dict(self) -> dict:
+        """The JSON form (``uncertain_features`` entries)."""
+        return {
+            "kind": self.kind,
+            "location": [float(x) for x in self.location],
+            "size_spacings": round(float(self.size_spacings), 3),
+            "uncertain": bool(self.uncertain),
+            "reason": self.reason,
+        }
+
+
+def local_spacing(points: np.ndarray, simplices: np.ndarray | None = None) -> np.ndarray:
+    """The local sampling radius h of every sample.
+
+    With ``simplices`` (M_S), h(s) is the largest enclosing radius of the
+    simplices at s (:func:`enclosing_radii`): about the farthest a point of
+    the reconstruction near s gets from every sample, which is what an
+    epsilon-sample bounds (h <= eps LFS).
+    It stays right where the sampling is anisotropic (long thin triangles:
+    dense along a ring, sparse across it), where the nearest-neighbour
+    distance sees only the dense direction.  Samples in no simplex, and
+    calls without ``simplices``, get the nearest-neighbour distance.
+    """
+    n = len(points)
+    if n < 2:
+        return np.ones(n)
+    dist = cKDTree(points).query(points, k=2)[0][:, 1]
+    h = np.where(dist > 0, dist, np.median(dist[dist > 0]) if (dist > 0).any() else 1.0)
+    if simplices is None or len(simplices) == 0:
+        return h
+    simplices = np.asarray(simplices, dtype=np.int64)
+    r = enclosing_radii(points, simplices)
+    cover = np.zeros(n)
+    np.maximum.at(cover, simplices.ravel(), np.repeat(r, simplices.shape[1]))
+    return np.where(cover > 0, cover, h)
+
+
+def enclosing_radii(points: np.ndarray, simplices: np.ndarray) -> np.ndarray:
+    """Radius of the smallest ball around each simplex.
+
+    For a triangle: its circumradius when no angle is obtuse, else half its
+    longest edge (an obtuse sliver's circumradius grows without bound, its
+    enclosing ball does not).  For other simplices: half the longest edge, a
+    lower bound within a factor sqrt(2d / (d + 1)) of it.
+    """
+    d = simplices.shape[1] - 1
+    p = points[simplices]
+    edges = [np.linalg.norm(p[:, i] - p[:, j], axis=1) for i in range(d + 1) for j in range(i + 1, d + 1)]
+    half = np.max(edges, axis=0) / 2 if edges else np.zeros(len(simplices))
+    if d != 2:
+        return half
+    a, b, c = np.sort(np.stack(edges, axis=1), axis=1).T
+    obtuse = c * c >= a * a + b * b
+    return np.where(obtuse, half, circumradii(points, simplices))
+
+
+def circumradii(points: np.ndarray, simplices: np.ndarray) -> np.ndarray:
+    """Circumradius of every simplex (its circumsphere within its own affine hull)."""
+    p0 = points[simplices[:, 0]]
+    a = points[simplices[:, 1:]] - p0[:, None, :]  # (s, d, k)
+    g = np.einsum("sik,sjk->sij", a, a)
+    rhs = 0.5 * np.einsum("sii->si", g)
+    try:
+        lam = np.linalg.solve(g, rhs[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        lam = np.einsum("sij,sj->si", np.linalg.pinv(g), rhs)
+    c = np.einsum("si,sik->sk", lam, a)
+    return np.linalg.norm(c, axis=1)
+
+
+def _edges(tris: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unique edges of the triangles, and each triangle's three edge ids."""
+    e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [0, 2]]])
+    e = np.sort(e, axis=1)
+    uniq, inv = np.unique(e, axis=0, return_inverse=True)
+    return uniq, inv.reshape(3, -1).T
+
+
+def features(points: np.ndarray, simplices: np.ndarray, d: int, spacing: np.ndarray | None = None) -> list[Feature]:
+    """Every handle, hole and component of a complex, with its support.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, k)
+        The samples.
+    simplices : ndarray of shape (s, d + 1)
+        M_S.
+    d : int
+        Its dimension.  Handles and holes are found for d = 2; components in
+        every dimension.
+    spacing : ndarray of shape (n,), optional
+        Local spacing per sample (default: nearest-neighbour distances).
+
+    Returns
+    -------
+    list of Feature
+        Components first, then holes, then handles.
+    """
+    simplices = np.asarray(simplices, dtype=np.int64).reshape(-1, d + 1)
+    n = len(points)
+    if len(simplices) == 0:
+        return []
+    h = local_spacing(points, simplices) if spacing is None else np.asarray(spacing, dtype=float)
+    out = _components(points, simplices, h)
+    if d == 2:
+        edges, tri_edges = _edges(simplices)
+        count = np.bincount(tri_edges.ravel(), minlength=len(edges))
+        out += _holes(points, edges, count, h)
+        out += _handles(points, simplices, edges, tri_edges, count, h, n)
+    return out
+
+
+def _components(points: np.ndarray, simplices: np.ndarray, h: np.ndarray) -> list[Feature]:
+    """Components of the complex and their gap to the nearest other one."""
+    n = len(points)
+    w = simplices.shape[1]
+    rows = np.repeat(simplices[:, 0], w - 1)
+    cols = simplices[:, 1:].ravel()
+    g = coo_matrix((np.ones(len(rows), np.int8), (rows, cols)), shape=(n, n))
+    _, label = connected_components(g, directed=False)
+    used = np.zeros(n, bool)
+    used[simplices.ravel()] = True
+    verts = np.nonzero(used)[0]
+    comps = np.unique(label[verts])
+    result = []
+    if len(comps) == 1:
+        return result
+    tree = cKDTree(points[verts])
+    kk = min(len(verts), 16)
+    dist, idx = tree.query(points[verts], k=kk)
+    other = label[verts[idx]] != label[verts][:, None]
+    gap = np.where(other, dist, np.inf).min(axis=1)
+    own = np.where(~other & (dist > 0), dist, np.inf).min(axis=1)
+    own = np.where(np.isfinite(own), own, h[verts])
+    where = np.where(other, idx, -1)
+    for c in comps:
+        mine = label[verts] == c
+        rel = gap[mine] / own[mine]
+        j = int(np.argmin(rel))
+        size = float(rel[j])
+        v = int(verts[mine][j])
+        if not np.isfinite(size):
+            size = float("inf")
+            loc = points[verts[mine]].mean(axis=0)
+            pair = np.array([v])
+        else:
+            row = np.nonzero(mine)[0][j]
+            u = int(verts[where[row][where[row] >= 0][0]]) if (where[row] >= 0).any() else v
+            loc = (points[v] + points[u]) / 2
+            pair = np.array([v, u])
+        unc = size < GAP_MIN
+        n_c = int(mine.sum())
+        reason = (
+            f"component of {n_c} samples, {size:.2g} spacings from the next one"
+            + (" (closer than the sample can separate)" if unc else "")
+            if np.isfinite(size)
+            else f"component of {n_c} samples"
+        )
+        result.append(Feature("component", loc, size, unc, pair, reason))
+    return result
+
+
+def _holes(points: np.ndarray, edges: np.ndarray, count: np.ndarray, h: np.ndarray) -> list[Feature]:
+    """Boundary loops (edges in one triangle) and their span."""
+    rim = edges[count == 1]
+    if len(rim) == 0:
+        return []
+    n = len(points)
+    g = coo_matrix((np.ones(len(rim), np.int8), (rim[:, 0], rim[:, 1])), shape=(n, n))
+    _, label = connected_components(g, directed=False)
+    result = []
+    lab = label[rim[:, 0]]
+    for c in np.unique(lab):
+        vs = np.unique(rim[lab == c])
+        p = points[vs]
+        span = float(np.max(np.linalg.norm(p - p.mean(axis=0), axis=1)) * 2)
+        size = span / float(np.median(h[vs]))
+        unc = size < LOOP_MIN / math.pi
+        reason = f"hole with {int((lab == c).sum())} rim edges, {size:.3g} spacings across" + (
+            " (as wide as one missing sample: may be a gap)" if unc else ""
+        )
+        result.append(Feature("hole", p.mean(axis=0), size, unc, vs, reason))
+    return result
+
+
+def _handles(
+    points: np.ndarray,
+    tris: np.ndarray,
+    edges: np.ndarray,
+    tri_edges: np.ndarray,
+    count: np.ndarray,
+    h: np.ndarray,
+    n: int,
+) -> list[Feature]:
+    """One feature per loop of a short homology basis (:func:`.loops.short_basis`)."""
+    basis = short_basis(points, tris, edges, tri_edges, count, n)
+    if isinstance(basis, int):
+        used = np.unique(edges)
+        return [
+            Feature(
+                "handle",
+                points[used].mean(axis=0),
+                0.0,
+                True,
+                np.array([], np.int64),
+                f"{basis} independent loops: too many handles to list, none of them supported",
+            )
+        ]
+    result = []
+    for loop, length in basis:
+        size = length / float(np.median(h[loop]))
+        unc = size < LOOP_MIN
+        reason = f"loop of {len(loop)} samples, {size:.3g} sampling radii long" + (
+            " (fewer samples around it than a sample can resolve: may be a bridge across a gap)" if unc else ""
+        )
+        result.append(Feature("handle", points[loop].mean(axis=0), size, unc, loop, reason))
+    return result
+
+
+def uncertain(feats: list[Feature]) -> list[Feature]:
+    """The features the sample does not support."""
+    return [f for f in feats if f.uncertain]
+
+
+def summary_suffix(feats: list[Feature]) -> str:
+    """The summary's "(uncertain: N handles, M holes, C components)", or "" when none is uncertain."""
+    u = uncertain(feats)
+    if not u:
+        return ""
+    c = {k: sum(f.kind == k for f in u) for k in ("handle", "hole", "component")}
+    return f"(uncertain: {c['handle']} handles, {c['hole']} holes, {c['component']} components)"
+
+
+def disagreement(
+    points: np.ndarray, kept: np.ndarray, other: np.ndarray, betti_kept: tuple, betti_other: tuple
+) -> list[Feature]:
+    """Uncertain features where two closed results of the same sample differ in topology.
+
+    Both complexes are closed manifolds through (nearly) every sample, so the
+    sample supports both answers.  The faces that only one of them has are
+    grouped by shared vertices; the largest group is where they differ most.
+    One feature per differing Betti number is placed there: a handle when
+    b_1 differs, a component when b_0 differs.
+    """
+    d = kept.shape[1] - 1
+    a = {tuple(sorted(r)) for r in np.asarray(kept).tolist()}
+    b = {tuple(sorted(r)) for r in np.asarray(other).tolist()}
+    diff = np.array(sorted(a ^ b), dtype=np.int64).reshape(-1, d + 1)
+    n = len(points)
+    if len(diff):
+        rows = np.repeat(diff[:, 0], d)
+        cols = diff[:, 1:].ravel()
+        _, label = connected_components(
+            coo_matrix((np.ones(len(rows), np.int8), (rows, cols)), shape=(n, n)), directed=False
+        )
+        lab = label[diff[:, 0]]
+        big = np.bincount(lab).argmax()
+        verts = np.unique(diff[lab == big])
+    else:
+        verts = np.unique(np.asarray(kept).ravel())
+    loc = points[verts].mean(axis=0)
+    h = local_spacing(points, kept)
+    size = float(np.ptp(points[verts], axis=0).max() / np.median(h[verts])) if len(verts) > 1 else 0.0
+    out = []
+    for kind, i in (("component", 0), ("handle", 1)):
+        if i < len(betti_kept) and betti_kept[i] != betti_other[i]:
+            out.append(
+                Feature(
+                    kind,
+                    loc,
+                    size,
+                    True,
+                    verts,
+                    f"two closed reconstructions of this sample differ here (b{i} = {betti_kept[i]} kept, "
+                    f"{betti_other[i]} in the other): the sample supports both",
+                )
+            )
+    return out

@@ -1,0 +1,237 @@
+"""A short basis of the loops of a triangulated surface (its first Z/2 homology).
+
+Loops through the roots of shortest-path trees -- a tree path, one non-tree
+edge, a tree path back -- are taken shortest first while they are independent
+in homology; a tree-cotree decomposition (Eppstein 2003) gives every edge its
+cohomology class as a bit mask, so independence is Gaussian elimination over
+GF(2).  With every vertex a root this is the greedy shortest basis of Erickson
+and Whittlesey (2005); :data:`ROOTS` roots per component, spread by
+farthest-point sampling, keep it fast, so a loop's length is an upper bound of
+the shortest loop of its class.  Used by :mod:`.features` for handles.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra
+
+#: Shortest-path-tree roots per component for the loop basis (more: shorter loops, slower).
+ROOTS = 12
+#: Basis loops are not searched above this first Betti number.
+MAX_LOOPS = 256
+
+
+def short_basis(
+    points: np.ndarray, tris: np.ndarray, edges: np.ndarray, tri_edges: np.ndarray, count: np.ndarray, n: int
+) -> list[tuple[np.ndarray, float]] | int:
+    """A short Z/2 homology basis of the closed part of a triangulated surface.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, k)
+    tris : ndarray of shape (t, 3)
+    edges : ndarray of shape (e, 2)
+        The triangles' unique edges (sorted rows).
+    tri_edges : ndarray of shape (t, 3)
+        Each triangle's edge ids.
+    count : ndarray of shape (e,)
+        Triangles per edge (boundary edges, count 1, are cut).
+    n : int
+        Number of points.
+
+    Returns
+    -------
+    list of (vertices, length), or int
+        One loop per basis element, its vertices in order and its length; the
+        number of independent loops instead when it exceeds :data:`MAX_LOOPS`.
+    """
+    # only edges with exactly two triangles carry the dual graph; boundary edges are cut
+    inner = count == 2
+    length = np.linalg.norm(points[edges[:, 0]] - points[edges[:, 1]], axis=1)
+    g = coo_matrix((length, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
+    g = g + g.T
+    ncomp, label = connected_components(g, directed=False)
+    used = np.zeros(n, bool)
+    used[edges.ravel()] = True
+    # primal spanning forest: shortest-path tree from one root per component
+    roots0 = [int(np.nonzero(used & (label == c))[0][0]) for c in np.unique(label[used])]
+    in_tree = np.zeros(len(edges), bool)
+    key = edges[:, 0] * n + edges[:, 1]
+    order = np.argsort(key)
+    skey = key[order]
+
+    def edge_ids(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        lo, hi = np.minimum(a, b), np.maximum(a, b)
+        return order[np.searchsorted(skey, lo * n + hi)]
+
+    _, pred_ms, _ = dijkstra(g, indices=roots0, return_predecessors=True, min_only=True)
+    child = np.nonzero((pred_ms >= 0) & used)[0]
+    in_tree[edge_ids(child, pred_ms[child])] = True
+    # dual graph over triangles through inner non-tree edges: spanning forest (BFS)
+    tcount = len(tris)
+    e_tris = np.full((len(edges), 2), -1, np.int64)
+    flat_e = tri_edges.ravel()
+    flat_t = np.repeat(np.arange(tcount), 3)
+    o = np.argsort(flat_e, kind="stable")
+    fe, ft = flat_e[o], flat_t[o]
+    first = np.r_[True, fe[1:] != fe[:-1]]
+    e_tris[fe[first], 0] = ft[first]
+    second = ~first
+    e_tris[fe[second], 1] = ft[second]
+    dual_ok = inner & ~in_tree
+    de = np.nonzero(dual_ok)[0]
+    dg = coo_matrix((np.ones(len(de)), (e_tris[de, 0], e_tris[de, 1])), shape=(tcount, tcount)).tocsr()
+    dg = dg + dg.T
+    _, tlabel = connected_components(dg, directed=False)
+    tparent = np.full(tcount, -1, np.int64)
+    tdepth = np.zeros(tcount, np.int64)
+    cotree = np.zeros(len(edges), bool)
+    for c in np.unique(tlabel):
+        r = int(np.nonzero(tlabel == c)[0][0])
+        bfs, par = breadth_first_order(dg, r, directed=False, return_predecessors=True)
+        nz = bfs[1:]
+        tparent[nz] = par[nz]
+        for t in nz:  # depth in BFS order (parents come first)
+            tdepth[t] = tdepth[tparent[t]] + 1
+    # cotree edges: the edge shared by a triangle and its dual parent
+    kids = np.nonzero(tparent >= 0)[0]
+    if len(kids):
+        # the shared edge of t and parent(t): common entry of their edge triples
+        te, pe = tri_edges[kids], tri_edges[tparent[kids]]
+        match = (te[:, :, None] == pe[:, None, :]).any(axis=2)
+        shared = te[np.arange(len(kids)), np.argmax(match, axis=1)]
+        cotree[shared] = True
+    left = np.nonzero(inner & ~in_tree & ~cotree)[0]
+    if len(left) == 0:
+        return []
+    if len(left) > MAX_LOOPS:
+        return int(len(left))
+    # cocycle of each leftover edge: the dual path between its two triangles, plus itself
+    words = (len(left) + 63) // 64
+    mask = np.zeros((len(edges), words), np.uint64)
+    tri_up_edge = np.full(tcount, -1, np.int64)
+    if len(kids):
+        tri_up_edge[kids] = shared
+    for j, e in enumerate(left):
+        a, b = int(e_tris[e, 0]), int(e_tris[e, 1])
+        bit = np.uint64(1) << np.uint64(j % 64)
+        w = j // 64
+        mask[e, w] ^= bit
+        while a != b:
+            if tdepth[a] >= tdepth[b]:
+                mask[tri_up_edge[a], w] ^= bit
+                a = int(tparent[a])
+            else:
+                mask[tri_up_edge[b], w] ^= bit
+                b = int(tparent[b])
+    # candidate loops from several roots per component; the leftover edges' own loops through
+    # the first tree always complete the basis
+    cand_len, cand_mask, cand_info = [], [], []
+    dist0, pred0 = dijkstra(g, indices=roots0, return_predecessors=True, min_only=True)[0:2]
+    vs_all = np.nonzero(used)[0]
+    pm0 = _path_masks(pred0, dist0, vs_all, mask, edge_ids)
+    a0, b0 = edges[left, 0], edges[left, 1]
+    cand_len.append(dist0[a0] + length[left] + dist0[b0])
+    cand_mask.append(pm0[a0] ^ pm0[b0] ^ mask[left])
+    cand_info.extend((-1, -1, int(x), int(y)) for x, y in zip(a0, b0))
+    for c in np.unique(label[used]):
+        vs = np.nonzero(used & (label == c))[0]
+        roots = _spread(points, vs, ROOTS)
+        dist, pred = dijkstra(g, indices=roots, return_predecessors=True)
+        for ri, r in enumerate(roots):
+            pm = _path_masks(pred[ri], dist[ri], vs, mask, edge_ids)
+            sel = np.nonzero(inner & (label[edges[:, 0]] == c))[0]
+            a, b = edges[sel, 0], edges[sel, 1]
+            tree_edge = (pred[ri][a] == b) | (pred[ri][b] == a)
+            sel, a, b = sel[~tree_edge], a[~tree_edge], b[~tree_edge]
+            cls = pm[a] ^ pm[b] ^ mask[sel]
+            nz = cls.any(axis=1)
+            if not nz.any():
+                continue
+            L = dist[ri][a[nz]] + length[sel[nz]] + dist[ri][b[nz]]
+            keep = np.argsort(L)[: 8 * len(left)]
+            cand_len.append(L[keep])
+            cand_mask.append(cls[nz][keep])
+            cand_info.extend((ri, int(r), int(x), int(y)) for x, y in zip(a[nz][keep], b[nz][keep]))
+    if not cand_len:
+        return []
+    L = np.concatenate(cand_len)
+    M = np.concatenate(cand_mask)
+    order_c = np.argsort(L, kind="stable")
+    basis: list[np.ndarray] = []
+    pivots: list[tuple[int, int]] = []
+    chosen = []
+    for i in order_c.tolist():
+        v = M[i].copy()
+        for (w, bit), bv in zip(pivots, basis):
+            if v[w] & bit:
+                v ^= bv
+        if not v.any():
+            continue
+        w = int(np.nonzero(v)[0][0])
+        low = int(v[w]) & -int(v[w])
+        pivots.append((w, np.uint64(low)))
+        basis.append(v)
+        chosen.append(i)
+        if len(chosen) == len(left):
+            break
+    result = []
+    # reconstruct each chosen loop's vertices
+    all_pred = {}
+    for i in chosen:
+        ri, r, a, b = cand_info[i]
+        if r < 0:
+            pr = pred0
+        else:
+            if r not in all_pred:
+                all_pred[r] = dijkstra(g, indices=[r], return_predecessors=True)[1][0]
+            pr = all_pred[r]
+        loop = _walk(pr, a)[::-1] + _walk(pr, b)
+        result.append((np.array(loop, np.int64), float(L[i])))
+    return result
+
+
+def _spread(points: np.ndarray, vs: np.ndarray, k: int) -> list[int]:
+    """Up to k vertices of vs spread by farthest-point sampling."""
+    p = points[vs]
+    chosen = [0]
+    dist = np.linalg.norm(p - p[0], axis=1)
+    for _ in range(min(k, len(vs)) - 1):
+        j = int(np.argmax(dist))
+        if dist[j] == 0:
+            break
+        chosen.append(j)
+        dist = np.minimum(dist, np.linalg.norm(p - p[j], axis=1))
+    return [int(vs[j]) for j in chosen]
+
+
+def _path_masks(pred: np.ndarray, dist: np.ndarray, vs: np.ndarray, mask: np.ndarray, edge_ids) -> np.ndarray:
+    """XOR of the edge masks along each vertex's tree path to the root."""
+    pm = np.zeros((len(pred), mask.shape[1]), np.uint64)
+    reach = vs[np.isfinite(dist[vs])]
+    order = reach[np.argsort(dist[reach], kind="stable")]
+    order = order[pred[order] >= 0]
+    if len(order) == 0:
+        return pm
+    em = mask[edge_ids(order, pred[order])]
+    # parents come before children in distance order: process in chunks whose parents are done
+    done = np.zeros(len(pred), bool)
+    done[reach[pred[reach] < 0]] = True
+    pending = np.arange(len(order))
+    while len(pending):
+        ready = done[pred[order[pending]]]
+        idx = pending[ready]
+        pm[order[idx]] = pm[pred[order[idx]]] ^ em[idx]
+        done[order[idx]] = True
+        pending = pending[~ready]
+    return pm
+
+
+def _walk(pred: np.ndarray, v: int) -> list[int]:
+    """Vertices from v up to the root of a predecessor array."""
+    out = [v]
+    while pred[v] >= 0:
+        v = int(pred[v])
+        out.append(v)
+    return out

@@ -1,0 +1,173 @@
+"""Rules ``repair-vertex`` and ``sculpt-sample``: the labelled surface made a manifold through every sample.
+
+The faces between inside and outside cells (:mod:`.labelling`) never have a
+boundary, but they can pinch: at a vertex v the surface is a manifold exactly
+when the inside cells of v's star form one piece and the outside cells one
+piece (joined through faces at v; the link of v is a sphere split into two
+discs).  Two inside pieces touching at v make a pinched vertex or a
+non-manifold edge.
+
+* ``repair-vertex``: at such a vertex, the most confident piece of each label
+  stays, and every other piece takes the other label.  Confidence is the
+  labelling's (the weakest tie on a cell's path to the outside), summed over
+  the piece.  Repeated until no vertex pinches.
+* ``sculpt-sample``: a sample whose whole star has one label is no vertex of
+  M_S.  If one of its star cells has its face opposite the sample on the
+  surface, that cell takes the other label: the surface then runs through
+  the sample, and since the sample was not on it, this keeps a manifold (the
+  sculpting rule of Boissonnat, 1984: a cell with one face on the boundary
+  may be removed when its opposite vertex is not on the boundary).  The
+  least confident such cell goes.
+
+Each rule returns the cells it flipped, one group per step, so the driver can
+record the faces each step removes and adds.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.sparse import coo_matrix, csr_matrix
+from scipy.sparse.csgraph import connected_components
+
+from .labelling import Labelling
+
+#: Rounds of repair (each flips the extra pieces at every pinched vertex found; flips can move a
+#: pinch to a neighbour, real scans settle in 2-6 rounds).
+REPAIR_ROUNDS = 30
+#: Rounds of sculpting (a sample two cells deep comes to the surface in the second round).
+SCULPT_ROUNDS = 3
+
+
+class LabelEditor:
+    """The labelling with the incidences that local flips need."""
+
+    def __init__(self, lab: Labelling) -> None:
+        self.lab = lab
+        s = lab.simplices
+        m, w = s.shape
+        self.w = w
+        n = lab.n
+        vert = s.ravel()
+        cell = np.repeat(np.arange(m), w)
+        ok = vert < n
+        star = csr_matrix((np.ones(int(ok.sum()), np.int8), (vert[ok], cell[ok])), shape=(n, m))
+        self.star_ptr, self.star_cells = star.indptr, star.indices
+        nf = len(lab.faces)
+        cf = csr_matrix(
+            (np.ones(2 * nf, np.int8), (np.r_[lab.a, lab.b], np.r_[np.arange(nf), np.arange(nf)])), shape=(m, nf)
+        )
+        self.cell_ptr, self.cell_faces = cf.indptr, cf.indices
+
+    def star(self, v: int) -> np.ndarray:
+        """The cells that have v as a vertex."""
+        return self.star_cells[self.star_ptr[v] : self.star_ptr[v + 1]]
+
+    def faces_of(self, cells: np.ndarray) -> np.ndarray:
+        """The shared faces of these cells (indices into ``lab.faces``)."""
+        if len(cells) == 0:
+            return np.zeros(0, np.int64)
+        return np.unique(np.concatenate([self.cell_faces[self.cell_ptr[c] : self.cell_ptr[c + 1]] for c in cells]))
+
+    def pieces(self) -> tuple[np.ndarray, np.ndarray]:
+        """Per sample, the number of same-label pieces of its star; and each (cell, corner)'s piece."""
+        lab = self.lab
+        n, w = lab.n, self.w
+        s = lab.simplices
+        inside = lab.inside
+        fa, fb = [], []
+        same = inside[lab.a] == inside[lab.b]
+        for c in range(lab.faces.shape[1]):
+            v = lab.faces[:, c]
+            keep = same & (v < n)
+            a, b, vk = lab.a[keep], lab.b[keep], v[keep]
+            ia = np.argmax(s[a] == vk[:, None], axis=1)
+            ib = np.argmax(s[b] == vk[:, None], axis=1)
+            fa.append(a * w + ia)
+            fb.append(b * w + ib)
+        fa_, fb_ = np.concatenate(fa), np.concatenate(fb)
+        size = len(s) * w
+        g = coo_matrix((np.ones(len(fa_), np.int8), (fa_, fb_)), shape=(size, size))
+        _, comp = connected_components(g, directed=False)
+        vert = s.ravel()
+        ok = vert < n
+        key = np.unique(vert[ok].astype(np.int64) * size + comp[ok])
+        return np.bincount((key // size).astype(np.int64), minlength=n), comp
+
+    def flip(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Give ``cells`` the other label: the faces (ids into ``lab.faces``) M_S loses and gains."""
+        lab = self.lab
+        lab.inside[cells] = ~lab.inside[cells]
+        fs = self.faces_of(cells)
+        now = lab.inside[lab.a[fs]] != lab.inside[lab.b[fs]]
+        removed, added = fs[self.cut[fs] & ~now], fs[~self.cut[fs] & now]
+        self.cut[fs] = now
+        return removed, added
+
+    def repair(self) -> list[tuple[int, np.ndarray, np.ndarray, np.ndarray]]:
+        """``repair-vertex`` until no vertex pinches: (vertex, flipped cells, removed, added) per step."""
+        lab = self.lab
+        w = self.w
+        s = lab.simplices
+        self.cut = lab.cut()
+        steps = []
+        for _ in range(REPAIR_ROUNDS):
+            count, comp = self.pieces()
+            bad = np.flatnonzero(count > 2)
+            if len(bad) == 0:
+                break
+            touched = np.zeros(lab.m, bool)
+            for v in bad.tolist():
+                cells = self.star(v)
+                if touched[cells].any():
+                    continue  # its star changed in this round: the next round looks again
+                corner = np.argmax(s[cells] == v, axis=1)
+                piece = comp[cells * w + corner]
+                ids, inv = np.unique(piece, return_inverse=True)
+                is_in = np.zeros(len(ids), bool)
+                is_in[inv] = lab.inside[cells]
+                weight = np.bincount(inv, weights=lab.confidence[cells], minlength=len(ids))
+                keep = []
+                for side in (True, False):
+                    cand = np.flatnonzero(is_in == side)
+                    if len(cand):
+                        keep.append(int(cand[np.argmax(weight[cand])]))
+                flipped = cells[~np.isin(inv, keep)]
+                flipped = flipped[~lab.outside[flipped]]
+                if len(flipped) == 0:
+                    continue
+                touched[cells] = True
+                steps.append((v, flipped, *self.flip(flipped)))
+        return steps
+
+    def sculpt(self) -> list[tuple[int, np.ndarray, np.ndarray, np.ndarray]]:
+        """``sculpt-sample`` for every sample that is no vertex: (sample, flipped cell, removed, added)."""
+        lab = self.lab
+        self.cut = lab.cut()
+        steps = []
+        for _ in range(SCULPT_ROUNDS):
+            fv = lab.faces[self.cut].ravel()
+            on = np.zeros(lab.n, bool)
+            on[fv[fv < lab.n]] = True
+            touched = np.zeros(lab.m, bool)
+            done = 0
+            for v in np.flatnonzero(~on).tolist():
+                cells = self.star(v)
+                cells = cells[~lab.outside[cells]]
+                if len(cells) == 0 or touched[cells].any():
+                    continue
+                best, best_conf = -1, np.inf
+                for c in cells.tolist():
+                    fs = self.cell_faces[self.cell_ptr[c] : self.cell_ptr[c + 1]]
+                    on_cut = fs[self.cut[fs]]
+                    # exactly one face on M_S, the one opposite v (Boissonnat's rule)
+                    if len(on_cut) == 1 and not (lab.faces[on_cut[0]] == v).any():
+                        if lab.confidence[c] < best_conf:
+                            best, best_conf = c, float(lab.confidence[c])
+                if best < 0:
+                    continue
+                touched[self.star(v)] = True
+                steps.append((v, np.array([best]), *self.flip(np.array([best]))))
+                done += 1
+            if not done:
+                break
+        return steps
