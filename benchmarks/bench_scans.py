@@ -12,8 +12,9 @@ A result is **right** when
 * closed truth (c components, total genus g): M_S is a closed manifold with
   Z/2 Betti numbers (c, 2g, c), and every sample is a vertex (at noise 0.3 h:
   at least 99 %);
-* open truth: M_S is one piece, not closed (its holes kept), with the same
-  share of samples.
+* open truth: M_S is not closed (its holes kept) and has the Z/2 Betti
+  numbers of the mesh's own faces (so every real hole is a hole, and no
+  ribbon spans one), with the same share of samples.
 
 For each file and mode the table gives: right or not, the uncertain features
 (``Reconstruction.uncertain_features``: handles, holes, components), the
@@ -62,6 +63,7 @@ class Case:
     points: np.ndarray
     truth: dict
     noise: float = 0.0
+    betti: tuple = ()
 
 
 @dataclass
@@ -88,7 +90,7 @@ class Row:
         if t["closed"]:
             c, g = int(t["components"]), int(t["genus"])
             return self.closed and tuple(self.betti) == (c, 2 * g, c) and used_ok
-        return (not self.closed) and self.betti[0] == 1 and self.boundary > 0 and used_ok
+        return (not self.closed) and tuple(self.betti) == tuple(self.case.betti) and used_ok
 
     @property
     def flagged(self) -> bool:
@@ -246,7 +248,7 @@ HEADER = (
 
 def line(r: Row) -> str:
     t = r.case.truth
-    truth = f"c{t['components']} g{t['genus']}" if t["closed"] else f"open, {t['boundary_edges']} bnd"
+    truth = f"c{t['components']} g{t['genus']}" if t["closed"] else f"open {r.case.betti}, {t['boundary_edges']} bnd"
     unc = "/".join(str(r.uncertain.get(k, 0)) for k in ("handle", "hole", "component")) if r.uncertain else "–"
     ratio = "–" if r.ratio is None else f"{r.ratio:.2f}"
     return (

@@ -9,12 +9,11 @@ by construction, in one step.  Then, each a step of the log:
    manifold through every sample it can reach by flipping cells;
 2. ``open-cap``: a face larger than :data:`~.grow.SIZE_MAX` (circumradius
    over the local spacing; 99 % of the true triangles of the public scans are
-   below 2.2, see :mod:`.grow`) spans a gap no sample supports -- the cap
-   the labelling puts over the opening of an open scan, or webbing between
-   parts.  Such faces are removed, and the holes they leave are real
-   openings that ``fill-hole`` does not close again (on a closed object
-   with a few large faces this leaves holes, and the driver then prefers the
-   growing path's closed result);
+   below 2.2, see :mod:`.grow`) spans a gap no sample supports.  A patch of
+   at least :data:`OPEN_MIN_FACES` adjacent ones is the cap the labelling
+   puts over the opening of an open scan: it is removed, and the opening is
+   never closed again by ``fill-hole``.  Smaller patches (where noise or one
+   missing sample leaves a few large faces on a closed object) stay;
 3. the last phase shared with the growing path (:meth:`.patcher.Patcher.settle`):
    holes that are undersampling gaps are closed again (``fill-hole``), real
    openings stay open, left-out samples are inserted (``insert-sample``),
@@ -36,6 +35,35 @@ from .label_repair import LabelEditor
 from .labelling import Labelling, oriented
 from .patcher import Patcher
 from .steplog import StepLog
+
+#: Fewest adjacent faces larger than SIZE_MAX that make an opening.  One missing sample leaves a
+#: hole that deg - 2 faces cover, about 4 (the mean vertex degree of a closed surface is 6, by
+#: Euler's formula); a patch of twice that is not one missing sample.  The public scans' noisy
+#: copies have patches of at most 4 such faces, their openings 15-322 (``benchmarks/bench_scans.py``).
+OPEN_MIN_FACES = 8
+
+
+def cap_patches(faces: np.ndarray, big: np.ndarray, n: int) -> list[np.ndarray]:
+    """Edge-connected patches of at least :data:`OPEN_MIN_FACES` big faces (indices into ``faces``)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    ids = np.flatnonzero(big)
+    if len(ids) < OPEN_MIN_FACES:
+        return []
+    bf = faces[ids]
+    d = faces.shape[1]
+    ridge = np.sort(np.concatenate([np.delete(bf, j, axis=1) for j in range(d)]), axis=1)
+    key = np.zeros(len(ridge), np.int64)
+    for c in range(ridge.shape[1]):
+        key = key * np.int64(n) + ridge[:, c]
+    owner = np.tile(np.arange(len(bf)), d)
+    o = np.argsort(key, kind="stable")
+    same = np.flatnonzero(key[o][1:] == key[o][:-1])
+    g = coo_matrix((np.ones(len(same)), (owner[o[same]], owner[o[same + 1]])), shape=(len(bf), len(bf)))
+    _, label = connected_components(g, directed=False)
+    sizes = np.bincount(label)
+    return [ids[label == c] for c in np.flatnonzero(sizes >= OPEN_MIN_FACES)]
 
 
 def extract_by_labels(
@@ -113,22 +141,23 @@ def extract_by_labels(
     now = lab.faces[cut]
     orient = oriented(now, inner, simplices, delaunay_points)
     pt = Patcher(points, list(map(tuple, now.tolist())), faces, spacing, orient=orient.tolist(), orientable=True)
-    big = np.flatnonzero(size_ratio(points, now) > SIZE_MAX)
-    if len(big):
-        for i in big.tolist():
+    patches = cap_patches(now, size_ratio(points, now) > SIZE_MAX, n)
+    for patch in patches:
+        for i in patch.tolist():
             pt._delete(i)
         pt.log.append(
             (
                 RULE_OPEN,
-                pt.simp[int(big[0])],
+                pt.simp[int(patch[0])],
                 (),
-                tuple(big.tolist()),
+                tuple(patch.tolist()),
                 math.nan,
-                f"removed {len(big)} faces larger than {SIZE_MAX:g} local spacings (circumradius): no sample "
-                "supports them (the cap over an open scan's opening, webbing between parts)",
+                f"removed a patch of {len(patch)} adjacent faces larger than {SIZE_MAX:g} local spacings: "
+                "no sample supports it (the cap over an open scan's opening); the opening stays open",
             )
         )
-        pt.suspects.update(int(v) for i in big.tolist() for v in pt.simp[i])
+        pt.suspects.update(int(v) for i in patch.tolist() for v in pt.simp[i])
+    if patches:
         # the openings stay open: fill-hole would span them again with smaller faces
         pt.keep_open = frozenset(pt.boundary())
     start = len(log.steps)
