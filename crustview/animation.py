@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .atomic import AtomicFile, atomic_path
 from .scene.model import SceneModel
 
 #: Default frame budget of a replay: longer step ranges are subsampled.
@@ -216,10 +217,12 @@ def output_kind(path: str | os.PathLike) -> str:
 class FrameWriter:
     """Frames appended one at a time to a GIF, an MP4 or a folder of PNGs.
 
-    A GIF or an MP4 is written under a partial name (``NAME.partial.gif``)
-    and renamed when :meth:`finish` is called, so an interrupted export
-    never leaves a file that looks complete; :meth:`abort` removes the
-    partial file (or the PNGs written so far).
+    A GIF or an MP4 is written to a temporary file in the target's folder
+    (:class:`crustview.atomic.AtomicFile`: unnamed on Linux) and renamed over
+    the target when :meth:`finish` is called, so an interrupted, failed or
+    killed export never leaves a file that looks complete and never
+    destroys an earlier one; :meth:`abort` drops the temporary file (or the
+    PNGs written so far, each of which is written atomically).
 
     Parameters
     ----------
@@ -240,13 +243,17 @@ class FrameWriter:
         self._writer = None
         self._made_dir = False
         self._written: list[Path] = []
+        self._staged: AtomicFile | None = None
         if self.kind == "folder":
             self._made_dir = not self.path.exists()
             self.path.mkdir(parents=True, exist_ok=True)
-            self.partial = self.path
         else:
             self.path.parent.mkdir(parents=True, exist_ok=True)
-            self.partial = self.path.with_name(f"{self.path.stem}.partial{self.path.suffix}")
+
+    @property
+    def writing(self) -> bool:
+        """Whether a temporary file is open (an MP4 being encoded, or a GIF being written)."""
+        return self._staged is not None
 
     def append(self, img: np.ndarray) -> None:
         """Add one (h, w, 3) uint8 frame."""
@@ -254,57 +261,68 @@ class FrameWriter:
 
         if self.kind == "folder":
             name = self.path / f"frame-{self.count:0{max(3, len(str(self.total)))}d}.png"
-            iio.imwrite(name, img)
+            with atomic_path(name) as tmp:
+                iio.imwrite(tmp, img, extension=".png")
             self._written.append(name)
         elif self.kind == "gif":
             self._frames.append(img)
         else:
             if self._writer is None:
-                import imageio
+                import imageio_ffmpeg
 
-                self._writer = imageio.get_writer(
-                    self.partial,
-                    format="FFMPEG",
-                    mode="I",
+                self._staged = AtomicFile(self.path)
+                self._writer = imageio_ffmpeg.write_frames(
+                    self._staged.path,
+                    (img.shape[1], img.shape[0]),
                     fps=self.fps,
                     codec="libx264",
                     quality=6,
                     macro_block_size=8,
-                    pixelformat="yuv420p",
+                    pix_fmt_out="yuv420p",
                     ffmpeg_log_level="error",
+                    output_params=["-f", "mp4"],  # the temporary file's name has no suffix
                 )
-            self._writer.append_data(img)
+                self._writer.send(None)
+            self._writer.send(np.ascontiguousarray(img, dtype=np.uint8))
         self.count += 1
 
     def finish(self) -> Path:
-        """Complete the file (rename it from its partial name); returns the path."""
+        """Complete the file (rename it over the target); returns the path."""
         import imageio.v3 as iio
 
         if self.kind == "gif" and self._frames:
-            iio.imwrite(self.partial, np.stack(self._frames), extension=".gif", duration=1000.0 / self.fps, loop=0)
+            self._staged = AtomicFile(self.path)
+            iio.imwrite(self._staged.path, np.stack(self._frames), extension=".gif", duration=1000.0 / self.fps, loop=0)
             self._frames = []
         elif self.kind == "mp4" and self._writer is not None:
             self._writer.close()
             self._writer = None
-        if self.kind != "folder" and self.partial.exists():
-            os.replace(self.partial, self.path)
+        if self._staged is not None:
+            staged, self._staged = self._staged, None
+            try:
+                staged.commit()
+            finally:
+                staged.discard()
         return self.path
 
     def abort(self) -> None:
-        """Stop and remove what was written (the partial file, or this export's PNGs)."""
+        """Stop and remove what was written (the temporary file, or this export's PNGs)."""
         self._frames = []
-        if self._writer is not None:
-            try:
-                self._writer.close()
-            finally:
-                self._writer = None
+        try:
+            if self._writer is not None:
+                try:
+                    self._writer.close()
+                finally:
+                    self._writer = None
+        finally:
+            if self._staged is not None:
+                self._staged.discard()
+                self._staged = None
         if self.kind == "folder":
             for f in self._written:
                 f.unlink(missing_ok=True)
             if self._made_dir and not any(self.path.iterdir()):
                 self.path.rmdir()
-        else:
-            self.partial.unlink(missing_ok=True)
 
 
 def write_frames(

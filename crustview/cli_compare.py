@@ -109,5 +109,10 @@ def run(args: argparse.Namespace) -> int:
         f"sampled, within {h.error_bound:.2g})."
     )
     if args.json is not None:
-        args.json.write_text(json.dumps(out, indent=2, default=float) + "\n")
+        from crustview.atomic import write_text
+
+        try:
+            write_text(args.json, json.dumps(out, indent=2, default=float) + "\n")
+        except OSError as err:
+            raise InputError(f"Cannot write '{args.json}': {err.strerror or err}.") from None
     return 0

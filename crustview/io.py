@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from crustview.atomic import atomic_open, atomic_path
 from crustview.core.errors import InputError
 from crustview.core.result import EXTRACTION_MODES
 from crustview.report import REPORT_CASCADES, holes_of_candidates, report_dict, write_report  # noqa: F401
@@ -231,10 +232,12 @@ def _write_mesh(path: Path, points: np.ndarray, cell_type: str | None, cells: np
         elif path.suffix.lower() == ".vtk":  # legacy VTK without cells does not read back
             blocks = [("vertex", np.arange(len(points), dtype=np.int32)[:, None])]
         mesh = meshio.Mesh(points, blocks)
-        if path.suffix.lower() == ".ply":
-            meshio.write(path, mesh, file_format="ply", binary=True)
-        else:
-            meshio.write(path, mesh)
+        fmt = {".ply": "ply", ".vtk": "vtk", ".stl": "stl", ".vtu": "vtu"}[path.suffix.lower()]
+        with atomic_path(path) as tmp:
+            if fmt == "ply":
+                meshio.write(tmp, mesh, file_format="ply", binary=True)
+            else:
+                meshio.write(tmp, mesh, file_format=fmt)
     except InputError:
         raise
     except Exception as err:  # noqa: BLE001
@@ -244,7 +247,7 @@ def _write_mesh(path: Path, points: np.ndarray, cell_type: str | None, cells: np
 def _write_obj(path: Path, points: np.ndarray, cell_type: str | None, cells: np.ndarray) -> None:
     """Wavefront OBJ with ``f`` (triangles) or ``l`` (segments) records, 1-based."""
     tag = "l" if cell_type == "line" else "f"
-    with open(path, "w", encoding="ascii") as fh:
+    with atomic_open(path, "w", encoding="ascii") as fh:
         fh.write("# crustview\n")
         np.savetxt(fh, points, fmt="v %.17g %.17g %.17g")
         if cell_type is not None and len(cells):
@@ -258,11 +261,12 @@ def _write_nd(path: Path, points: np.ndarray, simplices: np.ndarray | None, comm
     from crustview.meshfiles.ply import write_ply
 
     try:
-        if path.suffix.lower() == ".ply":
-            write_ply(path, points, simplices, comment=comment)
-        else:
-            simp = np.empty((0, 1), np.int64) if simplices is None else simplices
-            write_off(path, points, simp, ndim=path.suffix.lower() == ".noff", comment=comment)
+        with atomic_path(path) as tmp:
+            if path.suffix.lower() == ".ply":
+                write_ply(Path(tmp), points, simplices, comment=comment)
+            else:
+                simp = np.empty((0, 1), np.int64) if simplices is None else simplices
+                write_off(Path(tmp), points, simp, ndim=path.suffix.lower() == ".noff", comment=comment)
     except OSError as err:
         raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
 
@@ -296,14 +300,15 @@ def write_points(path: str | os.PathLike, points: np.ndarray) -> None:
         _write_mesh(path, _pad3(points, path, suffix), None, np.empty((0, 1), int))
         return
     try:
-        if suffix == ".npy":
-            np.save(path, points)
-        elif suffix == ".npz":
-            np.savez_compressed(path, points=points)
-        else:
-            delimiter = "," if suffix == ".csv" else " "
-            header = f"crustview points: {points.shape[0]} rows, {points.shape[1]} coordinates"
-            np.savetxt(path, points, fmt="%.17g", delimiter=delimiter, header=header)
+        with atomic_open(path, "wb") as fh:
+            if suffix == ".npy":
+                np.save(fh, points)
+            elif suffix == ".npz":
+                np.savez_compressed(fh, points=points)
+            else:
+                delimiter = "," if suffix == ".csv" else " "
+                header = f"crustview points: {points.shape[0]} rows, {points.shape[1]} coordinates"
+                np.savetxt(fh, points, fmt="%.17g", delimiter=delimiter, header=header)
     except OSError as err:
         raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
 
@@ -357,21 +362,22 @@ def write_result(path: str | os.PathLike, rec: Reconstruction, builtin: dict[str
         faces = rec.candidates.select(rec.test, rec.theta)
         candidates = np.asarray(rec.point_input)[np.asarray(faces, dtype=np.intp)]
         try:
-            np.savez_compressed(
-                path,
-                points=np.asarray(rec.input_points, dtype=np.float64),
-                simplices=simplices,
-                candidates=candidates.reshape(-1, rec.d + 1),
-                normals=np.asarray(rec.normals)[rec.input_index],
-                tangents=np.asarray(rec.tangents)[rec.input_index],
-                d=np.int64(rec.d),
-                k=np.int64(rec.k),
-                test=np.str_(rec.test),
-                theta=np.float64(rec.theta),
-                prune_boundary=np.bool_(rec.prune_boundary),
-                mode=np.str_(rec.mode),
-                **_builtin_arrays(builtin),
-            )
+            with atomic_open(path, "wb") as fh:
+                np.savez_compressed(
+                    fh,
+                    points=np.asarray(rec.input_points, dtype=np.float64),
+                    simplices=simplices,
+                    candidates=candidates.reshape(-1, rec.d + 1),
+                    normals=np.asarray(rec.normals)[rec.input_index],
+                    tangents=np.asarray(rec.tangents)[rec.input_index],
+                    d=np.int64(rec.d),
+                    k=np.int64(rec.k),
+                    test=np.str_(rec.test),
+                    theta=np.float64(rec.theta),
+                    prune_boundary=np.bool_(rec.prune_boundary),
+                    mode=np.str_(rec.mode),
+                    **_builtin_arrays(builtin),
+                )
         except OSError as err:
             raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
         return

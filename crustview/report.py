@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from crustview.atomic import atomic_open
 from crustview.core.errors import InputError
 
 if TYPE_CHECKING:
@@ -78,7 +79,10 @@ def _cascades(rec: Reconstruction) -> dict[str, Any]:
 
 
 def report_dict(
-    rec: Reconstruction, comparison: MeshComparison | None = None, quality: dict[str, Any] | None = None
+    rec: Reconstruction,
+    comparison: MeshComparison | None = None,
+    quality: dict[str, Any] | None = None,
+    extra: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     """The content of :func:`write_report` as plain Python objects.
 
@@ -91,14 +95,19 @@ def report_dict(
         :func:`crustview.core.analysis.quality.summary` of ``rec`` when already
         computed; otherwise it is computed here.  Its ``seconds`` are left
         out, so that the report of a run is the same every time it is made.
+    extra : dict, optional
+        More keys, added last: e.g. ``input`` (what the file held besides
+        coordinates, and the angles between its normals and AN_s) and
+        ``dimension_estimate`` (how ``-d auto`` chose d).
     """
     from crustview.core.analysis.quality import summary
 
     quality = summary(rec) if quality is None else quality
     quality = {key: value for key, value in quality.items() if key != "seconds"}
-    extra = {} if comparison is None else {"ground_truth": comparison.as_dict()}
+    more = {} if comparison is None else {"ground_truth": comparison.as_dict()}
     if rec.mode == "paper":
-        extra.update(_cascades(rec))
+        more.update(_cascades(rec))
+    more.update(extra or {})
     return _jsonable(
         {
             "d": rec.d,
@@ -121,12 +130,17 @@ def report_dict(
             "sampling_quality": quality,
             "timings": dict(rec.timings),
             "delaunay_backend": rec.delaunay_backend,
-            **extra,
+            **more,
         }
     )
 
 
-def write_report(path: str | os.PathLike, rec: Reconstruction, comparison: MeshComparison | None = None) -> None:
+def write_report(
+    path: str | os.PathLike,
+    rec: Reconstruction,
+    comparison: MeshComparison | None = None,
+    extra: dict[str, Any] | None = None,
+) -> None:
     """Write a JSON summary of a reconstruction.
 
     Keys: ``d k n n_input test theta theta_degrees mode prune_boundary
@@ -145,7 +159,9 @@ def write_report(path: str | os.PathLike, rec: Reconstruction, comparison: MeshC
     (the origin face was a hole of T_S), the number of ``steps`` and of
     simplices ``removed``.  With a ``comparison``, also ``ground_truth``
     (:meth:`~crustview.core.analysis.compare.MeshComparison.as_dict`: recovered and
-    extra faces, both topologies, the sampled Hausdorff distance).
+    extra faces, both topologies, the sampled Hausdorff distance).  ``extra``
+    adds keys as in :func:`report_dict`.  The file is written atomically
+    (:mod:`crustview.atomic`): a failed write leaves the previous report.
 
     Raises
     ------
@@ -154,8 +170,9 @@ def write_report(path: str | os.PathLike, rec: Reconstruction, comparison: MeshC
     """
     path = Path(path)
     try:
-        with open(path, "w", encoding="utf-8") as fh:
-            json.dump(report_dict(rec, comparison), fh, indent=2)
+        content = report_dict(rec, comparison, extra=extra)
+        with atomic_open(path, "w", encoding="utf-8") as fh:
+            json.dump(content, fh, indent=2)
             fh.write("\n")
     except OSError as err:
         raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None

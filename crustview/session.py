@@ -28,6 +28,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .atomic import write_text
 from .core.errors import CrustviewError
 from .core.result import CANDIDATE_TESTS
 
@@ -261,9 +262,7 @@ def write_session(path: str | os.PathLike, session: Session) -> Path:
     """Write ``session`` as JSON to ``path`` (the :data:`SUFFIX` ending added if missing); returns the path."""
     p = session_path(path)
     text = json.dumps(session.to_dict(), indent=1, allow_nan=False)
-    tmp = p.with_name(p.name + ".tmp")
-    tmp.write_text(text + "\n", encoding="utf-8")
-    os.replace(tmp, p)
+    write_text(p, text + "\n")  # atomic: a failed write leaves the previous session as it was
     return p
 
 

@@ -7,7 +7,7 @@ projection, slice, comparison and step) with the window's camera.  The
 window's own view is not touched.  Frames are rendered one per event-loop
 turn on the GUI thread (VTK's OpenGL contexts belong to it), so the
 window stays responsive; a progress dialog's Cancel stops between two
-frames and removes the partial file.
+frames and drops the temporary file.
 """
 
 from __future__ import annotations
@@ -182,7 +182,7 @@ class AnimationExport(QObject):
     """One export in progress: a frame per event-loop turn, a progress dialog, Cancel.
 
     Emits :attr:`finished` once with ``(ok, message)``; after a cancel or an
-    error no output file is left (its partial file is removed).
+    error no output file is left (its temporary file is dropped).
     """
 
     finished = Signal(bool, str)

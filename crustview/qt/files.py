@@ -286,7 +286,13 @@ class FileActions:
         if not path.lower().endswith(".png"):
             path += ".png"
         try:
-            self.plotter.screenshot(path)
+            import imageio.v3 as iio
+
+            from ..atomic import atomic_path
+
+            img = self.plotter.screenshot(None, return_img=True)
+            with atomic_path(path) as tmp:  # a failed write leaves an earlier screenshot as it was
+                iio.imwrite(tmp, img, extension=".png")
         except Exception as err:  # noqa: BLE001 - e.g. no OpenGL context
             self.show_error(f"Cannot save the screenshot: {err}.")
             return False
