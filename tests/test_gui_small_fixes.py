@@ -150,7 +150,9 @@ def test_the_ground_truth_shows_over_an_opaque_m_s(qtbot, window, source):
     assert window.view.adapters["truth"].part.n_cells > 0
     surface = np.abs(off - off[2, -3]).sum(axis=2) > 40  # M_S, not the background
     changed = np.abs(on - off).sum(axis=2) > 24
-    assert (changed & surface).sum() > 0.12 * surface.sum(), (changed & surface).sum() / surface.sum()
+    # a mesh's faces are a faint wireframe (issue 19: never taken for the result): fewer pixels change
+    share = 0.06 if source == "mesh" else 0.12
+    assert (changed & surface).sum() > share * surface.sum(), (changed & surface).sum() / surface.sum()
 
 
 def _run_dialog(qtbot, open_it) -> tuple[str, list[str]]:

@@ -34,6 +34,8 @@ def test_loading_a_builtin_sample(qtbot, window):
     m = window.model
     assert m.truth is not None and m.source.startswith("torus")
     assert m.layers["points"].count == rec.n
+    assert m.layers["manifold"].count == len(rec.manifold)  # opened on the final M_S
+    m.player.first()
     assert m.layers["manifold"].count == len(rec.extraction.simplices)  # step 0: all of T_S
     assert window.steps_panel.log.rowCount() == rec.extraction.n_steps
     assert window.steps_panel.slider.maximum() == rec.extraction.n_steps
@@ -100,6 +102,7 @@ def test_menu_dialog_dimension_question_and_drop(qtbot, window, tmp_path):
 
 def test_keyboard_and_slider_stepping_follow_the_recorded_steps(qtbot, window):
     rec = load(qtbot, window)
+    window.model.player.first()  # data opens on its final M_S (issue 19): replay from T_S
     ext = rec.extraction
 
     def recorded(i):
@@ -493,6 +496,7 @@ def test_reextraction_keeps_the_camera_and_step_a_new_sample_resets_them(qtbot, 
 def test_arrow_keys_move_a_focused_slider_not_the_replay(qtbot, window):
     load(qtbot, window)
     window.activateWindow()
+    window.model.player.first()  # data opens on its final M_S (issue 19): replay from T_S
     qtbot.waitActive(window)
     theta = window.run_panel.theta
     theta.setFocus()
@@ -510,6 +514,7 @@ def test_arrow_keys_move_a_focused_slider_not_the_replay(qtbot, window):
 def test_the_event_log_shows_exactly_the_current_step(qtbot, window):
     load(qtbot, window)
     table = window.steps_panel.table
+    window.model.player.first()  # data opens on its final M_S (issue 19): replay from T_S
     player = window.model.player
 
     def selected():
@@ -591,6 +596,7 @@ def test_saved_result_reopens_in_its_mode_unless_told_otherwise(qtbot, window, t
 def test_keys_in_a_floating_dock_and_a_busy_window(qtbot, window, tmp_path):
     load(qtbot, window)
     dock = window.docks["run"]
+    window.model.player.first()  # data opens on its final M_S (issue 19): replay from T_S
     dock.setFloating(True)
     dock.show()
     qtbot.waitExposed(dock)

@@ -37,8 +37,9 @@ class CameraControl:
             p = self.model.projection.project(self.model.rec.points)
             lo, hi = p.min(axis=0), p.max(axis=0)
             bounds = tuple(np.ravel(np.stack([lo, hi], axis=1)))
+        # the bounding sphere of the projected data fills the view: nothing clipped, whatever the
+        # aspect of the window (no extra zoom, which cut off the top of tall parts)
         self.plotter.reset_camera(bounds=bounds)
-        self.plotter.camera.zoom(1.1 if not flat else 1.0)
 
     def frame_step(self, step) -> None:
         """Look at ``step``'s tau from its open side and cut away the geometry in front (:mod:`.framing`)."""

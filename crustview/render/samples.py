@@ -242,7 +242,11 @@ class NormalsAdapter(LayerAdapter):
 
 
 class TruthAdapter(LayerAdapter):
-    """The ground truth, faint: a dense sample of a built-in manifold, or a mesh file's faces."""
+    """The ground truth, faint: a dense sample of a built-in manifold, or a mesh file's faces.
+
+    A mesh's faces are drawn as a wireframe, never as a surface: a shaded
+    truth would look like a result where M_S has nothing yet.
+    """
 
     N_DENSE = 20_000
 
@@ -301,3 +305,11 @@ class TruthAdapter(LayerAdapter):
 
     def restyle(self) -> None:
         self.part.style(self.layer.color, self.layer.opacity, self.layer.size)
+        self.part.actor.prop.style = "wireframe"  # faces as edges; a dense sample stays points
+        self.part.actor.prop.line_width = max(1.0, self.layer.size / 2)
+
+    def legend_label(self) -> str:
+        """How the legend names the truth, so that it is never taken for the result."""
+        if getattr(self.model.truth, "faces", None) is not None:
+            return "ground truth: the mesh's faces (wireframe, not the result)"
+        return "ground truth: dense sample of the true manifold"

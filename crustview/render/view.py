@@ -313,13 +313,15 @@ class SceneView(CameraControl):
             a = self.adapters[name]
             title = getattr(a, "scalar_title", None)
             if self.model.layers[name].visible and title:
-                want[title] = a.part.mapper
+                # the lookup table too: a new file's epsilon bounds come in a new table, and a
+                # bar kept for the same title and mapper showed the last file's range and marks
+                want[title] = (a.part.mapper, a.part.mapper.GetLookupTable())
         if list(self._bars.items()) != list(want.items()):
             # the bars stack in order: one that stays keeps its place only if all before it stay
             for title in list(self._bars):
                 self.plotter.remove_scalar_bar(title, render=False)
             self._bars = {}
-        for j, (title, mapper) in enumerate(want.items()):
+        for j, (title, (mapper, lut)) in enumerate(want.items()):
             if title not in self._bars:
                 # horizontal, bottom right, below the data: the title fits and stays readable
                 bar = self.plotter.add_scalar_bar(
@@ -339,7 +341,7 @@ class SceneView(CameraControl):
                 )
                 bar.GetTitleTextProperty().SetBackgroundColor(1.0, 1.0, 1.0)
                 bar.GetTitleTextProperty().SetBackgroundOpacity(0.75)
-                self._bars[title] = mapper
+                self._bars[title] = (mapper, lut)
 
     def legend_entries(self) -> list[tuple[str, str]]:
         """(label, colour) of the visible solid-colour layers and the step highlight."""

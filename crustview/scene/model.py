@@ -23,6 +23,9 @@ from .timeline import RuleCodes, Timeline, rule_codes, timeline
 from .tour import GrandTour
 
 
+#: New data shows its samples up to this many (more would cover M_S entirely).
+SAMPLES_SHOWN = 60_000
+
 class SceneModel:
     """Everything the viewer shows, independent of how it is drawn.
 
@@ -99,7 +102,8 @@ class SceneModel:
         if quality is not None:
             self._quality = (id(rec.delaunay_simplices), quality)
         same_space = self.rec is not None and self.rec.k == rec.k
-        position = self._kept_position(rec) if keep_view else 0
+        # new data opens on its result (the final M_S); Home or Play replays from T_S
+        position = self._kept_position(rec) if keep_view else rec.extraction.n_steps
         #: Whether the last result kept the view (a re-extraction): the camera stays too.
         self.kept_view = bool(keep_view and same_space)
         self.rec = rec
@@ -128,8 +132,9 @@ class SceneModel:
             m.color, m.size = ("#b35806", 4.0) if rec.d == 1 else ("#e9b872", 3.0)
             self.layers["removed"].shrink = m.shrink
             self.layers["points"].size = 5.0 if rec.n < 2000 else (3.5 if rec.n < 10000 else 1.5)
-            # tens of thousands of samples hide the surface: start with them off
-            self.layers["points"].visible = rec.n <= 10000
+            # the samples are part of the result: shown up to a big scan's size (small dots),
+            # off only where they would cover the whole surface
+            self.layers["points"].visible = rec.n <= SAMPLES_SHOWN
             # segments read well; discs and axis frames clutter, so start those hidden
             self.layers["normals"].visible = rec.n <= 3000 and rec.k - rec.d == 1
         self.player.set_extraction(rec.extraction, position)
