@@ -159,8 +159,9 @@ def test_toggling_each_layer_changes_pixels(qtbot, window):
     assert set(rows) == set(m.layers)
     # layers with nothing to show on this sample (e.g. no holes in T_S) are checked elsewhere
     # (the comparison layer is empty until a comparison is made: test_gui_compare_export checks it)
-    empty = {n for n in ("holes", "cascade", "compare") if m.layers[n].count == 0}
-    assert empty <= {"holes", "cascade", "compare"}
+    # (the torus has no uncertain features: test_gui_uncertain draws them)
+    empty = {n for n in ("holes", "cascade", "compare", "uncertain") if m.layers[n].count == 0}
+    assert empty <= {"holes", "cascade", "compare", "uncertain"}
     for name in set(m.layers) - empty:
         box = rows[name].visible
         assert box.isChecked()
@@ -495,8 +496,8 @@ def test_reextraction_keeps_the_camera_and_step_a_new_sample_resets_them(qtbot, 
 
 def test_arrow_keys_move_a_focused_slider_not_the_replay(qtbot, window):
     load(qtbot, window)
-    window.activateWindow()
     window.model.player.first()  # data opens on its final M_S (issue 19): replay from T_S
+    window.activateWindow()
     qtbot.waitActive(window)
     theta = window.run_panel.theta
     theta.setFocus()
@@ -513,8 +514,8 @@ def test_arrow_keys_move_a_focused_slider_not_the_replay(qtbot, window):
 
 def test_the_event_log_shows_exactly_the_current_step(qtbot, window):
     load(qtbot, window)
-    table = window.steps_panel.table
     window.model.player.first()  # data opens on its final M_S (issue 19): replay from T_S
+    table = window.steps_panel.table
     player = window.model.player
 
     def selected():
@@ -595,8 +596,8 @@ def test_saved_result_reopens_in_its_mode_unless_told_otherwise(qtbot, window, t
 
 def test_keys_in_a_floating_dock_and_a_busy_window(qtbot, window, tmp_path):
     load(qtbot, window)
-    dock = window.docks["run"]
     window.model.player.first()  # data opens on its final M_S (issue 19): replay from T_S
+    dock = window.docks["run"]
     dock.setFloating(True)
     dock.show()
     qtbot.waitExposed(dock)

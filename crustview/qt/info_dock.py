@@ -32,6 +32,7 @@ from ..scene.describe import (
 from ..scene.model import SceneModel
 from .compare_panel import ComparePanel
 from .diagnosis import DiagnosisPanel
+from .features_panel import FeaturesPanel
 from .steady import SteadyText
 from .theorems_panel import TheoremPanel
 
@@ -66,6 +67,8 @@ class InfoPanel(QWidget):
     cascade_clicked = Signal(object)
     #: The user asked to look at the paper's run.
     paper_requested = Signal()
+    #: An uncertain feature was clicked (the window frames it).
+    feature_clicked = Signal(object)
 
     def __init__(self, model: SceneModel, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -78,6 +81,9 @@ class InfoPanel(QWidget):
         self.banner.setToolTip("The core's verdict on M_S and its report messages")
         self.banner.setVisible(False)
         lay.addWidget(self.banner)
+        self.features = FeaturesPanel(model, self)
+        self.features.feature_clicked.connect(self.feature_clicked)
+        lay.addWidget(self.features)
         box = QGroupBox("Topology of the final M_S (after the last step)", self)
         bl = QVBoxLayout(box)
         self.topology = QTableWidget(0, 3, box)

@@ -28,6 +28,7 @@ ORDER = (
     "removed",
     "holes",
     "cascade",
+    "uncertain",
     "candidates",
     "normals",
     "poles",

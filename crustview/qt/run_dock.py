@@ -259,11 +259,14 @@ class RunPanel(QWidget):
         self.progress.setValue(int(1000 * max(0.0, min(1.0, fraction))))
         self.progress.setFormat(f"{STAGES.get(stage, stage)} %p%")
 
-    def show_idle(self, text: str, ok: bool | None = None) -> None:
-        """Idle text; ``ok=False`` turns the bar red (failed or wrong result), True green."""
+    def show_idle(self, text: str, ok: bool | str | None = None) -> None:
+        """Idle text; ``ok=False`` turns the bar red (failed or wrong result), True green, "warn" amber.
+
+        Amber: a closed result with features the sample does not support.
+        """
         self.progress.setFormat(text)
         self.progress.setToolTip(text)
-        colour = {True: "#3a8f3a", False: "#c0392b"}.get(ok)
+        colour = {True: "#3a8f3a", False: "#c0392b", "warn": "#e0a020"}.get(ok)
         self.progress.setStyleSheet(f"QProgressBar::chunk {{ background: {colour}; }}" if colour else "")
         if ok is not None:
             self.progress.setValue(1000)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import cost_warning, reconstruct, reextract
+from ..scene.features import uncertain_features, uncertain_summary
 from ..scene.shapes import name_of
 from ..session import BuiltinSource
 
@@ -236,6 +237,10 @@ class RunActions:
         if problems:
             verdict = "WRONG: " + ", ".join(problems)
         ok = t.closed_manifold and not problems
+        unsure = uncertain_summary(uncertain_features(rec))
+        if unsure:  # never silently wrong: a closed result the sample does not support is amber
+            verdict += f" ({unsure})"
+            ok = "warn" if ok else ok
         self.run_panel.show_idle(f"{rec.mode}: done in {sum(rec.timings.values()):.2f} s — {verdict}", ok=ok)
         message = (
             f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} steps of "

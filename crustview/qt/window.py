@@ -109,6 +109,7 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
         self.docks["info"].visibilityChanged.connect(self.info_panel.catch_up)  # its tab chosen
         self.info_panel.face_clicked.connect(self.view.frame_face)
         self.info_panel.cascade_clicked.connect(self.view.frame_cascade)
+        self.info_panel.feature_clicked.connect(self.view.frame_feature)
         self.info_panel.compare.simplex_clicked.connect(self.frame_compared)
         self.info_panel.paper_requested.connect(lambda: self.run_panel.set_mode("paper"))
         self.model.player.step_changed.connect(lambda *_: self._update_status())

@@ -99,3 +99,43 @@ class CascadeAdapter(LayerAdapter):
         for p, off in ((self.part, -1), (self.parts[1], -5)):
             p.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(off, off)
             p.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(off, off)
+
+
+class UncertainAdapter(LayerAdapter):
+    """The features of the final M_S the sample does not support (:mod:`crustview.scene.features`).
+
+    A handle's loop and a hole's rim as thick lines, a component's closest
+    approach as a segment with a big dot; drawn in the overlay renderer, so a
+    loop on the far side of M_S still shows.
+    """
+
+    parts_spec = (("", False), ("-markers", False))
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self.markers = np.zeros(0, dtype=np.int64)
+
+    def rebuild(self) -> None:
+        from ..scene.features import feature_lines, uncertain_features
+
+        rec = self.model.rec
+        if rec is None:
+            return
+        feats = uncertain_features(rec)
+        self.xk, lines, self.markers = feature_lines(rec, feats)
+        self.project()
+        set_cells(self.part.mesh, lines=lines)
+        set_cells(self.parts[1].mesh, verts=np.arange(len(self.markers))[:, None])
+        self.layer.count = len(feats)
+
+    def project(self) -> None:
+        proj = self.model.projection
+        if self.xk.shape[1] != proj.k:
+            return
+        p3 = proj.project(self.xk) if len(self.xk) else np.zeros((0, 3))
+        set_points(self.part.mesh, p3)
+        set_points(self.parts[1].mesh, p3[self.markers] if len(self.markers) else np.zeros((0, 3)))
+
+    def restyle(self) -> None:
+        self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=True)
+        self.parts[1].style(self.layer.color, self.layer.opacity, self.layer.size * 3.0, spheres=True)

@@ -73,7 +73,7 @@ class CameraControl:
         """Clip every scene actor (not the overlay) by ``plane``; None removes the clip."""
         self.clip_plane = plane
         for name, a in self.adapters.items():
-            if name in ("step", "cascade", "selection"):
+            if name in ("step", "cascade", "uncertain", "selection"):
                 continue
             for part in a.parts:
                 part.mapper.RemoveAllClippingPlanes()
@@ -131,6 +131,16 @@ class CameraControl:
             [np.asarray(cascade.tau, dtype=np.int64), rec.extraction.simplices[list(first.removed)].ravel()]
         )
         self.frame_points(np.unique(ids))
+
+    def frame_feature(self, feature) -> None:
+        """Frame one of ``rec.features`` (a handle's loop, a hole's rim, a component's closest approach)."""
+        from ..scene.features import feature_samples
+
+        rec = self.model.rec
+        if rec is None or feature is None:
+            return
+        self.clear_clip()
+        self.frame_points(feature_samples(rec, feature))
 
     def frame_face(self, face) -> None:
         """Frame a (d-1)-face with its incident simplices at the current step."""

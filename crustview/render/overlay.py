@@ -7,6 +7,8 @@ from vtkmodules.vtkRenderingCore import vtkCoordinate, vtkTextActor
 
 #: Colour of the notes above the legend (warnings about the result).
 NOTE_COLOR = "#b00000"
+#: Colour of the notes about a result that is closed but not all supported by its sample.
+WARN_COLOR = "#9a5800"
 
 
 class Legend:
@@ -43,21 +45,21 @@ class Legend:
         a.SetPickable(False)
         return a
 
-    def set(self, entries: list[tuple[str, str]], notes: list[str] = ()) -> None:
+    def set(self, entries: list[tuple[str, str]], notes: list[str] = (), note_color: str = NOTE_COLOR) -> None:
         """Show ``notes`` (bold red lines) above ``(label, colour)`` lines; no-op when unchanged.
 
         Text actors are reused line by line: a vtkTextActor renders its text to a
         texture again only when that text or its style changes, and stepping
         through Algorithm 3 changes one or two lines of the legend at a time.
         """
-        state = list(entries) + [(n, None) for n in notes]
+        state = list(entries) + [(n, note_color) for n in notes]
         if state == self.entries:
             return
         self.entries = state
         self.notes = list(notes)
         lines: list[tuple[str, str, float, float, bool, str | None]] = []  # text, colour, y, x, bold, swatch
         for j, note in enumerate(notes):
-            lines.append((" " + note + " ", NOTE_COLOR, 0.965 - 0.032 * j, 8, True, None))
+            lines.append((" " + note + " ", note_color, 0.965 - 0.032 * j, 8, True, None))
         top = len(notes) + (0.3 if notes else 0)
         for j, (label, color) in enumerate(entries):
             y = 0.965 - 0.032 * (j + top)

@@ -19,11 +19,11 @@ from .complexes import (
     SliceAdapter,
     StepAdapter,
 )
-from .diagnosis import CascadeAdapter, HolesAdapter
+from .diagnosis import CascadeAdapter, HolesAdapter, UncertainAdapter
 from .inspect import SelectionAdapter, VoronoiAdapter
 from .lod import LevelOfDetail
 from .navigation import CameraControl
-from .overlay import Legend
+from .overlay import NOTE_COLOR, WARN_COLOR, Legend
 from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter, lighter
 
 #: Adapter of each layer (by layer name), in drawing order.
@@ -41,6 +41,7 @@ ADAPTERS: dict[str, type[LayerAdapter]] = {
     "holes": HolesAdapter,
     "cascade": CascadeAdapter,
     "step": StepAdapter,
+    "uncertain": UncertainAdapter,
     "selection": SelectionAdapter,
 }
 
@@ -86,7 +87,7 @@ class SceneView(CameraControl):
             layer.events.colorby.connect(lambda *_: self._after_colour())
             layer.events.mode.connect(lambda *_: (self.update_legend(), self.render()))
             layer.events.shrink.connect(lambda *_: self.render())
-        self._on_top(("truth", "cascade", "step", "selection"))
+        self._on_top(("truth", "cascade", "step", "uncertain", "selection"))
         self._bars: dict[str, object] = {}
         self._stale: set[LayerAdapter] = set()
         self.legend = Legend(plotter)
@@ -357,6 +358,7 @@ class SceneView(CameraControl):
             "normals",
             "poles",
             "voronoi",
+            "uncertain",
             "truth",
         ):
             layer = layers[name]
@@ -386,6 +388,14 @@ class SceneView(CameraControl):
                     out.append((layer.title, layer.color))
                 out.append(("Pole at infinity (hull sample)", lighter(layer.color)))
                 continue
+            if name == "truth":
+                out.append((a.legend_label(), layer.color))
+                continue
+            if name == "uncertain":
+                from ..scene.features import uncertain_features, uncertain_summary
+
+                out.append((uncertain_summary(uncertain_features(self.model.rec)), layer.color))
+                continue
             out.append((layer.title, layer.color))
         step = self.model.player.current_step
         if layers["step"].visible and step is not None:
@@ -407,7 +417,8 @@ class SceneView(CameraControl):
         return out
 
     def update_legend(self) -> None:
-        self.legend.set(self.legend_entries(), self.notes())
+        level = verdict(self.model.rec)[0] if self.model.rec is not None else "ok"
+        self.legend.set(self.legend_entries(), self.notes(), WARN_COLOR if level == "warn" else NOTE_COLOR)
 
     def notes(self) -> list[str]:
         """Lines above the legend: M_S is not a closed manifold through every sample; layers drawn thinned."""

@@ -6,6 +6,7 @@ import numpy as np
 
 from ..core.result import CANDIDATE_TESTS, Reconstruction
 from ..core.steps import Step
+from .features import uncertain_features, uncertain_summary
 from .model import SceneModel
 from .quantities import POLE_INFINITE, POLE_NONE, hull_samples, pole_direction, pole_kinds
 from .shapes import name_of, shape_name
@@ -221,8 +222,15 @@ def interpretation_rows(rec: Reconstruction) -> list[tuple[str, str, str]]:
 
 
 def verdict(rec: Reconstruction) -> tuple[str, str]:
-    """(level, one-line verdict): level is "ok", "warn" (closed but skips samples) or "bad"."""
+    """(level, one-line verdict): level is "ok", "warn" (closed but skips samples, or uncertain features) or "bad".
+
+    A closed manifold through every sample is "ok" only when the sample
+    supports every handle, hole and component of it (``rec.uncertain_features``).
+    """
     t = rec.topology
+    unc = uncertain_summary(uncertain_features(rec))
+    if t.closed_manifold and not t.unused_samples and unc:
+        return "warn", f"M_S is a closed manifold through every sample, but not all of it is supported ({unc})"
     if t.closed_manifold and not t.unused_samples:
         return "ok", "M_S is a closed manifold through every sample"
     if t.closed_manifold:

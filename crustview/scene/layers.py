@@ -35,6 +35,8 @@ HOLES_COLOR = "#d4006a"
 SLICE_COLOR = "#0b6e4f"
 #: Colours of the comparison layer: simplices in both complexes, only in A (the shown M_S), only in B.
 COMPARE_COLORS = {"both": "#9aa7b0", "A": "#e66101", "B": "#3b6fd6"}
+#: Colour of the uncertain features (handles, holes, components the sample does not support).
+UNCERTAIN_COLOR = "#ff6a00"
 #: Colour of the selection highlight.
 SELECTION_COLOR = "#ff00ff"
 
@@ -208,6 +210,18 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
             6.0,
             tooltip="The prune cascade chosen in the Information panel: every simplex removed by the "
             "steps that descend from its origin, drawn over the other layers, with the origin face thick.",
+        ),
+        Layer(
+            "uncertain",
+            "Uncertain features",
+            False,
+            UNCERTAIN_COLOR,
+            1.0,
+            5.0,
+            tooltip="Handles, holes and components of the final M_S that the sample cannot tell from a gap "
+            "(rec.uncertain_features): a handle's short loop and a hole's rim as lines, a component's "
+            "closest approach to another one as a dot. On when there are any; the Information panel lists "
+            "them (a click frames one).",
         ),
         Layer(
             "selection",

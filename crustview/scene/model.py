@@ -14,6 +14,7 @@ from ..core.result import Reconstruction
 from ..core.steps import Cascade
 from . import geometry as geo
 from .coloring import coordinate_values, default_coloring
+from .features import uncertain_features
 from .layers import Layer, default_layers
 from .player import StepPlayer
 from .projection import Projection
@@ -22,9 +23,9 @@ from .selection import Selection
 from .timeline import RuleCodes, Timeline, rule_codes, timeline
 from .tour import GrandTour
 
-
 #: New data shows its samples up to this many (more would cover M_S entirely).
 SAMPLES_SHOWN = 60_000
+
 
 class SceneModel:
     """Everything the viewer shows, independent of how it is drawn.
@@ -137,6 +138,8 @@ class SceneModel:
             self.layers["points"].visible = rec.n <= SAMPLES_SHOWN
             # segments read well; discs and axis frames clutter, so start those hidden
             self.layers["normals"].visible = rec.n <= 3000 and rec.k - rec.d == 1
+        # what the sample does not support is shown whenever there is any (issue 18)
+        self.layers["uncertain"].visible = bool(uncertain_features(rec))
         self.player.set_extraction(rec.extraction, position)
         self.reconstruction_changed.emit()
         self.selection.changed.emit()
