@@ -273,7 +273,8 @@ def _handles(
     n: int,
 ) -> list[Feature]:
     """One feature per loop of a short homology basis (:func:`.loops.short_basis`)."""
-    basis = short_basis(points, tris, edges, tri_edges, count, n)
+    # local searches reach as far as a loop below the bound can go from its root
+    basis = short_basis(points, tris, edges, tri_edges, count, n, local=LOOP_MIN * h)
     if isinstance(basis, int):
         used = np.unique(edges)
         return [
@@ -317,7 +318,7 @@ def disagreement(
     """Uncertain features where two closed results of the same sample differ in topology.
 
     Both complexes are closed manifolds through (nearly) every sample, so the
-    sample supports both answers.  The faces that only one of them has are
+    sample does not decide between them.  The faces that only one of them has are
     grouped by shared vertices; the largest group is where they differ most.
     One feature per differing Betti number is placed there: a handle when
     b_1 differs, a component when b_0 differs.
@@ -352,7 +353,7 @@ def disagreement(
                     True,
                     verts,
                     f"two closed reconstructions of this sample differ here (b{i} = {betti_kept[i]} kept, "
-                    f"{betti_other[i]} in the other): the sample supports both",
+                    f"{betti_other[i]} in the other): the sample does not decide between them",
                 )
             )
     return out

@@ -23,7 +23,13 @@ MAX_LOOPS = 256
 
 
 def short_basis(
-    points: np.ndarray, tris: np.ndarray, edges: np.ndarray, tri_edges: np.ndarray, count: np.ndarray, n: int
+    points: np.ndarray,
+    tris: np.ndarray,
+    edges: np.ndarray,
+    tri_edges: np.ndarray,
+    count: np.ndarray,
+    n: int,
+    local: np.ndarray | None = None,
 ) -> list[tuple[np.ndarray, float]] | int:
     """A short Z/2 homology basis of the closed part of a triangulated surface.
 
@@ -39,6 +45,12 @@ def short_basis(
         Triangles per edge (boundary edges, count 1, are cut).
     n : int
         Number of points.
+    local : ndarray of shape (n,), optional
+        A search radius per vertex.  Besides the spread roots, every vertex of
+        a leftover edge of the tree-cotree decomposition (one per basis
+        element, on its handle) is a root, searched only this far: a short
+        loop far from the spread roots is found there, at the cost of a
+        small search.
 
     Returns
     -------
@@ -154,6 +166,28 @@ def short_basis(
             cand_len.append(L[keep])
             cand_mask.append(cls[nz][keep])
             cand_info.extend((ri, int(r), int(x), int(y)) for x, y in zip(a[nz][keep], b[nz][keep]))
+    if local is not None:
+        lroots = np.unique(edges[left].ravel())
+        for r in lroots.tolist():
+            dist, pred = dijkstra(g, indices=[r], return_predecessors=True, limit=float(local[r]))
+            dist, pred = dist[0], pred[0]
+            reach = np.flatnonzero(np.isfinite(dist))
+            pm = _path_masks(pred, dist, reach, mask, edge_ids)
+            near = np.zeros(n, bool)
+            near[reach] = True
+            sel = np.flatnonzero(inner & near[edges[:, 0]] & near[edges[:, 1]])
+            a, b = edges[sel, 0], edges[sel, 1]
+            tree_edge = (pred[a] == b) | (pred[b] == a)
+            sel, a, b = sel[~tree_edge], a[~tree_edge], b[~tree_edge]
+            cls = pm[a] ^ pm[b] ^ mask[sel]
+            nz = cls.any(axis=1)
+            if not nz.any():
+                continue
+            lens = dist[a[nz]] + length[sel[nz]] + dist[b[nz]]
+            keep = np.argsort(lens)[:4]
+            cand_len.append(lens[keep])
+            cand_mask.append(cls[nz][keep])
+            cand_info.extend((-2, int(r), int(x), int(y)) for x, y in zip(a[nz][keep], b[nz][keep]))
     if not cand_len:
         return []
     L = np.concatenate(cand_len)

@@ -176,10 +176,12 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     (:func:`~crustview.core.analysis.features.features`).  Otherwise M_S is
     also grown, and the result with fewer problems is kept, in this order:
     not closed, samples left out, uncertain features, boundary faces.  When
-    both are closed manifolds through every sample, the other one has no
-    uncertain feature of its own, and their Betti numbers differ, the sample
-    supports both answers: the difference is reported as an uncertain feature
-    (:attr:`Extraction.disputed`).
+    both are closed manifolds through (nearly) every sample and their Betti
+    numbers differ, the sample does not decide between them: the difference
+    is reported as an uncertain feature of the kept result
+    (:attr:`Extraction.disputed`), even when the other result flags its own
+    version of it (two parts that nearly touch, kept apart and flagged by
+    one path, joined by the other: the joined result must not look sure).
     """
     from ..analysis.features import disagreement, features, uncertain
 
@@ -206,7 +208,6 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     keep, why = (lab, "labelled") if p_lab <= p_gro else (grown, "grown")
     m_keep, m_other = (m_lab, m_gro) if keep is lab else (m_gro, m_lab)
     t_keep, t_other = (top_lab, top_gro) if keep is lab else (top_gro, top_lab)
-    f_other = f_gro if keep is lab else f_lab
     keep.notes.insert(
         0,
         f"{note_paper}; the robust extension labelled the Delaunay cells (Betti {top_lab.betti}, "
@@ -215,8 +216,7 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
         "result is kept",
     )
     if (
-        not f_other
-        and t_keep.closed_manifold
+        t_keep.closed_manifold
         and t_other.closed_manifold
         and t_keep.betti != t_other.betti
         and min(t_keep.unused_samples, t_other.unused_samples) <= 0.01 * n

@@ -1,0 +1,172 @@
+"""The robust extension's labelling path: label-cells, repair-vertex, sculpt-sample, open-cap, its step log."""
+
+import numpy as np
+import pytest
+
+from crustview.core import reconstruct
+from crustview.core.analysis.topology import analyse
+from crustview.core.robust import labelling
+from crustview.core.robust.cells import OPEN_MIN_FACES, cap_patches, extract_by_labels
+from crustview.core.robust.label_repair import LabelEditor
+from crustview.core.robust.labelling import Labelling, cell_adjacency, label_python
+from crustview.core.robust.steplog import StepLog
+from crustview.core.samples.manifolds import get_manifold
+from crustview.core.steps import RULE_LABEL, RULE_OPEN
+
+
+def _cells(rec):
+    m = len(rec.delaunay_simplices)
+    return rec.delaunay_points, rec.delaunay_simplices, rec.voronoi_vertices[:m]
+
+
+def test_greedy_labelling_on_paper():
+    """Four nodes, ties taken most confident first; the weakest tie that contradicts the others is
+    the one violated, and each node's confidence is the weakest tie on its path to node 0."""
+    # edges in decreasing confidence: 0=1 (same), 1!=2 (opposite), 2!=3, then 0=3 contradicts
+    a = np.array([0, 1, 2, 0])
+    b = np.array([1, 2, 3, 3])
+    sign = np.array([1, -1, -1, 1], np.int8)
+    lab, when, viol = label_python(4, a, b, sign)
+    assert lab.tolist() == [0, 0, 1, 0]  # 3 is opposite of 2, which is opposite of 1 = 0
+    assert viol.tolist() == [0, 0, 0, 0]  # 0 = 3 holds already: consistent, not violated
+    assert when.tolist() == [-1, 0, 1, 2]
+    # the contradicting version: 0 != 3 is then violated
+    lab2, _, viol2 = label_python(4, a, b, np.array([1, -1, -1, -1], np.int8))
+    assert lab2.tolist() == [0, 0, 1, 0] and viol2.tolist() == [0, 0, 0, 1]
+
+
+@pytest.mark.skipif(labelling._kernel is None, reason="the compiled kernel is not built")
+def test_kernel_gives_the_python_labels():
+    rng = np.random.default_rng(3)
+    for n, e in ((2, 1), (30, 80), (500, 3000)):
+        a = rng.integers(0, n, e)
+        b = rng.integers(0, n, e)
+        sign = rng.choice(np.array([-1, 1], np.int8), e)
+        want = label_python(n, a, b, sign)
+        got = labelling._label(n, a, b, sign)
+        for x, y in zip(want, got):
+            assert np.array_equal(x, y)
+
+
+def test_kernel_rejects_bad_edges():
+    if labelling._kernel is None:
+        pytest.skip("the compiled kernel is not built")
+    with pytest.raises(ValueError):
+        labelling._kernel.label(3, np.array([0, 5]), np.array([1, 2]), np.array([1, 1], np.int8), 0)
+
+
+def test_cell_adjacency_of_two_tetrahedra():
+    """Two tetrahedra glued along one triangle share exactly that face."""
+    s = np.array([[0, 1, 2, 3], [1, 2, 3, 4]])
+    a, b, faces = cell_adjacency(s)
+    assert a.tolist() == [0] and b.tolist() == [1] and faces.tolist() == [[1, 2, 3]]
+
+
+def test_labelled_noisy_torus_is_a_torus_through_every_sample():
+    """Noise of 10 % of the spacing: the cut between inside and outside cells, repaired and sculpted,
+    is a closed torus through every sample, and every step replays."""
+    m = get_manifold("torus")
+    s = m.sample(1500, seed=4)
+    rng = np.random.default_rng(0)
+    pts = s.points + rng.normal(scale=0.03, size=s.points.shape)
+    rec = reconstruct(pts, 2, mode="paper")
+    faces = rec.candidates.faces
+    ts = np.sort(rec.candidates.select("cocone"), axis=1)
+    ext = extract_by_labels(rec.points, *_cells(rec), faces, ts, rec.spacing)
+    final = ext.complex_at(ext.n_steps)
+    top = analyse(final, rec.n, 2)
+    assert top.closed_manifold and top.betti == (1, 2, 1) and top.unused_samples == 0
+    assert ext.steps[0].rule == RULE_LABEL
+    # replay: after the first step the complex is exactly the raw cut
+    lab = Labelling(rec.points, *_cells(rec))
+    raw, _ = lab.surface()
+    first = {tuple(r) for r in ext.complex_at(1).tolist()}
+    assert first == {tuple(r) for r in np.sort(raw, axis=1).tolist()}
+    # the rows of T_S come first, as in paper mode
+    assert np.array_equal(ext.simplices[: len(ts)], ts)
+
+
+def test_repair_leaves_no_pinched_vertex():
+    """repair-vertex until every surface vertex has one inside and one outside piece in its star."""
+    m = get_manifold("torus")
+    s = m.sample(1500, seed=2)
+    rng = np.random.default_rng(1)  # noise of about half the spacing: the raw cut pinches at 10 samples
+    rec = reconstruct(s.points + rng.normal(scale=0.06, size=s.points.shape), 2, mode="paper")
+    lab = Labelling(rec.points, *_cells(rec))
+    ed = LabelEditor(lab)
+    before, _ = ed.pieces()
+    steps = ed.repair()
+    after, _ = ed.pieces()
+    assert (before > 2).any() and steps  # there was something to repair
+    assert not (after > 2).any()
+    top = analyse(lab.surface()[0], rec.n, 2)
+    assert top.singular_vertices == 0 and top.nonmanifold_faces == 0 and top.boundary_faces == 0
+
+
+def test_sculpt_brings_a_buried_sample_onto_the_surface():
+    """A sample just inside a sphere's sample is no vertex of the labelled surface until
+    sculpt-sample flips one cell of its star (Boissonnat's rule keeps a manifold)."""
+    m = get_manifold("sphere")
+    s = m.sample(600, seed=0).points
+    inner = 0.97 * s[0]  # a sample buried 3 % below the surface, under sample 0
+    rec = reconstruct(np.vstack([s, inner]), 2, mode="paper")
+    lab = Labelling(rec.points, *_cells(rec))
+    ed = LabelEditor(lab)
+    ed.repair()
+    surf, _ = lab.surface()
+    unused_before = analyse(surf, rec.n, 2).unused_samples
+    steps = ed.sculpt()
+    top = analyse(lab.surface()[0], rec.n, 2)
+    assert unused_before >= 1 and len(steps) >= 1
+    assert top.unused_samples < unused_before and top.closed_manifold
+
+
+def test_cap_patches_need_eight_adjacent_big_faces():
+    """A fan of 8 big triangles is one patch; 7 are none; 8 that share no edge are none; small
+    faces never count."""
+    assert OPEN_MIN_FACES == 8
+    fan = np.array([[0, i, i + 1] for i in range(1, 9)])
+    (patch,) = cap_patches(fan, np.ones(8, bool), 30)
+    assert sorted(patch.tolist()) == list(range(8))
+    assert cap_patches(fan[:7], np.ones(7, bool), 30) == []
+    apart = np.arange(24).reshape(8, 3)
+    assert cap_patches(apart, np.ones(8, bool), 30) == []
+    some = np.ones(8, bool)
+    some[3] = False  # the fan is cut in two runs of 3 and 4
+    assert cap_patches(fan, some, 30) == []
+
+
+def test_open_scan_is_kept_open_by_open_cap():
+    """A sphere without its cap z > 0.3: the labelling closes it over the opening with large faces,
+    open-cap removes that patch, and no later rule closes it again."""
+    m = get_manifold("sphere")
+    p = m.sample(2500, seed=0).points
+    rec = reconstruct(p[p[:, 2] < 0.3], 2, mode="paper")
+    ts = np.sort(rec.candidates.select("cocone"), axis=1)
+    ext = extract_by_labels(rec.points, *_cells(rec), rec.candidates.faces, ts, rec.spacing)
+    opened = [st for st in ext.steps if st.rule == RULE_OPEN]
+    top = analyse(ext.complex_at(ext.n_steps), rec.n, 2)
+    assert len(opened) == 1 and len(opened[0].removed) >= OPEN_MIN_FACES
+    assert not top.closed_manifold and top.betti == (1, 0, 0) and top.unused_samples == 0
+    # the rim left open is the cut: every boundary vertex is near z = 0.3
+    tri = ext.complex_at(ext.n_steps)
+    edges, count = np.unique(
+        np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [0, 2]]]), axis=1), axis=0, return_counts=True
+    )
+    rim = np.unique(edges[count == 1])
+    assert len(rim) > 20 and rec.points[rim, 2].min() > 0.15
+
+
+def test_steplog_rows_and_replay():
+    """A face removed and added again gets a new row; T_S rows are reused once."""
+    ts = np.array([[0, 1, 2], [0, 2, 3]])
+    log = StepLog(ts, 5)
+    log.step("a", (), np.array([[0, 1, 2], [1, 2, 4]]), np.zeros((0, 3), int), np.nan, "add")
+    log.step("b", (), np.zeros((0, 3), int), np.array([[0, 1, 2]]), np.nan, "remove")
+    log.step("c", (), np.array([[2, 1, 0]]), np.zeros((0, 3), int), np.nan, "add again")
+    ext = log.extraction("open")
+    assert ext.simplices.tolist() == [[0, 1, 2], [0, 2, 3], [1, 2, 4], [0, 1, 2]]
+    assert {tuple(r) for r in ext.complex_at(1).tolist()} == {(0, 1, 2), (1, 2, 4)}
+    assert {tuple(r) for r in ext.complex_at(2).tolist()} == {(1, 2, 4)}
+    assert {tuple(r) for r in ext.complex_at(3).tolist()} == {(1, 2, 4), (0, 1, 2)}
+    assert ext.complex_at(0).shape == (0, 3)
