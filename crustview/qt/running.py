@@ -241,6 +241,7 @@ class RunActions:
         if unsure:  # never silently wrong: a closed result the sample does not support is amber
             verdict += f" ({unsure})"
             ok = "warn" if ok else ok
+            self.docks["info"].raise_()  # its tab, when the docks share one column: the list is there
         self.run_panel.show_idle(f"{rec.mode}: done in {sum(rec.timings.values()):.2f} s — {verdict}", ok=ok)
         message = (
             f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} steps of "

@@ -17,8 +17,10 @@ class Legend:
     Optionally under a few lines of notes (e.g. "M_S is NOT a closed manifold").
     """
 
-    def __init__(self, plotter, font_size: int = 13) -> None:
+    def __init__(self, plotter, font_size: int = 13, renderer=None) -> None:
         self.plotter = plotter
+        #: Where the lines are drawn (the plotter's renderer unless given: the view's text layer).
+        self.renderer = renderer if renderer is not None else plotter.renderer
         self.font_size = font_size
         self.actors: list[vtkTextActor] = []
         self.entries: list[tuple[str, str | None]] = []
@@ -66,7 +68,7 @@ class Legend:
             lines.append(("   ", "#222222", y, 8, False, color))
             lines.append((" " + label + " ", "#222222", y, 8 + self.font_size * 1.4, False, None))
         while len(self.actors) > len(lines):
-            self.plotter.renderer.RemoveViewProp(self.actors.pop())
+            self.renderer.RemoveViewProp(self.actors.pop())
         for j, line in enumerate(lines):
             if j < len(self.actors):
                 if self._shown[j] != line:
@@ -74,7 +76,7 @@ class Legend:
             else:
                 a = self._text(line[0], line[1], line[2], line[3], bold=line[4])
                 self._restyle(a, *line)
-                self.plotter.renderer.AddViewProp(a)
+                self.renderer.AddViewProp(a)
                 self.actors.append(a)
         self._shown = lines
 

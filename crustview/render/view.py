@@ -87,12 +87,14 @@ class SceneView(CameraControl):
             layer.events.colorby.connect(lambda *_: self._after_colour())
             layer.events.mode.connect(lambda *_: (self.update_legend(), self.render()))
             layer.events.shrink.connect(lambda *_: self.render())
-        self._on_top(("truth", "cascade", "step", "uncertain", "selection"))
+        self._on_top(("truth", "compare", "cascade", "step", "uncertain", "selection"))
         self._bars: dict[str, object] = {}
         self._stale: set[LayerAdapter] = set()
-        self.legend = Legend(plotter)
+        self.hud = self._hud()
+        self.legend = Legend(plotter, renderer=self.hud)
         self._built_for: int | None = None
         self.basis_text = plotter.add_text("", position="lower_left", font_size=11, color="#222222", name="basis")
+        self._to_hud(self.basis_text)
         tp = self.basis_text.GetTextProperty()
         tp.SetBackgroundColor(1.0, 1.0, 1.0)  # readable over the data too
         tp.SetBackgroundOpacity(0.75)
@@ -105,6 +107,8 @@ class SceneView(CameraControl):
         model.theorems_changed.connect(lambda *_: (self.adapters["points"].recolor(), self._after_colour()))
         model.cascade_changed.connect(lambda *_: (self.update_legend(), self.render()))
         model.slice_changed.connect(lambda *_: (self.update_legend(), self.render()))
+        # a new comparison is named in the legend and drawn at once (it waited for the next step)
+        model.comparison_changed.connect(lambda *_: (self.update_legend(), self.render()))
         #: Big parts thinned while the view moves or steps (see :mod:`crustview.render.lod`).
         self.lod = LevelOfDetail(plotter.renderer)
         self._watch_interaction()
@@ -135,6 +139,29 @@ class SceneView(CameraControl):
                 self.plotter.remove_actor(part.actor, render=False)
                 top.AddActor(part.actor)
         self.top_renderer = top
+
+    def _hud(self):
+        """A third renderer layer, over the overlay: text, legends and colour bars.
+
+        Geometry never covers them: the step highlight, the cascade and the
+        truth (layer 1) used to be drawn over the legend and the bars, which
+        were in the scene's layer 0.
+        """
+        from vtkmodules.vtkRenderingCore import vtkRenderer
+
+        window = self.plotter.render_window
+        hud = vtkRenderer()
+        hud.SetLayer(2)
+        hud.InteractiveOff()
+        hud.SetActiveCamera(self.plotter.renderer.GetActiveCamera())
+        window.SetNumberOfLayers(3)
+        window.AddRenderer(hud)
+        return hud
+
+    def _to_hud(self, actor) -> None:
+        """Move a 2-D actor pyvista added to the scene's renderer into :attr:`hud`."""
+        self.plotter.renderer.RemoveViewProp(actor)
+        self.hud.AddViewProp(actor)
 
     # -- level of detail -----------------------------------------------------
     def _watch_interaction(self) -> None:
@@ -320,6 +347,7 @@ class SceneView(CameraControl):
         if list(self._bars.items()) != list(want.items()):
             # the bars stack in order: one that stays keeps its place only if all before it stay
             for title in list(self._bars):
+                self.hud.RemoveViewProp(self.plotter.scalar_bars[title])
                 self.plotter.remove_scalar_bar(title, render=False)
             self._bars = {}
         for j, (title, (mapper, lut)) in enumerate(want.items()):
@@ -342,6 +370,7 @@ class SceneView(CameraControl):
                 )
                 bar.GetTitleTextProperty().SetBackgroundColor(1.0, 1.0, 1.0)
                 bar.GetTitleTextProperty().SetBackgroundOpacity(0.75)
+                self._to_hud(bar)
                 self._bars[title] = (mapper, lut)
 
     def legend_entries(self) -> list[tuple[str, str]]:

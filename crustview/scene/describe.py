@@ -234,8 +234,9 @@ def verdict(rec: Reconstruction) -> tuple[str, str]:
     if t.closed_manifold and not t.unused_samples:
         return "ok", "M_S is a closed manifold through every sample"
     if t.closed_manifold:
-        return "warn", f"M_S is closed but skips {t.unused_samples} samples"
-    return "bad", f"M_S is NOT a closed manifold (extraction stopped: {rec.extraction.stopped})"
+        return "warn", f"M_S is closed but skips {t.unused_samples} samples" + (f" ({unc})" if unc else "")
+    why = f"extraction stopped: {rec.extraction.stopped}" + (f"; {unc}" if unc else "")
+    return "bad", f"M_S is NOT a closed manifold ({why})"
 
 
 def topology_rows(rec: Reconstruction, expected=None) -> list[tuple[str, str, str]]:

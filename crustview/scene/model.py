@@ -188,6 +188,8 @@ class SceneModel:
         if comparison is not None and comparison.rec is not self.rec:
             return False
         self.comparison = comparison
+        if comparison is not None:
+            self.layers["compare"].visible = True  # a comparison just made is seen, even if its layer was off
         self.comparison_changed.emit()
         return True
 
