@@ -12,14 +12,12 @@ import argparse
 import math
 import os
 import sys
-import time
 from collections.abc import Sequence
 from pathlib import Path
 
 from crustview import __version__
-from crustview.core.analysis.features import summary_suffix
+from crustview.cli_reconstruct import comparison_summary, extraction_summary  # noqa: F401 - their old home
 from crustview.core.errors import CrustviewError
-from crustview.core.result import CANDIDATE_TESTS
 
 PROG = "crustview"
 
@@ -85,31 +83,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-d", type=_positive_int, default=None, help="intrinsic dimension")
     p.add_argument("--paper", action="store_true", help=_PAPER_HELP)
 
-    p = sub.add_parser("reconstruct", help="reconstruct a manifold and write the result")
-    p.add_argument("input", type=Path, help="point file")
-    p.add_argument("-d", type=_positive_int, required=True, help="intrinsic dimension")
-    p.add_argument(
-        "-o",
-        "--output",
-        type=Path,
-        required=True,
-        help="result file: .npz, or .ply .obj .off .vtk .stl for d <= 2, k <= 3",
-    )
-    p.add_argument("--report", type=Path, default=None, help="also write a JSON report")
-    p.add_argument(
-        "--test", choices=CANDIDATE_TESTS, default="cocone", help="candidate test of Algorithm 2 (default: cocone)"
-    )
-    p.add_argument(
-        "--theta", type=_angle_degrees, default=22.5, help="angle threshold in degrees (default: 22.5 = pi/8)"
-    )
-    p.add_argument("--paper", action="store_true", help=_PAPER_HELP)
-    p.add_argument(
-        "--keep-boundary",
-        action="store_true",
-        help="paper mode only (implies --paper): do not prune (d-1)-faces with a single "
-        "d-simplex (the paper prunes them); for looking at scans with holes, which "
-        "cannot give a closed manifold",
-    )
+    from crustview import cli_reconstruct
+
+    cli_reconstruct.add_parser(sub, _angle_degrees)
 
     p = sub.add_parser("sample", help="sample a built-in manifold to a point file")
     p.add_argument("name", help="manifold name (see 'crustview list')")
@@ -184,121 +160,6 @@ def _run_app(*args: object, **kwargs: object) -> int:
     return int(run_app(*args, **kwargs) or 0)
 
 
-def _summary(rec, seconds: float, output: Path) -> str:
-    top = rec.topology
-    word = {1: "curve", 2: "surface"}.get(rec.d, f"{rec.d}-manifold")
-    merged = len(rec.input_points) - rec.n
-    dup = f" ({merged} duplicates merged)" if merged else ""
-    closed = "a closed manifold" if top.closed_manifold else "NOT a closed manifold"
-    parts = [
-        f"Reconstructed a {word} in R^{rec.k} from {rec.n} points{dup}: {top.n_simplices} {rec.d}-simplices, {closed}",
-        f"Betti numbers (Z/2) {tuple(int(b) for b in top.betti)}, Euler characteristic {top.euler}",
-    ]
-    if top.orientable is not None:
-        parts.append("orientable" if top.orientable else "non-orientable")
-    if not top.closed_manifold:
-        parts.append(
-            f"{top.boundary_faces} boundary and {top.nonmanifold_faces} non-manifold faces, "
-            f"{top.unused_samples} unused samples"
-        )
-    text = "; ".join(parts) + f"; {seconds:.2f} s; wrote {output}."
-    notes = set(rec.extraction.notes)  # said on the extraction line
-    messages = [m for m in top.messages if m not in notes and not m.startswith("the sample does not support")]
-    if messages:
-        text += " Note: " + "; ".join(str(m).rstrip(".") for m in messages) + "."
-    suffix = summary_suffix(rec.features)
-    return text + (f" {suffix}" if suffix else "")
-
-
-def extraction_summary(rec) -> str:
-    """One sentence: which extraction ran, why, and how many steps of each rule.
-
-    Parameters
-    ----------
-    rec : Reconstruction
-
-    Returns
-    -------
-    str
-        E.g. ``"extraction: robust (the paper's Algorithm 3 was abandoned after
-        127 steps, ...); 2160 steps: seed 1, grow 2068, ..."`` or
-        ``"extraction: paper's Algorithm 3; 12 steps: prune-sharp 0,
-        resolve-nonmanifold 12."``.  A robust run lists only the rules it
-        used; a paper run lists both of the paper's rules.
-    """
-    ext = rec.extraction
-    if rec.mode == "paper":
-        head = "extraction: paper's Algorithm 3"
-        if not rec.prune_boundary:
-            head += " with boundary faces kept (--keep-boundary)"
-    else:
-        why = "; ".join(str(n).rstrip(".") for n in ext.notes)
-        head = "extraction: robust" + (f" ({why})" if why else "")
-    counts = ext.counts_by_rule()
-    shown = [f"{rule} {c['steps']}" for rule, c in counts.items() if c["steps"] or rec.mode == "paper"]
-    return f"{head}; {ext.n_steps} steps" + (": " + ", ".join(shown) if shown else "") + "."
-
-
-def _cmd_reconstruct(args: argparse.Namespace) -> int:
-    from crustview.core import cost_warning, reconstruct
-    from crustview.io import read_mesh, read_points, write_report, write_result
-
-    mesh = read_mesh(args.input)  # a mesh with faces: its vertices are the sample, its faces the truth
-    read_notes: list[str] = []  # e.g. a text file's header line of column names
-    points = mesh.points if mesh is not None else read_points(args.input, read_notes)
-    for line in read_notes:
-        print(f"{PROG}: note: {line}", file=sys.stderr, flush=True)
-    truth = mesh.simplices(args.d) if mesh is not None and 1 <= args.d < points.shape[1] else None
-    note = cost_warning(points.shape[1], args.d) if 1 <= args.d < points.shape[1] else None
-    if note:
-        print(f"{PROG}: warning: {note}", file=sys.stderr, flush=True)
-    if args.keep_boundary and not args.paper:
-        print(
-            f"{PROG}: note: --keep-boundary belongs to the paper's Algorithm 3 (the robust extension "
-            "never prunes); running it as with --paper",
-            file=sys.stderr,
-            flush=True,
-        )
-    mode = "paper" if args.paper or args.keep_boundary else "robust"
-    start = time.perf_counter()
-    rec = reconstruct(
-        points, args.d, test=args.test, theta=math.radians(args.theta), prune_boundary=not args.keep_boundary, mode=mode
-    )
-    seconds = time.perf_counter() - start
-    comparison = None
-    if truth is not None:
-        from crustview.core.analysis.compare import compare_to_mesh
-
-        comparison = compare_to_mesh(rec, truth)
-    write_result(args.output, rec)
-    if args.report is not None:
-        write_report(args.report, rec, comparison)
-    print(_summary(rec, seconds, args.output))
-    print(extraction_summary(rec))
-    if comparison is not None:
-        print(comparison_summary(comparison, args.input.name))
-    return 0
-
-
-def comparison_summary(c, name: str) -> str:
-    """One sentence: M_S against the mesh's faces."""
-    from crustview.core.analysis.compare import MeshComparison
-
-    def top(t) -> str:
-        g = MeshComparison.genus(t)
-        shape = f"closed, genus {g}" if g is not None else ("closed" if t.closed_manifold else "not closed")
-        return f"{shape}, Betti {tuple(int(b) for b in t.betti)}"
-
-    h = c.hausdorff
-    collapsed = f" ({c.collapsed_faces} collapsed by duplicate merging)" if c.collapsed_faces else ""
-    return (
-        f"Against the faces of {name}: {c.recovered} of {c.mesh_faces} mesh faces recovered "
-        f"({100 * c.recovered_share:.1f}%){collapsed}, {c.extra} extra; mesh {top(c.mesh_topology)}; "
-        f"M_S {top(c.result_topology)}; Hausdorff distance {h.distance:.4g} "
-        f"(sampled, within {h.error_bound:.2g})."
-    )
-
-
 def _cmd_sample(args: argparse.Namespace) -> int:
     from crustview.core.samples.manifolds import get_manifold
     from crustview.io import write_points
@@ -357,7 +218,9 @@ def _dispatch(argv: Sequence[str]) -> int:
             mesh.simplices(args.d)
         return _run_app(str(args.file), args.d, mode="paper" if args.paper else None)
     if args.command == "reconstruct":
-        return _cmd_reconstruct(args)
+        from crustview import cli_reconstruct
+
+        return cli_reconstruct.run(args)
     if args.command == "sample":
         return _cmd_sample(args)
     if args.command == "render":
@@ -399,8 +262,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         name = f" '{err.filename}'" if err.filename else ""
         print(f"{PROG}: error:{name} {_one_line(err.strerror or err)}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print(f"{PROG}: error: interrupted", file=sys.stderr)
+    except KeyboardInterrupt:  # atomic writes (crustview.atomic) leave no partial file
+        print(f"{PROG}: cancelled (Ctrl-C); no partial file was written", file=sys.stderr)
         return 130
     except Exception as err:  # noqa: BLE001 - one line, never a traceback
         print(f"{PROG}: error: unexpected {type(err).__name__}: {_one_line(err)}", file=sys.stderr)

@@ -1,0 +1,163 @@
+"""``crustview reconstruct A B C ... --out-dir DIR [-j N]``: many files, N processes, one summary.
+
+For every input ``NAME.ext`` it writes ``DIR/NAME.npz`` and
+``DIR/NAME.report.json`` (a number is added to names that two inputs
+share), prints one row per file as it finishes, and writes
+``DIR/summary.csv`` and ``DIR/summary.json`` (in the order of the inputs):
+file, status, points, k, d, closed, Betti numbers, uncertain handles,
+holes and components, seconds, outputs and the error of a failed file.
+The exit status is 0 when every file succeeded, 1 otherwise.  Ctrl-C
+stops the workers; every file is written atomically, so nothing partial
+is left.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import sys
+import time
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from pathlib import Path
+from typing import Any
+
+from crustview.atomic import write_text
+from crustview.core.errors import CrustviewError, InputError
+
+#: Columns of summary.csv.
+COLUMNS = (
+    "file",
+    "status",
+    "points",
+    "k",
+    "d",
+    "d_auto_confidence",
+    "closed",
+    "betti",
+    "uncertain_handles",
+    "uncertain_holes",
+    "uncertain_components",
+    "seconds",
+    "output",
+    "report",
+    "error",
+)
+
+
+def output_names(inputs: list[Path], out_dir: Path) -> list[tuple[Path, Path]]:
+    """The result and report path of each input (names made unique)."""
+    used: set[str] = set()
+    out = []
+    for path in inputs:
+        stem, i = path.stem, 1
+        while stem in used:
+            i += 1
+            stem = f"{path.stem}-{i}"
+        used.add(stem)
+        out.append((out_dir / f"{stem}.npz", out_dir / f"{stem}.report.json"))
+    return out
+
+
+def _job(path: Path, output: Path, report: Path, args: argparse.Namespace) -> tuple[dict[str, Any], list[str]]:
+    """One file in a worker: its row and the lines it would print."""
+    from crustview.cli_reconstruct import reconstruct_file
+
+    lines: list[str] = []
+    start = time.perf_counter()
+    try:
+        row = reconstruct_file(path, output, report, args, None, lambda kind, text: lines.append(f"{kind}: {text}"))
+    except CrustviewError as err:
+        row = _failed(path, " ".join(str(err).split()), start)
+    except Exception as err:  # noqa: BLE001 - one file's failure is its row, not the batch's end
+        row = _failed(path, f"unexpected {type(err).__name__}: {' '.join(str(err).split())}", start)
+    return row, lines
+
+
+def _failed(path: Path, error: str, start: float) -> dict[str, Any]:
+    row: dict[str, Any] = dict.fromkeys(COLUMNS)
+    row.update(file=str(path), status="failed", error=error, seconds=round(time.perf_counter() - start, 3))
+    return row
+
+
+def row_line(row: dict[str, Any]) -> str:
+    """One printed row."""
+    name = Path(row["file"]).name
+    if row["status"] != "ok":
+        return f"{name}: FAILED: {row['error']}"
+    closed = "closed" if row["closed"] else "not closed"
+    unc = row["uncertain_handles"] + row["uncertain_holes"] + row["uncertain_components"]
+    return (
+        f"{name}: {row['points']} points, d = {row['d']}, {closed}, Betti {tuple(row['betti'])}, "
+        f"{unc} uncertain feature(s) ({row['uncertain_handles']} handles, {row['uncertain_holes']} holes, "
+        f"{row['uncertain_components']} components), {row['seconds']:.1f} s"
+    )
+
+
+def summary_csv(rows: list[dict[str, Any]]) -> str:
+    buf = io.StringIO()
+    writer = csv.DictWriter(buf, fieldnames=COLUMNS, lineterminator="\n")
+    writer.writeheader()
+    for row in rows:
+        shown = dict(row)
+        if isinstance(shown.get("betti"), list):
+            shown["betti"] = " ".join(map(str, shown["betti"]))
+        writer.writerow({k: "" if shown.get(k) is None else shown[k] for k in COLUMNS})
+    return buf.getvalue()
+
+
+def run(args: argparse.Namespace) -> int:
+    """The batch form of ``reconstruct``."""
+    from crustview.cli_progress import CountProgress, wants_bar
+    from crustview.cli_reconstruct import check_outputs
+
+    if args.out_dir is None:
+        raise InputError("several input files need --out-dir DIR (one result and report per file are written there)")
+    if args.output is not None or args.report is not None:
+        raise InputError("with --out-dir give no -o or --report: each file's result and report are named after it")
+    if args.jobs < 1:
+        raise InputError(f"-j needs a positive number of processes, got {args.jobs}")
+    args.out_dir.mkdir(parents=True, exist_ok=True)
+    names = output_names(list(args.input), args.out_dir)
+    summary = [args.out_dir / "summary.csv", args.out_dir / "summary.json"]
+    check_outputs(list(args.input), [p for pair in names for p in pair] + summary, args.force)
+    rows: list[dict[str, Any] | None] = [None] * len(names)
+    start = time.perf_counter()
+    with CountProgress(len(names), wants_bar(sys.stderr, args.quiet)) as bar:
+        show = (lambda line: None) if args.quiet else bar.print
+        if args.jobs == 1:
+            for i, (path, (out, rep)) in enumerate(zip(args.input, names)):
+                rows[i], _ = _job(path, out, rep, args)
+                show(row_line(rows[i]))
+                bar.advance(path.name)
+        else:
+            with ProcessPoolExecutor(max_workers=min(args.jobs, len(names))) as pool:
+                pending = {
+                    pool.submit(_job, path, out, rep, args): i
+                    for i, (path, (out, rep)) in enumerate(zip(args.input, names))
+                }
+                try:
+                    while pending:
+                        done, _ = wait(pending, return_when=FIRST_COMPLETED)
+                        for fut in done:
+                            i = pending.pop(fut)
+                            rows[i], _ = fut.result()
+                            show(row_line(rows[i]))
+                            bar.advance(Path(rows[i]["file"]).name)
+                except BaseException:
+                    for fut in pending:
+                        fut.cancel()
+                    raise
+    final = [r for r in rows if r is not None]
+    failed = sum(r["status"] != "ok" for r in final)
+    write_text(summary[0], summary_csv(final))
+    meta = {"files": len(final), "failed": failed, "seconds": round(time.perf_counter() - start, 3), "jobs": args.jobs}
+    write_text(summary[1], json.dumps({**meta, "rows": final}, indent=2) + "\n")
+    if not args.quiet:
+        print(
+            f"{len(final) - failed} of {len(final)} files reconstructed ({failed} failed) in {meta['seconds']:.1f} s "
+            f"with {args.jobs} process(es); wrote {summary[0]} and {summary[1]}.",
+            flush=True,
+        )
+    return 1 if failed else 0

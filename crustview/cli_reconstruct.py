@@ -1,0 +1,366 @@
+"""``crustview reconstruct``: one file to a result (and a report), or many files to a folder.
+
+One input: ``crustview reconstruct IN -d D -o OUT [--report R.json]``.
+Many (or ``--out-dir``): :mod:`crustview.cli_batch`.  ``-d auto`` estimates
+d (:mod:`crustview.core.analysis.dimension`) and says what it chose and
+why.  On a terminal a progress bar runs on stderr (:mod:`crustview.cli_progress`);
+``-q`` prints nothing but errors.  Outputs are written atomically
+(:mod:`crustview.atomic`); an output that is the input file is refused
+unless ``--force``, and every output's folder is checked before the run,
+so a failed command writes nothing.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from crustview.core.errors import InputError
+from crustview.core.result import CANDIDATE_TESTS
+
+PROG = "crustview"
+_PAPER_HELP = (
+    "extract with the paper's Algorithm 3 exactly as printed (default: the robust extension, "
+    "which returns the paper's result whenever that is a closed manifold through every sample)"
+)
+
+
+def dimension_arg(text: str) -> int | str:
+    """``-d``: a positive integer or ``auto``."""
+    if text.strip().lower() == "auto":
+        return "auto"
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive integer or 'auto', got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive integer or 'auto', got {value}")
+    return value
+
+
+def add_parser(sub, angle_type) -> None:
+    """The ``reconstruct`` sub-command's arguments."""
+    p = sub.add_parser("reconstruct", help="reconstruct a manifold and write the result (one file, or many)")
+    p.add_argument("input", type=Path, nargs="+", help="point file(s); several need --out-dir")
+    p.add_argument(
+        "-d", type=dimension_arg, required=True, help="intrinsic dimension, or 'auto' to estimate it from the sample"
+    )
+    p.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=None,
+        help="result file: .npz, or .ply .obj .off .vtk .stl for d <= 2, k <= 3",
+    )
+    p.add_argument("--report", type=Path, default=None, help="also write a JSON report")
+    p.add_argument(
+        "--out-dir",
+        type=Path,
+        default=None,
+        help="batch mode: write NAME.npz and NAME.report.json per input and summary.csv/summary.json here",
+    )
+    p.add_argument("-j", "--jobs", type=int, default=1, help="batch mode: files reconstructed at once (processes)")
+    p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors (no progress, no summary)")
+    p.add_argument("--force", action="store_true", help="allow writing over the input file")
+    p.add_argument(
+        "--test", choices=CANDIDATE_TESTS, default="cocone", help="candidate test of Algorithm 2 (default: cocone)"
+    )
+    p.add_argument("--theta", type=angle_type, default=22.5, help="angle threshold in degrees (default: 22.5 = pi/8)")
+    p.add_argument("--paper", action="store_true", help=_PAPER_HELP)
+    p.add_argument(
+        "--keep-boundary",
+        action="store_true",
+        help="paper mode only (implies --paper): do not prune (d-1)-faces with a single "
+        "d-simplex (the paper prunes them); for looking at scans with holes, which "
+        "cannot give a closed manifold",
+    )
+
+
+# ---------------------------------------------------------------- outputs
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        if a.exists() and b.exists():
+            return os.path.samefile(a, b)
+    except OSError:
+        return False
+    return a.resolve() == b.resolve()
+
+
+def check_outputs(inputs: list[Path], outputs: list[Path], force: bool) -> None:
+    """Refuse outputs in missing folders, outputs that are folders, and (without ``force``) the input itself.
+
+    Raises
+    ------
+    InputError
+        One sentence naming the output.
+    """
+    for out in outputs:
+        parent = out.parent if str(out.parent) else Path(".")
+        if not parent.is_dir():
+            raise InputError(f"Cannot write '{out}': the folder '{parent}' does not exist.")
+        if out.is_dir():
+            raise InputError(f"Cannot write '{out}': it is a folder.")
+        for inp in inputs:
+            if not force and _same_file(out, inp):
+                raise InputError(
+                    f"Refusing to write over the input file '{inp}' (output '{out}'): "
+                    "choose another output name, or give --force."
+                )
+    seen: dict[Path, Path] = {}
+    for out in outputs:
+        key = out.resolve()
+        if key in seen:
+            raise InputError(f"Cannot write '{out}' twice: the result and the report need different names.")
+        seen[key] = out
+
+
+# ---------------------------------------------------------------- one file
+def read_input(path: Path, notes: list[str]) -> tuple[Any, Any, dict]:
+    """The mesh (or None), the points and the per-point attributes of an input file."""
+    from crustview.io import read_attributes, read_mesh, read_points
+
+    mesh = read_mesh(path)  # a mesh with faces: its vertices are the sample, its faces the truth
+    if mesh is not None:
+        return mesh, mesh.points, read_attributes(path)
+    attributes: dict = {}
+    points = read_points(path, notes, attributes)
+    return mesh, points, attributes
+
+
+def choose_d(points, d: int | str) -> tuple[int, Any]:
+    """``d`` itself, or the estimate for ``auto`` (with its :class:`DimensionEstimate`)."""
+    if d != "auto":
+        return int(d), None
+    from crustview.core.analysis.dimension import estimate_dimension
+
+    est = estimate_dimension(points)
+    return est.d, est
+
+
+def reconstruct_file(
+    path: Path,
+    output: Path,
+    report: Path | None,
+    args: argparse.Namespace,
+    progress=None,
+    say=None,
+) -> dict[str, Any]:
+    """Read, reconstruct and write one file; returns its summary row (see :mod:`crustview.cli_batch`).
+
+    ``say(kind, text)`` receives the notes and warnings (``kind`` "note" or
+    "warning") and the summary lines (``kind`` "summary").
+    """
+    from crustview.core import cost_warning, reconstruct
+    from crustview.io import write_report, write_result
+
+    say = say or (lambda kind, text: None)
+    progress = progress or (lambda stage, fraction: None)
+    start = time.perf_counter()
+    progress("read", 0.0)
+    notes: list[str] = []
+    mesh, points, attributes = read_input(path, notes)
+    for line in notes:
+        say("note", line)
+    progress("estimate d" if args.d == "auto" else "read", 1.0)
+    d, estimate = choose_d(points, args.d)
+    if estimate is not None:
+        say("note", f"{path.name}: -d auto chose {estimate.sentence()}")
+    k = points.shape[1]
+    truth = mesh.simplices(d) if mesh is not None and 1 <= d < k else None
+    note = cost_warning(k, d) if 1 <= d < k else None
+    if note:
+        say("warning", note)
+    mode = "paper" if args.paper or args.keep_boundary else "robust"
+    rec = reconstruct(
+        points,
+        d,
+        test=args.test,
+        theta=math.radians(args.theta),
+        prune_boundary=not args.keep_boundary,
+        mode=mode,
+        progress=progress,
+    )
+    seconds = time.perf_counter() - start
+    comparison = None
+    if truth is not None:
+        from crustview.core.analysis.compare import compare_to_mesh
+
+        progress("compare", 0.0)
+        comparison = compare_to_mesh(rec, truth)
+    extra = _report_extra(rec, attributes, estimate)
+    progress("write", 0.0)
+    write_result(output, rec)
+    if report is not None:
+        write_report(report, rec, comparison, extra=extra)
+    progress("write", 1.0)
+    say("summary", result_summary(rec, seconds, output))
+    say("summary", extraction_summary(rec))
+    if comparison is not None:
+        say("summary", comparison_summary(comparison, path.name))
+    for line in _attribute_lines(extra):
+        say("summary", line)
+    return summary_row(path, rec, seconds, output, report, estimate)
+
+
+def _report_extra(rec, attributes: dict, estimate) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    if estimate is not None:
+        out["dimension_estimate"] = estimate.as_dict()
+    if attributes:
+        from crustview.attributes import report_section
+
+        out["input_attributes"] = report_section(rec, attributes)
+    return out
+
+
+def _attribute_lines(extra: dict[str, Any]) -> list[str]:
+    section = extra.get("input_attributes") or {}
+    angles = section.get("normal_angles")
+    if not angles:
+        return []
+    return [
+        f"File normals against AN_s: median angle {angles['median_degrees']:.1f} deg, "
+        f"90th percentile {angles['p90_degrees']:.1f} deg, {angles['over_30_degrees']} of {angles['n']} over 30 deg."
+    ]
+
+
+def summary_row(path: Path, rec, seconds: float, output: Path, report: Path | None, estimate) -> dict[str, Any]:
+    """One row of the batch summary."""
+    top = rec.topology
+    kinds = {kind: sum(f.kind == kind for f in rec.uncertain_features) for kind in ("handle", "hole", "component")}
+    return {
+        "file": str(path),
+        "status": "ok",
+        "points": int(len(rec.input_points)),
+        "k": int(rec.k),
+        "d": int(rec.d),
+        "d_auto_confidence": None if estimate is None else round(float(estimate.confidence), 3),
+        "closed": bool(top.closed_manifold),
+        "betti": [int(b) for b in top.betti],
+        "uncertain_handles": kinds["handle"],
+        "uncertain_holes": kinds["hole"],
+        "uncertain_components": kinds["component"],
+        "seconds": round(float(seconds), 3),
+        "output": str(output),
+        "report": None if report is None else str(report),
+        "error": None,
+    }
+
+
+def run(args: argparse.Namespace) -> int:
+    """The ``reconstruct`` sub-command."""
+    from crustview.cli_progress import StageProgress, wants_bar
+
+    if args.out_dir is not None or len(args.input) > 1:
+        from crustview import cli_batch
+
+        return cli_batch.run(args)
+    if args.output is None:
+        raise InputError("give -o OUTPUT for the result (or --out-dir DIR to reconstruct many files)")
+    if args.keep_boundary and not args.paper:
+        _say(args)(
+            "note",
+            "--keep-boundary belongs to the paper's Algorithm 3 (the robust extension never prunes); "
+            "running it as with --paper",
+        )
+    path = args.input[0]
+    outputs = [args.output] + ([args.report] if args.report is not None else [])
+    check_outputs([path], outputs, args.force)
+    with StageProgress(path.name, wants_bar(sys.stderr, args.quiet)) as bar:
+        reconstruct_file(path, args.output, args.report, args, bar, _say(args, bar))
+    return 0
+
+
+def _say(args: argparse.Namespace, bar=None):
+    def say(kind: str, text: str) -> None:
+        if args.quiet:
+            return
+        if kind == "summary":
+            print(text, flush=True)
+        else:
+            print(f"{PROG}: {kind}: {text}", file=sys.stderr, flush=True)
+
+    return say
+
+
+# ---------------------------------------------------------------- summaries
+def result_summary(rec, seconds: float, output: Path) -> str:
+    """The first summary line: the shape, its topology, the time and the output."""
+    from crustview.core.analysis.features import summary_suffix
+
+    top = rec.topology
+    word = {1: "curve", 2: "surface"}.get(rec.d, f"{rec.d}-manifold")
+    merged = len(rec.input_points) - rec.n
+    dup = f" ({merged} duplicates merged)" if merged else ""
+    closed = "a closed manifold" if top.closed_manifold else "NOT a closed manifold"
+    parts = [
+        f"Reconstructed a {word} in R^{rec.k} from {rec.n} points{dup}: {top.n_simplices} {rec.d}-simplices, {closed}",
+        f"Betti numbers (Z/2) {tuple(int(b) for b in top.betti)}, Euler characteristic {top.euler}",
+    ]
+    if top.orientable is not None:
+        parts.append("orientable" if top.orientable else "non-orientable")
+    if not top.closed_manifold:
+        parts.append(
+            f"{top.boundary_faces} boundary and {top.nonmanifold_faces} non-manifold faces, "
+            f"{top.unused_samples} unused samples"
+        )
+    text = "; ".join(parts) + f"; {seconds:.2f} s; wrote {output}."
+    notes = set(rec.extraction.notes)  # said on the extraction line
+    messages = [m for m in top.messages if m not in notes and not m.startswith("the sample does not support")]
+    if messages:
+        text += " Note: " + "; ".join(str(m).rstrip(".") for m in messages) + "."
+    suffix = summary_suffix(rec.features)
+    return text + (f" {suffix}" if suffix else "")
+
+
+def extraction_summary(rec) -> str:
+    """One sentence: which extraction ran, why, and how many steps of each rule.
+
+    Parameters
+    ----------
+    rec : Reconstruction
+
+    Returns
+    -------
+    str
+        E.g. ``"extraction: robust (the paper's Algorithm 3 was abandoned after
+        127 steps, ...); 2160 steps: seed 1, grow 2068, ..."`` or
+        ``"extraction: paper's Algorithm 3; 12 steps: prune-sharp 0,
+        resolve-nonmanifold 12."``.  A robust run lists only the rules it
+        used; a paper run lists both of the paper's rules.
+    """
+    ext = rec.extraction
+    if rec.mode == "paper":
+        head = "extraction: paper's Algorithm 3"
+        if not rec.prune_boundary:
+            head += " with boundary faces kept (--keep-boundary)"
+    else:
+        why = "; ".join(str(n).rstrip(".") for n in ext.notes)
+        head = "extraction: robust" + (f" ({why})" if why else "")
+    counts = ext.counts_by_rule()
+    shown = [f"{rule} {c['steps']}" for rule, c in counts.items() if c["steps"] or rec.mode == "paper"]
+    return f"{head}; {ext.n_steps} steps" + (": " + ", ".join(shown) if shown else "") + "."
+
+
+def comparison_summary(c, name: str) -> str:
+    """One sentence: M_S against the mesh's faces."""
+    from crustview.core.analysis.compare import MeshComparison
+
+    def top(t) -> str:
+        g = MeshComparison.genus(t)
+        shape = f"closed, genus {g}" if g is not None else ("closed" if t.closed_manifold else "not closed")
+        return f"{shape}, Betti {tuple(int(b) for b in t.betti)}"
+
+    h = c.hausdorff
+    collapsed = f" ({c.collapsed_faces} collapsed by duplicate merging)" if c.collapsed_faces else ""
+    return (
+        f"Against the faces of {name}: {c.recovered} of {c.mesh_faces} mesh faces recovered "
+        f"({100 * c.recovered_share:.1f}%){collapsed}, {c.extra} extra; mesh {top(c.mesh_topology)}; "
+        f"M_S {top(c.result_topology)}; Hausdorff distance {h.distance:.4g} "
+        f"(sampled, within {h.error_bound:.2g})."
+    )

@@ -1,0 +1,130 @@
+"""An estimate of the intrinsic dimension d of a sample (``crustview reconstruct -d auto``).
+
+Local PCA: at up to :data:`MAX_CENTRES` evenly chosen samples, the
+covariance of the nearest neighbours has eigenvalues
+``l_1 >= ... >= l_k``, taken as shares of their sum and floored at
+:data:`NOISE_FLOOR`.  Near a smooth d-manifold the first d are of the
+order of the neighbourhood's radius squared and the others much smaller
+(curvature and noise), so each centre votes for the d in ``1 .. k-1`` with
+the largest gap ``l_d / l_(d+1)``.  This is done at
+several neighbourhood sizes; the estimate is the d with the most votes over
+all of them, and its *confidence* is that share of the votes.  A sample in
+R^2 can only be a curve: d = 1 with confidence 1.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..errors import InputError
+
+#: At most this many centres of local PCA (evenly spread over the input order).
+MAX_CENTRES = 600
+#: Neighbourhood sizes, as multiples of k (at least :data:`MIN_NEIGHBOURS`): small, so that curvature stays small.
+SCALES = (2, 4)
+#: The fewest neighbours of a centre.
+MIN_NEIGHBOURS = 6
+#: Local variance below this share of the total is taken as noise (the spectrum is floored there).
+NOISE_FLOOR = 0.01
+
+
+@dataclass(frozen=True)
+class DimensionEstimate:
+    """The estimated intrinsic dimension and why.
+
+    Attributes
+    ----------
+    d : int
+    confidence : float
+        Share of all local votes (every centre at every scale) that chose ``d``.
+    votes : dict of int to float
+        Share of the votes for each candidate d.
+    gap : float
+        Median ratio ``l_d / l_(d+1)`` of the local spectra at the chosen d.
+    neighbours : tuple of int
+        The neighbourhood sizes used.
+    centres : int
+    """
+
+    d: int
+    confidence: float
+    votes: dict[int, float] = field(default_factory=dict)
+    gap: float = float("inf")
+    neighbours: tuple[int, ...] = ()
+    centres: int = 0
+
+    def sentence(self) -> str:
+        """What was chosen and why, in one sentence."""
+        if not self.neighbours:
+            return f"d = {self.d}: points in R^2 can only be a curve."
+        word = {1: "a curve", 2: "a surface"}.get(self.d, f"a {self.d}-manifold")
+        others = ", ".join(f"d = {d}: {100 * v:.0f}%" for d, v in sorted(self.votes.items()) if d != self.d and v > 0)
+        level = "high" if self.confidence >= 0.8 else "moderate" if self.confidence >= 0.6 else "low"
+        return (
+            f"d = {self.d} ({word}), {level} confidence {100 * self.confidence:.0f}%: local PCA at {self.centres} "
+            f"samples with {'/'.join(map(str, self.neighbours))} neighbours finds {self.d} large directions "
+            f"(median gap {self.gap:.0f}x to the next)" + (f"; other votes {others}" if others else "") + "."
+        )
+
+    def as_dict(self) -> dict:
+        return {
+            "d": self.d,
+            "confidence": self.confidence,
+            "votes": {str(d): v for d, v in sorted(self.votes.items())},
+            "median_gap": self.gap,
+            "neighbours": list(self.neighbours),
+            "centres": self.centres,
+            "method": "local PCA, largest eigenvalue gap, votes over centres and neighbourhood sizes",
+        }
+
+
+def estimate_dimension(points: np.ndarray) -> DimensionEstimate:
+    """Estimate the intrinsic dimension of a sample (see the module docstring).
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, k)
+
+    Returns
+    -------
+    DimensionEstimate
+
+    Raises
+    ------
+    InputError
+        When there are too few distinct points to estimate d.
+    """
+    pts = np.unique(np.asarray(points, dtype=np.float64), axis=0)
+    n, k = pts.shape
+    if k < 2:
+        raise InputError(f"Cannot estimate d: points need at least 2 coordinates, these have {k}.")
+    if k == 2:
+        return DimensionEstimate(1, 1.0, {1: 1.0})
+    if n < k + 2:
+        raise InputError(f"Cannot estimate d from {n} distinct points in R^{k}: give -d.")
+    sizes = tuple(sorted({min(n - 1, max(MIN_NEIGHBOURS, s * k)) for s in SCALES}))
+    centres = np.linspace(0, n - 1, min(n, MAX_CENTRES)).astype(np.intp)
+    tree = cKDTree(pts)
+    _, idx = tree.query(pts[centres], k=sizes[-1] + 1)
+    votes = np.zeros(k, dtype=np.int64)  # votes[d] for d in 1 .. k-1
+    gaps: dict[int, list[float]] = {}
+    for size in sizes:
+        nb = pts[idx[:, : size + 1]]
+        nb = nb - nb.mean(axis=1, keepdims=True)
+        cov = np.einsum("mij,mik->mjk", nb, nb) / size
+        ev = np.linalg.eigvalsh(cov)[:, ::-1]  # descending
+        ev = ev / np.maximum(ev.sum(axis=1, keepdims=True), 1e-300)
+        logs = np.log(np.maximum(ev, NOISE_FLOOR))
+        jump = logs[:, :-1] - logs[:, 1:]  # jump[:, d-1] = log(l_d / l_(d+1)), d = 1 .. k-1
+        choice = np.argmax(jump, axis=1) + 1
+        np.add.at(votes, choice, 1)
+        for d in range(1, k):
+            gaps.setdefault(d, []).extend(np.exp(jump[choice == d, d - 1]).tolist())
+    total = int(votes.sum())
+    d = int(np.argmax(votes[1:]) + 1)
+    shares = {int(i): float(votes[i] / total) for i in range(1, k)}
+    gap = float(np.median(gaps[d])) if gaps.get(d) else float("inf")
+    return DimensionEstimate(d, shares[d], shares, gap, sizes, len(centres))
