@@ -12,7 +12,9 @@ read_points
     column names; :mod:`crustview.textpoints`),
     ``.off .noff .ply`` (any dimension, :mod:`crustview.meshfiles`),
     ``.obj .vtk .vtu .stl`` (through meshio).  :func:`read_mesh` also gives
-    the faces of these files (a ground truth).
+    the faces of these files (a ground truth).  ``.pcd .las .laz .e57``
+    scanner files (:mod:`crustview.scanfiles`).  PLY and the scanner formats
+    also give colours, intensity and normals (:func:`read_attributes`).
 write_points
     ``.npy .npz .csv .txt .xyz .ply .vtk`` (``.ply`` in any dimension).
 write_result
@@ -42,7 +44,9 @@ if TYPE_CHECKING:
 
 TEXT_SUFFIXES = (".csv", ".txt", ".xyz")
 MESH_SUFFIXES = (".ply", ".obj", ".off", ".noff", ".vtk", ".vtu", ".stl")
-READ_SUFFIXES = (".npy", ".npz", *TEXT_SUFFIXES, *MESH_SUFFIXES)
+#: Scanner formats read through their libraries (:mod:`crustview.scanfiles`).
+SCAN_SUFFIXES = (".pcd", ".las", ".laz", ".e57")
+READ_SUFFIXES = (".npy", ".npz", *TEXT_SUFFIXES, *MESH_SUFFIXES, *SCAN_SUFFIXES)
 POINT_WRITE_SUFFIXES = (".npy", ".npz", *TEXT_SUFFIXES, ".ply", ".vtk")
 RESULT_MESH_SUFFIXES = (".ply", ".obj", ".off", ".noff", ".vtk", ".stl")
 #: Result suffixes written in any dimension (own writers, :mod:`crustview.meshfiles`).
@@ -68,7 +72,7 @@ def _suffix(path: Path, allowed: tuple[str, ...], action: str) -> str:
 
 
 # ---------------------------------------------------------------- reading
-def read_points(path: str | os.PathLike, notes: list[str] | None = None) -> np.ndarray:
+def read_points(path: str | os.PathLike, notes: list[str] | None = None, attributes: dict | None = None) -> np.ndarray:
     """Read a point set.
 
     Parameters
@@ -80,6 +84,10 @@ def read_points(path: str | os.PathLike, notes: list[str] | None = None) -> np.n
     notes : list of str, optional
         Sentences about what was read other than points are appended here:
         a text file's header line of column names.
+    attributes : dict, optional
+        Filled with the per-point ``colors``, ``intensity`` and ``normals``
+        that the file holds (:mod:`crustview.attributes`; PLY and the
+        scanner formats).
 
     Returns
     -------
@@ -107,9 +115,28 @@ def read_points(path: str | os.PathLike, notes: list[str] | None = None) -> np.n
         data = text.points
         if notes is not None and text.header is not None:
             notes.append(text.note(path))
+    elif suffix in SCAN_SUFFIXES:
+        from crustview.scanfiles import read_scan
+
+        data, found = read_scan(path)
+        if attributes is not None:
+            attributes.update(found)
     else:
-        data = _read_mesh(path)
-    return _check_points(data, path)
+        data = _read_mesh(path, attributes)
+    points = _check_points(data, path)
+    if attributes:
+        from crustview.attributes import check
+
+        check(attributes, len(points), path)
+    return points
+
+
+def read_attributes(path: str | os.PathLike) -> dict:
+    """The per-point colours, intensity and normals of a point file (empty when it has none)."""
+    attributes: dict = {}
+    if Path(path).suffix.lower() in (".ply", *SCAN_SUFFIXES):
+        read_points(path, None, attributes)
+    return attributes
 
 
 def _read_npy(path: Path) -> Any:
@@ -142,10 +169,16 @@ def _read_npz(path: Path) -> Any:
         raise InputError(f"Cannot read '{path}' as a NumPy .npz archive ({_reason(err)}).") from None
 
 
-def _read_mesh(path: Path) -> np.ndarray:
+def _read_mesh(path: Path, attributes: dict | None = None) -> np.ndarray:
     from crustview.meshfiles import read_mesh
 
-    return _drop_zero_z(read_mesh(path).points)
+    mesh = read_mesh(path)
+    points = _drop_zero_z(mesh.points)
+    if attributes is not None:
+        attributes.update(mesh.attributes)
+        if "normals" in attributes and attributes["normals"].shape[1] != points.shape[1]:
+            del attributes["normals"]  # planar points (a zero z dropped): a 3-D normal does not apply
+    return points
 
 
 def read_mesh(path: str | os.PathLike):

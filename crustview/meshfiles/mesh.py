@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -21,11 +21,15 @@ class MeshData:
         Blocks of polygons, each of shape (m_i, s_i): s_i vertex indices
         (0-based, checked to be in range) per polygon.
     path : Path
+    attributes : dict of str to ndarray
+        Per-vertex values other than coordinates, by :mod:`crustview.attributes`
+        name: ``colors`` (n, 3) in [0, 1], ``intensity`` (n,), ``normals`` (n, k).
     """
 
     points: np.ndarray
     cells: list[np.ndarray]
     path: Path
+    attributes: dict = field(default_factory=dict)
 
     @property
     def n_cells(self) -> int:

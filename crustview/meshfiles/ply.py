@@ -1,8 +1,11 @@
 """PLY, ASCII and binary, in any dimension: :func:`read_ply` and :func:`write_ply`.
 
 ASCII and binary (little- and big-endian).  The coordinates of a vertex are
-its properties ``x, y[, z[, w]]`` or ``x0, x1, ... x(k-1)``; other vertex
-properties (normals, colours) are ignored.  Polygons come from the ``face``
+its properties ``x, y[, z[, w]]`` or ``x0, x1, ... x(k-1)``.  Normals
+(``nx ny nz``, ``normal_x ...``), colours (``red green blue``, ``r g b``,
+``diffuse_red ...``; 8-bit integers or floats in [0, 1]) and an intensity
+(``intensity``, ``scalar_intensity``) become the mesh's ``attributes``
+(:mod:`crustview.attributes`); other vertex properties are ignored.  Polygons come from the ``face``
 element's list property ``vertex_indices`` (or ``vertex_index``), segments
 from an ``edge`` element's ``vertex1, vertex2``.  crustview writes binary
 little-endian doubles: ``x y z`` (padded with zeros) for k <= 3,
@@ -109,7 +112,9 @@ def read_ply(path: Path) -> MeshData:
         polys.extend(np.column_stack([edge["vertex1"], edge["vertex2"]]))
     cells = _blocks(polys)
     _check_indices(cells, len(points), path)
-    return MeshData(points, cells, path)
+    from crustview.attributes import from_columns
+
+    return MeshData(points, cells, path, from_columns(vert, len(coords), path))
 
 
 def _ply_ascii(body: bytes, elements: list[_Element], path: Path) -> dict[str, dict[str, list]]:
