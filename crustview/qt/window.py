@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-from PySide6.QtCore import QEvent, QObject, QSettings, Qt
+from PySide6.QtCore import QEvent, QObject, QSettings, Qt, QTimer
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import (
     QAbstractButton,
@@ -166,6 +166,8 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
             and isinstance(obj, QWidget)
             and self._owns(obj)
         ):
+            if self._focus_key(obj, event):
+                return kind == QEvent.Type.KeyPress
             fn = self._step_keys.get(event.key())
             if fn is None or event.modifiers() != Qt.KeyboardModifier.NoModifier:
                 return False
@@ -176,6 +178,32 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
             if kind == QEvent.Type.KeyPress:
                 fn()
                 return True
+        return False
+
+    def _focus_key(self, obj: QWidget, event) -> bool:
+        """Esc, and Enter after typing in a field, give the keyboard back to the 3-D view.
+
+        Then the step keys and the view's letter keys (R) work again, without a
+        click on the view that would select what is under the mouse.  Esc on the
+        view itself clears the selection (View ▸ Clear selection).  Returns True
+        when the key was used here.
+        """
+        key = event.key()
+        if obj is self.plotter or self.plotter.isAncestorOf(obj):
+            if key == Qt.Key.Key_Escape and event.type() == QEvent.Type.KeyPress:
+                self.model.selection.clear()  # as the menu's shortcut, which the view's key handling can miss
+                return True
+            return False
+        if key == Qt.Key.Key_Escape:
+            if event.type() == QEvent.Type.ShortcutOverride:
+                event.accept()  # not the Clear selection shortcut: only the focus moves
+            else:
+                self.plotter.setFocus(Qt.FocusReason.ShortcutFocusReason)
+            return True
+        typed = isinstance(obj, (QLineEdit, QAbstractSpinBox)) or (isinstance(obj, QComboBox) and obj.isEditable())
+        if typed and key in (Qt.Key.Key_Return, Qt.Key.Key_Enter) and event.type() == QEvent.Type.KeyPress:
+            # the field takes the value first (its editingFinished), then the view the focus
+            QTimer.singleShot(0, lambda: self.plotter.setFocus(Qt.FocusReason.OtherFocusReason))
         return False
 
     # -- construction helpers ---------------------------------------------------
