@@ -314,7 +314,8 @@ def reextract(
     # on the rescaled samples (sizes are ratios; locations are scaled back)
     feats = [
         replace(f, location=f.location * scale)
-        for f in features(rec.points / scale, manifold, rec.d) + list(ext.disputed)
+        for f in (features(rec.points / scale, manifold, rec.d) if ext.features is None else ext.features)
+        + list(ext.disputed)
     ]
     if any(f.uncertain for f in feats):
         topo.messages.append(

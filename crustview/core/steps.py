@@ -176,6 +176,9 @@ class Extraction:
         Uncertain features that the extraction itself found: where two of the
         robust extension's methods give closed manifolds of different
         topology (:func:`crustview.core.analysis.features.disagreement`).
+    features : list or None
+        The features of the final complex when the extraction already
+        measured them (in the coordinates it was given); None otherwise.
     """
 
     simplices: np.ndarray
@@ -188,6 +191,7 @@ class Extraction:
     in_candidates: np.ndarray | None = None
     notes: list[str] = field(default_factory=list)
     disputed: list = field(default_factory=list)
+    features: list | None = None
 
     @property
     def n_steps(self) -> int:

@@ -103,6 +103,11 @@ class LabelEditor:
         self.cut[fs] = now
         return removed, added
 
+    def no_repair(self) -> list:
+        """What :meth:`repair` returns where the surface is already a manifold (it sets up :attr:`cut`)."""
+        self.cut = self.lab.cut()
+        return []
+
     def repair(self) -> list[tuple[int, np.ndarray, np.ndarray, np.ndarray]]:
         """``repair-vertex`` until no vertex pinches: (vertex, flipped cells, removed, added) per step."""
         lab = self.lab

@@ -178,20 +178,13 @@ class Labelling:
         ok = vert < n
         cell, vert = cell[ok], vert[ok]
         r = radius[cell]
-        order = np.lexsort((-r, vert))
-        first = np.r_[True, vert[order][1:] != vert[order][:-1]]
-        plus = np.full(n, -1, np.int64)
-        plus[vert[order][first]] = cell[order][first]
+        plus = _farthest(vert, cell, r, n)
         has = plus >= 0
         to_plus = np.zeros_like(points)
         to_plus[has] = centres[plus[has]] - points[has]
         dot = ((centres[cell] - points[vert]) * to_plus[vert]).sum(axis=1)
         other = dot < 0
-        c2, v2, r2 = cell[other], vert[other], r[other]
-        o2 = np.lexsort((-r2, v2))
-        f2 = np.r_[True, v2[o2][1:] != v2[o2][:-1]] if len(o2) else np.zeros(0, bool)
-        minus = np.full(n, -1, np.int64)
-        minus[v2[o2][f2]] = c2[o2][f2]
+        minus = _farthest(vert[other], cell[other], r[other], n)
         smp = np.flatnonzero((plus >= 0) & (minus >= 0))
         u = to_plus[smp]
         v = centres[minus[smp]] - points[smp]
@@ -210,6 +203,16 @@ class Labelling:
         c = self.cut()
         inner = np.where(self.inside[self.a[c]], self.a[c], self.b[c])
         return self.faces[c], inner
+
+
+def _farthest(vert: np.ndarray, cell: np.ndarray, r: np.ndarray, n: int) -> np.ndarray:
+    """Per sample, a cell of largest radius among its incidences (-1 for none); the last such cell on ties."""
+    best = np.full(n, -np.inf)
+    np.maximum.at(best, vert, r)
+    hit = r == best[vert]
+    out = np.full(n, -1, np.int64)
+    out[vert[hit]] = cell[hit]
+    return out
 
 
 def _label(n: int, a: np.ndarray, b: np.ndarray, sign: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
