@@ -103,6 +103,19 @@ class LayerRow:
         layer.events.connect(self.sync)
         self.sync()
 
+    def offer(self, items: tuple[str, ...]) -> None:
+        """Rebuild the colouring menu with ``items`` (those that apply to the shown data)."""
+        combo = self.extra
+        if not isinstance(combo, QComboBox) or not self.layer.colorings:
+            return
+        if tuple(combo.itemText(i) for i in range(combo.count())) == tuple(items):
+            return
+        combo.blockSignals(True)
+        combo.clear()
+        combo.addItems(list(items))
+        combo.blockSignals(False)
+        self.sync()
+
     def _pick_color(self) -> None:
         c = QColorDialog.getColor(QColor(self.layer.color), self.color, f"Colour of {self.layer.title}")
         if c.isValid():
@@ -120,8 +133,12 @@ class LayerRow:
             self.size.setValue(layer.size)
             _swatch(self.color, layer.color)
             thinned = layer.total > layer.count
-            self.count.setText(f"{layer.count:,} of {layer.total:,}" if thinned else f"{layer.count:,}")
-            self.count.setToolTip(layer.note if thinned else "Number of elements in the layer at the current step")
+            if layer.stale:  # hidden since an earlier step: its count would be of that step
+                self.count.setText("–")
+                self.count.setToolTip("Hidden: counted again when shown")
+            else:
+                self.count.setText(f"{layer.count:,} of {layer.total:,}" if thinned else f"{layer.count:,}")
+                self.count.setToolTip(layer.note if thinned else "Number of elements in the layer at the current step")
             if isinstance(self.extra, QComboBox):
                 value = layer.colorby if layer.colorings else layer.mode
                 i = self.extra.findText(value)
@@ -156,3 +173,8 @@ class LayersPanel(QScrollArea):
         self.setWidgetResizable(True)
         self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.setMinimumWidth(body.sizeHint().width() + self.verticalScrollBar().sizeHint().width() + 4)
+
+    def offer(self, model) -> None:
+        """Menus that fit the shown data: each row's colourings from :meth:`SceneModel.colorings`."""
+        for name, row in self.rows.items():
+            row.offer(model.colorings(name))

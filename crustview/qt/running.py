@@ -80,6 +80,7 @@ class RunActions:
         if prune_boundary is None:
             self._default_prune()
         prune = self.run_panel.prune.isChecked() if prune_boundary is None else bool(prune_boundary)
+        kept_mode = self._kept_mode(mode)
         mode = mode or self.run_panel.mode
 
         def job(progress, cancel):
@@ -102,6 +103,7 @@ class RunActions:
             source=source,
             keep_view=False,
             origin=origin,
+            kept_mode=kept_mode,
         )
 
     def load_builtin(
@@ -130,6 +132,7 @@ class RunActions:
         test = test or self.run_panel.test.currentText()
         theta = self.run_panel.theta_radians if theta is None else float(theta)
         prune = self.run_panel.prune.isChecked() if prune_boundary is None else bool(prune_boundary)
+        kept_mode = self._kept_mode(mode)
         mode = mode or self.run_panel.mode
 
         # with nothing on screen yet, sample here (< 0.2 s up to 3000 points) and show the
@@ -159,7 +162,22 @@ class RunActions:
             source=f"{name} (n = {n})",
             keep_view=False,
             origin=BuiltinSource(name, int(n), int(seed)),
+            kept_mode=kept_mode,
         )
+
+    def _kept_mode(self, mode: str | None) -> bool:
+        """Whether new data runs in the paper's mode only because the last one did (said when it is shown)."""
+        return mode is None and self.run_panel.mode == "paper" and self.model.rec is not None
+
+    def _carried_over(self, pending: dict) -> str:
+        """Turn off the last file's step framing; name what was reset and what was kept."""
+        reset = (["Frame each step"] if pending.get("follow_reset") else []) + list(self.model.reset_notes)
+        words = []
+        if reset:
+            words.append("Turned off for the new data: " + ", ".join(reset) + ".")
+        if pending.get("kept_mode"):
+            words.append("Kept from the last file: the paper's Algorithm 3 (Run panel ▸ extraction).")
+        return " ".join(words)
 
     def _default_prune(self) -> None:
         """New data starts with the paper's boundary pruning on again, and says so if it was off."""
@@ -216,6 +234,9 @@ class RunActions:
         self.points = points
         if "origin" in pending:  # new data (a re-extraction keeps the origin)
             self.origin = pending["origin"]
+            if self.steps_panel.follow.isChecked():  # before the new result's last step is shown
+                self.steps_panel.follow.setChecked(False)
+                pending["follow_reset"] = True
         self.model.set_reconstruction(
             rec,
             truth=truth,
@@ -260,6 +281,9 @@ class RunActions:
         if getattr(self, "prune_note", None):
             message += " " + self.prune_note
             self.prune_note = None
+        carried = self._carried_over(pending)
+        if carried:
+            message += " " + carried
         self.statusBar().showMessage(message, 20000)
         self.setWindowTitle(f"crustview — {self.model.source}: {name_of(t, rec.d)} (d = {rec.d} in R^{rec.k})")
         if pending.get("session") is not None:

@@ -58,8 +58,17 @@ class SlicePanel(QGroupBox):
         self.model.set_slice(offset=off)
 
     def _sync(self, *_) -> None:
-        self.show_slice.blockSignals(True)
-        self.show_slice.setChecked(self.model.layers["slice"].visible)
-        self.show_slice.blockSignals(False)
+        """Widgets from the model: a new file's slice starts at 0, uncut (its label too)."""
+        m = self.model
+        for w in (self.show_slice, self.cut, self.offset):
+            w.blockSignals(True)
+        try:
+            self.show_slice.setChecked(m.layers["slice"].visible)
+            self.cut.setChecked(m.slice_cut)
+            self.offset.setValue(int(round(m.slice_offset / self.extent() * (STEPS // 2))))
+        finally:
+            for w in (self.show_slice, self.cut, self.offset):
+                w.blockSignals(False)
+        self.readout.setText(f"{m.slice_offset:.3f}")
         self.cut.setEnabled(self.model.layers["slice"].visible)
         self.offset.setEnabled(self.model.rec is not None)

@@ -117,6 +117,7 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
         self.steps_panel.follow.toggled.connect(self._follow_toggled)
         self.model.reconstruction_changed.connect(self._update_status)
         self.model.candidates_changed.connect(lambda *_: self._update_status())
+        self.model.reconstruction_changed.connect(lambda: self.layers_panel.offer(self.model))
 
         self._build_menus()
         self.status_counts = SteadyLabel(self)  # a new count per step must not re-lay out the window

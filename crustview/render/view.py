@@ -211,6 +211,7 @@ class SceneView(CameraControl):
             self._stale.discard(a)
             a.rebuild()
             a.restyle()
+            a.layer.stale = False
         a.apply_visibility()
         self.update_overlays()
         self.render()
@@ -291,6 +292,7 @@ class SceneView(CameraControl):
             a.rebuild()
             a.restyle()
             a.apply_visibility()
+            a.layer.stale = False
         self.update_overlays()
         self.update_basis_text()
         if not self.model.kept_view:
@@ -315,6 +317,9 @@ class SceneView(CameraControl):
         for a in self._live():
             if a.uses_step:
                 a.step()
+        for a in self._stale:
+            if a.uses_step and not a.layer.stale:
+                a.layer.stale = True  # its count is of an earlier step: the panel says so
         if self.lod.active:
             self.lod.begin(self._shown_parts())  # re-thin what the step changed
         self.update_legend()

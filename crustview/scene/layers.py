@@ -74,6 +74,9 @@ class Layer:
         (:mod:`crustview.scene.subset`); 0 when it draws everything.
     note : str
         Why and how the layer is thinned ('' when it is not).
+    stale : bool
+        The layer is hidden and skipped updates since: ``count`` is not current
+        (the panel shows a dash until it is shown again).
     tooltip : str
     """
 
@@ -91,6 +94,7 @@ class Layer:
     total: int = 0
     note: str = ""
     tooltip: str = ""
+    stale: bool = False
     extra: dict = field(default_factory=dict)
 
 

@@ -85,6 +85,8 @@ class SceneModel:
         self.slice_cut = False
         #: The shown M_S compared with another complex (:mod:`crustview.scene.comparison`), or None.
         self.comparison = None
+        #: Settings of the last file that a new one turned off (see :meth:`set_reconstruction`).
+        self.reset_notes: list[str] = []
 
     # -- setting data ----------------------------------------------------
     def set_reconstruction(
@@ -116,8 +118,15 @@ class SceneModel:
         self.cascade = None
         self.theorems = None
         self.comparison = None  # it compared the previous M_S
+        self.reset_notes = []
         if not keep_view:
             self.slice_offset = 0.0
+            if self.slice_cut:
+                self.slice_cut = False
+                self.reset_notes.append("the slice cut")
+            if self.layers["holes"].visible:
+                self.layers["holes"].visible = False
+                self.reset_notes.append("Holes of T_S")
         if not keep_view:
             self.selection.sample = self.selection.simplex = None
             self.selection.face = None
@@ -138,11 +147,41 @@ class SceneModel:
             self.layers["points"].visible = rec.n <= SAMPLES_SHOWN
             # segments read well; discs and axis frames clutter, so start those hidden
             self.layers["normals"].visible = rec.n <= 3000 and rec.k - rec.d == 1
+        for layer in self.layers.values():  # a colouring this data cannot have (x4 in R^3) is not kept
+            if layer.colorings and layer.colorby not in self.colorings(layer.name):
+                self.reset_notes.append(f"{layer.title} coloured by {layer.colorby}")
+                layer.colorby = "none" if "none" in layer.colorings else layer.colorings[0]
         # what the sample does not support is shown whenever there is any (issue 18)
         self.layers["uncertain"].visible = bool(uncertain_features(rec))
         self.player.set_extraction(rec.extraction, position)
         self.reconstruction_changed.emit()
         self.selection.changed.emit()
+
+    def colorings(self, name: str) -> tuple[str, ...]:
+        """The colourings of layer ``name`` that apply to the shown data (menus offer only these).
+
+        Coordinates up to k, the hidden depth from R^4 on, and the ones that need
+        a built-in's true manifold (true epsilon, Theorem 2, distance to M) or its
+        true tangents (normal error) only when there is one.
+        """
+        offered = self.layers[name].colorings
+        rec = self.rec
+        if rec is None:
+            return offered
+        builtin = self.builtin is not None
+        tangents = getattr(self.truth, "tangents", None) is not None
+        out = []
+        for c in offered:
+            if c.startswith("x") and c[1:].isdigit() and int(c[1:]) > rec.k:
+                continue
+            if c == "hidden depth" and rec.k < 4:
+                continue
+            if c in ("true epsilon", "Thm 2 error / bound", "distance to M") and not builtin:
+                continue
+            if c == "normal error" and not tangents:
+                continue
+            out.append(c)
+        return tuple(out)
 
     def slice_normal(self) -> np.ndarray:
         """Normal of the slicing hyperplane: the direction the view hides (k >= 4), else the view's depth axis."""
