@@ -9,6 +9,7 @@ from PySide6.QtCore import QRectF, Qt, Signal
 from PySide6.QtGui import QColor, QPainter, QPen
 from PySide6.QtWidgets import (
     QGroupBox,
+    QHBoxLayout,
     QLabel,
     QListWidget,
     QListWidgetItem,
@@ -191,6 +192,19 @@ class DiagnosisPanel(QWidget):
         self.cascades.itemClicked.connect(self._clicked)
         self.cascades.itemActivated.connect(self._clicked)
         bl.addWidget(self.cascades)
+        row = QHBoxLayout()
+        self.to_first = QPushButton("Go to its first step", box)
+        self.to_first.setToolTip("Jump to just after the step that started the chosen cascade (its origin)")
+        self.to_first.clicked.connect(self._to_first)
+        self.play_alone = QPushButton("Play it alone", box)
+        self.play_alone.setToolTip(
+            "Replay only the chosen cascade's steps, from its origin on, at the Steps panel's speed"
+        )
+        self.play_alone.clicked.connect(self._play_alone)
+        for b in (self.to_first, self.play_alone):
+            b.setEnabled(False)
+            row.addWidget(b)
+        bl.addLayout(row)
         lay.addWidget(box)
         self._list: list = []
         model.reconstruction_changed.connect(self.refresh)
@@ -204,6 +218,8 @@ class DiagnosisPanel(QWidget):
         self.quality_label.setText(quality_text(q))
         self._list = self.model.cascades()
         self.cascades.clear()
+        for b in (self.to_first, self.play_alone):
+            b.setEnabled(False)  # until a cascade of this result is chosen
         ext = rec.extraction
         # a robust run whose paper loop succeeded is the paper's own log (no added_at):
         # its cascades, if any, are listed like a paper run's
@@ -243,3 +259,15 @@ class DiagnosisPanel(QWidget):
             c = self._list[row]
             self.model.set_cascade(c)
             self.cascade_clicked.emit(c)
+            for b in (self.to_first, self.play_alone):
+                b.setEnabled(True)
+
+    def _to_first(self) -> None:
+        c = self.model.cascade
+        if c is not None:
+            self.model.player.set_step(int(c.origin) + 1)
+
+    def _play_alone(self) -> None:
+        c = self.model.cascade
+        if c is not None:
+            self.model.player.play_only(np.asarray(c.steps))

@@ -10,6 +10,7 @@ from PySide6.QtWidgets import (
     QGroupBox,
     QHeaderView,
     QLabel,
+    QLineEdit,
     QListWidget,
     QListWidgetItem,
     QPushButton,
@@ -69,6 +70,8 @@ class InfoPanel(QWidget):
     paper_requested = Signal()
     #: An uncertain feature was clicked (the window frames it).
     feature_clicked = Signal(object)
+    #: Something was selected by typing its index: the sample indices to frame.
+    indexed = Signal(object)
 
     def __init__(self, model: SceneModel, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -151,6 +154,14 @@ class InfoPanel(QWidget):
         area.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         area.setFixedHeight(SELECTION_LINES * self.fontMetrics().lineSpacing() + 8)
         sl.addWidget(area)
+        self.lookup = QLineEdit(sel)
+        self.lookup.setPlaceholderText("select by index: 12, s 40, or 12 40 41 — Enter")
+        self.lookup.setToolTip(
+            "A sample number; 's N' for T_S simplex N (the number the steps use); d + 1 sample numbers for "
+            "a simplex, d for a face. Enter selects it and frames it in the view."
+        )
+        self.lookup.returnPressed.connect(self._lookup)
+        sl.addWidget(self.lookup)
         self.jump = QPushButton("Jump to removing step", sel)
         self.jump.setToolTip("Go to the step of Algorithm 3 that removed the selected simplex")
         self.jump.setEnabled(False)
@@ -262,6 +273,20 @@ class InfoPanel(QWidget):
         self.jump.setText(
             f"Jump to removing step ({self._jump_to})" if self._jump_to is not None else "Jump to removing step"
         )
+
+    def _lookup(self) -> None:
+        from ..scene.lookup import select_by_text
+
+        got = select_by_text(self.model, self.lookup.text())
+        if isinstance(got, str):
+            self.lookup.setToolTip(got)
+            self.lookup.setStyleSheet("QLineEdit { background: #fdecea; }")
+            window = self.window()
+            if hasattr(window, "statusBar"):
+                window.statusBar().showMessage(f"Select by index: {got}.", 8000)
+            return
+        self.lookup.setStyleSheet("")
+        self.indexed.emit(got[1])
 
     def _jump(self) -> None:
         if self._jump_to is not None:

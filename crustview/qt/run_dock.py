@@ -7,6 +7,7 @@ from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
+    QDoubleSpinBox,
     QFormLayout,
     QHBoxLayout,
     QLabel,
@@ -87,10 +88,17 @@ class RunPanel(QWidget):
             "Angle threshold θ of the candidate test (paper: π/8 = 22.5°); "
             "the candidates layer follows at once, Reconstruct re-extracts"
         )
-        self.theta_label = QLabel(self)
-        self.theta_label.setMinimumWidth(48)
+        # θ typed in a box too (the slider alone gave values like 31.0° from a drag)
+        self.theta_box = QDoubleSpinBox(self)
+        self.theta_box.setRange(0.5, self.theta.maximum() / 2.0)
+        self.theta_box.setSingleStep(0.5)
+        self.theta_box.setDecimals(1)
+        self.theta_box.setSuffix("°")
+        self.theta_box.setKeyboardTracking(False)  # typing 31.5 goes to 31.5, not to 3 first
+        self.theta_box.setToolTip("Type θ in degrees (to 0.5°) and press Enter; the slider follows")
+        self.theta_box.valueChanged.connect(lambda v: self.theta.setValue(int(round(v * 2))))
         row.addWidget(self.theta)
-        row.addWidget(self.theta_label)
+        row.addWidget(self.theta_box)
         form.addRow("angle θ", row)
         self.prune = QCheckBox("prune boundary faces (paper)", self)
         self.prune.setChecked(True)
@@ -177,7 +185,7 @@ class RunPanel(QWidget):
         return float(np.radians(self.theta.value() / 2.0))
 
     def _theta_moved(self, v: int) -> None:
-        self.theta_label.setText(f"{v / 2:.1f}°")
+        self._show_theta(v / 2)
         self.model.set_candidate_display(theta=self.theta_radians)
         self.update_stale()
 
@@ -214,6 +222,12 @@ class RunPanel(QWidget):
         if rec is not None and rec.prune_boundary != bool(on):
             self.reconstruct_requested.emit(rec.d, self.test.currentText(), self.theta_radians, bool(on))
 
+    def _show_theta(self, degrees: float) -> None:
+        """The θ box shows ``degrees`` without echoing back to the slider."""
+        self.theta_box.blockSignals(True)
+        self.theta_box.setValue(float(degrees))
+        self.theta_box.blockSignals(False)
+
     def sync(self) -> None:
         """Show the parameters of the model's reconstruction."""
         rec = self.model.rec
@@ -228,7 +242,7 @@ class RunPanel(QWidget):
         self.d.setValue(rec.d)
         self.test.setCurrentText(rec.test)
         self.theta.setValue(int(round(np.degrees(rec.theta) * 2)))
-        self.theta_label.setText(f"{np.degrees(rec.theta):.1f}°")
+        self._show_theta(np.degrees(rec.theta))
         self.prune.setChecked(bool(rec.prune_boundary))
         for w in widgets:
             w.blockSignals(False)

@@ -110,14 +110,15 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
         self.info_panel.face_clicked.connect(self.view.frame_face)
         self.info_panel.cascade_clicked.connect(self.view.frame_cascade)
         self.info_panel.feature_clicked.connect(self.view.frame_feature)
+        self.info_panel.indexed.connect(self._frame_indexed)
         self.info_panel.compare.simplex_clicked.connect(self.frame_compared)
         self.info_panel.paper_requested.connect(lambda: self.run_panel.set_mode("paper"))
         self.model.player.step_changed.connect(lambda *_: self._update_status())
         self.model.player.step_changed.connect(self._follow_step)
         self.steps_panel.follow.toggled.connect(self._follow_toggled)
         self.model.reconstruction_changed.connect(self._update_status)
-        self.model.candidates_changed.connect(lambda *_: self._update_status())
         self.model.reconstruction_changed.connect(lambda: self.layers_panel.offer(self.model))
+        self.model.candidates_changed.connect(lambda *_: self._update_status())
 
         self._build_menus()
         self.status_counts = SteadyLabel(self)  # a new count per step must not re-lay out the window
@@ -319,6 +320,16 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
         if not self.steps_panel.follow.isChecked() or step is None or self.model.rec is None:
             return
         self.view.frame_step(step)
+
+    def _frame_indexed(self, samples) -> None:
+        """Frame what was selected by its index (a sample with its neighbours in view)."""
+        if len(samples) == 1:
+            i = int(samples[0])
+            near = np.argsort(np.linalg.norm(self.model.rec.points - self.model.rec.points[i], axis=1))[:12]
+            self.view.clear_clip()
+            self.view.frame_points(near)
+        else:
+            self.view.frame_simplex(samples)
 
     # -- picking ---------------------------------------------------------------------
     def _on_press(self, *_) -> None:

@@ -83,6 +83,7 @@ def sample_text(model: SceneModel, i: int) -> str:
     lines = [f"<b>Sample {i}</b> (input row {int(rec.point_input[i])})"]
     lines.append("x = (" + ", ".join(f"{v:.4g}" for v in rec.points[i]) + ")")
     lines.append(f"local spacing {model.spacing[i]:.4g}")
+    lines.append(epsilon_line(model, i))
     kinds = pole_kinds(rec)[i]
     for j, p in enumerate(rec.pole_index[i]):
         if kinds[j] == POLE_NONE:
@@ -105,6 +106,17 @@ def sample_text(model: SceneModel, i: int) -> str:
     deg_now = int((rec.extraction.simplices[alive] == i).any(axis=1).sum())
     lines.append(f"in {deg_now} simplices of M_S at this step")
     return "<br>".join(lines)
+
+
+def epsilon_line(model: SceneModel, i: int) -> str:
+    """Sample ``i``'s estimated epsilon against the paper's bounds (as the epsilon colouring shows it)."""
+    q = model.quality
+    eps = float(q.epsilon[i])
+    if not np.isfinite(eps):
+        return "estimated ε: none (no finite pole)"
+    beyond = [name for name, b in sorted(q.thresholds.items(), key=lambda t: t[1]) if eps > b]
+    words = "within every bound" if not beyond else "beyond " + ", ".join(beyond)
+    return f"estimated ε {eps:.3g} ({words})"
 
 
 def simplex_text(model: SceneModel, row: int) -> tuple[str, int | None]:

@@ -38,6 +38,8 @@ class StepPlayer:
         self.speed = float(speed)
         #: Play only the steps of this rule (None: every step).
         self.rule: str | None = None
+        #: Play only these steps (sorted step indices, e.g. one prune cascade's) until playback stops.
+        self.only: np.ndarray | None = None
         self._rules: np.ndarray = np.zeros(0, dtype=object)
         self._owed = 0.0
         #: Steps applied by playback since :meth:`play` (for the "drawing 1 in N" readout).
@@ -106,11 +108,33 @@ class StepPlayer:
         self.set_step(j)
         return True
 
+    def _next_only(self, count: int = 1) -> int | None:
+        """Position just after the ``count``-th next step of :attr:`only` (None when none is left)."""
+        pos = np.asarray(self.only) + 1
+        later = pos[pos > self.position]
+        if len(later) == 0:
+            return None
+        return int(later[min(count, len(later)) - 1])
+
     # -- playback --------------------------------------------------------
+    def play_only(self, steps) -> None:
+        """Play ``steps`` (step indices, e.g. a prune cascade's) alone, from just before the first of them."""
+        steps = np.unique(np.asarray(steps, dtype=np.int64))
+        steps = steps[(steps >= 0) & (steps < self.n_steps)]
+        if len(steps) == 0:
+            return
+        self.pause()
+        self.only = steps
+        self.set_step(int(steps[0]))
+        self.play()
+
     def play(self) -> None:
         if self.n_steps == 0:
             return
-        if self.position >= self.n_steps or (self.rule and self.next_of_rule(self.rule) is None):
+        if self.only is not None:
+            if self._next_only() is None:
+                self.set_step(int(self.only[0]))
+        elif self.position >= self.n_steps or (self.rule and self.next_of_rule(self.rule) is None):
             self.set_step(0)
         self._owed = 0.0
         self.applied = 0
@@ -119,6 +143,7 @@ class StepPlayer:
             self.playing_changed.emit(True)
 
     def pause(self) -> None:
+        self.only = None  # playing one cascade alone ends with its playback
         if self.playing:
             self.playing = False
             self.playing_changed.emit(False)
@@ -131,6 +156,16 @@ class StepPlayer:
         if not self.playing or n <= 0:
             return
         before = self.position
+        if self.only is not None:
+            j = self._next_only(n)
+            if j is None:
+                self.pause()
+                return
+            self.applied += int(np.count_nonzero((self.only + 1 > before) & (self.only + 1 <= j)))
+            self.set_step(j)
+            if self._next_only() is None:
+                self.pause()
+            return
         if self.rule:
             j = self.next_of_rule(self.rule, n)
             if j is None:
