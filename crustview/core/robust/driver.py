@@ -19,7 +19,15 @@ The extension
    lost its last simplex the paper can no longer succeed, and the loop is
    abandoned there (``stop_when_sample_lost``); so is a sample that has no
    simplex in T_S at all.
-2. **Growing a manifold instead of pruning one** (the direction the paper's
+2. **Surfaces in R^3: labelling the Delaunay cells** (:mod:`.cells`,
+   :mod:`.labelling`, :mod:`.label_repair`): every Delaunay cell inside or
+   outside by its ball (``label-cells``), M_S the faces between the two,
+   made a manifold through every sample (``repair-vertex``,
+   ``sculpt-sample``), with the caps over real openings removed
+   (``open-cap``).  :func:`choose` keeps it, or the growing path's result
+   (3.) where that one has fewer problems, and reports the two as disputed
+   where both are closed and differ.
+3. **Growing a manifold instead of pruning one** (every other dimension; the direction the paper's
    closing section names: Cocone's "walk on the outer boundary").  The
    walk starts from the largest piece of the *manifold core* of T_S, the
    faces it would take without a choice, added in one step (rule
@@ -48,7 +56,7 @@ The extension
    and weighted by the candidate score.  Faces of T_S at phi > pi/2 are rule
    ``grow``; the others are ``grow-relaxed`` (theta, or the angle, relaxed
    only where the boundary needs it).
-3. **Closing gaps, keeping holes** (:mod:`crustview.core.robust.patcher`).  Stray
+4. **Closing gaps, keeping holes** (:mod:`crustview.core.robust.patcher`).  Stray
    components far smaller than the largest are dropped (``drop-stray``).
    A boundary component with at most
    :data:`~crustview.core.robust.fill_hole.FILL_MAX_FACES` faces spanning at most
