@@ -195,6 +195,14 @@ class Session:
         particular (all of them are written).
     slice : dict or None
         ``offset`` and ``cut`` of the slicing hyperplane.
+    speed : float
+        Playback speed in steps per second.
+    selection : dict or None
+        ``sample`` (an index), ``simplex`` and ``face`` (sample indices), each
+        or None.
+    comparison : dict or None
+        What M_S was compared with (the spec of
+        :func:`crustview.scene.comparison.comparison_job`): computed again on opening.
     """
 
     source: FileSource | BuiltinSource
@@ -208,6 +216,9 @@ class Session:
     projection: dict | None = None
     layers: dict[str, dict] = field(default_factory=dict)
     slice: dict | None = None
+    speed: float = 10.0
+    selection: dict | None = None
+    comparison: dict | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object written to the file."""
@@ -255,6 +266,9 @@ class Session:
             _projection(data.get("projection")),
             _layers(data.get("layers", {})),
             _slice(data.get("slice")),
+            _speed(data.get("speed", 10.0)),
+            _selection(data.get("selection")),
+            _comparison(data.get("comparison")),
         )
 
 
@@ -403,3 +417,57 @@ def _slice(v: Any) -> dict | None:
     if not isinstance(v, dict):
         raise SessionError("'slice' must be an object")
     return {"offset": _float(v, "offset"), "cut": bool(v.get("cut", False))}
+
+
+def _speed(v: Any) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0):
+        raise SessionError(f"'speed' must be a positive number of steps per second, got {v!r}")
+    return float(v)
+
+
+def _indices(v: Any, key: str) -> list[int] | None:
+    if v is None:
+        return None
+    if (
+        not isinstance(v, list)
+        or not v
+        or not all(isinstance(x, int) and not isinstance(x, bool) and x >= 0 for x in v)
+    ):
+        raise SessionError(f"'{key}' must be a list of sample indices")
+    return [int(x) for x in v]
+
+
+def _selection(v: Any) -> dict | None:
+    if v is None:
+        return None
+    if not isinstance(v, dict):
+        raise SessionError("'selection' must be an object")
+    sample = v.get("sample")
+    if sample is not None and (isinstance(sample, bool) or not isinstance(sample, int) or sample < 0):
+        raise SessionError(f"'selection.sample' must be a sample index, got {sample!r}")
+    return {
+        "sample": sample,
+        "simplex": _indices(v.get("simplex"), "selection.simplex"),
+        "face": _indices(v.get("face"), "selection.face"),
+    }
+
+
+def _comparison(v: Any) -> dict | None:
+    if v is None:
+        return None
+    if not isinstance(v, dict) or v.get("kind") not in ("run", "result", "mesh"):
+        raise SessionError("'comparison' must be an object with kind 'run', 'result' or 'mesh'")
+    out: dict[str, Any] = {"kind": v["kind"]}
+    if v["kind"] == "run":
+        test = v.get("test", "cocone")
+        if test not in CANDIDATE_TESTS:
+            raise SessionError(f"'comparison.test' is {test!r}; expected one of {', '.join(CANDIDATE_TESTS)}")
+        mode = v.get("mode", "robust")
+        if mode not in MODES:
+            raise SessionError(f"'comparison.mode' is {mode!r}; expected 'robust' or 'paper'")
+        out.update(test=test, theta=_float(v, "theta"), mode=mode)
+    else:
+        if not isinstance(v.get("path"), str) or not v["path"]:
+            raise SessionError("'comparison.path' must name the file compared with")
+        out["path"] = v["path"]
+    return out

@@ -91,7 +91,45 @@ class SessionActions:
             m.projection.state(),
             layers,
             {"offset": float(m.slice_offset), "cut": bool(m.slice_cut)},
+            float(m.player.speed),
+            self._selection_state(),
+            dict(m.comparison.spec) if m.comparison is not None and m.comparison.spec else None,
         )
+
+    def _selection_state(self) -> dict | None:
+        """The selection as sample indices (a simplex by its samples, the same in every run of the input)."""
+        m = self.model
+        sel = m.selection
+        if sel.sample is None and sel.simplex is None and sel.face is None:
+            return None
+        simplex = None if sel.simplex is None else [int(v) for v in m.rec.candidates.faces[sel.simplex]]
+        return {
+            "sample": None if sel.sample is None else int(sel.sample),
+            "simplex": simplex,
+            "face": None if sel.face is None else [int(v) for v in sel.face],
+        }
+
+    def _restore_selection(self, state: dict | None, notes: list[str]) -> None:
+        from ..scene import geometry as geo
+
+        m = self.model
+        rec = m.rec
+        if not state:
+            return
+        bad = [v for v in (state["sample"], *(state["simplex"] or ()), *(state["face"] or ())) if v is not None]
+        if any(v >= rec.n for v in bad):
+            notes.append("the selection names samples this input does not have")
+            return
+        if state["simplex"] is not None:
+            row = int(geo.find_rows(rec.candidates.faces, [state["simplex"]])[0])
+            if row >= 0:
+                m.selection.select_simplex(row)
+            else:
+                notes.append("the selected simplex is not a Delaunay face here")
+        if state["face"] is not None:
+            m.selection.select_face(tuple(sorted(state["face"])))
+        if state["sample"] is not None:
+            m.selection.select_sample(int(state["sample"]))
 
     def save_session_dialog(self) -> None:
         if self.model.rec is None:
@@ -182,11 +220,16 @@ class SessionActions:
         if s.step > n:
             notes.append(f"step {s.step} is past the last step ({n}) of this run")
         m.player.set_step(min(s.step, n))
+        self.steps_panel.speed.setValue(s.speed)
+        self._restore_selection(s.selection, notes)
         if s.camera is not None:
             try:
                 set_camera_state(self.plotter, s.camera)
             except ValueError as err:
                 notes.append(str(err))
+        if s.comparison is not None:  # made again in the worker, as when it was first asked for
+            if not self.info_panel.compare.start(s.comparison):
+                notes.append("the comparison could not be started again")
         self.view.render()
         text = f"Session {name} restored" + (f" ({'; '.join(notes)})" if notes else "") + "."
         self.statusBar().showMessage(text, 20000)

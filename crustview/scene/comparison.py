@@ -40,6 +40,8 @@ class Comparison:
     label_b: str
     diff: ComplexDiff
     rec: Reconstruction
+    #: What B was (the spec of :func:`comparison_job`), so a session can make it again; None if unknown.
+    spec: dict | None = None
 
     def differing(self) -> list[tuple[str, np.ndarray]]:
         """``("A", row)`` for every simplex only in A, then ``("B", row)`` for every one only in B."""
@@ -120,6 +122,6 @@ def comparison_job(rec: Reconstruction, spec: dict):
         report("comparing", 0.5)
         diff = diff_complexes(rec.points, np.asarray(rec.manifold), pb, sb, rec.d)
         report("comparing", 1.0)
-        return Comparison(label_a, label_b, diff, rec)
+        return Comparison(label_a, label_b, diff, rec, dict(spec))
 
     return job
