@@ -13,6 +13,7 @@ import time
 from pathlib import Path
 
 from .core.errors import InputError
+from .core.result import CANDIDATE_TESTS
 
 #: Default frame size.
 DEFAULT_SIZE = (640, 480)
@@ -38,10 +39,24 @@ def _fps(text: str) -> float:
     return v
 
 
+def _degrees(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an angle in degrees, got {text!r}") from None
+    if not (math.isfinite(v) and 0.0 < v < 90.0):
+        raise argparse.ArgumentTypeError(f"θ must be between 0 and 90 degrees, got {text}")
+    return math.radians(v)
+
+
 def add_parser(sub) -> None:
     """Register ``render`` on the sub-parsers action ``sub``."""
     p = sub.add_parser("render", help="render a replay or a grand tour to .gif, .mp4 or a folder of PNGs (headless)")
-    p.add_argument("input", help="point file, saved result .npz, or a built-in manifold name (see 'crustview list')")
+    p.add_argument(
+        "input",
+        help="point file, saved result .npz, a session SESSION.crustview.json, or a built-in manifold name "
+        "(see 'crustview list')",
+    )
     p.add_argument("-d", type=int, default=None, help="intrinsic dimension (default: the built-in's, or the result's)")
     what = p.add_mutually_exclusive_group(required=True)
     what.add_argument("--replay", action="store_true", help="replay the steps of Algorithm 3")
@@ -56,25 +71,55 @@ def add_parser(sub) -> None:
         default=None,
         help="frame budget: a longer replay is subsampled (default 90); tour length (default 8 s)",
     )
-    p.add_argument("--mode", choices=("robust", "paper"), default="robust", help="extraction mode (default robust)")
+    p.add_argument(
+        "--mode",
+        choices=("robust", "paper"),
+        default=None,
+        dest="mode_given",
+        help="extraction mode (default robust, or the session's)",
+    )
     p.add_argument(
         "--layers",
         default=None,
         help="comma-separated layers to show instead of the defaults, e.g. manifold,points,step",
     )
+    p.add_argument("--test", choices=CANDIDATE_TESTS, default=None, help="candidate test (default: the run's)")
+    p.add_argument("--theta", type=_degrees, default=None, help="angle θ of the test in degrees (default: the run's)")
+    p.add_argument(
+        "--projection",
+        default=None,
+        help="R^k to the view: 'pca', 'stereo' (k >= 4), or coordinates such as '1,2,4' "
+        "(default: the session's, else the first three coordinates)",
+    )
+    p.add_argument(
+        "--camera",
+        default=None,
+        help="'session' (default for a session), 'reset' (the viewer's initial camera), or a direction "
+        "to look from, 'x,y,z' (the data framed)",
+    )
+    p.add_argument(
+        "--frame-steps",
+        action="store_true",
+        help="replay: look at each step's tau from its open side, as the viewer's Frame each step",
+    )
 
 
-def load(source: str, d: int | None, mode: str):
-    """Reconstruct ``source`` (a built-in name or a file): returns (rec, truth, label)."""
+def load(source: str, d: int | None, mode: str | None, run: dict | None = None, seed: int = 0, n: int | None = None):
+    """Reconstruct ``source`` (a built-in name or a file): returns (rec, truth, label).
+
+    ``run`` (``test``, ``theta``, ``prune_boundary``) overrides the saved or default parameters.
+    """
     from .core import reconstruct
     from .core.samples.manifolds import MANIFOLDS
 
+    run = {k: v for k, v in (run or {}).items() if v is not None}
     path = Path(source)
     if not path.exists() and source in MANIFOLDS:
         m = MANIFOLDS[source]
-        sample = m.sample(m.default_n, seed=0)
-        rec = reconstruct(sample.points, d or m.d, mode=mode)
-        return rec, sample, f"{source} (n = {m.default_n})"
+        n = n or m.default_n
+        sample = m.sample(n, seed=seed)
+        rec = reconstruct(sample.points, d or m.d, mode=mode or "robust", **run)
+        return rec, sample, f"{source} (n = {n})"
     from .io import read_mesh, read_points, read_run_parameters
 
     params = read_run_parameters(path)
@@ -84,11 +129,122 @@ def load(source: str, d: int | None, mode: str):
     if params is not None:
         d = d or params["d"]
         kwargs = {"test": params["test"], "theta": params["theta"], "prune_boundary": params["prune_boundary"]}
+    kwargs.update(run)
     if d is None:
         raise InputError(f"give the intrinsic dimension with -d for '{path.name}'")
     if not 1 <= d < points.shape[1]:
         raise InputError(f"d must be between 1 and k-1 = {points.shape[1] - 1}; got d = {d}")
-    return reconstruct(points, d, mode=mode, **kwargs), None, path.name
+    return reconstruct(points, d, mode=mode or "robust", **kwargs), None, path.name
+
+
+def load_session(path: str, args: argparse.Namespace):
+    """Reconstruct a session's input with its run, --test, --theta and --mode on top: (rec, truth, label, s)."""
+    from .session import BuiltinSource, SessionError, read_session, resolve_input
+
+    try:
+        s = read_session(path)
+        src = s.source
+        if isinstance(src, BuiltinSource):
+            where, n, seed = src.name, src.n, src.seed
+        else:
+            found, _ = resolve_input(src, path)
+            where, n, seed = str(found), None, 0
+    except SessionError as err:
+        raise InputError(str(err)) from None
+    run = {"test": args.test or s.test, "theta": s.theta if args.theta is None else args.theta}
+    run["prune_boundary"] = s.prune_boundary
+    mode = args.mode_given or s.mode
+    rec, truth, label = load(where, args.d or s.d, mode, run, seed=seed, n=n)
+    return rec, truth, label, s
+
+
+def apply_session(model, s, fresh_run: bool) -> list[str]:
+    """A session's layers, projection, slice and step on ``model`` (Qt-free, as the viewer restores them).
+
+    ``fresh_run``: the run differs from the session's (another test or θ), so its step is not kept.
+    """
+    notes = []
+    for name, style in s.layers.items():
+        layer = model.layers.get(name)
+        if layer is None:
+            continue
+        for f, v in style.items():
+            if f == "colorby" and layer.colorings and v not in model.colorings(name):
+                notes.append(f"colouring {v!r} of {name} does not apply here")
+                continue
+            setattr(layer, f, float(v) if f in ("opacity", "size", "shrink") else v)
+    if s.projection is not None:
+        try:
+            model.projection.restore(s.projection)
+        except ValueError as err:
+            notes.append(str(err))
+    if s.slice is not None:
+        model.set_slice(s.slice["offset"], s.slice["cut"])
+    if not fresh_run:
+        model.player.set_step(min(s.step, model.player.n_steps))
+    return notes
+
+
+def set_projection(model, text: str) -> None:
+    """``--projection``: 'pca', 'stereo', or coordinates '1,2,4'."""
+    p, rec = model.projection, model.rec
+    if text == "pca":
+        p.set_pca(rec.points)
+    elif text == "stereo":
+        if rec.k < 4:
+            raise InputError("--projection stereo needs points in R^4 or more")
+        p.set_stereographic(float(model.radius))
+    else:
+        try:
+            axes = [int(v) - 1 for v in text.split(",")]
+        except ValueError:
+            raise InputError(f"--projection: expected pca, stereo or coordinates like 1,2,4; got {text!r}") from None
+        if not 2 <= len(axes) <= 3 or len(set(axes)) != len(axes) or not all(0 <= a < rec.k for a in axes):
+            raise InputError(f"--projection: two or three different coordinates between 1 and {rec.k}; got {text!r}")
+        p.set_coordinates(*axes)
+
+
+def set_camera(scene, text: str | None, session) -> None:
+    """``--camera``: the session's camera, the initial one ('reset'), or framed from a direction 'x,y,z'."""
+    import numpy as np
+
+    from .render.camera import set_camera_state
+
+    view = scene.view
+    if text in (None, "session"):
+        if session is not None and session.camera is not None:
+            set_camera_state(scene.plotter, session.camera)
+        return
+    view.reset_camera()
+    if text == "reset":
+        return
+    try:
+        direction = np.array([float(v) for v in text.split(",")])
+    except ValueError:
+        raise InputError(f"--camera: expected session, reset or a direction x,y,z; got {text!r}") from None
+    if direction.shape != (3,) or not np.isfinite(direction).all() or np.linalg.norm(direction) == 0:
+        raise InputError(f"--camera: a direction needs three numbers, not all 0; got {text!r}")
+    cam = scene.plotter.camera
+    focus = np.asarray(cam.focal_point)
+    dist = float(np.linalg.norm(np.asarray(cam.position) - focus))
+    cam.position = tuple(focus + dist * direction / np.linalg.norm(direction))
+    up = np.array([0.0, 0.0, 1.0]) if abs(direction[2]) < 0.99 * np.linalg.norm(direction) else np.array([0, 1.0, 0])
+    cam.up = tuple(up)
+    scene.plotter.reset_camera()
+
+
+def framed_replay(scene, plan):
+    """A replay whose every frame looks at its step's tau from the open side (``--frame-steps``)."""
+    from .animation import step_caption
+
+    note = plan.note() + "; each step framed"
+    model = scene.model
+    for i in plan.positions:
+        model.player.set_step(i)
+        step = model.player.current_step
+        if step is not None:
+            scene.view.frame_step(step)
+        yield scene.frame(step_caption(model, i) + "\n" + note)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -111,7 +267,13 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(str(err)) from None
     size = even_size(args.size) if kind == "mp4" else args.size
     t0 = time.perf_counter()
-    rec, truth, label = load(args.input, args.d, args.mode)
+    from .session import is_session_path
+
+    session = None
+    if is_session_path(args.input):
+        rec, truth, label, session = load_session(args.input, args)
+    else:
+        rec, truth, label = load(args.input, args.d, args.mode_given, {"test": args.test, "theta": args.theta})
     print(
         f"reconstructed {label}: {rec.n} samples, {len(rec.manifold)} simplices, "
         f"{rec.extraction.n_steps} steps ({time.perf_counter() - t0:.1f} s)",
@@ -119,6 +281,12 @@ def run(args: argparse.Namespace) -> int:
     )
     model = SceneModel()
     model.set_reconstruction(rec, truth=truth, source=label)
+    if session is not None:
+        fresh = (rec.test, float(rec.theta), rec.mode) != (session.test, session.theta, session.mode)
+        for note in apply_session(model, session, fresh):
+            print(f"session: {note}", file=sys.stderr)
+    if args.projection:
+        set_projection(model, args.projection)
     if args.layers:
         wanted = {s.strip() for s in args.layers.split(",") if s.strip()}
         unknown = wanted - set(model.layers)
@@ -128,6 +296,7 @@ def run(args: argparse.Namespace) -> int:
             layer.visible = name in wanted
     scene = OffscreenScene(model, size)
     try:
+        set_camera(scene, args.camera, session)
         t1 = time.perf_counter()
         if args.replay:
             try:
@@ -135,7 +304,8 @@ def run(args: argparse.Namespace) -> int:
             except ValueError as err:
                 raise InputError(str(err)) from None
             plan = plan_replay(rec.extraction.n_steps, steps, args.frames or DEFAULT_BUDGET)
-            frames, total = scene.replay(plan), len(plan.positions)
+            frames = framed_replay(scene, plan) if args.frame_steps else scene.replay(plan)
+            total = len(plan.positions)
             print(f"replay: {plan.note()}", file=sys.stderr)
         else:
             model.player.last()
