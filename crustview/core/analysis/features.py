@@ -149,11 +149,13 @@ def circumradii(points: np.ndarray, simplices: np.ndarray) -> np.ndarray:
 
 
 def _edges(tris: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unique edges of the triangles, and each triangle's three edge ids."""
+    """Unique edges of the triangles (sorted rows, in key order), and each triangle's three edge ids."""
     e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [0, 2]]])
-    e = np.sort(e, axis=1)
-    uniq, inv = np.unique(e, axis=0, return_inverse=True)
-    return uniq, inv.reshape(3, -1).T
+    e = np.sort(e, axis=1).astype(np.int64)
+    base = np.int64(e.max() + 1) if len(e) else np.int64(1)
+    key = e[:, 0] * base + e[:, 1]
+    uniq, first, inv = np.unique(key, return_index=True, return_inverse=True)
+    return e[first], inv.reshape(3, -1).T
 
 
 def features(points: np.ndarray, simplices: np.ndarray, d: int, spacing: np.ndarray | None = None) -> list[Feature]:

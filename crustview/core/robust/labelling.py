@@ -72,21 +72,38 @@ def cell_adjacency(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nd
     """
     m, w = simplices.shape
     srt = np.sort(simplices, axis=1)
-    faces = np.concatenate([np.delete(srt, j, axis=1) for j in range(w)])
     owner = np.tile(np.arange(m, dtype=np.int64), w)
     base = np.int64(srt.max() + 1)
-    if w - 1 <= 3 or base ** (w - 1) < 2**62:
-        key = np.zeros(len(faces), np.int64)
-        for c in range(w - 1):
-            key = key * base + faces[:, c]
-        order = np.argsort(key, kind="stable")
+    if float(base) ** (w - 1) < 2**62:
+        # one int64 key per face, built column by column without materialising the faces
+        key = np.empty(m * w, np.int64)
+        for j in range(w):
+            cols = [c for c in range(w) if c != j]
+            k = srt[:, cols[0]].astype(np.int64)
+            for c in cols[1:]:
+                k = k * base + srt[:, c]
+            key[j * m : (j + 1) * m] = k
+        order = np.argsort(key)  # equal keys come in pairs; their order does not matter
         same = key[order][1:] == key[order][:-1]
-    else:  # pragma: no cover - huge inputs in R^5 and up
-        order = np.lexsort(faces.T[::-1])
-        sf = faces[order]
-        same = (sf[1:] == sf[:-1]).all(axis=1)
+        i = np.flatnonzero(same)
+        fo = order[i]
+        j_of, c_of = fo // m, fo % m
+        faces = _face_rows(srt, c_of, j_of)
+        return owner[fo], owner[order[i + 1]], faces
+    faces = np.concatenate([np.delete(srt, j, axis=1) for j in range(w)])
+    order = np.lexsort(faces.T[::-1])
+    sf = faces[order]
+    same = (sf[1:] == sf[:-1]).all(axis=1)
     i = np.flatnonzero(same)
     return owner[order[i]], owner[order[i + 1]], faces[order[i]]
+
+
+def _face_rows(srt: np.ndarray, cell: np.ndarray, drop: np.ndarray) -> np.ndarray:
+    """Row ``cell`` of the sorted simplices without its column ``drop``, for each pair."""
+    w = srt.shape[1]
+    cols = np.arange(w - 1)[None, :]
+    cols = cols + (cols >= drop[:, None])
+    return srt[cell[:, None], cols]
 
 
 def big_ball(rho: np.ndarray) -> np.ndarray:
@@ -206,12 +223,18 @@ class Labelling:
 
 
 def _farthest(vert: np.ndarray, cell: np.ndarray, r: np.ndarray, n: int) -> np.ndarray:
-    """Per sample, a cell of largest radius among its incidences (-1 for none); the last such cell on ties."""
-    best = np.full(n, -np.inf)
-    np.maximum.at(best, vert, r)
-    hit = r == best[vert]
+    """Per sample, a cell of largest radius among its incidences (-1 for none); the last such on ties."""
     out = np.full(n, -1, np.int64)
-    out[vert[hit]] = cell[hit]
+    if len(vert) == 0:
+        return out
+    order = np.argsort(vert, kind="stable")
+    vs, rs = vert[order], r[order]
+    starts = np.flatnonzero(np.r_[True, vs[1:] != vs[:-1]])
+    top = np.maximum.reduceat(rs, starts)
+    counts = np.diff(np.r_[starts, len(vs)])
+    hit = rs == np.repeat(top, counts)
+    last = np.maximum.reduceat(np.where(hit, np.arange(len(vs)), -1), starts)
+    out[vs[starts]] = cell[order][last]
     return out
 
 
