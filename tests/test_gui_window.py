@@ -159,9 +159,11 @@ def test_toggling_each_layer_changes_pixels(qtbot, window):
     assert set(rows) == set(m.layers)
     # layers with nothing to show on this sample (e.g. no holes in T_S) are checked elsewhere
     # (the comparison layer is empty until a comparison is made: test_gui_compare_export checks it)
-    # (the torus has no uncertain features: test_gui_uncertain draws them)
-    empty = {n for n in ("holes", "cascade", "compare", "uncertain") if m.layers[n].count == 0}
-    assert empty <= {"holes", "cascade", "compare", "uncertain"}
+    # (the torus has no uncertain features and is orientable: test_gui_uncertain and
+    # test_gui_orientation draw those layers)
+    maybe = ("holes", "cascade", "compare", "uncertain", "orientation")
+    empty = {n for n in maybe if m.layers[n].count == 0}
+    assert empty <= set(maybe)
     for name in set(m.layers) - empty:
         box = rows[name].visible
         assert box.isChecked()

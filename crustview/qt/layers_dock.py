@@ -29,6 +29,7 @@ ORDER = (
     "holes",
     "cascade",
     "uncertain",
+    "orientation",
     "candidates",
     "normals",
     "poles",

@@ -139,3 +139,45 @@ class UncertainAdapter(LayerAdapter):
     def restyle(self) -> None:
         self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=True)
         self.parts[1].style(self.layer.color, self.layer.opacity, self.layer.size * 3.0, spheres=True)
+
+
+class OrientationAdapter(LayerAdapter):
+    """The one-sided loop of a non-orientable M_S: a line through its triangles over a faint band of them.
+
+    In the overlay renderer, so the whole loop shows, also where it runs behind M_S.
+    """
+
+    parts_spec = (("", False), ("-band", False))
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        self.band = np.zeros((0, 3), dtype=np.int64)
+        self.path = np.zeros((0, self.model.projection.k))
+
+    def rebuild(self) -> None:
+        from ..scene.orientation import loop_polyline
+
+        rec = self.model.rec
+        if rec is None:
+            return
+        loop = self.model.one_sided_loop()
+        tris = np.asarray(rec.manifold, dtype=np.int64).reshape(-1, rec.d + 1)
+        self.path = loop_polyline(rec.points, tris, loop) if len(loop) else np.zeros((0, rec.k))
+        self.band = tris[loop] if len(loop) else np.zeros((0, 3), dtype=np.int64)
+        self.project()
+        m = len(self.path)
+        set_cells(self.part.mesh, lines=np.stack([np.arange(m), (np.arange(m) + 1) % m], axis=1) if m else None)
+        set_cells(self.parts[1].mesh, polys=self.band if len(self.band) else None)
+        self.layer.count = len(loop)
+
+    def project(self) -> None:
+        rec = self.model.rec
+        proj = self.model.projection
+        if rec is None or rec.k != proj.k:
+            return
+        set_points(self.part.mesh, proj.project(self.path) if len(self.path) else np.zeros((0, 3)))
+        set_points(self.parts[1].mesh, proj.project(rec.points))
+
+    def restyle(self) -> None:
+        self.part.style(self.layer.color, 1.0, self.layer.size, lines=True)
+        self.parts[1].style(self.layer.color, self.layer.opacity, 1.0)

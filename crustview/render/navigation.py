@@ -73,7 +73,7 @@ class CameraControl:
         """Clip every scene actor (not the overlay) by ``plane``; None removes the clip."""
         self.clip_plane = plane
         for name, a in self.adapters.items():
-            if name in ("step", "cascade", "uncertain", "selection"):
+            if name in ("step", "cascade", "uncertain", "orientation", "selection"):
                 continue
             for part in a.parts:
                 part.mapper.RemoveAllClippingPlanes()

@@ -19,7 +19,7 @@ from .complexes import (
     SliceAdapter,
     StepAdapter,
 )
-from .diagnosis import CascadeAdapter, HolesAdapter, UncertainAdapter
+from .diagnosis import CascadeAdapter, HolesAdapter, OrientationAdapter, UncertainAdapter
 from .inspect import SelectionAdapter, VoronoiAdapter
 from .lod import LevelOfDetail
 from .navigation import CameraControl
@@ -42,6 +42,7 @@ ADAPTERS: dict[str, type[LayerAdapter]] = {
     "cascade": CascadeAdapter,
     "step": StepAdapter,
     "uncertain": UncertainAdapter,
+    "orientation": OrientationAdapter,
     "selection": SelectionAdapter,
 }
 
@@ -87,7 +88,7 @@ class SceneView(CameraControl):
             layer.events.colorby.connect(lambda *_: self._after_colour())
             layer.events.mode.connect(lambda *_: (self.update_legend(), self.render()))
             layer.events.shrink.connect(lambda *_: self.render())
-        self._on_top(("truth", "compare", "cascade", "step", "uncertain", "selection"))
+        self._on_top(("truth", "compare", "cascade", "step", "uncertain", "orientation", "selection"))
         self._bars: dict[str, object] = {}
         self._stale: set[LayerAdapter] = set()
         self.hud = self._hud()
@@ -393,6 +394,7 @@ class SceneView(CameraControl):
             "poles",
             "voronoi",
             "uncertain",
+            "orientation",
             "truth",
         ):
             layer = layers[name]
@@ -424,6 +426,9 @@ class SceneView(CameraControl):
                 continue
             if name == "truth":
                 out.append((a.legend_label(), layer.color))
+                continue
+            if name == "orientation":
+                out.append((f"one-sided loop ({layer.count} triangles): the normal flips once around it", layer.color))
                 continue
             if name == "uncertain":
                 from ..scene.features import uncertain_features, uncertain_summary

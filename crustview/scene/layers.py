@@ -37,6 +37,8 @@ SLICE_COLOR = "#0b6e4f"
 COMPARE_COLORS = {"both": "#9aa7b0", "A": "#e66101", "B": "#3b6fd6"}
 #: Colour of the uncertain features (handles, holes, components the sample does not support).
 UNCERTAIN_COLOR = "#ff6a00"
+#: Colour of the one-sided loop of a non-orientable surface.
+ORIENTATION_COLOR = "#7b2cbf"
 #: Colour of the selection highlight.
 SELECTION_COLOR = "#ff00ff"
 
@@ -226,6 +228,17 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
             "(rec.uncertain_features): a handle's short loop and a hole's rim as lines, a component's "
             "closest approach to another one as a dot. On when there are any; the Information panel lists "
             "them (a click frames one).",
+        ),
+        Layer(
+            "orientation",
+            "One-sided loop",
+            False,
+            ORIENTATION_COLOR,
+            0.55,
+            5.0,
+            tooltip="Non-orientable surfaces (Klein bottle, projective plane): a loop of triangles of the final "
+            "M_S along which the normal comes back flipped, drawn as a line through them over a band of "
+            "its triangles (a Möbius band; this layer's opacity). On when M_S is not orientable.",
         ),
         Layer(
             "selection",

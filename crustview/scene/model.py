@@ -151,6 +151,8 @@ class SceneModel:
             if layer.colorings and layer.colorby not in self.colorings(layer.name):
                 self.reset_notes.append(f"{layer.title} coloured by {layer.colorby}")
                 layer.colorby = "none" if "none" in layer.colorings else layer.colorings[0]
+        # a non-orientable surface shows the loop along which its normal flips
+        self.layers["orientation"].visible = bool(len(self.one_sided_loop()))
         # what the sample does not support is shown whenever there is any (issue 18)
         self.layers["uncertain"].visible = bool(uncertain_features(rec))
         self.player.set_extraction(rec.extraction, position)
@@ -298,6 +300,23 @@ class SceneModel:
         steps = self.rec.extraction.steps
         ids = [np.asarray(steps[i].removed, dtype=np.int64) for i in np.asarray(c.steps)]
         return np.concatenate(ids) if ids else np.zeros(0, dtype=np.int64)
+
+    def one_sided_loop(self) -> np.ndarray:
+        """Rows of ``rec.manifold`` along a loop where the normal flips (:mod:`.orientation`).
+
+        Empty unless M_S is a non-orientable surface.
+        """
+        assert self.rec is not None
+        rec = self.rec
+
+        def compute():
+            if rec.d != 2 or rec.topology.orientable is not False:
+                return np.zeros(0, dtype=np.int64)
+            from .orientation import one_sided_loop
+
+            return one_sided_loop(np.asarray(rec.manifold))
+
+        return self._cached("one_sided", compute)
 
     def holes(self) -> np.ndarray:
         """The (d-1)-faces of T_S in a single simplex before extraction, shape (h, d).
