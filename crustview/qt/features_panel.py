@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from html import escape
 
-from PySide6.QtCore import Signal
+from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import QGroupBox, QLabel, QListWidget, QListWidgetItem, QVBoxLayout, QWidget
 
 from ..scene.features import feature_words, uncertain_features, uncertain_summary
@@ -32,6 +32,8 @@ class FeaturesPanel(QGroupBox):
         self.list = QListWidget(self)
         self.list.setMinimumHeight(70)
         self.list.setStyleSheet("QListWidget { font-weight: normal; }")
+        self.list.setWordWrap(True)  # a reason is a sentence: wrapped, never cut at the dock's edge
+        self.list.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.list.setToolTip("Click a feature: the view frames it (the Uncertain features layer draws them all)")
         # a click or Enter only: the list taking focus must not move the camera
         self.list.itemClicked.connect(self._clicked)
