@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
@@ -29,6 +31,9 @@ from ..scene.model import SceneModel
 MODE_LABELS = {"robust": "robust (default)", "paper": "paper's Algorithm 3"}
 
 #: Stage names of the core, in words.
+#: A stage that reports no progress for this long shows a busy bar and its elapsed seconds.
+STALL_SECONDS = 1.0
+
 STAGES = {
     "prepare": "preparing points",
     "delaunay": "Delaunay triangulation (Qhull)",
@@ -151,6 +156,11 @@ class RunPanel(QWidget):
         self.progress.setTextVisible(True)
         self.progress.setFormat("idle")
         self.progress.setValue(0)
+        #: (stage words, when it started, when it last reported) while busy
+        self._stage: tuple[str, float, float] | None = None
+        self.stall_timer = QTimer(self)
+        self.stall_timer.setInterval(250)
+        self.stall_timer.timeout.connect(self._stalled)
         lay.addWidget(self.progress)
         for w in (self.run, self.cancel, self.progress):
             w.setMinimumHeight(w.sizeHint().height())
@@ -268,16 +278,40 @@ class RunPanel(QWidget):
             self.progress.setStyleSheet("")
             self.progress.setValue(0)
             self.progress.setFormat(label or "starting…")
+            self._stage = (label or "starting", time.monotonic(), time.monotonic())
+            self.stall_timer.start()
+        else:
+            self.stall_timer.stop()
+            self.progress.setRange(0, 1000)
 
     def show_progress(self, stage: str, fraction: float) -> None:
+        now = time.monotonic()
+        words = STAGES.get(stage, stage)
+        started = self._stage[1] if self._stage is not None and self._stage[0] == words else now
+        self._stage = (words, started, now)
+        self.progress.setRange(0, 1000)
         self.progress.setValue(int(1000 * max(0.0, min(1.0, fraction))))
-        self.progress.setFormat(f"{STAGES.get(stage, stage)} %p%")
+        self.progress.setFormat(f"{words} %p%")
+
+    def _stalled(self) -> None:
+        """A stage that reports nothing for a second still moves: a busy bar and its seconds so far."""
+        if self._stage is None:
+            return
+        words, started, last = self._stage
+        now = time.monotonic()
+        if now - last < STALL_SECONDS:
+            return
+        self.progress.setRange(0, 0)  # Qt's busy indicator
+        self.progress.setFormat(f"{words}: {now - started:.0f} s")
 
     def show_idle(self, text: str, ok: bool | str | None = None) -> None:
         """Idle text; ``ok=False`` turns the bar red (failed or wrong result), True green, "warn" amber.
 
         Amber: a closed result with features the sample does not support.
         """
+        self.stall_timer.stop()
+        self._stage = None
+        self.progress.setRange(0, 1000)
         self.progress.setFormat(text)
         self.progress.setToolTip(text)
         colour = {True: "#3a8f3a", False: "#c0392b", "warn": "#e0a020"}.get(ok)
