@@ -64,3 +64,41 @@ def test_a_wide_window_keeps_the_view_at_sixty_percent_too(qtbot, window):
     window.resize(1440, 900)
     qtbot.wait(100)
     assert window.view_share >= 0.58
+
+
+def test_a_very_wide_window_puts_the_information_beside_the_tabs(qtbot, window, monkeypatch):
+    """Issue 19: at 1920 x 1000 the docks were one tabbed column; now Information stands beside it.
+
+    The test screen is 1280 pixels wide, so "wide" starts at 1200 here (1800 in use).
+    """
+    import crustview.qt.layout as layout
+
+    monkeypatch.setattr(layout, "WIDE", 1200)
+    assert window.load_builtin("torus")
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    window.resize(1024, 700)
+    qtbot.waitUntil(lambda: window.compact, timeout=2000)
+    window.resize(1270, 850)
+    qtbot.waitUntil(lambda: getattr(window, "wide", False), timeout=2000)
+    qtbot.wait(100)
+    steps, info = window.docks["steps"], window.docks["info"]
+    assert not steps.visibleRegion().isEmpty() and not info.visibleRegion().isEmpty()  # both seen at once
+    a, b = steps.geometry(), info.geometry()
+    assert b.left() >= a.right() - 2 or a.left() >= b.right() - 2  # side by side
+    assert window.view_share >= 0.58
+    window.resize(1024, 700)
+    qtbot.waitUntil(lambda: not window.wide, timeout=2000)
+
+
+def test_step_table_tooltips_give_whole_values(qtbot, window):
+    """A cut cell ("(2782, 2819, …", "N simplices") gives the whole list in its tooltip."""
+    from PySide6.QtCore import Qt
+
+    assert window.load_builtin("torus")
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    rec = window.model.rec
+    log = window.steps_panel.log
+    row = next(i for i, s in enumerate(rec.extraction.steps) if s.kept)
+    s = rec.extraction.steps[row]
+    tip = log.data(log.index(row, 3), Qt.ItemDataRole.ToolTipRole)
+    assert tip.startswith("kept: (" + ", ".join(str(int(v)) for v in s.kept) + ")") and s.reason in tip

@@ -7,6 +7,8 @@ from PySide6.QtWidgets import QTabBar
 
 #: Share of the window's width the 3-D view keeps; below it the docks collapse to tabs.
 VIEW_SHARE = 0.6
+#: From this window width on, the Information dock stands beside the tabbed column, not in it.
+WIDE = 1800
 
 
 class DockLayout:
@@ -53,7 +55,7 @@ class DockLayout:
         if not self.isVisible():
             return
         if self.compact:
-            if self.view_share < VIEW_SHARE - 0.02:
+            if self._set_wide(self.width() >= WIDE) or self.view_share < VIEW_SHARE - 0.02:
                 self._size_column()
             return
         self.layout().activate()  # the docks' real widths at this window size
@@ -76,6 +78,7 @@ class DockLayout:
         for name in order[1:]:
             self.tabifyDockWidget(self.docks["steps"], self.docks[name])
         self.docks["steps"].raise_()
+        self._set_wide(self.width() >= WIDE)
         self._size_column()
         QTimer.singleShot(0, self._size_column)  # again once the tabbed layout has settled
         for bar in self.findChildren(QTabBar):  # whole titles, scrolled when they do not fit
@@ -83,6 +86,30 @@ class DockLayout:
             bar.setUsesScrollButtons(True)
             bar.setExpanding(False)
 
+    def _set_wide(self, wide: bool) -> bool:
+        """Information beside the tabbed column (a wide window uses its width) or back among its tabs.
+
+        Returns whether the layout changed.
+        """
+        if not self.compact or wide == getattr(self, "wide", False):
+            return False
+        self.wide = wide
+        steps, info = self.docks["steps"], self.docks["info"]
+        if wide:
+            self.removeDockWidget(info)  # out of the tab group, then beside it in the same area
+            self.addDockWidget(Qt.DockWidgetArea.RightDockWidgetArea, info, Qt.Orientation.Horizontal)
+        else:
+            self.tabifyDockWidget(steps, info)
+        info.show()
+        steps.raise_()
+        return True
+
     def _size_column(self) -> None:
         column = int(self.width() * (1.0 - VIEW_SHARE) - 12)
+        if getattr(self, "wide", False):  # two columns side by side share the docks' width
+            steps = max(240, int(column * 0.45))  # the Information panel's tables want the wider half
+            self.resizeDocks(
+                [self.docks["steps"], self.docks["info"]], [steps, max(240, column - steps)], Qt.Orientation.Horizontal
+            )
+            return
         self.resizeDocks([self.docks["steps"]], [max(240, column)], Qt.Orientation.Horizontal)

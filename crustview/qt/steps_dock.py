@@ -116,7 +116,18 @@ class StepLog(QAbstractTableModel):
             return texts[index.column()]
         if role == Qt.ItemDataRole.ToolTipRole:
             ext = self.model.player.extraction
-            return None if ext is None or not index.isValid() else ext.steps[index.row()].reason
+            if ext is None or not index.isValid():
+                return None
+            s = ext.steps[index.row()]
+            # the whole value, which a narrow column cuts ("res…", "(2782, 2819, …"), then the reason
+            full = {
+                "rule": s.rule,
+                "τ": fmt_tuple(s.tau),
+                "kept": fmt_tuple(s.kept) if s.kept else "",
+                "removed": fmt_tuple(s.removed) if s.removed else "",
+                "added": fmt_tuple(s.added) if s.added else "",
+            }.get(COLUMNS[index.column()], "")
+            return f"{COLUMNS[index.column()]}: {full}\n{s.reason}" if full else s.reason
         return None
 
     def reset(self) -> None:
