@@ -75,6 +75,7 @@ def test_go_to_step_box_and_the_table_after_home(qtbot, window):
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
     panel = window.steps_panel
     player = window.model.player
+    player.first()  # data opens on its final M_S (issue 19)
     n = player.n_steps
     box = panel.goto
     assert box.maximum() == n
@@ -103,6 +104,7 @@ def test_playing_one_rule_visits_only_its_steps(qtbot, window):
     panel.rule.setCurrentText(rule)
     panel.only_rule.setChecked(True)
     panel.speed.setValue(2)
+    player.first()  # data opens on its final M_S (issue 19): play from T_S
     seen = []
     player.step_changed.connect(seen.append)
     player.play()

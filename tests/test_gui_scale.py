@@ -82,6 +82,8 @@ def test_stepping_draws_big_layers_thinned_then_whole(qtbot, window, big_torus):
     view, player = window.view, window.model.player
     view.lod.budget = 10_000
     whole = view.adapters["manifold"].part
+    player.first()  # data opens on its final M_S (issue 19): step from T_S
+    view.lod.end()
     player.next()
     assert view.lod.active
     drawn, total = view.lod.drawn()["manifold"]

@@ -33,6 +33,7 @@ from ..scene.describe import (
 from ..scene.model import SceneModel
 from .compare_panel import ComparePanel
 from .diagnosis import DiagnosisPanel
+from .normal_angles_panel import NormalAnglesPanel
 from .features_panel import FeaturesPanel
 from .steady import SteadyText
 from .theorems_panel import TheoremPanel
@@ -127,6 +128,8 @@ class InfoPanel(QWidget):
         self.diagnosis.cascade_clicked.connect(self.cascade_clicked)
         self.diagnosis.paper_requested.connect(self.paper_requested)
         lay.addWidget(self.diagnosis)
+        self.normal_angles = NormalAnglesPanel(model, self)  # only shown when the file had normals
+        lay.addWidget(self.normal_angles)
         self.theorems = TheoremPanel(model, self)
         lay.addWidget(self.theorems)
         self.compare = ComparePanel(model, self)

@@ -10,6 +10,7 @@ from ..scene.coloring import COORDINATE_COLORINGS
 from ..scene.quantities import POLE_FINITE, POLE_INFINITE, POLE_NONE, pole_kinds
 from ..scene.subset import even_subset, subset_note
 from .base import NAN_COLOR, LayerAdapter, set_cells, set_point_scalars, set_points
+from .filecolors import direct_colors
 
 #: Colour maps of the points layer's colourings.
 POINT_CMAPS = {"normal error": "magma_r", "pole distance": "viridis", "local spacing": "cividis"}
@@ -75,6 +76,10 @@ class PointsAdapter(LayerAdapter):
             self.part.solid()
             return
         values, title = got
+        direct_colors(self.part, values if values.ndim == 2 else None)  # the file's own RGB, or mapped scalars
+        if values.ndim == 2:
+            self.scalar_title, self.n_missing = None, 0
+            return
         set_point_scalars(self.part.mesh, values)
         ok = values[np.isfinite(values)]
         self.n_missing = len(values) - len(ok)

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from psygnal import evented
 
 from .coloring import COORDINATE_COLORINGS
+from .fileattrs import FILE_COLORINGS
 
 #: Colourings the points layer offers.
 POINT_COLORINGS = (
@@ -17,7 +18,7 @@ POINT_COLORINGS = (
     "local spacing",
     "true epsilon",
     "Thm 2 error / bound",
-) + COORDINATE_COLORINGS
+) + COORDINATE_COLORINGS + FILE_COLORINGS
 #: Colourings of the M_S layer: per simplex (the distance to M) or per vertex (coordinates).
 MANIFOLD_COLORINGS = ("none", "distance to M") + COORDINATE_COLORINGS
 #: Colourings of the removed simplices: by the step or the rule that removed each.

@@ -14,6 +14,7 @@ from ..core.result import Reconstruction
 from ..core.steps import Cascade
 from . import geometry as geo
 from .coloring import coordinate_values, default_coloring
+from .fileattrs import FILE_COLORINGS, applies, file_values
 from .features import uncertain_features
 from .layers import Layer, default_layers
 from .player import StepPlayer
@@ -66,6 +67,8 @@ class SceneModel:
         self.kept_view = False
         self.truth = None
         self.source = ""
+        #: Colours, intensity and normals of the opened file, per input row (:mod:`crustview.attributes`).
+        self.file_attributes: dict = {}
         self.layers: dict[str, Layer] = default_layers()
         self.projection = Projection(3)
         self.tour = GrandTour(self.projection)
@@ -181,6 +184,8 @@ class SceneModel:
             if c in ("true epsilon", "Thm 2 error / bound", "distance to M") and not builtin:
                 continue
             if c == "normal error" and not tangents:
+                continue
+            if c in FILE_COLORINGS and not applies(rec, self.file_attributes, c):
                 continue
             out.append(c)
         return tuple(out)
@@ -348,6 +353,8 @@ class SceneModel:
             return self._cached("pdist", lambda: pole_distance(rec, self.spacing)), "pole distance / spacing"
         if colorby == "local spacing":
             return self.spacing, "local spacing"
+        if colorby in FILE_COLORINGS:
+            return file_values(rec, self.file_attributes, colorby)
         if colorby == "epsilon":
             return self.quality.epsilon, "estimated epsilon"
         if colorby in ("true epsilon", "Thm 2 error / bound"):
