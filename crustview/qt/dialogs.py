@@ -1,6 +1,8 @@
-"""Small dialogs: built-in sample chooser, dimension question."""
+"""Small dialogs: built-in sample chooser, dimension question, overwriting the input."""
 
 from __future__ import annotations
+
+import textwrap
 
 from PySide6.QtWidgets import (
     QComboBox,
@@ -9,6 +11,7 @@ from PySide6.QtWidgets import (
     QFormLayout,
     QInputDialog,
     QLabel,
+    QMessageBox,
     QSpinBox,
     QWidget,
 )
@@ -64,15 +67,29 @@ class BuiltinDialog(QDialog):
         return self.name.currentData(), self.n.value(), self.seed.value()
 
 
-def ask_dimension(parent: QWidget, k: int, default: int, source: str) -> int | None:
-    """Ask for d (1 <= d < k); returns None when cancelled."""
+def ask_dimension(parent: QWidget, k: int, default: int, source: str, why: str = "") -> int | None:
+    """Ask for d (1 <= d < k), suggesting ``default`` (and saying ``why``); returns None when cancelled."""
+    reason = "\n".join(textwrap.wrap(f"Suggested {why}", 70)) + "\n" if why else ""
     d, ok = QInputDialog.getInt(
         parent,
         "Intrinsic dimension",
         f"{source}\nholds points in R^{k}. Dimension d of the manifold they sample\n"
-        f"(1 = curve, 2 = surface …; suggested from local PCA: {default}):",
+        f"(1 = curve, 2 = surface …; suggested from local PCA: {default}):\n{reason}",
         default,
         1,
         max(1, k - 1),
     )
     return d if ok else None
+
+
+def ask_overwrite_input(parent: QWidget, path: str) -> bool:
+    """Ask before writing over the file the shown points were read from; True to go ahead."""
+    answer = QMessageBox.question(
+        parent,
+        "Overwrite the input file?",
+        f"{path}\nis the file these points were read from. Writing the result over it replaces the input.\n\n"
+        "Overwrite it?",
+        QMessageBox.StandardButton.Yes | QMessageBox.StandardButton.No,
+        QMessageBox.StandardButton.No,
+    )
+    return answer == QMessageBox.StandardButton.Yes

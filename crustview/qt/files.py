@@ -11,9 +11,9 @@ from PySide6.QtCore import QSettings
 from PySide6.QtGui import QAction
 from PySide6.QtWidgets import QFileDialog, QMenu
 
+from ..core.analysis.dimension import estimate_dimension
 from ..core.errors import CrustviewError
-from ..scene.quantities import estimate_dimension
-from .dialogs import BuiltinDialog, ask_dimension
+from .dialogs import BuiltinDialog, ask_dimension, ask_overwrite_input
 
 MAX_RECENT = 8
 
@@ -126,6 +126,7 @@ class FileActions:
             mesh = io.read_mesh(path)  # a mesh with faces: vertices are the sample, faces the truth
             read_notes: list[str] = []  # e.g. a text file's header line of column names
             points = mesh.points if mesh is not None else io.read_points(path, read_notes)
+            attributes = io.read_attributes(path)  # colours, intensity, normals (PLY and scanner formats)
             saved = io.read_run_parameters(path)
             origin = file_source(path)  # size and SHA-1 as read, for a session
         except CrustviewError as err:
@@ -168,7 +169,8 @@ class FileActions:
             self.statusBar().showMessage(f"d = {d} is not possible for points in R^{k}; choose 1 … {k - 1}.", 10000)
             d = None
         if d is None:
-            d = ask_dimension(self, k, estimate_dimension(points), name)
+            estimate = estimate_dimension(points)  # local PCA, with its confidence and reasons
+            d = ask_dimension(self, k, estimate.d, name, estimate.sentence())
             if d is None:
                 self.statusBar().showMessage("Opening cancelled: no dimension given.", 5000)
                 return False
@@ -184,6 +186,12 @@ class FileActions:
                 self.show_error(str(err))
                 return False
             self.model.layers["truth"].visible = True
+        self.model.file_attributes = attributes
+        self.input_path = path  # saving over it asks first
+        if attributes.get("colors") is not None:
+            self.model.layers["points"].colorby = "file colours"
+        elif attributes.get("normals") is not None:
+            self.model.layers["points"].colorby = "file normal angle"
         if not self.start_reconstruction(points, int(d), truth=truth, source=name, origin=origin, **params):
             return False
         if note:
@@ -200,6 +208,7 @@ class FileActions:
         )
         if dlg.exec():
             name, n, seed = dlg.values()
+            self.model.file_attributes, self.input_path = {}, None
             self.load_builtin(name, n, seed)
 
     # -- recent files -----------------------------------------------------------------
@@ -256,9 +265,14 @@ class FileActions:
         if path:
             self.save_result(path)
 
-    def save_result(self, path: str) -> bool:
+    def save_result(self, path: str, ask: bool = True) -> bool:
         from .. import io
 
+        source = getattr(self, "input_path", None)
+        if ask and source and Path(source).exists() and Path(path).exists() and os.path.samefile(source, path):
+            if not ask_overwrite_input(self, path):
+                self.statusBar().showMessage(f"Not saved: {path} is the input file.", 10000)
+                return False
         try:
             io.write_result(path, self.model.rec, builtin=builtin_description(self.model.truth))
         except CrustviewError as err:

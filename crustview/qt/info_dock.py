@@ -33,8 +33,8 @@ from ..scene.describe import (
 from ..scene.model import SceneModel
 from .compare_panel import ComparePanel
 from .diagnosis import DiagnosisPanel
-from .normal_angles_panel import NormalAnglesPanel
 from .features_panel import FeaturesPanel
+from .normal_angles_panel import NormalAnglesPanel
 from .steady import SteadyText
 from .theorems_panel import TheoremPanel
 

@@ -14,8 +14,8 @@ from ..core.result import Reconstruction
 from ..core.steps import Cascade
 from . import geometry as geo
 from .coloring import coordinate_values, default_coloring
-from .fileattrs import FILE_COLORINGS, applies, file_values
 from .features import uncertain_features
+from .fileattrs import FILE_COLORINGS, applies, file_values
 from .layers import Layer, default_layers
 from .player import StepPlayer
 from .projection import Projection
