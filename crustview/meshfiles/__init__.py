@@ -50,12 +50,13 @@ def read_mesh(path: str | os.PathLike) -> MeshData:
     if suffix not in MESH_SUFFIXES:
         raise InputError(f"Cannot read faces from '{path}': use one of {' '.join(MESH_SUFFIXES)}.")
     try:
-        if suffix in (".off", ".noff"):
-            mesh = read_off(path)
-        elif suffix == ".ply":
-            mesh = read_ply(path)
-        else:
-            mesh = _read_meshio(path)
+        with np.errstate(all="ignore"):  # overflowing or NaN values are reported by the point checks
+            if suffix in (".off", ".noff"):
+                mesh = read_off(path)
+            elif suffix == ".ply":
+                mesh = read_ply(path)
+            else:
+                mesh = _read_meshio(path)
     except InputError:
         raise
     except OSError as err:
