@@ -159,8 +159,8 @@ def _read_npy(path: Path) -> Any:
         needed = int(np.prod(shape, dtype=object)) * dtype.itemsize
         if needed > len(data) - fh.tell():  # numpy would allocate the declared shape before reading
             raise InputError(
-                f"Cannot read '{path}': its header declares an array of shape {tuple(shape)}, "
-                f"more than its {len(data)} bytes hold."
+                f"Cannot read '{path}': a damaged NumPy .npy file (its header declares shape {tuple(shape)}, "
+                f"more than its {len(data)} bytes hold)."
             )
         fh.seek(0)
         return np.load(fh, allow_pickle=False)
