@@ -241,25 +241,40 @@ def _spread(points: np.ndarray, vs: np.ndarray, k: int) -> list[int]:
 
 
 def _path_masks(pred: np.ndarray, dist: np.ndarray, vs: np.ndarray, mask: np.ndarray, edge_ids) -> np.ndarray:
-    """XOR of the edge masks along each vertex's tree path to the root."""
+    """XOR of the edge masks along each vertex's tree path to the root.
+
+    The tree's depths come from pointer doubling (log n passes over the
+    reached vertices); then one pass per depth level, each over that level
+    only, so the work is O(n log n) however deep the tree.
+    """
     pm = np.zeros((len(pred), mask.shape[1]), np.uint64)
     reach = vs[np.isfinite(dist[vs])]
-    order = reach[np.argsort(dist[reach], kind="stable")]
-    order = order[pred[order] >= 0]
-    if len(order) == 0:
+    kids = reach[pred[reach] >= 0]
+    if len(kids) == 0:
         return pm
-    em = mask[edge_ids(order, pred[order])]
-    # parents come before children in distance order: process in chunks whose parents are done
-    done = np.zeros(len(pred), bool)
-    done[reach[pred[reach] < 0]] = True
-    pending = np.arange(len(order))
-    while len(pending):
-        ready = done[pred[order[pending]]]
-        idx = pending[ready]
-        pm[order[idx]] = pm[pred[order[idx]]] ^ em[idx]
-        done[order[idx]] = True
-        pending = pending[~ready]
+    em = np.zeros((len(pred), mask.shape[1]), np.uint64)
+    em[kids] = mask[edge_ids(kids, pred[kids])]
+    depth = _depths(pred)
+    order = kids[np.argsort(depth[kids], kind="stable")]
+    dsorted = depth[order]
+    bounds = np.flatnonzero(np.r_[True, dsorted[1:] != dsorted[:-1], True])
+    for lo, hi in zip(bounds[:-1], bounds[1:]):
+        lvl = order[lo:hi]
+        pm[lvl] = pm[pred[lvl]] ^ em[lvl]
     return pm
+
+
+def _depths(pred: np.ndarray) -> np.ndarray:
+    """Hops from every reached vertex to its tree's root (pointer doubling)."""
+    n = len(pred)
+    anc = np.where(pred >= 0, pred, np.arange(n))
+    depth = (pred >= 0).astype(np.int64)
+    while True:
+        nxt = anc[anc]
+        if np.array_equal(nxt, anc):
+            return depth
+        depth = depth + depth[anc]  # a root's own depth is 0
+        anc = nxt
 
 
 def _walk(pred: np.ndarray, v: int) -> list[int]:

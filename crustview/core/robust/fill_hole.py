@@ -74,7 +74,8 @@ class FillHole:
 
     def fill(self, hole: list[Simplex]) -> bool:
         """Close one hole if it is small and not a real opening; True when it was closed."""
-        if self.keep_open and any(f in self.keep_open for f in hole):
+        opening = bool(self.keep_open) and any(f in self.keep_open for f in hole)
+        if opening and len(hole[0]) != 2:
             return False
         verts = sorted({v for f in hole for v in f})
         p = self.points[verts]
@@ -84,7 +85,9 @@ class FillHole:
             self._join_ends(hole, "gap between two ends of the curve")
             return all(len(self.at(f)) != 1 for f in hole)
         why = f"hole of {len(hole)} boundary faces spanning {span / local:.1f} local spacings"
-        if len(hole) > FILL_MAX_FACES or span > FILL_MAX_SPAN * local:
+        # an opening that open-cap left is closed only as a slit: the rim of a thin part whose two
+        # sides the labelling kept apart (an ear), never by Delaunay faces or ears across it
+        if opening or len(hole) > FILL_MAX_FACES or span > FILL_MAX_SPAN * local:
             width = self._slit_width(hole, local) if len(hole[0]) == 2 and len(hole) <= SLIT_MAX_FACES else None
             if width is None or width > SLIT_MAX_WIDTH:
                 return False
