@@ -150,7 +150,7 @@ def test_timeline_click_jumps_and_removed_so_far_is_coloured_by_step(qtbot, wind
 
 def test_rule_list_offers_a_rule_the_run_applied(qtbot, window):
     # a paper run keeps the list at its first rule; a robust run on a scan has no prune-sharp
-    # step, so the list moves to the first rule it did apply (seed-core on the horse)
+    # step, so the list moves to the first rule it did apply (label-cells on the horse)
     from pathlib import Path
 
     from crustview.io import read_mesh
@@ -165,5 +165,5 @@ def test_rule_list_offers_a_rule_the_run_applied(qtbot, window):
     assert window.start_reconstruction(pts, 2, source="horse")
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
     rules = {s.rule for s in window.model.rec.extraction.steps}
-    assert "prune-sharp" not in rules and "seed-core" in rules
-    assert panel.rule.currentText() == "seed-core"
+    assert "prune-sharp" not in rules and "label-cells" in rules
+    assert panel.rule.currentText() == "label-cells"
