@@ -69,8 +69,16 @@ class StageProgress:
             self.stages.append(stage)
         if self._bar is None:
             return
-        pct = 100.0 * min(max(float(fraction), 0.0), 1.0)
+        # never 100 %: rich would mark the task finished and freeze its elapsed time for the next stages
+        pct = 100.0 * min(max(float(fraction), 0.0), 0.999)
         self._bar.update(self._task, description=f"{self.label}: {stage}", completed=pct)
+
+    def note(self, line: str) -> None:
+        """A line on the bar's stream, above the bar (or plainly without one)."""
+        if self._bar is not None:
+            self._bar.console.print(line, markup=False, highlight=False, soft_wrap=True)
+        else:
+            print(line, file=self.stream, flush=True)
 
     def __exit__(self, *exc) -> None:
         if self._bar is not None:

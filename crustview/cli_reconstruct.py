@@ -271,17 +271,25 @@ def run(args: argparse.Namespace) -> int:
     path = args.input[0]
     outputs = [args.output] + ([args.report] if args.report is not None else [])
     check_outputs([path], outputs, args.force)
+    summary: list[str] = []  # printed when the bar is gone
     with StageProgress(path.name, wants_bar(sys.stderr, args.quiet)) as bar:
-        reconstruct_file(path, args.output, args.report, args, bar, _say(args, bar))
+        reconstruct_file(path, args.output, args.report, args, bar, _say(args, bar, summary))
+    for line in summary:
+        print(line, flush=True)
     return 0
 
 
-def _say(args: argparse.Namespace, bar=None):
+def _say(args: argparse.Namespace, bar=None, summary: list[str] | None = None):
     def say(kind: str, text: str) -> None:
         if args.quiet:
             return
         if kind == "summary":
-            print(text, flush=True)
+            if summary is None:
+                print(text, flush=True)
+            else:
+                summary.append(text)
+        elif bar is not None:
+            bar.note(f"{PROG}: {kind}: {text}")
         else:
             print(f"{PROG}: {kind}: {text}", file=sys.stderr, flush=True)
 
