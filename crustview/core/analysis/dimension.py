@@ -59,7 +59,7 @@ class DimensionEstimate:
     def sentence(self) -> str:
         """What was chosen and why, in one sentence."""
         if not self.neighbours:
-            return f"d = {self.d}: points in R^2 can only be a curve."
+            return f"d = {self.d} (a curve), confidence 100%: points in R^2 can only be a curve."
         word = {1: "a curve", 2: "a surface"}.get(self.d, f"a {self.d}-manifold")
         others = ", ".join(f"d = {d}: {100 * v:.0f}%" for d, v in sorted(self.votes.items()) if d != self.d and v > 0)
         level = "high" if self.confidence >= 0.8 else "moderate" if self.confidence >= 0.6 else "low"

@@ -1,0 +1,144 @@
+"""The command line as a peer of other tools: progress on a terminal, quiet pipes, -q, batch runs, -d auto."""
+
+import csv
+import json
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from crustview.core.analysis.dimension import estimate_dimension
+from crustview.core.samples.manifolds import MANIFOLDS, get_manifold
+from crustview.io import read_points, write_points
+
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+if not DATA.is_dir():
+    DATA = Path("/work/shared/data")
+SCANS = sorted(p for p in DATA.rglob("*") if p.suffix in (".off", ".obj", ".ply", ".xyz"))
+
+
+def _cmd(*args):
+    return [sys.executable, "-m", "crustview", *map(str, args)]
+
+
+@pytest.fixture(scope="module")
+def samples(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("samples")
+    write_points(folder / "torus.npy", get_manifold("torus").sample(1500, seed=0).points)
+    write_points(folder / "sphere.xyz", get_manifold("sphere").sample(800, seed=0).points)
+    write_points(folder / "trefoil.csv", get_manifold("trefoil").sample(300, seed=0).points)
+    (folder / "broken.xyz").write_text("1 2 3\n4 5\n")
+    return folder
+
+
+def test_on_a_terminal_a_progress_bar_moves_and_is_erased(samples, tmp_path):
+    big = tmp_path / "big.npy"
+    write_points(big, get_manifold("torus").sample(20000, seed=0).points)
+    run = subprocess.run(
+        ["script", "-qec", " ".join(_cmd("reconstruct", big, "-d", 2, "-o", tmp_path / "r.npz")), "/dev/null"],
+        capture_output=True,
+        timeout=300,
+    )
+    assert run.returncode == 0, run.stdout[-2000:]
+    screen = re.sub(r"\x1b\[[0-9;?]*[a-zA-Z]", "", run.stdout.decode("utf-8", "replace"))  # colours off
+    stages = set(re.findall(r"big\.npy: ([a-z ]+?) ━", screen))
+    assert {"delaunay", "candidates", "extraction"} <= stages, stages
+    percents = {int(p) for p in re.findall(r"(\d+)% \d:\d\d:\d\d", screen)}
+    assert len(percents) >= 3  # the bar moves
+    assert "Reconstructed a surface" in screen.split("━")[-1]  # the summary comes after the bar's last frame
+
+
+def test_piped_only_the_summary_and_with_q_nothing(samples, tmp_path):
+    run = subprocess.run(
+        _cmd("reconstruct", samples / "torus.npy", "-d", 2, "-o", tmp_path / "r.npz"), capture_output=True, text=True
+    )
+    assert run.returncode == 0 and run.stderr == ""
+    lines = run.stdout.splitlines()
+    assert len(lines) == 2 and lines[0].startswith("Reconstructed a surface") and lines[1].startswith("extraction:")
+    quiet = subprocess.run(
+        _cmd("reconstruct", samples / "torus.npy", "-d", "auto", "-o", tmp_path / "q.npz", "-q"),
+        capture_output=True,
+        text=True,
+    )
+    assert quiet.returncode == 0 and quiet.stdout == "" and quiet.stderr == ""
+    assert (tmp_path / "q.npz").is_file()
+
+
+def test_batch_runs_files_in_two_processes_and_writes_the_summaries(samples, tmp_path):
+    out = tmp_path / "out"
+    files = [samples / n for n in ("torus.npy", "sphere.xyz", "trefoil.csv", "broken.xyz")]
+    run = subprocess.run(
+        _cmd("reconstruct", *files, "-d", "auto", "--out-dir", out, "-j", 2),
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert run.returncode == 1, run.stderr  # one file failed
+    assert "broken.xyz: FAILED: Cannot use" in run.stdout or "broken.xyz: FAILED: Cannot read" in run.stdout
+    assert "3 of 4 files reconstructed (1 failed)" in run.stdout
+    names = sorted(p.name for p in out.iterdir())
+    assert names == sorted(
+        ["summary.csv", "summary.json"]
+        + [f"{s}{e}" for s in ("torus", "sphere", "trefoil") for e in (".npz", ".report.json")]
+    )
+    summary = json.loads((out / "summary.json").read_text())
+    rows = {Path(r["file"]).name: r for r in summary["rows"]}
+    assert [Path(r["file"]).name for r in summary["rows"]] == [f.name for f in files]  # input order
+    assert rows["torus.npy"]["betti"] == [1, 2, 1] and rows["torus.npy"]["closed"] and rows["torus.npy"]["d"] == 2
+    assert rows["trefoil.csv"]["d"] == 1 and rows["trefoil.csv"]["betti"] == [1, 1]
+    assert rows["broken.xyz"]["status"] == "failed" and rows["broken.xyz"]["error"]
+    for r in rows.values():
+        assert {"points", "uncertain_handles", "uncertain_holes", "uncertain_components", "seconds"} <= set(r)
+    table = list(csv.DictReader((out / "summary.csv").read_text().splitlines()))
+    assert [Path(r["file"]).name for r in table] == [f.name for f in files]
+    assert table[0]["betti"] == "1 2 1" and table[0]["status"] == "ok" and table[3]["status"] == "failed"
+    report = json.loads((out / "torus.report.json").read_text())
+    assert report["dimension_estimate"]["d"] == 2
+
+
+def test_batch_refuses_o_and_several_inputs_without_out_dir(samples, tmp_path):
+    a, b = samples / "torus.npy", samples / "sphere.xyz"
+    run = subprocess.run(_cmd("reconstruct", a, b, "-d", 2, "-o", tmp_path / "x.npz"), capture_output=True, text=True)
+    assert run.returncode == 2 and "--out-dir" in run.stderr and len(run.stderr.splitlines()) == 1
+
+
+@pytest.mark.parametrize("name", list(MANIFOLDS))
+def test_d_auto_is_right_on_every_builtin(name):
+    m = MANIFOLDS[name]
+    for seed in (0, 1):
+        est = estimate_dimension(m.sample(m.default_n, seed=seed).points)
+        assert est.d == m.d, est.sentence()
+        assert f"d = {m.d}" in est.sentence() and "confidence" in est.sentence()
+
+
+@pytest.mark.skipif(not SCANS, reason="needs ../shared/data")
+def test_d_auto_is_right_on_every_scan_in_the_shared_data():
+    wrong = {}
+    for path in SCANS:
+        est = estimate_dimension(read_points(path))
+        if est.d != 2:
+            wrong[path.name] = est.sentence()
+    assert len(SCANS) >= 25 and not wrong, wrong
+
+
+def test_d_auto_says_curve_in_the_plane_and_handles_duplicates():
+    est = estimate_dimension(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))
+    assert est.d == 1 and est.confidence == 1.0 and "R^2" in est.sentence()
+    pts = get_manifold("sphere").sample(500, seed=0).points
+    assert estimate_dimension(np.vstack([pts, pts])).d == 2
+
+
+def test_d_auto_on_the_command_line_says_what_it_chose(samples, tmp_path):
+    run = subprocess.run(
+        _cmd("reconstruct", samples / "trefoil.csv", "-d", "auto", "-o", tmp_path / "t.npz"),
+        capture_output=True,
+        text=True,
+        env={**os.environ},
+    )
+    assert run.returncode == 0, run.stderr
+    assert "-d auto chose d = 1 (a curve)" in run.stderr and "local PCA" in run.stderr
+    assert "Reconstructed a curve" in run.stdout
