@@ -237,6 +237,19 @@ def test_npz_result_of_a_surface(tmp_path, sphere_rec):
     assert len(data["simplices"]) == sphere_rec.topology.n_simplices
 
 
+def test_npz_result_is_stored_by_default_and_deflated_on_request(tmp_path, sphere_rec):
+    import zipfile
+
+    write_result(tmp_path / "plain.npz", sphere_rec)
+    write_result(tmp_path / "small.npz", sphere_rec, compress=True)
+    for name, method in (("plain", zipfile.ZIP_STORED), ("small", zipfile.ZIP_DEFLATED)):
+        with zipfile.ZipFile(tmp_path / f"{name}.npz") as z:
+            assert {info.compress_type for info in z.infolist()} == {method}
+    plain, small = _check_npz(tmp_path / "plain.npz", sphere_rec), _check_npz(tmp_path / "small.npz", sphere_rec)
+    assert all(np.array_equal(plain[key], small[key]) for key in plain)
+    assert (tmp_path / "small.npz").stat().st_size < (tmp_path / "plain.npz").stat().st_size
+
+
 def test_npz_result_maps_duplicates_to_input_rows(tmp_path, circle_rec):
     assert len(circle_rec.input_points) == 110 and circle_rec.n == 100
     write_result(tmp_path / "c.npz", circle_rec)
