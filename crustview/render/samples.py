@@ -70,6 +70,7 @@ class PointsAdapter(LayerAdapter):
 
     def recolor(self, *_) -> None:
         got = self.model.point_values(self.layer.colorby) if self.model.rec is not None else None
+        self.direct_rgb = False
         if got is None:
             self.scalar_title = None
             self.n_missing = 0
@@ -77,7 +78,8 @@ class PointsAdapter(LayerAdapter):
             return
         values, title = got
         direct_colors(self.part, values if values.ndim == 2 else None)  # the file's own RGB, or mapped scalars
-        if values.ndim == 2:
+        self.direct_rgb = values.ndim == 2
+        if self.direct_rgb:
             self.scalar_title, self.n_missing = None, 0
             return
         set_point_scalars(self.part.mesh, values)

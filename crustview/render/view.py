@@ -403,7 +403,8 @@ class SceneView(CameraControl):
                 continue
             if name == "points" and getattr(a, "scalar_title", None) and a.n_missing:
                 out.append((f"{a.scalar_title}: none (pole at infinity)", NAN_COLOR))
-            if name == "points" and layer.colorby != "none" and not getattr(a, "scalar_title", None):
+            rgb = getattr(a, "direct_rgb", False)  # the file's own colours: no bar, nothing missing
+            if name == "points" and layer.colorby != "none" and not getattr(a, "scalar_title", None) and not rgb:
                 why = (
                     "needs points in R^4 or more"
                     if layer.colorby == "hidden depth"
