@@ -10,6 +10,17 @@ tangential complex on the same points in the same subprocess, both as
 computed and with its repair step (``fix_inconsistencies_using_perturbation``,
 which it needs for the right Betti numbers on this input).
 
+The floor: on the R^3 cases the same subprocess also builds the ``cgal``
+wheel's ``Delaunay_triangulation_3`` on the same points (the insert alone,
+points already made), and ``whole`` is crustview's whole run as the command
+line does it: reading the ``.npy`` sample, ``reconstruct`` and writing the
+result ``.npz``.  The table gives ``whole/CGAL``, crustview over that floor,
+measured in the same run.  The floor runs after crustview, so that the peak
+RSS stays crustview's own (the wheel's triangulation is freed before, but
+the process's high-water mark would keep it; the peak is read before it).  ``CPU/wall`` is the
+process's CPU time over wall time during each stage (2.0 = both cores busy
+on a 2-core machine).
+
 Run: ``python benchmarks/bench_scale.py [case ...]``, e.g.
 ``python benchmarks/bench_scale.py torus-30k torus-300k klein-10k``.
 """
@@ -20,8 +31,11 @@ import json
 import resource
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
+
+import numpy as np
 
 #: (manifold, n, sampling method).  The torus samples are i.i.d. by area
 #: (``method="random"``): the default even sampler's farthest-point pass is
@@ -44,33 +58,82 @@ def _gudhi_seconds(points, d: int, fix: bool) -> float:  # noqa: ANN001
     return gudhi_betti(points, d, fix)[2]
 
 
+def _cgal_wheel_seconds(points) -> float:  # noqa: ANN001
+    """Seconds of the ``cgal`` wheel's ``Delaunay_triangulation_3`` inserting ``points`` (the floor)."""
+    from CGAL.CGAL_Kernel import Point_3
+    from CGAL.CGAL_Triangulation_3 import Delaunay_triangulation_3
+
+    cgal_points = [Point_3(x, y, z) for x, y, z in points.tolist()]
+    tri = Delaunay_triangulation_3()
+    t0 = time.perf_counter()
+    tri.insert(cgal_points)
+    seconds = time.perf_counter() - t0
+    assert tri.number_of_vertices() == len(points)
+    return seconds
+
+
+def _cpu_over_wall():  # noqa: ANN202
+    """A progress callback recording the process's CPU time over wall time per stage, and its record."""
+    marks: list[tuple[str, float, float]] = []
+
+    def progress(stage: str, fraction: float) -> None:
+        if not marks or marks[-1][0] != stage:
+            marks.append((stage, time.perf_counter(), time.process_time()))
+
+    def ratios() -> dict[str, float]:
+        ends = [*marks[1:], ("end", time.perf_counter(), time.process_time())]
+        out: dict[str, float] = {}
+        for (stage, w0, c0), (_, w1, c1) in zip(marks, ends):
+            if w1 > w0 and stage not in out:
+                out[stage] = (c1 - c0) / (w1 - w0)
+        return out
+
+    return progress, ratios
+
+
 def run_one(case: str) -> dict:
     """Run one case in this process and return its measurements."""
     from crustview.core import reconstruct
     from crustview.core.samples.manifolds import get_manifold
+    from crustview.io import read_points, write_result
 
     name, n, method = CASES[case]
     m = get_manifold(name)
     pts = m.sample(n, seed=0, method=method).points
-    t0 = time.perf_counter()
-    rec = reconstruct(pts, m.d)
-    total = time.perf_counter() - t0
+    progress, ratios = _cpu_over_wall()
+    with tempfile.TemporaryDirectory(prefix="bench-scale-") as tmp:
+        np.save(Path(tmp) / "in.npy", pts)
+        t0 = time.perf_counter()
+        points = read_points(Path(tmp) / "in.npy")
+        read = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        rec = reconstruct(points, m.d, progress=progress)
+        total = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        write_result(Path(tmp) / "out.npz", rec)
+        write = time.perf_counter() - t0
     top = rec.topology
     out = {
         "case": case,
         "n": n,
         "k": m.k,
         "timings": dict(rec.timings),
+        "cpu_over_wall": ratios(),
         "total": total,
+        "read": read,
+        "write": write,
+        "whole": read + total + write,
         "delaunay_simplices": int(len(rec.delaunay_simplices)),
         "correct": bool(top.closed_manifold and top.betti == m.betti and top.unused_samples == 0),
         "betti": list(top.betti),
     }
     del rec
+    out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # before the floor and GUDHI
+    if m.k == 3:
+        out["cgal_wheel"] = _cgal_wheel_seconds(pts)
     if m.k >= 4:
         out["gudhi"] = _gudhi_seconds(pts, m.d, fix=False)
         out["gudhi_fix"] = _gudhi_seconds(pts, m.d, fix=True)
-    out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     return out
 
 
@@ -96,7 +159,19 @@ def main(cases: list[str]) -> None:
             growth = f"  growth x{r['total'] / p['total']:.2f} for x{r['n'] / p['n']:.2f} points"
         previous[name] = r
         after = sum(v for k, v in t.items() if k not in ("prepare", "delaunay"))
-        print(f"{case:11s} n={r['n']:8d} | {stages} | total {r['total']:7.2f} s", flush=True)
+        print(
+            f"{case:11s} n={r['n']:8d} | {stages} | total {r['total']:7.2f} s | "
+            f"read {r['read']:5.2f} write {r['write']:5.2f} whole {r['whole']:7.2f} s",
+            flush=True,
+        )
+        busy = "  ".join(f"{k} {v:4.2f}" for k, v in r["cpu_over_wall"].items())
+        print(f"{'':11s} CPU/wall: {busy}", flush=True)
+        if "cgal_wheel" in r:
+            print(
+                f"{'':11s} floor: cgal wheel Delaunay_triangulation_3 {r['cgal_wheel']:6.2f} s; "
+                f"whole/CGAL {r['whole'] / r['cgal_wheel']:5.2f}x  total/CGAL {r['total'] / r['cgal_wheel']:5.2f}x",
+                flush=True,
+            )
         print(
             f"{'':11s} total/Delaunay {r['total'] / t['delaunay']:5.2f}  "
             f"normals+candidates/Delaunay {(t['normals'] + t['candidates']) / t['delaunay']:5.2f}  "
