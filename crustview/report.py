@@ -118,6 +118,7 @@ def report_dict(
             "theta": rec.theta,
             "theta_degrees": math.degrees(rec.theta),
             "mode": rec.mode,
+            "normals": rec.normals_method,
             "prune_boundary": rec.prune_boundary,
             "n_candidates": int(rec.candidates.mask(rec.test, rec.theta).sum()),
             "holes_of_T_S": holes_of_candidates(rec),

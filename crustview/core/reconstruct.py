@@ -19,6 +19,7 @@ from .paper.normals import complete_bases, greedy_poles
 from .prepare import DEFAULT_JOGGLE, prepare_points, prescale
 from .result import CANDIDATE_TESTS, EXTRACTION_MODES, CandidateAngles, Candidates, Reconstruction
 from .robust.driver import extract_robust
+from .robust.smooth_normals import smoothed_normals
 from .util.memory import gc_paused, release_free_memory
 
 ProgressFn = Callable[[str, float], None]
@@ -49,6 +50,10 @@ def _validate_params(test: str, theta: float, mode: str = "robust") -> float:
     return theta
 
 
+#: Algorithm 1 as printed, and its planes averaged over the samples nearby (beyond the paper).
+NORMAL_METHODS = ("paper", "smoothed")
+
+
 def cost_warning(k: int, d: int) -> str | None:
     """A sentence to show before a run that will be slow, or None.
 
@@ -75,6 +80,7 @@ def reconstruct(
     joggle: float = DEFAULT_JOGGLE,
     prune_boundary: bool = True,
     mode: str = "robust",
+    normals: str = "paper",
     progress: ProgressFn | None = None,
     cancel: object | None = None,
 ) -> Reconstruction:
@@ -104,6 +110,10 @@ def reconstruct(
         give a closed manifold through every sample, the growing extension of
         :mod:`crustview.core.robust.driver` (identical result whenever the paper's
         loop succeeds).  ``"paper"``: Algorithm 3 exactly as printed.
+    normals : {"paper", "smoothed"}
+        ``"paper"`` (default): Algorithm 1 as printed.  ``"smoothed"``: its
+        planes averaged over the samples within two spacings, which survives
+        noise (:mod:`crustview.core.robust.smooth_normals`).
     joggle : float
         Relative size (of the sample spacing) of the perturbation applied
         before Qhull; 0 disables it (slow and degenerate on cospherical data).
@@ -125,6 +135,9 @@ def reconstruct(
     (True, (1, 1))
     """
     theta = _validate_params(test, theta, mode)
+    if normals not in NORMAL_METHODS:
+        raise InputError(f"unknown normals {normals!r}; choose one of {', '.join(NORMAL_METHODS)}")
+    normals_method = normals  # the name is reused for the arrays below
     report = progress or (lambda stage, frac: None)
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
@@ -151,6 +164,8 @@ def reconstruct(
     t0 = time.perf_counter()
     report("normals", 0.0)
     pole_w, normals_w, infinite = greedy_poles(work_all, simplices, centres, n, r - d)
+    if normals_method == "smoothed":  # beyond the paper: AN_s averaged over the samples nearby
+        normals_w = smoothed_normals(prep.work, normals_w)
     # lift: in-subspace normals plus the complement of the affine hull
     normals = prep.lift_vectors(np.swapaxes(normals_w, 1, 2))  # (n, r-d, k)
     if r < k:
@@ -216,6 +231,7 @@ def reconstruct(
         prune_boundary=prune_boundary,
         mode=mode,
         delaunay_backend=backend_label(r),
+        normals_method=normals_method,
     )
     del faces, lit, coc, simplices, normals, tangents, candidates, voronoi  # held by rec only
     return reextract(rec, test, theta, prune_boundary=prune_boundary, mode=mode, progress=progress, cancel=cancel)

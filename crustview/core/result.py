@@ -222,6 +222,9 @@ class Reconstruction:
     delaunay_backend : str
         The Delaunay code that ran (:func:`.delaunay.backend_label`); empty
         for results made before it was recorded.
+    normals_method : str
+        ``"paper"`` (Algorithm 1 as printed) or ``"smoothed"``
+        (:mod:`crustview.core.robust.smooth_normals`).
     features : list of Feature
         Every handle, hole and component of M_S with its size in local
         sampling radii, and whether the sample supports it
@@ -255,6 +258,7 @@ class Reconstruction:
     mode: str = "robust"
     delaunay_backend: str = ""
     features: list = field(default_factory=list)
+    normals_method: str = "paper"
 
     @property
     def uncertain_features(self) -> list:
