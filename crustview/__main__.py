@@ -15,7 +15,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from crustview import __version__
+from crustview import __version__, cli_reconstruct
 from crustview.cli_reconstruct import comparison_summary, extraction_summary  # noqa: F401 - their old home
 from crustview.core.errors import CrustviewError
 
@@ -80,10 +80,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("view", help="open a point file or a saved session in the viewer")
     p.add_argument("file", type=Path, help="point file (.npy .npz .csv .txt .xyz .ply ...) or SESSION.crustview.json")
-    p.add_argument("-d", type=_positive_int, default=None, help="intrinsic dimension")
+    p.add_argument(
+        "-d", type=cli_reconstruct.dimension_arg, default=None, help="intrinsic dimension, or 'auto' (default: ask)"
+    )
     p.add_argument("--paper", action="store_true", help=_PAPER_HELP)
-
-    from crustview import cli_reconstruct
 
     cli_reconstruct.add_parser(sub, _angle_degrees)
 
@@ -212,14 +212,18 @@ def _dispatch(argv: Sequence[str]) -> int:
         mesh = read_mesh(args.file)  # report a bad file (or bad faces) here, before a window opens
         points = mesh.points if mesh is not None else read_points(args.file)
         k = points.shape[1]
+        if args.d == "auto":
+            from crustview.core.analysis.dimension import estimate_dimension
+
+            estimate = estimate_dimension(points)
+            print(f"{PROG}: note: {args.file.name}: -d auto chose {estimate.sentence()}", file=sys.stderr, flush=True)
+            args.d = estimate.d
         if args.d is not None and not 1 <= args.d < k:
             raise _UsageError(f"d must be between 1 and k-1 = {k - 1} for points in R^{k}; got d = {args.d}")
         if mesh is not None and args.d is not None:
             mesh.simplices(args.d)
         return _run_app(str(args.file), args.d, mode="paper" if args.paper else None)
     if args.command == "reconstruct":
-        from crustview import cli_reconstruct
-
         return cli_reconstruct.run(args)
     if args.command == "sample":
         return _cmd_sample(args)

@@ -90,8 +90,11 @@ def add_parser(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``crustview compare``; prints one summary and returns 0."""
+    from .cli_reconstruct import check_outputs
     from .core.analysis.complexdiff import diff_complexes
 
+    if args.json is not None:  # before the work: never over A's or B's file, never in a missing folder
+        check_outputs([Path(str(x).split("@", 1)[0]) for x in (args.a, args.b)], [args.json], False, hint=False)
     a = load_operand(args.a, args.d)
     b = load_operand(args.b, args.d)
     if a.d != b.d:

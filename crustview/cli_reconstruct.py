@@ -91,7 +91,7 @@ def _same_file(a: Path, b: Path) -> bool:
     return a.resolve() == b.resolve()
 
 
-def check_outputs(inputs: list[Path], outputs: list[Path], force: bool) -> None:
+def check_outputs(inputs: list[Path], outputs: list[Path], force: bool, hint: bool = True) -> None:
     """Refuse outputs in missing folders, outputs that are folders, and (without ``force``) the input itself.
 
     Raises
@@ -109,7 +109,7 @@ def check_outputs(inputs: list[Path], outputs: list[Path], force: bool) -> None:
             if not force and _same_file(out, inp):
                 raise InputError(
                     f"Refusing to write over the input file '{inp}' (output '{out}'): "
-                    "choose another output name, or give --force."
+                    "choose another output name" + (", or give --force." if hint else ".")
                 )
     seen: dict[Path, Path] = {}
     for out in outputs:

@@ -142,3 +142,16 @@ def test_d_auto_on_the_command_line_says_what_it_chose(samples, tmp_path):
     assert run.returncode == 0, run.stderr
     assert "-d auto chose d = 1 (a curve)" in run.stderr and "local PCA" in run.stderr
     assert "Reconstructed a curve" in run.stdout
+
+
+def test_compare_json_never_replaces_an_input_and_view_takes_d_auto(samples, tmp_path):
+    res = tmp_path / "r.npz"
+    subprocess.run(_cmd("reconstruct", samples / "torus.npy", "-d", 2, "-o", res), check=True, capture_output=True)
+    before = res.read_bytes()
+    run = subprocess.run(_cmd("compare", res, res, "--json", res), capture_output=True, text=True)
+    assert run.returncode == 2 and "Refusing to write over the input file" in run.stderr and run.stdout == ""
+    assert res.read_bytes() == before
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM")}
+    run = subprocess.run(_cmd("view", samples / "trefoil.csv", "-d", "auto"), capture_output=True, text=True, env=env)
+    assert "-d auto chose d = 1 (a curve)" in run.stderr  # then no display here: one error line, exit 2
+    assert run.returncode == 2 and run.stderr.strip().splitlines()[-1].startswith("crustview: error: no display")
