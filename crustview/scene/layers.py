@@ -11,14 +11,18 @@ from .fileattrs import FILE_COLORINGS
 
 #: Colourings the points layer offers.
 POINT_COLORINGS = (
-    "none",
-    "epsilon",
-    "normal error",
-    "pole distance",
-    "local spacing",
-    "true epsilon",
-    "Thm 2 error / bound",
-) + COORDINATE_COLORINGS + FILE_COLORINGS
+    (
+        "none",
+        "epsilon",
+        "normal error",
+        "pole distance",
+        "local spacing",
+        "true epsilon",
+        "Thm 2 error / bound",
+    )
+    + COORDINATE_COLORINGS
+    + FILE_COLORINGS
+)
 #: Colourings of the M_S layer: per simplex (the distance to M) or per vertex (coordinates).
 MANIFOLD_COLORINGS = ("none", "distance to M") + COORDINATE_COLORINGS
 #: Colourings of the removed simplices: by the step or the rule that removed each.
