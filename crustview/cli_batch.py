@@ -75,6 +75,13 @@ def _job(path: Path, output: Path, report: Path, args: argparse.Namespace) -> tu
     return row, lines
 
 
+def _worker_ignores_ctrl_c() -> None:
+    """Workers leave Ctrl-C to the parent, which stops them (no traceback from each worker)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _failed(path: Path, error: str, start: float) -> dict[str, Any]:
     row: dict[str, Any] = dict.fromkeys(COLUMNS)
     row.update(file=str(path), status="failed", error=error, seconds=round(time.perf_counter() - start, 3))
@@ -132,7 +139,8 @@ def run(args: argparse.Namespace) -> int:
                 show(row_line(rows[i]))
                 bar.advance(path.name)
         else:
-            with ProcessPoolExecutor(max_workers=min(args.jobs, len(names))) as pool:
+            pool = ProcessPoolExecutor(max_workers=min(args.jobs, len(names)), initializer=_worker_ignores_ctrl_c)
+            with pool:
                 pending = {
                     pool.submit(_job, path, out, rep, args): i
                     for i, (path, (out, rep)) in enumerate(zip(args.input, names))
@@ -145,9 +153,10 @@ def run(args: argparse.Namespace) -> int:
                             rows[i], _ = fut.result()
                             show(row_line(rows[i]))
                             bar.advance(Path(rows[i]["file"]).name)
-                except BaseException:
-                    for fut in pending:
-                        fut.cancel()
+                except BaseException:  # Ctrl-C: stop the workers now (their unnamed temporary files vanish)
+                    for process in list(getattr(pool, "_processes", {}).values()):
+                        process.terminate()
+                    pool.shutdown(wait=False, cancel_futures=True)
                     raise
     final = [r for r in rows if r is not None]
     failed = sum(r["status"] != "ok" for r in final)

@@ -241,3 +241,26 @@ def test_a_stale_named_temporary_of_a_killed_process_is_swept(tmp_path):
     mine.write_bytes(b"in progress")  # a live process's: kept
     write_bytes(target, b"{}")
     assert target.read_bytes() == b"{}" and not stale.exists() and mine.exists()
+
+
+def test_ctrl_c_stops_a_batch_and_its_workers_with_one_line(setup, sample):
+    folder, old = setup
+    out = folder / "out"
+    proc = subprocess.Popen(
+        _cmd("reconstruct", sample / "torus.npy", sample / "other.npy", "-d", 2, "--out-dir", out, "-j", 2),
+        env={**ENV, PAUSE_ENV: "60"},
+        stderr=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+        start_new_session=True,  # a process group of its own, as a terminal's foreground job
+    )
+    for line in proc.stderr:  # a worker has its result written, not yet renamed
+        if "pausing before renaming" in line:
+            break
+    os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C reaches the whole group
+    out_text, err = proc.communicate(timeout=30)
+    assert proc.returncode == 130
+    assert err.strip().splitlines()[-1] == "crustview: cancelled (Ctrl-C); no partial file was written"
+    assert "Traceback" not in err and out_text == ""
+    assert list(out.iterdir()) == []
+    assert _listing(folder) == sorted([*old, "torus.npy", "out"])
