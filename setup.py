@@ -9,8 +9,8 @@ and crustview falls back to the ``cgal`` wheel (R^3) and Qhull.
 ``crustview.core.delaunay._faces`` (no third-party code) lists the faces of a
 triangulation and the simplices around each, ``crustview.core.delaunay._poles`` runs
 Algorithm 1's greedy rounds and ``crustview.core.delaunay._segments`` the first steps
-of Algorithm 2's cocone score in codimension 1; without them numpy does the
-same.
+of Algorithm 2's cocone score in codimension 1, ``crustview.core.delaunay._centres``
+the simplices' circumcentres; without them numpy does the same.
 """
 
 from setuptools import Extension, setup
@@ -46,6 +46,13 @@ setup(
         Extension(  # no third-party headers: Algorithm 2's codimension-1 segment ends (core/paper/candidates.py)
             "crustview.core.delaunay._segments",
             sources=["crustview/core/delaunay/_segments.cpp"],
+            language="c++",
+            extra_compile_args=[*FLAGS, "-ffp-contract=off"],
+            optional=True,
+        ),
+        Extension(  # no third-party headers: the Delaunay simplices' circumcentres (core/delaunay/triangulation.py)
+            "crustview.core.delaunay._centres",
+            sources=["crustview/core/delaunay/_centres.cpp"],
             language="c++",
             extra_compile_args=[*FLAGS, "-ffp-contract=off"],
             optional=True,

@@ -8,7 +8,8 @@
 * C++ sources, built by ``setup.py`` into extension modules here, each
   optional (numpy does the same without them): ``_delaunay3.cpp`` and
   ``_delaunay_d.cpp`` (CGAL, sharing ``_cgal_buffers.h``), and our own kernels
-  ``_faces.cpp`` (the face lists), ``_poles.cpp`` (Algorithm 1's greedy
+  ``_faces.cpp`` (the face lists), ``_centres.cpp`` (the circumcentres,
+  bit for bit as numpy computes them), ``_poles.cpp`` (Algorithm 1's greedy
   rounds, used by :mod:`crustview.core.paper.normals`) and ``_segments.cpp``
   (the codimension-1 cocone ends, used by
   :mod:`crustview.core.paper.candidates`).
