@@ -26,6 +26,7 @@ whichever result the sample supports better.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -75,6 +76,7 @@ def extract_by_labels(
     faces: np.ndarray,
     candidates: np.ndarray,
     spacing: float,
+    progress: Callable[[float], None] | None = None,
 ) -> Extraction:
     """M_S from a labelling of the Delaunay cells, with its repairs recorded as steps.
 
@@ -94,6 +96,8 @@ def extract_by_labels(
         T_S, sorted rows (the first rows of the result, as in paper mode).
     spacing : float
         Median nearest-neighbour distance.
+    progress : callable(fraction), optional
+        Called between the rules, with fractions of the whole path.
 
     Returns
     -------
@@ -115,6 +119,8 @@ def extract_by_labels(
         f"(deep overlap: same side; shallow touch and a sample's two poles: opposite sides; big balls first); "
         f"M_S is the {len(surf)} faces between the two ({lab.violated} ties could not be kept)",
     )
+    report = progress or (lambda f: None)
+    report(0.4)
     ed = LabelEditor(lab)
     # the vertex test of repair-vertex costs a pass over every cell corner: only when something pinches
     pinched = not analyse(surf, n, surf.shape[1] - 1).closed_manifold
@@ -128,6 +134,7 @@ def extract_by_labels(
             f"M_S pinched at sample {v}; {len(cells)} less confident cells of its star took the other label "
             f"(confidence {float(lab.confidence[cells].max()):.2f} or less)",
         )
+    report(0.6)
     for v, _cells, removed, added in ed.sculpt():
         log.step(
             RULE_SCULPT,
@@ -164,7 +171,9 @@ def extract_by_labels(
         # the openings stay open: fill-hole would span them again with smaller faces
         pt.keep_open = frozenset(pt.boundary())
     start = len(log.steps)
+    report(0.75)
     left = pt.settle()
+    report(0.95)
     for rule, tau, added, removed, angle, why in pt.log:
         log.step(
             rule,

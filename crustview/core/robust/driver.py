@@ -206,7 +206,12 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
 
     n = len(points)
     d = faces.shape[1] - 1
-    lab = extract_by_labels(points, *cells, faces, np.sort(tset, axis=1), spacing)
+    report = progress or (lambda f: None)
+    report(0.05)
+    # the labelling path takes the first half of the bar, the growing path (when it runs) the rest
+    lab = extract_by_labels(
+        points, *cells, faces, np.sort(tset, axis=1), spacing, progress=lambda f: report(0.05 + 0.45 * f)
+    )
     if cancel is not None and cancel.is_set():
         raise Cancelled("reconstruction cancelled")
     m_lab = lab.complex_at(lab.n_steps)
@@ -216,7 +221,10 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     if top_lab.closed_manifold and top_lab.unused_samples == 0 and not f_lab and n > SECOND_OPINION_N:
         lab.notes.insert(0, note_paper + "; the robust extension labelled the Delaunay cells instead")
         return lab
-    grown = _grow_and_patch(points, _prepare_growth(points, faces, scores, admitted), spacing, cancel, progress)
+    report(0.5)
+    grown = _grow_and_patch(
+        points, _prepare_growth(points, faces, scores, admitted), spacing, cancel, lambda f: report(0.5 + 0.5 * f)
+    )
     m_gro = grown.complex_at(grown.n_steps)
     top_gro = analyse(m_gro, n, d)
     grown.features = features(points, m_gro, d)
