@@ -170,3 +170,14 @@ def test_steplog_rows_and_replay():
     assert {tuple(r) for r in ext.complex_at(2).tolist()} == {(1, 2, 4)}
     assert {tuple(r) for r in ext.complex_at(3).tolist()} == {(1, 2, 4), (0, 1, 2)}
     assert ext.complex_at(0).shape == (0, 3)
+
+
+def test_extraction_progress_moves_between_the_rules():
+    """The robust extraction reports increasing fractions while it runs, not only 0 and the end."""
+    m = get_manifold("torus")
+    s = m.sample(1500, seed=4)
+    rng = np.random.default_rng(0)
+    seen = []
+    reconstruct(s.points + rng.normal(scale=0.06, size=s.points.shape), 2, progress=lambda st, f: seen.append((st, f)))
+    fr = [f for st, f in seen if st == "extraction"]
+    assert len(set(fr)) >= 4 and fr == sorted(fr) and 0 < max(fr) <= 1
