@@ -62,3 +62,136 @@ def window(qtbot, tmp_path):
     qtbot.waitExposed(win)
     yield win
     win.runner.shutdown()
+
+
+# ---------------------------------------------------------------- the GUI tests' shared reconstructions
+#: Per process (each xdist worker has its own): reconstruct's result and progress calls by arguments.
+_RUNS: dict = {}
+#: sampling_quality's result by the id of a remembered reconstruction (kept alive in _RUNS).
+_QUALITY: dict = {}
+#: The copies handed out on repeats, by id (kept alive, so ids stay unique), and their originals.
+_COPIES: dict = {}
+
+
+def _run_key(points, d, kwargs) -> tuple:
+    import hashlib
+
+    import numpy as np
+
+    pts = np.ascontiguousarray(points)
+    digest = hashlib.blake2b(pts.tobytes(), digest_size=16).hexdigest()
+    return (pts.shape, str(pts.dtype), digest, d, tuple(sorted(kwargs.items())))
+
+
+def _remembered(reconstruct):
+    """``reconstruct`` computing each distinct run once; a repeat replays its progress calls and checks cancel."""
+    import dataclasses
+
+    from crustview.core.errors import Cancelled
+
+    def run(points, d, *, progress=None, cancel=None, **kwargs):
+        key = _run_key(points, d, kwargs)
+        if key not in _RUNS:
+            calls: list = []
+
+            def record(stage, fraction):
+                calls.append((stage, fraction))
+                if progress is not None:
+                    progress(stage, fraction)
+
+            rec = reconstruct(points, d, progress=record, cancel=cancel, **kwargs)
+            _read_only(rec)
+            _RUNS[key] = (rec, calls)
+            return rec
+        rec, calls = _RUNS[key]
+        for stage, fraction in calls:
+            if cancel is not None and cancel.is_set():
+                raise Cancelled("reconstruction cancelled")
+            if progress is not None:
+                progress(stage, fraction)
+        copy = dataclasses.replace(rec)  # a new object, as every run gives (tests check "rec is not old")
+        _COPIES[id(copy)] = (copy, rec)
+        return copy
+
+    return run
+
+
+def _read_only(rec) -> None:
+    """Make the shared result's arrays read-only: a viewer that wrote into one would fail its test."""
+    import dataclasses
+
+    import numpy as np
+
+    for holder in (rec, rec.candidates):
+        for field in dataclasses.fields(holder):
+            value = getattr(holder, field.name)
+            if isinstance(value, np.ndarray):
+                value.flags.writeable = False
+
+
+def _remembered_quality(quality):
+    def run(rec, progress, cancel=None):
+        if id(rec) in _COPIES and _COPIES[id(rec)][0] is rec:
+            rec = _COPIES[id(rec)][1]
+        if not any(rec is hit for hit, _ in _RUNS.values()):
+            return quality(rec, progress, cancel)
+        if id(rec) not in _QUALITY:
+            _QUALITY[id(rec)] = quality(rec, progress, cancel)
+        else:
+            progress("quality", 1.0)
+        return _QUALITY[id(rec)]
+
+    return run
+
+
+@pytest.fixture(autouse=True)
+def _shared_reconstructions(request, monkeypatch):
+    """In the GUI tests, the window's worker reconstructs each distinct input once per process.
+
+    The GUI tests load the same built-ins again and again (the torus about 40
+    times); the reconstruction itself is the core tests' subject.  A repeat
+    gets a shallow copy of the same ``Reconstruction`` (its arrays made
+    read-only, so a viewer writing into one fails) after
+    the first run's progress calls, replayed in the worker, so stages,
+    progress bars and Cancel behave as in a run.  A test marked
+    ``fresh_runs`` always reconstructs.
+    """
+    if not request.node.path.name.startswith("test_gui_") or request.node.get_closest_marker("fresh_runs"):
+        yield
+        return
+    from crustview.qt import running
+
+    monkeypatch.setattr(running, "reconstruct", _remembered(running.reconstruct))
+    monkeypatch.setattr(running, "_quality", _remembered_quality(running._quality))
+    yield
+
+
+# ---------------------------------------------------------------- timed tests run alone under xdist
+@pytest.fixture(autouse=True)
+def _timed_tests_run_alone(request, tmp_path_factory):
+    """Under pytest-xdist, a test marked ``timing`` runs while no other worker runs a test.
+
+    Every test holds a shared lock on a file of this run's base temporary
+    folder (common to the workers); a ``timing`` test takes it exclusively,
+    so it waits for the other worker's current test and the other worker
+    waits for it.  A gate lock, held while a test asks for the main lock,
+    keeps a waiting ``timing`` test from being starved.  Without xdist it
+    does nothing.
+    """
+    if os.environ.get("PYTEST_XDIST_WORKER") is None:
+        yield
+        return
+    import fcntl
+
+    folder = tmp_path_factory.getbasetemp().parent
+    alone = request.node.get_closest_marker("timing") is not None
+    with open(folder / "crustview-timing.gate", "a") as gate, open(folder / "crustview-timing.lock", "a") as lock:
+        fcntl.flock(gate, fcntl.LOCK_EX)
+        fcntl.flock(lock, fcntl.LOCK_EX if alone else fcntl.LOCK_SH)
+        if not alone:
+            fcntl.flock(gate, fcntl.LOCK_UN)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
+            fcntl.flock(gate, fcntl.LOCK_UN)

@@ -66,6 +66,7 @@ class FrameClock:
 
 @pytest.mark.gl
 @pytest.mark.slow
+@pytest.mark.timing
 def test_steps_and_jumps_cost_little_more_than_a_frame(qtbot, window, fertility_run):
     """Issue 10: Home/End, jumps and steps at <= 100 ms.  Each is one render and one
     composition of the window (a label that re-lays out its dock used to cost two or three

@@ -29,6 +29,7 @@ def show(qtbot, win, run):
 
 
 @pytest.mark.slow
+@pytest.mark.timing
 def test_playback_applies_over_a_thousand_steps_a_second(qtbot, window, long_run):
     rec = show(qtbot, window, long_run)
     panel = window.steps_panel
@@ -55,6 +56,7 @@ def test_playback_applies_over_a_thousand_steps_a_second(qtbot, window, long_run
 
 
 @pytest.mark.slow
+@pytest.mark.timing
 def test_home_end_and_jumps_are_quick_on_a_long_run(qtbot, window, long_run):
     rec = show(qtbot, window, long_run)
     player = window.model.player

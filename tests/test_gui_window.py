@@ -240,6 +240,8 @@ def test_bad_file_shows_error_and_keeps_previous_result(qtbot, window, tmp_path)
     assert window.model.rec is rec and window.model.player.position == 3
 
 
+@pytest.mark.timing
+@pytest.mark.fresh_runs  # needs a run long enough to act during it
 def test_cancel_stops_a_long_run(qtbot, window):
     rec = load(qtbot, window)
     stages = []
@@ -444,6 +446,7 @@ def test_frame_each_step_moves_the_camera_onto_the_step_drawn_on_top(qtbot, wind
     assert differs(on, shot(window), min_pixels=50)
 
 
+@pytest.mark.fresh_runs  # needs a run long enough to act during it
 def test_raw_points_are_shown_while_the_first_run_goes(qtbot, window):
     """An empty window shows the samples at once; the result replaces them."""
     before = shot(window)

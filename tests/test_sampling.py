@@ -267,6 +267,7 @@ def test_noise_scale_and_tangents_unchanged():
     assert noisy.noise == 0.3 and clean.noise == 0.0
 
 
+@pytest.mark.timing
 def test_even_sampling_is_fast():
     m = get_manifold("torus")
     m.sample(100)  # warm the cached bounds
