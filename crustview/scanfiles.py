@@ -89,7 +89,11 @@ def _check_pcd(path: Path) -> None:
             if line.startswith("DATA"):
                 break
     meta = MetaData.parse_header(lines)
-    row = meta.build_dtype().itemsize
+    # the row size from the header itself: pypcd4's dtype has one field per counted value, so a
+    # header with COUNT 1111111 would build a million fields (hundreds of MiB) before any check
+    row = int(sum(int(a) * int(b) for a, b in zip(meta.size, meta.count)))
+    if row > len(data):
+        raise InputError(f"Cannot read '{path}': its header declares {row} bytes per point, more than the file holds.")
     if meta.data.value == "ascii":
         _check_size(path, meta.points, 2 * sum(meta.count))  # a digit and a separator per value
     elif meta.data.value == "binary":
