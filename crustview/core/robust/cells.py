@@ -124,7 +124,7 @@ def extract_by_labels(
     ed = LabelEditor(lab)
     # the vertex test of repair-vertex costs a pass over every cell corner: only when something pinches
     pinched = not analyse(surf, n, surf.shape[1] - 1).closed_manifold
-    for v, cells, removed, added in ed.repair() if pinched else ed.no_repair():
+    for v, cells, removed, added in ed.repair() if pinched else []:
         log.step(
             RULE_REPAIR,
             (int(v),),

@@ -57,6 +57,8 @@ class LabelEditor:
             (np.ones(2 * nf, np.int8), (np.r_[lab.a, lab.b], np.r_[np.arange(nf), np.arange(nf)])), shape=(m, nf)
         )
         self.cell_ptr, self.cell_faces = cf.indptr, cf.indices
+        #: which shared faces are on M_S now (kept up to date by :meth:`flip`)
+        self.cut = lab.cut()
 
     def star(self, v: int) -> np.ndarray:
         """The cells that have v as a vertex."""
@@ -102,11 +104,6 @@ class LabelEditor:
         removed, added = fs[self.cut[fs] & ~now], fs[~self.cut[fs] & now]
         self.cut[fs] = now
         return removed, added
-
-    def no_repair(self) -> list:
-        """What :meth:`repair` returns where the surface is already a manifold (it sets up :attr:`cut`)."""
-        self.cut = self.lab.cut()
-        return []
 
     def repair(self) -> list[tuple[int, np.ndarray, np.ndarray, np.ndarray]]:
         """``repair-vertex`` until no vertex pinches: (vertex, flipped cells, removed, added) per step."""
