@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pyvista as pv
 
 from ..scene import geometry as geo
 from .base import LayerAdapter, set_cells, set_points
@@ -30,24 +31,99 @@ def face_cells(faces: np.ndarray) -> dict[str, np.ndarray]:
 
 
 class HolesAdapter(LayerAdapter):
-    """The holes of T_S: (d-1)-faces in a single candidate simplex before extraction."""
+    """The holes of T_S: (d-1)-faces in a single candidate simplex before extraction.
+
+    Drawn by rim (:mod:`crustview.scene.holes`): the rim faces as lines (dots
+    for curves, triangles for 3-manifolds), a surface rim's patch faintly
+    shaded, and the largest rims labelled with their size; the legend names
+    how many there are and the largest.
+    """
+
+    parts_spec = (("", False), ("-patch", False))
+    #: How many of the largest rims get a label in the view.
+    LABELLED = 5
+
+    def __init__(self, *args) -> None:
+        super().__init__(*args)
+        from vtkmodules.vtkRenderingCore import vtkActor2D
+        from vtkmodules.vtkRenderingLabel import vtkLabeledDataMapper
+
+        self.rims: list = []
+        self.label_points = pv.PolyData()
+        self.label_mapper = vtkLabeledDataMapper()
+        self.label_mapper.SetInputData(self.label_points)
+        self.label_mapper.SetLabelModeToLabelFieldData()
+        self.label_mapper.SetFieldDataName("labels")
+        tp = self.label_mapper.GetLabelTextProperty()
+        tp.SetFontSize(13)
+        tp.SetColor(*pv.Color(self.layer.color).float_rgb)
+        tp.SetBold(True)
+        tp.SetBackgroundColor(1.0, 1.0, 1.0)
+        tp.SetBackgroundOpacity(0.8)
+        tp.SetShadow(False)
+        self.label_actor = vtkActor2D()
+        self.label_actor.SetMapper(self.label_mapper)
+        self.label_actor.SetPickable(False)
+        self.plotter.renderer.AddViewProp(self.label_actor)
+        self.label_actor.SetVisibility(bool(self.layer.visible))
+        self.labels: list[str] = []
 
     def rebuild(self) -> None:
+        from ..scene.holes import hole_rims, rim_patches
+
         rec = self.model.rec
         if rec is None:
             return
         holes = self.model.holes()
-        self.xk = rec.points
+        self.rims = hole_rims(holes, rec.points, self.model.spacing)
+        centres, patch = rim_patches(self.rims, rec.n)
+        self.xk = np.vstack([rec.points, centres]) if len(centres) else rec.points
+        big = self.rims[: self.LABELLED]
+        self.labels = [f"hole {i + 1}: {r.words(rec.d)}" for i, r in enumerate(big)]
+        self._label_xk = np.array([r.centre for r in big]).reshape(-1, rec.k)
         self.project()
         set_cells(self.part.mesh, **face_cells(holes))
+        set_cells(self.parts[1].mesh, polys=patch if len(patch) else None)
         self.layer.count = len(holes)
+
+    def project(self) -> None:
+        from vtkmodules.vtkCommonCore import vtkStringArray
+
+        proj = self.model.projection
+        if not len(self.xk) or self.xk.shape[1] != proj.k:
+            return
+        p3 = proj.project(self.xk)
+        set_points(self.part.mesh, p3)
+        set_points(self.parts[1].mesh, p3)
+        pts = proj.project(self._label_xk) if len(self.labels) else np.zeros((0, 3))
+        set_points(self.label_points, pts)
+        names = vtkStringArray()
+        names.SetName("labels")
+        for text in self.labels:
+            names.InsertNextValue(text)
+        self.label_points.GetPointData().AddArray(names)
+        self.label_points.Modified()
+
+    def legend_label(self) -> str:
+        """The legend's line: how many holes, and the largest one's size."""
+        from ..scene.holes import holes_summary
+
+        return holes_summary(self.rims, self.model.rec.d if self.model.rec is not None else 2)
+
+    def apply_visibility(self) -> None:
+        super().apply_visibility()
+        if hasattr(self, "label_actor"):
+            self.label_actor.SetVisibility(bool(self.layer.visible))
 
     def restyle(self) -> None:
         d = self.model.rec.d if self.model.rec is not None else 2
-        self.part.style(self.layer.color, self.layer.opacity, self.layer.size, lines=d == 2, spheres=False)
+        self.part.style(self.layer.color, self.layer.opacity, self.layer.size * 0.6, lines=d == 2, spheres=False)
         self.part.actor.prop.point_size = self.layer.size * 2.0
-        self.part.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(-3, -3)
-        self.part.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(-3, -3)
+        self.parts[1].style(self.layer.color, 0.25 * self.layer.opacity, 1.0)
+        self.label_mapper.GetLabelTextProperty().SetColor(*pv.Color(self.layer.color).float_rgb)
+        for p in self.parts:
+            p.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(-3, -3)
+            p.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(-3, -3)
 
 
 class CascadeAdapter(LayerAdapter):

@@ -93,6 +93,7 @@ class SceneView(CameraControl):
         self._stale: set[LayerAdapter] = set()
         self.hud = self._hud()
         self.legend = Legend(plotter, renderer=self.hud)
+        self._to_hud(self.adapters["holes"].label_actor)  # the holes' sizes over the geometry
         self._built_for: int | None = None
         self.basis_text = plotter.add_text("", position="lower_left", font_size=11, color="#222222", name="basis")
         self._to_hud(self.basis_text)
@@ -425,7 +426,7 @@ class SceneView(CameraControl):
                     out.append((layer.title, layer.color))
                 out.append(("Pole at infinity (hull sample)", lighter(layer.color)))
                 continue
-            if name == "truth":
+            if name in ("truth", "holes"):
                 out.append((a.legend_label(), layer.color))
                 continue
             if name == "orientation":

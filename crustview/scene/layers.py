@@ -209,8 +209,10 @@ def default_layers(d: int = 2, k: int = 3, n: int = 0) -> dict[str, Layer]:
             1.0,
             5.0,
             tooltip="The (d-1)-faces of the candidate complex T_S that lie in a single simplex before "
-            "extraction starts: the paper's pruning starts its cascades there (thick lines for "
-            "surfaces, dots for curves, triangles for 3-manifolds).",
+            "extraction starts: the paper's pruning starts its cascades there. Drawn by hole: its rim "
+            "(lines for surfaces, dots for curves, triangles for 3-manifolds), a surface hole's patch "
+            "faintly shaded, and the five largest labelled with their rim size and span in sample "
+            "spacings; the legend gives how many holes and the largest.",
         ),
         Layer(
             "cascade",
