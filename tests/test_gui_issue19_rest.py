@@ -86,3 +86,75 @@ def test_holes_are_drawn_as_rims_with_a_faint_patch_and_their_size(qtbot, window
     layer.visible = False
     qtbot.wait(20)
     assert not a.label_actor.GetVisibility() and not patch.actor.GetVisibility()
+
+
+# ---------------------------------------------------------------- 2. docks that fit at 1024 x 700
+def _settle(qtbot, window, w: int = 1024, h: int = 700) -> None:
+    window.resize(w, h)
+    qtbot.wait(200)  # the tabbed column is sized again once the layout has settled
+    window.layout().activate()
+
+
+def test_at_1024_by_700_no_dock_scrolls_sideways_and_options_say_their_value(qtbot, window):
+    from PySide6.QtWidgets import QComboBox, QScrollArea
+
+    from tests.gui_helpers import load
+
+    load(qtbot, window, "flat-klein")  # a built-in: the Theorems box is shown too
+    _settle(qtbot, window)
+    assert window.compact
+    for name, dock in window.docks.items():
+        dock.raise_()
+        qtbot.wait(50)
+        area = dock.widget()
+        if not isinstance(area, QScrollArea):
+            continue
+        body = area.widget()
+        # the contents fit the dock's width: nothing to scroll to, nothing cut at the right edge
+        assert body.minimumSizeHint().width() <= area.viewport().width(), name
+        assert area.horizontalScrollBar().maximum() == 0, name
+    panel = window.layers_panel
+    for row in panel.rows.values():
+        for w in (row.visible, row.count, row.opacity, row.size, row.extra):
+            if w is not None:  # every widget of the row lies inside the visible part of the panel
+                right = w.mapTo(panel.viewport(), w.rect().topRight()).x()
+                assert right <= panel.viewport().width(), (row.layer.name, type(w).__name__)
+        if isinstance(row.extra, QComboBox):
+            assert f"<b>{row.extra.currentText()}</b>" in row.extra.toolTip()
+    points = panel.rows["points"].extra
+    points.setCurrentText("hidden depth")
+    assert window.model.layers["points"].colorby == "hidden depth"
+    assert "<b>hidden depth</b>" in points.toolTip()
+
+
+def test_at_1024_by_700_the_topology_table_shows_every_value_whole(qtbot, window):
+    from tests.gui_helpers import load
+
+    load(qtbot, window, "flat-klein")
+    _settle(qtbot, window)
+    window.docks["info"].raise_()
+    qtbot.wait(50)
+    t = window.info_panel.topology
+    area = window.docks["info"].widget()
+    assert t.mapTo(area.widget(), t.rect().topRight()).x() <= area.viewport().width()
+    fm = t.fontMetrics()
+    assert t.item(0, 2).text() == "Klein bottle"
+    for r in range(t.rowCount()):
+        for c in range(3):
+            item = t.item(r, c)
+            if item is None or not item.text():
+                continue
+            assert fm.horizontalAdvance(item.text()) + 6 <= t.columnWidth(c), (r, c, item.text())
+            assert item.text() in item.toolTip()
+    assert sum(t.columnWidth(c) for c in range(3)) <= t.viewport().width() + 1
+
+
+def test_a_thinned_count_takes_two_lines_in_the_narrow_column(qtbot, window):
+    window.resize(1024, 700)
+    qtbot.wait(200)
+    layer = window.model.layers["points"]
+    layer.count, layer.total = 60_000, 1_000_000
+    row = window.layers_panel.rows["points"]
+    assert row.count.text() == "60,000\nof 1,000,000"
+    right = row.count.mapTo(window.layers_panel.viewport(), row.count.rect().topRight()).x()
+    assert right <= window.layers_panel.viewport().width()

@@ -206,6 +206,8 @@ class InfoPanel(QWidget):
         for r, (name, found, exp) in enumerate(rows):
             for c, text in enumerate((name, found, exp)):
                 item = QTableWidgetItem(text)
+                if text:  # the whole value, also when a narrow column elides it
+                    item.setToolTip(text if c == 0 else f"{name}: {text}" + (" (expected)" if c == 2 else ""))
                 if c == 1 and exp and found != exp:
                     item.setForeground(Qt.GlobalColor.red)
                 self.topology.setItem(r, c, item)

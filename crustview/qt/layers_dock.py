@@ -40,6 +40,10 @@ ORDER = (
 )
 
 
+#: Widths (px) of the opacity slider, the size box and an option menu in a narrow dock.
+COMPACT_SLIDER, COMPACT_SIZE, COMPACT_OPTION = 36, 46, 78
+
+
 def _swatch(button: QToolButton, color: str) -> None:
     button.setStyleSheet(f"QToolButton {{ background: {color}; border: 1px solid #555; border-radius: 3px; }}")
 
@@ -75,6 +79,8 @@ class LayerRow:
         for col, w in enumerate((self.visible, self.count, self.color, self.opacity, self.size)):
             grid.addWidget(w, row, col)
         self.extra: QWidget | None = None
+        #: Narrow widgets for the tabbed column (:meth:`compact`).
+        self.compacted = False
         if layer.colorings:
             combo = QComboBox(parent)
             combo.addItems(list(layer.colorings))
@@ -101,6 +107,9 @@ class LayerRow:
             self.extra = spin
         if self.extra is not None:
             grid.addWidget(self.extra, row, 5)
+        if isinstance(self.extra, QComboBox):
+            self.extra.currentTextChanged.connect(self._tip)
+            self._tip(self.extra.currentText())
         layer.events.connect(self.sync)
         self.sync()
 
@@ -116,6 +125,23 @@ class LayerRow:
         combo.addItems(list(items))
         combo.blockSignals(False)
         self.sync()
+
+    def _tip(self, text: str) -> None:
+        """The option's whole value in its tooltip (a narrow panel elides it)."""
+        what = "Scalar colouring of the layer (a legend bar appears in the view)"
+        if self.layer.name == "poles":
+            what = "Poles of the selected sample only, or of every sample"
+        self.extra.setToolTip(f"<b>{text}</b><br>{what}")
+
+    def compact(self) -> None:
+        """Narrow widgets for a narrow dock: options elided (whole in their tooltips), a shorter slider."""
+        self.compacted = True
+        self.opacity.setFixedWidth(COMPACT_SLIDER)
+        self.size.setFixedWidth(COMPACT_SIZE)
+        if isinstance(self.extra, QComboBox):
+            self.extra.setSizeAdjustPolicy(QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+            self.extra.setMinimumContentsLength(4)
+            self.extra.setFixedWidth(COMPACT_OPTION)
 
     def _pick_color(self) -> None:
         c = QColorDialog.getColor(QColor(self.layer.color), self.color, f"Colour of {self.layer.title}")
@@ -138,13 +164,16 @@ class LayerRow:
                 self.count.setText("–")
                 self.count.setToolTip("Hidden: counted again when shown")
             else:
-                self.count.setText(f"{layer.count:,} of {layer.total:,}" if thinned else f"{layer.count:,}")
+                # in a narrow dock, drawn of total on two lines: the column stays as narrow as a count
+                sep = "\n" if self.compacted else " "
+                self.count.setText(f"{layer.count:,}{sep}of {layer.total:,}" if thinned else f"{layer.count:,}")
                 self.count.setToolTip(layer.note if thinned else "Number of elements in the layer at the current step")
             if isinstance(self.extra, QComboBox):
                 value = layer.colorby if layer.colorings else layer.mode
                 i = self.extra.findText(value)
                 if i >= 0:
                     self.extra.setCurrentIndex(i)
+                self._tip(self.extra.currentText())
             elif isinstance(self.extra, QDoubleSpinBox):
                 self.extra.setValue(layer.shrink)
         finally:
@@ -174,6 +203,18 @@ class LayersPanel(QScrollArea):
         self.setWidgetResizable(True)
         self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.setMinimumWidth(body.sizeHint().width() + self.verticalScrollBar().sizeHint().width() + 4)
+
+    def compact(self) -> None:
+        """Fit a narrow dock (the tabbed column of a small window) without scrolling sideways."""
+        for row in self.rows.values():
+            row.compact()
+            row.sync()
+        grid = self.widget().layout()
+        grid.setContentsMargins(3, 4, 3, 4)
+        grid.setHorizontalSpacing(3)
+        self.setMinimumWidth(0)
+        # a width it still cannot fit (a window narrower than 1024 px) scrolls rather than clips
+        self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAsNeeded)
 
     def offer(self, model) -> None:
         """Menus that fit the shown data: each row's colourings from :meth:`SceneModel.colorings`."""

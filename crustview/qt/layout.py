@@ -67,8 +67,7 @@ class DockLayout:
         if self.compact:
             return
         self.compact = True
-        self.layers_panel.setMinimumWidth(0)  # narrow panels scroll sideways
-        self.layers_panel.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAsNeeded)
+        self.layers_panel.compact()  # narrower widgets: no scrolling sideways at 1024 px
         self.steps_panel.compact()
         self.docks["steps"].setWindowTitle("Steps")
         right = Qt.DockWidgetArea.RightDockWidgetArea
