@@ -230,6 +230,7 @@ def set_camera(scene, text: str | None, session) -> None:
     cam.position = tuple(focus + dist * direction / np.linalg.norm(direction))
     up = np.array([0.0, 0.0, 1.0]) if abs(direction[2]) < 0.99 * np.linalg.norm(direction) else np.array([0, 1.0, 0])
     cam.up = tuple(up)
+    cam.SetWindowCenter(0.0, 0.0)  # the reset's shift clear of the legend was for its own direction
     scene.plotter.reset_camera()
 
 

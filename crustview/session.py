@@ -186,7 +186,7 @@ class Session:
         Player position (0: T_S before Algorithm 3).
     camera : dict or None
         ``position``, ``focal_point``, ``up`` (3 floats each), ``view_angle``,
-        ``parallel`` and ``parallel_scale``.
+        ``parallel``, ``parallel_scale`` and ``window_center`` (2 floats, the image shift).
     projection : dict or None
         ``k``, ``origin`` (k floats), ``base`` (k x 3), ``angles`` (rows
         ``[i, j, radians]``), ``source`` and ``stereo_radius``.
@@ -353,6 +353,8 @@ def _camera(v: Any) -> dict | None:
     out["view_angle"] = _float(v, "view_angle") if "view_angle" in v else 30.0
     out["parallel"] = bool(v.get("parallel", False))
     out["parallel_scale"] = _float(v, "parallel_scale") if "parallel_scale" in v else 1.0
+    if "window_center" in v:  # the image's shift clear of the legend (Reset); older sessions have none
+        out["window_center"] = _floats(v["window_center"], 2, "camera.window_center")
     return out
 
 

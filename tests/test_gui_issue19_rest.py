@@ -158,3 +158,84 @@ def test_a_thinned_count_takes_two_lines_in_the_narrow_column(qtbot, window):
     assert row.count.text() == "60,000\nof 1,000,000"
     right = row.count.mapTo(window.layers_panel.viewport(), row.count.rect().topRight()).x()
     assert right <= window.layers_panel.viewport().width()
+
+
+# ---------------------------------------------------------------- 3. the camera
+CASTING = Path(__file__).resolve().parents[2] / "shared" / "data" / "scans2" / "casting.off"
+
+
+def _on_screen(window, pts: np.ndarray) -> np.ndarray:
+    from crustview.render.fitting import display_points
+
+    return display_points(window.plotter.renderer, window.model.projection.project(pts))
+
+
+@pytest.mark.parametrize("size", [(1600, 1000), (1024, 700)])
+def test_reset_shows_all_of_a_scan_clear_of_the_legend(qtbot, window, size):
+    from crustview.render.fitting import text_block
+    from tests.gui_helpers import wait_idle
+
+    if not CASTING.exists():
+        pytest.skip("../shared/data/scans2/casting.off is not here")
+    _settle(qtbot, window, *size)
+    assert window.open_file(CASTING, d=2)
+    wait_idle(qtbot, window)
+    qtbot.wait(100)
+    window.plotter.camera.zoom(2.0)  # wherever the user left it
+    window.view.reset_camera()
+    window.view.render()
+    ren = window.plotter.renderer
+    w, h = ren.GetSize()
+    xy = _on_screen(window, window.model.rec.points)
+    assert (xy[:, 0] >= 0).all() and (xy[:, 0] <= w).all() and (xy[:, 1] >= 0).all() and (xy[:, 1] <= h).all()
+    x0, y0, x1, y1 = text_block(window.view.legend.actors, window.view.hud)
+    assert y1 - y0 > 100  # notes and 6 or more legend lines: the top of the part would be under them
+    under = (xy[:, 0] > x0) & (xy[:, 0] < x1) & (xy[:, 1] > y0) & (xy[:, 1] < y1)
+    assert not under.any()
+    span = xy.max(axis=0) - xy.min(axis=0)
+    assert max(span[0] / w, span[1] / h) > 0.55  # and still big
+
+
+def test_switching_to_the_stereographic_view_frames_the_new_geometry(qtbot, window):
+    from tests.gui_helpers import load
+
+    load(qtbot, window, "clifford-torus")
+    window.projection_panel.stereo.setChecked(True)
+    qtbot.wait(50)
+    assert window.model.projection.stereographic
+    rec = window.model.rec
+    p3 = window.model.projection.project(rec.points)
+    cam = np.asarray(window.plotter.camera.position)
+    centre = (p3.min(axis=0) + p3.max(axis=0)) / 2
+    # the camera stands outside the new geometry and sees all of it
+    assert np.linalg.norm(cam - centre) > np.linalg.norm(p3 - centre, axis=1).max()
+    w, h = window.plotter.renderer.GetSize()
+    xy = _on_screen(window, rec.points)
+    assert (xy >= 0).all() and (xy[:, 0] <= w).all() and (xy[:, 1] <= h).all()
+    window.projection_panel.stereo.setChecked(False)  # and back
+    qtbot.wait(50)
+    xy = _on_screen(window, rec.points)
+    span = xy.max(axis=0) - xy.min(axis=0)
+    assert (xy >= 0).all() and max(span[0] / w, span[1] / h) > 0.5
+
+
+def test_turning_frame_each_step_off_returns_to_the_full_view(qtbot, window):
+    from crustview.render.camera import camera_state
+    from tests.gui_helpers import load
+
+    load(qtbot, window, "torus")
+    window.view.reset_camera()
+    full = camera_state(window.plotter)
+    window.model.player.set_step(40)
+    window.steps_panel.follow.setChecked(True)
+    window.model.player.next()
+    qtbot.wait(50)
+    framed = camera_state(window.plotter)
+    assert not np.allclose(framed["position"], full["position"])
+    assert window.view.clip_plane is not None
+    window.steps_panel.follow.setChecked(False)
+    qtbot.wait(50)
+    back = camera_state(window.plotter)
+    assert window.view.clip_plane is None
+    assert np.allclose(back["position"], full["position"]) and np.allclose(back["focal_point"], full["focal_point"])
+    assert np.allclose(back["window_center"], full["window_center"])

@@ -45,6 +45,7 @@ def _full_session(tmp_path) -> tuple[Session, object]:
             "view_angle": 30.0,
             "parallel": False,
             "parallel_scale": 1.0,
+            "window_center": [0.1, -0.2],
         },
         projection=proj.state(),
         layers={

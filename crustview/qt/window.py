@@ -310,8 +310,8 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
     def _follow_toggled(self, on: bool) -> None:
         if on:
             self._follow_step()
-        else:
-            self.view.clear_clip()
+        else:  # back to the whole of the data, uncut (the framed step's zoom went with it)
+            self.view.reset_camera()
             self.view.render()
 
     def _follow_step(self, *_) -> None:

@@ -6,7 +6,7 @@ import numpy as np
 
 
 def camera_state(plotter) -> dict:
-    """Position, focal point, up vector, view angle and parallel projection of ``plotter``'s camera."""
+    """Position, focal point, up vector, view angle, parallel projection and window centre of the camera."""
     cam = plotter.renderer.GetActiveCamera()
     return {
         "position": [float(v) for v in cam.GetPosition()],
@@ -15,6 +15,7 @@ def camera_state(plotter) -> dict:
         "view_angle": float(cam.GetViewAngle()),
         "parallel": bool(cam.GetParallelProjection()),
         "parallel_scale": float(cam.GetParallelScale()),
+        "window_center": [float(v) for v in cam.GetWindowCenter()],
     }
 
 
@@ -39,6 +40,7 @@ def set_camera_state(plotter, state: dict) -> None:
     cam.SetFocalPoint(*focus)
     cam.SetViewUp(*up)
     cam.SetViewAngle(float(state.get("view_angle", 30.0)))
+    cam.SetWindowCenter(*(state.get("window_center") or (0.0, 0.0)))
     if state.get("parallel_scale"):
         cam.SetParallelScale(float(state["parallel_scale"]))
     plotter.renderer.ResetCameraClippingRange()

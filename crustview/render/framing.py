@@ -103,6 +103,7 @@ def place_camera(camera, frame: StepFrame) -> None:
     """Put a vtkCamera (perspective) on ``frame``, with the region filling the view."""
     half = np.radians(camera.GetViewAngle()) / 2
     dist = 2.2 * frame.radius / np.tan(half) + frame.margin
+    camera.SetWindowCenter(0.0, 0.0)  # a reset may have shifted the image clear of the legend
     camera.SetFocalPoint(*frame.focus)
     camera.SetPosition(*(frame.focus + dist * frame.direction))
     camera.SetViewUp(*frame.up)

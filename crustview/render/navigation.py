@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..scene import geometry as geo
+from .fitting import fit_clear, text_block
 from .framing import frame_for, front_plane, place_camera
 from .picking import pick_visible
 
@@ -18,6 +19,7 @@ class CameraControl:
         self.clear_clip()
         if self.model.rec is None:
             return
+        self.plotter.renderer.GetActiveCamera().SetWindowCenter(0.0, 0.0)
         r = self.model.radius
         flat = self.model.projection.flat
         if flat:
@@ -40,6 +42,30 @@ class CameraControl:
         # the bounding sphere of the projected data fills the view: nothing clipped, whatever the
         # aspect of the window (no extra zoom, which cut off the top of tall parts)
         self.plotter.reset_camera(bounds=bounds)
+        if not flat:
+            # then the data's image moves clear of the legend, the caption and the colour bars
+            fit_clear(self.plotter.renderer, p, self.text_blocks())
+
+    def text_blocks(self) -> list:
+        """Display rectangles of the text over the view: legend and notes, caption, colour bars."""
+        ren = self.plotter.renderer
+        w, h = ren.GetSize()
+        blocks = []
+        legend = text_block(self.legend.actors, ren) if hasattr(self, "legend") else None
+        if legend is not None:
+            blocks.append(legend)
+        caption = getattr(self, "basis_text", None)
+        if caption is not None and caption.GetText(0):
+            # a corner annotation scales its font with the window: about 0.055 of the height a line pair
+            lines = caption.GetText(0).count("\n") + 1
+            width = max(len(t) for t in caption.GetText(0).split("\n"))
+            blocks.append((0.0, 0.0, min(w, 9.0 * width + 10), lines * (0.028 * h + 6)))
+        for bar in self.plotter.scalar_bars.values():
+            if not bar.GetVisibility():
+                continue
+            x, y = bar.GetPositionCoordinate().GetValue()[:2]
+            blocks.append((x * w, y * h, (x + bar.GetWidth()) * w, (y + bar.GetHeight()) * h + 24))
+        return blocks
 
     def frame_step(self, step) -> None:
         """Look at ``step``'s tau from its open side and cut away the geometry in front (:mod:`.framing`)."""
@@ -95,6 +121,7 @@ class CameraControl:
         pad = max(float(np.max(hi - lo)), 2.5 * float(np.median(self.model.spacing)))
         c = (lo + hi) / 2
         bounds = np.ravel(np.stack([c - pad, c + pad], axis=1))
+        self.plotter.renderer.GetActiveCamera().SetWindowCenter(0.0, 0.0)
         self.plotter.reset_camera(bounds=tuple(bounds))
         self.render()
 

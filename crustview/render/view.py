@@ -95,6 +95,8 @@ class SceneView(CameraControl):
         self.legend = Legend(plotter, renderer=self.hud)
         self._to_hud(self.adapters["holes"].label_actor)  # the holes' sizes over the geometry
         self._built_for: int | None = None
+        #: Whether the camera was last framed on a stereographic view.
+        self._stereo_framed = False
         self.basis_text = plotter.add_text("", position="lower_left", font_size=11, color="#222222", name="basis")
         self._to_hud(self.basis_text)
         tp = self.basis_text.GetTextProperty()
@@ -289,6 +291,7 @@ class SceneView(CameraControl):
         self.clear_clip()
         self.lod.end()
         self._built_for = id(rec)
+        self._stereo_framed = self.model.projection.stereographic
         self._stale.clear()
         for a in self.adapters.values():
             a.rebuild()
@@ -307,6 +310,10 @@ class SceneView(CameraControl):
         self.clear_clip()  # the cut was placed for the old projection
         for a in self._live():
             a.project()
+        if self.model.projection.stereographic != self._stereo_framed:
+            # to or from the stereographic view: new geometry, framed (the camera sat inside it)
+            self._stereo_framed = self.model.projection.stereographic
+            self.reset_camera()
         if self.lod.active:
             self.lod.begin(self._shown_parts())  # the grand tour moves the points of thinned parts
         self.update_basis_text()
