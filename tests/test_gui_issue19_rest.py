@@ -239,3 +239,35 @@ def test_turning_frame_each_step_off_returns_to_the_full_view(qtbot, window):
     assert window.view.clip_plane is None
     assert np.allclose(back["position"], full["position"]) and np.allclose(back["focal_point"], full["focal_point"])
     assert np.allclose(back["window_center"], full["window_center"])
+
+
+# ---------------------------------------------------------------- 4. the d question fits its text
+def test_the_d_question_is_as_wide_as_its_text_and_inside_the_screen(qtbot, window, tmp_path):
+    from PySide6.QtWidgets import QApplication, QInputDialog, QLabel
+
+    from crustview.core.samples.manifolds import get_manifold
+    from tests.gui_helpers import on_next_dialog
+
+    m = get_manifold("torus")
+    name = "scan-of-a-cast-part-" + "very-long-name-" * 14 + "end.xyz"  # 234 characters
+    path = tmp_path / name
+    np.savetxt(path, m.sample(400, seed=1).points)
+    seen: list = []
+
+    def look(dlg):
+        label = dlg.findChild(QLabel)
+        fm = label.fontMetrics()
+        lines = label.text().split("\n")
+        right = label.mapTo(dlg, label.rect().topLeft()).x() + max(fm.horizontalAdvance(t) for t in lines)
+        screen = QApplication.primaryScreen().availableGeometry()
+        seen.append((dlg.intValue(), lines, right, dlg.width(), screen.width(), dlg.toolTip()))
+        dlg.reject()
+
+    done = on_next_dialog(look, QInputDialog)
+    assert not window.open_file(path)  # cancelled: no d
+    assert done
+    d, lines, right, width, screen, tip = seen[0]
+    assert d == 2 and any(t.startswith("Suggested d = 2") for t in lines)
+    assert width <= screen  # inside the screen
+    assert right + 8 <= width  # every line whole, with a margin before the right edge
+    assert "…" in lines[0] and tip == name  # the long name elided, whole in the tooltip

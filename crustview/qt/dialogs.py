@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-import textwrap
-
+from PySide6.QtCore import Qt
+from PySide6.QtGui import QFontMetrics, QGuiApplication
 from PySide6.QtWidgets import (
     QComboBox,
     QDialog,
@@ -11,6 +11,7 @@ from PySide6.QtWidgets import (
     QFormLayout,
     QInputDialog,
     QLabel,
+    QLayout,
     QMessageBox,
     QSpinBox,
     QWidget,
@@ -67,18 +68,67 @@ class BuiltinDialog(QDialog):
         return self.name.currentData(), self.n.value(), self.seed.value()
 
 
+#: Widest the dimension question gets, as a share of the screen's width (a long file name is elided).
+DIALOG_SCREEN_SHARE = 0.6
+
+
+def dimension_dialog(parent: QWidget | None, k: int, default: int, source: str, why: str = "") -> QInputDialog:
+    """The question for d, sized to its text: every line whole, inside the screen.
+
+    A file name wider than the dialog may get is elided in the middle (whole in
+    the tooltip); the suggestion's reasons wrap to the width of the other lines.
+    """
+    dlg = _FittedInputDialog(parent)
+    dlg.setWindowTitle("Intrinsic dimension")
+    dlg.setInputMode(QInputDialog.InputMode.IntInput)
+    dlg.setIntRange(1, max(1, k - 1))
+    dlg.setIntValue(default)
+    fm = QFontMetrics(dlg.font())
+    screen = (parent.screen() if parent is not None else None) or QGuiApplication.primaryScreen()
+    widest = int(screen.availableGeometry().width() * DIALOG_SCREEN_SHARE) if screen is not None else 900
+    head = [
+        source,
+        f"holds points in R^{k}. Dimension d of the manifold they sample",
+        f"(1 = curve, 2 = surface …; suggested from local PCA: {default}):",
+    ]
+    width = max(fm.horizontalAdvance(t) for t in head[1:])
+    name = fm.elidedText(source, Qt.TextElideMode.ElideMiddle, min(widest, max(600, 2 * width)))
+    head[0] = name
+    lines = list(head)
+    if why:  # wrapped to the width of the lines above, in pixels (not characters)
+        line = ""
+        for word in f"Suggested {why}".split():
+            wider = f"{line} {word}".strip()
+            if line and fm.horizontalAdvance(wider) > width:
+                lines.append(line)
+                line = word
+            else:
+                line = wider
+        lines.append(line)
+    dlg.setLabelText("\n".join(lines))
+    dlg.setToolTip(source if name != source else "")
+    label = dlg.findChild(QLabel)
+    if label is not None:
+        label.setWordWrap(False)
+        label.setMinimumWidth(max(fm.horizontalAdvance(t) for t in lines) + 8)
+    return dlg
+
+
+class _FittedInputDialog(QInputDialog):
+    """A QInputDialog exactly as big as its contents (its layout exists only once it is shown)."""
+
+    def showEvent(self, event) -> None:  # noqa: N802 - Qt API
+        if self.layout() is not None:
+            self.layout().setSizeConstraint(QLayout.SizeConstraint.SetFixedSize)
+        super().showEvent(event)
+
+
 def ask_dimension(parent: QWidget, k: int, default: int, source: str, why: str = "") -> int | None:
     """Ask for d (1 <= d < k), suggesting ``default`` (and saying ``why``); returns None when cancelled."""
-    reason = "\n".join(textwrap.wrap(f"Suggested {why}", 70)) + "\n" if why else ""
-    d, ok = QInputDialog.getInt(
-        parent,
-        "Intrinsic dimension",
-        f"{source}\nholds points in R^{k}. Dimension d of the manifold they sample\n"
-        f"(1 = curve, 2 = surface …; suggested from local PCA: {default}):\n{reason}",
-        default,
-        1,
-        max(1, k - 1),
-    )
+    dlg = dimension_dialog(parent, k, default, source, why)
+    ok = dlg.exec() == QDialog.DialogCode.Accepted
+    d = dlg.intValue()
+    dlg.deleteLater()
     return d if ok else None
 
 
