@@ -271,3 +271,25 @@ def test_the_d_question_is_as_wide_as_its_text_and_inside_the_screen(qtbot, wind
     assert width <= screen  # inside the screen
     assert right + 8 <= width  # every line whole, with a margin before the right edge
     assert "…" in lines[0] and tip == name  # the long name elided, whole in the tooltip
+
+
+# ---------------------------------------------------------------- 5. progress during a 50,000-point extraction
+NEFERTITI = Path(__file__).resolve().parents[2] / "shared" / "data" / "scans" / "nefertiti.obj"
+
+
+def test_the_bar_moves_during_the_extraction_of_a_50k_scan(qtbot, window):
+    from tests.gui_helpers import wait_idle
+
+    if not NEFERTITI.exists():
+        pytest.skip("../shared/data/scans/nefertiti.obj is not here")
+    bar = window.run_panel.progress
+    seen: list = []
+    # what the bar shows after each report, in the GUI thread
+    window.runner.progress.connect(lambda stage, f: seen.append((stage, bar.value(), bar.format())))
+    assert window.open_file(NEFERTITI, d=2)
+    wait_idle(qtbot, window, timeout=240_000)
+    assert window.model.rec.n > 49_000
+    during = [v for stage, v, fmt in seen if stage == "extraction" and "Algorithm 3" in fmt]
+    inside = sorted({v for v in during if 0 < v < bar.maximum()})
+    assert len(inside) >= 3, during  # it moves between the robust rules, not 0 % until the end
+    assert during == sorted(during)  # and never back
