@@ -293,3 +293,46 @@ def test_the_bar_moves_during_the_extraction_of_a_50k_scan(qtbot, window):
     inside = sorted({v for v in during if 0 < v < bar.maximum()})
     assert len(inside) >= 3, during  # it moves between the robust rules, not 0 % until the end
     assert during == sorted(during)  # and never back
+
+
+# ---------------------------------------------------------------- 6. found in the new-user trial
+def test_progress_is_in_the_status_bar_whatever_tab_is_in_front(qtbot, window):
+    import time
+
+    def job(progress, cancel):
+        progress("delaunay", 0.0)
+        progress("delaunay", 0.4)
+        t0 = time.monotonic()
+        while time.monotonic() - t0 < 5 and not cancel.is_set():
+            time.sleep(0.02)
+
+    window.resize(1024, 700)
+    qtbot.wait(200)
+    window.docks["steps"].raise_()  # the Run panel (and its bar) is a tab behind
+    qtbot.wait(50)
+    assert window.run_panel.progress.visibleRegion().isEmpty()
+    status = window.status_progress
+    assert not status.isVisible()
+    assert window.start_job(job, "a job")
+    qtbot.waitUntil(lambda: status.bar.value() == 400, timeout=5000)
+    assert status.isVisible() and status.bar.format() == window.run_panel.progress.format()
+    assert status.bar.format().startswith("Delaunay triangulation") and "Qhull" not in status.bar.format()
+    status.cancel.click()  # Cancel from the status bar
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=10_000)
+    qtbot.waitUntil(lambda: not status.isVisible(), timeout=2000)
+
+
+def test_a_mesh_shows_its_faces_with_its_result_not_over_the_last_one_while_it_runs(qtbot, window):
+    from tests.gui_helpers import load, wait_idle
+
+    load(qtbot, window, "torus")
+    truth = window.model.layers["truth"]
+    truth.visible = False
+    assert window.open_file(KNIGHT, d=2)
+    assert window.runner.busy or window.model.source != "torus"
+    if window.runner.busy:  # while the knight runs, the torus is shown without a truth turned on for it
+        assert not truth.visible
+        assert not any(t.startswith("ground truth") for t, _ in window.view.legend_entries())
+    wait_idle(qtbot, window)
+    assert truth.visible and window.model.truth is not None
+    assert any("the mesh's faces" in t for t, _ in window.view.legend_entries())

@@ -185,7 +185,6 @@ class FileActions:
             except CrustviewError as err:
                 self.show_error(str(err))
                 return False
-            self.model.layers["truth"].visible = True
         self.model.file_attributes = attributes
         self.input_path = path  # saving over it asks first
         if attributes.get("colors") is not None:
@@ -194,6 +193,8 @@ class FileActions:
             self.model.layers["points"].colorby = "file normal angle"
         if not self.start_reconstruction(points, int(d), truth=truth, source=name, origin=origin, **params):
             return False
+        if mesh is not None:  # the mesh's faces shown with its result, not over the last file's while it runs
+            self._pending["show_truth"] = True
         if note:
             self.statusBar().showMessage(note, 20000)
         elif saved is not None:

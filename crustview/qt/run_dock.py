@@ -36,7 +36,7 @@ STALL_SECONDS = 1.0
 
 STAGES = {
     "prepare": "preparing points",
-    "delaunay": "Delaunay triangulation (Qhull)",
+    "delaunay": "Delaunay triangulation",  # by CGAL or Qhull: the Information panel names which
     "normals": "normal planes (Algorithm 1)",
     "candidates": "candidate complex (Algorithm 2)",
     "extraction": "manifold extraction (Algorithm 3)",
@@ -59,6 +59,8 @@ class RunPanel(QWidget):
 
     reconstruct_requested = Signal(int, str, float, bool)
     cancel_requested = Signal()
+    #: The progress bar changed (a copy in the status bar follows it).
+    progress_shown = Signal()
 
     def __init__(self, model: SceneModel, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -283,6 +285,7 @@ class RunPanel(QWidget):
         else:
             self.stall_timer.stop()
             self.progress.setRange(0, 1000)
+        self.progress_shown.emit()
 
     def show_progress(self, stage: str, fraction: float) -> None:
         now = time.monotonic()
@@ -292,6 +295,7 @@ class RunPanel(QWidget):
         self.progress.setRange(0, 1000)
         self.progress.setValue(int(1000 * max(0.0, min(1.0, fraction))))
         self.progress.setFormat(f"{words} %p%")
+        self.progress_shown.emit()
 
     def _stalled(self) -> None:
         """A stage that reports nothing for a second still moves: a busy bar and its seconds so far."""
@@ -303,6 +307,7 @@ class RunPanel(QWidget):
             return
         self.progress.setRange(0, 0)  # Qt's busy indicator
         self.progress.setFormat(f"{words}: {now - started:.0f} s")
+        self.progress_shown.emit()
 
     def show_idle(self, text: str, ok: bool | str | None = None) -> None:
         """Idle text; ``ok=False`` turns the bar red (failed or wrong result), True green, "warn" amber.
@@ -318,3 +323,4 @@ class RunPanel(QWidget):
         self.progress.setStyleSheet(f"QProgressBar::chunk {{ background: {colour}; }}" if colour else "")
         if ok is not None:
             self.progress.setValue(1000)
+        self.progress_shown.emit()

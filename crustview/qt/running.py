@@ -237,6 +237,8 @@ class RunActions:
             if self.steps_panel.follow.isChecked():  # before the new result's last step is shown
                 self.steps_panel.follow.setChecked(False)
                 pending["follow_reset"] = True
+        if pending.get("show_truth"):
+            self.model.layers["truth"].visible = True
         self.model.set_reconstruction(
             rec,
             truth=truth,

@@ -33,6 +33,7 @@ from .projection_dock import ProjectionPanel
 from .run_dock import RunPanel
 from .running import RunActions
 from .sessions import SessionActions
+from .status_progress import StatusProgress
 from .steady import SteadyLabel
 from .steps_dock import StepsPanel
 from .worker import Runner
@@ -122,6 +123,8 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
 
         self._build_menus()
         self.status_counts = SteadyLabel(self)  # a new count per step must not re-lay out the window
+        self.status_progress = StatusProgress(self.run_panel, self)  # in sight whatever tab is in front
+        self.statusBar().addPermanentWidget(self.status_progress)
         self.statusBar().addPermanentWidget(self.status_counts)
         self.statusBar().showMessage("Open a point file (File ▸ Open, or drop it here) or a built-in sample.")
         self.setAcceptDrops(True)
