@@ -61,6 +61,8 @@ class HolesAdapter(LayerAdapter):
         tp.SetBackgroundColor(1.0, 1.0, 1.0)
         tp.SetBackgroundOpacity(0.8)
         tp.SetShadow(False)
+        tp.SetJustificationToCentered()
+        tp.SetVerticalJustificationToCentered()
         self.label_actor = vtkActor2D()
         self.label_actor.SetMapper(self.label_mapper)
         self.label_actor.SetPickable(False)
@@ -79,7 +81,12 @@ class HolesAdapter(LayerAdapter):
         centres, patch = rim_patches(self.rims, rec.n)
         self.xk = np.vstack([rec.points, centres]) if len(centres) else rec.points
         big = self.rims[: self.LABELLED]
-        self.labels = [f"hole {i + 1}: {r.words(rec.d)}" for i, r in enumerate(big)]
+        # short, and centred on the hole: a label near the view's edge is not cut off as soon
+        unit = {1: "end", 2: "edge", 3: "triangle"}.get(rec.d, "face")
+        self.labels = [
+            f"hole {i + 1}: {r.size:,} {unit}{'' if r.size == 1 else 's'}, {r.span:.0f} spacings"
+            for i, r in enumerate(big)
+        ]
         self._label_xk = np.array([r.centre for r in big]).reshape(-1, rec.k)
         self.project()
         set_cells(self.part.mesh, **face_cells(holes))

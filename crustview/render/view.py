@@ -442,7 +442,8 @@ class SceneView(CameraControl):
             if name == "uncertain":
                 from ..scene.features import uncertain_features, uncertain_summary
 
-                out.append((uncertain_summary(uncertain_features(self.model.rec)), layer.color))
+                final = "" if self.model.player.position >= self.model.player.n_steps else " (of the final M_S)"
+                out.append((uncertain_summary(uncertain_features(self.model.rec)) + final, layer.color))
                 continue
             out.append((layer.title, layer.color))
         step = self.model.player.current_step
