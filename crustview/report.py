@@ -126,7 +126,10 @@ def report_dict(
             "notes": list(rec.extraction.notes),
             "topology": rec.topology.as_dict(),
             "uncertain_features": [f.as_dict() for f in rec.uncertain_features],
-            "features": {kind: sum(f.kind == kind for f in rec.features) for kind in ("handle", "hole", "component")},
+            "features": {
+                kind: sum(f.kind == kind and not f.removed for f in rec.features)
+                for kind in ("handle", "hole", "component")
+            },
             "rules": rec.extraction.counts_by_rule(),
             "sampling_quality": quality,
             "timings": dict(rec.timings),

@@ -6,7 +6,7 @@ import pytest
 from crustview.core import reconstruct
 from crustview.core.analysis.topology import analyse
 from crustview.core.robust import labelling
-from crustview.core.robust.cells import OPEN_MIN_FACES, cap_patches, extract_by_labels
+from crustview.core.robust.cells import CAP_RATIO, OPEN_MIN_FACES, cap_patches, caps, extract_by_labels
 from crustview.core.robust.label_repair import LabelEditor
 from crustview.core.robust.labelling import Labelling, cell_adjacency, label_python
 from crustview.core.robust.steplog import StepLog
@@ -134,6 +134,41 @@ def test_cap_patches_need_eight_adjacent_big_faces():
     some = np.ones(8, bool)
     some[3] = False  # the fan is cut in two runs of 3 and 4
     assert cap_patches(fan, some, 30) == []
+
+
+def _fan_with_ring(radius, small):
+    """A fan of 8 triangles of this radius around a centre, and one triangle of size ``small`` on
+    the outside of each rim vertex (the surface around the patch)."""
+    ang = np.linspace(0, 2 * np.pi, 9)[:-1]
+    rim = np.c_[np.cos(ang), np.sin(ang), np.zeros(8)] * radius
+    pts = [np.zeros(3), *rim]
+    faces = [[0, 1 + i, 1 + (i + 1) % 8] for i in range(8)]
+    for i in range(8):
+        out = rim[i] / radius
+        side = np.array([-out[1], out[0], 0.0])
+        a, b = rim[i] + small * out + small * side / 2, rim[i] + small * out - small * side / 2
+        pts += [a, b]
+        faces.append([1 + i, len(pts) - 2, len(pts) - 1])
+    return np.array(pts), np.array(faces)
+
+
+def test_a_cap_is_a_patch_much_larger_than_the_faces_around_it():
+    """A fan 10 times larger than its ring is a cap; the same fan in a ring of faces of about its
+    own size (a sparsely sampled part) is not."""
+    pts, faces = _fan_with_ring(10.0, 1.0)
+    patch = np.arange(8)
+    assert len(caps(faces, [patch], pts)) == 1
+    pts, faces = _fan_with_ring(10.0, 10.0)
+    assert caps(faces, [patch], pts) == []
+    # the bound itself: a fan just above CAP_RATIO times its ring is a cap, just below is not
+    from crustview.core.analysis.features import enclosing_radii
+
+    pts, faces = _fan_with_ring(1.0, 1.0)
+    r = enclosing_radii(pts, faces)
+    r_fan, r_ring = r[:8].max(), np.median(r[8:])  # the fan's radii scale with its radius, the ring's do not
+    for factor, want in ((1.05, 1), (0.95, 0)):
+        pts, faces = _fan_with_ring(factor * CAP_RATIO * r_ring / r_fan, 1.0)
+        assert len(caps(faces, [patch], pts)) == want
 
 
 def test_open_scan_is_kept_open_by_open_cap():

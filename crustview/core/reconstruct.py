@@ -333,6 +333,17 @@ def reextract(
         for f in (features(rec.points / scale, manifold, rec.d) if ext.features is None else ext.features)
         + list(ext.disputed)
     ]
+    # handles cut below the sample's resolution stay uncertain: the sample did not decide them
+    feats += [
+        replace(
+            f,
+            location=f.location * scale,
+            uncertain=True,
+            removed=True,
+            reason=f"removed (rule cut-handle): {f.reason}",
+        )
+        for f in ext.removed_features
+    ]
     if any(f.uncertain for f in feats):
         topo.messages.append(
             "the sample does not support every feature of M_S: "

@@ -29,12 +29,14 @@ RULE_LABEL = "label-cells"
 RULE_REPAIR = "repair-vertex"
 RULE_SCULPT = "sculpt-sample"
 RULE_OPEN = "open-cap"
+RULE_CUT = "cut-handle"
 RULES = (
     RULE_PRUNE,
     RULE_RESOLVE,
     RULE_LABEL,
     RULE_REPAIR,
     RULE_SCULPT,
+    RULE_CUT,
     RULE_OPEN,
     RULE_CORE,
     RULE_SEED,
@@ -50,6 +52,7 @@ ADDING_RULES = (
     RULE_LABEL,
     RULE_REPAIR,
     RULE_SCULPT,
+    RULE_CUT,
     RULE_CORE,
     RULE_SEED,
     RULE_GROW,
@@ -179,6 +182,11 @@ class Extraction:
     features : list or None
         The features of the final complex when the extraction already
         measured them (in the coordinates it was given); None otherwise.
+    removed_features : list
+        Handles the extraction removed because no sample with eps < 1
+        resolves them (rule ``cut-handle``, :mod:`crustview.core.robust.cut_handle`),
+        as :class:`~crustview.core.analysis.features.Feature` records of the
+        complex before the cut.
     """
 
     simplices: np.ndarray
@@ -192,6 +200,7 @@ class Extraction:
     notes: list[str] = field(default_factory=list)
     disputed: list = field(default_factory=list)
     features: list | None = None
+    removed_features: list = field(default_factory=list)
 
     @property
     def n_steps(self) -> int:

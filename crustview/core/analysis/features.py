@@ -69,6 +69,10 @@ class Feature:
         Sample indices along the loop, rim or closest approach (for drawing).
     reason : str
         One sentence.
+    removed : bool
+        The extraction removed this feature as below the sample's resolution
+        (rule ``cut-handle``): it was in M_S before the cut and is not in the
+        result.  Such a feature stays *uncertain*: the sample did not decide it.
     """
 
     kind: str
@@ -77,6 +81,7 @@ class Feature:
     uncertain: bool
     vertices: np.ndarray
     reason: str
+    removed: bool = False
 
     def as_dict(self) -> dict:
         """The JSON form (``uncertain_features`` entries)."""
@@ -85,6 +90,7 @@ class Feature:
             "location": [float(x) for x in self.location],
             "size_spacings": round(float(self.size_spacings), 3),
             "uncertain": bool(self.uncertain),
+            "removed": bool(self.removed),
             "reason": self.reason,
         }
 

@@ -10,7 +10,8 @@ by construction, in one step.  Then, each a step of the log:
 2. ``open-cap``: a face larger than :data:`~.grow.SIZE_MAX` (circumradius
    over the local spacing; 99 % of the true triangles of the public scans are
    below 2.2, see :mod:`.grow`) spans a gap no sample supports.  A patch of
-   at least :data:`OPEN_MIN_FACES` adjacent ones is the cap the labelling
+   at least :data:`OPEN_MIN_FACES` adjacent ones, more than :data:`CAP_RATIO`
+   times larger than the faces around it, is the cap the labelling
    puts over the opening of an open scan: it is removed, and the opening is
    never closed again by ``fill-hole``.  Smaller patches (where noise or one
    missing sample leaves a few large faces on a closed object) stay;
@@ -30,8 +31,10 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ..analysis.features import enclosing_radii
 from ..analysis.topology import analyse
-from ..steps import RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
+from ..steps import RULE_CUT, RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
+from .cut_handle import cut_handles
 from .grow import SIZE_MAX, size_ratio
 from .label_repair import LabelEditor
 from .labelling import Labelling, oriented
@@ -43,6 +46,14 @@ from .steplog import StepLog
 #: Euler's formula); a patch of twice that is not one missing sample.  The public scans' noisy
 #: copies have patches of at most 4 such faces, their openings 15-322 (``benchmarks/bench_scans.py``).
 OPEN_MIN_FACES = 8
+#: How much larger than the surface around it a patch of big faces must be to be a cap over an opening:
+#: its largest enclosing radius over the median enclosing radius of the faces that share a vertex with it.
+#: The sampling radius of an eps-sample changes slowly (LFS is 1-Lipschitz): at two points one sampling
+#: radius apart it differs by at most (1 + eps) / (1 - eps), 3 at eps = 1/2.  A patch within that of its
+#: surroundings is a sparsely sampled part (thin ears and fins sampled in long thin triangles), not an
+#: opening.  On the public open scans the openings' patches are 3.9-58 times their ring, the sparse parts'
+#: 1.07-2.3 (``benchmarks/bench_scans.py`` reruns the files).
+CAP_RATIO = 3.0
 
 
 def cap_patches(faces: np.ndarray, big: np.ndarray, n: int) -> list[np.ndarray]:
@@ -66,6 +77,21 @@ def cap_patches(faces: np.ndarray, big: np.ndarray, n: int) -> list[np.ndarray]:
     _, label = connected_components(g, directed=False)
     sizes = np.bincount(label)
     return [ids[label == c] for c in np.flatnonzero(sizes >= OPEN_MIN_FACES)]
+
+
+def caps(faces: np.ndarray, patches: list[np.ndarray], points: np.ndarray) -> list[np.ndarray]:
+    """The patches whose faces are more than :data:`CAP_RATIO` times larger than the faces around them."""
+    if not patches:
+        return []
+    r = enclosing_radii(points, faces)
+    out = []
+    for p in patches:
+        inside = np.zeros(len(faces), bool)
+        inside[p] = True
+        ring = np.isin(faces, np.unique(faces[p])).any(axis=1) & ~inside
+        if not ring.any() or r[p].max() > CAP_RATIO * float(np.median(r[ring])):
+            out.append(p)
+    return out
 
 
 def extract_by_labels(
@@ -145,13 +171,27 @@ def extract_by_labels(
             f"sample {v} was no vertex: the cell of its star with its opposite face on M_S took the other "
             "label, so M_S runs through the sample (Boissonnat's sculpting)",
         )
+    report(0.65)
+    handles = cut_handles(ed, points)
+    for c in handles.cuts:
+        log.step(
+            RULE_CUT,
+            tuple(int(v) for v in c.feature.vertices.tolist()),
+            lab.faces[c.added],
+            lab.faces[c.removed],
+            math.nan,
+            f"a handle whose shortest loop is {c.feature.size_spacings:.3g} sampling radii long (below 2 pi: no "
+            f"sample with eps < 1 resolves it); {len(c.cells)} cells took the other label "
+            f"({'a tunnel filled' if c.how == 'fill' else 'a bridge cut'}, labelling confidence {c.cost:.2f} in all, "
+            "the least of the trials around its loop)",
+        )
     # the rest edits M_S face by face
     cut = ed.cut
     inner = np.where(lab.inside[lab.a[cut]], lab.a[cut], lab.b[cut])
     now = lab.faces[cut]
     orient = oriented(now, inner, simplices, delaunay_points)
     pt = Patcher(points, list(map(tuple, now.tolist())), faces, spacing, orient=orient.tolist(), orientable=True)
-    patches = cap_patches(now, size_ratio(points, now) > SIZE_MAX, n)
+    patches = caps(now, cap_patches(now, size_ratio(points, now) > SIZE_MAX, n), points)
     for patch in patches:
         for i in patch.tolist():
             pt._delete(i)
@@ -192,5 +232,6 @@ def extract_by_labels(
         notes.append(f"{len(left)} samples are farther than the insertion limit from M_S and were left out: {shown}")
     ext = log.extraction(stopped, notes)
     ext.labelling = lab  # type: ignore[attr-defined]
+    ext.removed_features = handles.removed
     ext.patch_start = start  # type: ignore[attr-defined]
     return ext

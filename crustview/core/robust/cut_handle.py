@@ -1,0 +1,318 @@
+"""Rule ``cut-handle``: a handle of the labelled surface that no sample can resolve is cut or filled.
+
+A handle of M_S whose shortest loop is shorter than
+:data:`~crustview.core.analysis.features.LOOP_MIN` = 2 pi local sampling radii
+cannot be a feature of the sampled surface under any sampling condition with
+eps < 1 (a loop around a tube of radius r is 2 pi r long, and eps < 1 needs
+the sampling radius below r; :mod:`crustview.core.analysis.features`).  On
+real scans such handles come from the labelling, where noise or a gap leaves
+a few cells of the wrong label: a thin tunnel of outside cells through a
+part, or a thin bridge of inside cells between two parts that nearly touch.
+
+The rule relabels the least confident set of cells that removes the handle.
+Around the loop it tries, in order, the cells that have a loop *edge* (the
+smallest set that closes a tunnel or cuts a bridge across the loop), then the
+cells that have a loop *vertex*; for each set both directions: the set's
+outside cells taking the inside label (``fill``: a tunnel closed) and its
+inside cells taking the outside label (``cut``: a bridge cut).  After each
+trial the rules ``repair-vertex`` and ``sculpt-sample`` run on the cells
+touched, and the trial is kept only when
+
+* every vertex touched is still a manifold vertex of M_S and every sample that
+  was a vertex still is one;
+* M_S has as many components as before, and its first Betti number is lower
+  (for a closed surface b1 = 2 b0 - chi, so a lower b1 with the same b0 is
+  a higher Euler characteristic, counted on the touched faces only).
+
+Of the trials that pass in the first set, the one whose cells had the least
+labelling confidence in all is kept; the vertex set is tried only when the
+edge set gives none.  A handle the rule cannot remove stays, and the
+features analysis reports it as uncertain.  The removed handles are kept on
+the extraction (:attr:`CutHandles.removed`) and named in the report, so the
+result still says what it decided at the limit of its sampling.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from ..analysis.features import Feature, features
+from ..analysis.topology import analyse
+from .label_repair import LabelEditor
+
+#: Rounds of the rule: the loops of a short basis change once a handle is cut, so the features are
+#: measured again, at most this often (a handle that only shows after another is cut is found then).
+HANDLE_ROUNDS = 3
+#: Rounds of local repair and sculpting after each trial (as in :data:`.label_repair.REPAIR_ROUNDS`,
+#: a pinch can move to a neighbour; the trial is refused when one is left after these).
+LOCAL_ROUNDS = 8
+
+
+@dataclass
+class Cut:
+    """One removed handle: the feature it was, and the cells that took the other label."""
+
+    feature: Feature
+    cells: np.ndarray
+    how: str
+    removed: np.ndarray
+    added: np.ndarray
+    cost: float
+
+
+@dataclass
+class CutHandles:
+    """What the rule did."""
+
+    cuts: list[Cut] = field(default_factory=list)
+    left: list[Feature] = field(default_factory=list)
+
+    @property
+    def removed(self) -> list[Feature]:
+        """The handles that were removed."""
+        return [c.feature for c in self.cuts]
+
+
+class _Local:
+    """Repair and sculpting restricted to the stars of a few vertices."""
+
+    def __init__(self, ed: LabelEditor) -> None:
+        self.ed = ed
+        self.lab = ed.lab
+
+    def pieces(self, v: int) -> tuple[np.ndarray, np.ndarray]:
+        """The cells of v's star and each one's piece (same label, joined through faces at v)."""
+        ed, lab = self.ed, self.lab
+        cells = ed.star(v)
+        fs = ed.faces_of(cells)
+        fs = fs[(lab.faces[fs] == v).any(axis=1)]
+        fs = fs[lab.inside[lab.a[fs]] == lab.inside[lab.b[fs]]]
+        # a star has a few dozen cells: a plain union-find beats building a sparse graph
+        pos = {c: i for i, c in enumerate(cells.tolist())}
+        parent = list(range(len(cells)))
+
+        def root(i: int) -> int:
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        for a, b in zip(lab.a[fs].tolist(), lab.b[fs].tolist(), strict=True):
+            ra, rb = root(pos[a]), root(pos[b])
+            if ra != rb:
+                parent[ra] = rb
+        roots = [root(i) for i in range(len(cells))]
+        _, comp = np.unique(np.array(roots, np.int64), return_inverse=True)
+        return cells, comp.reshape(-1)
+
+    def on_surface(self, v: int) -> bool:
+        """Whether v is a vertex of M_S."""
+        ins = self.lab.inside[self.ed.star(v)]
+        return bool(ins.any() and not ins.all())
+
+    def repair(self, vs: set[int], flipped: list[np.ndarray]) -> bool:
+        """``repair-vertex`` at these vertices and the ones it reaches; False if a pinch is left."""
+        ed, lab = self.ed, self.lab
+        todo = set(vs)
+        for _ in range(LOCAL_ROUNDS):
+            bad = []
+            for v in sorted(todo):
+                cells, comp = self.pieces(v)
+                if comp.max(initial=-1) + 1 > 2:
+                    bad.append((v, cells, comp))
+            if not bad:
+                return True
+            todo = set()
+            for v, cells, comp in bad:
+                cells, comp = self.pieces(v)  # an earlier flip of this round may have changed it
+                if comp.max() + 1 <= 2:
+                    continue
+                weight = np.bincount(comp, weights=lab.confidence[cells])
+                side = np.zeros(comp.max() + 1, bool)
+                side[comp] = lab.inside[cells]
+                keep = [int(c[np.argmax(weight[c])]) for c in (np.flatnonzero(side), np.flatnonzero(~side)) if len(c)]
+                flip = cells[~np.isin(comp, keep) & ~lab.outside[cells]]
+                if len(flip) == 0:
+                    return False
+                ed.flip(flip)
+                flipped.append(flip)
+                todo.update(int(u) for u in np.unique(lab.simplices[flip]).tolist() if u < lab.n)
+        return False
+
+    def sculpt(self, vs: set[int], flipped: list[np.ndarray]) -> set[int]:
+        """``sculpt-sample`` at those of these vertices that are not on M_S; the vertices it touched."""
+        ed, lab = self.ed, self.lab
+        touched: set[int] = set()
+        for v in sorted(vs):
+            if self.on_surface(v):
+                continue
+            best, best_conf = -1, np.inf
+            for c in ed.star(v).tolist():
+                if lab.outside[c]:
+                    continue
+                fs = ed.cell_faces[ed.cell_ptr[c] : ed.cell_ptr[c + 1]]
+                on = fs[ed.cut[fs]]
+                if len(on) == 1 and not (lab.faces[on[0]] == v).any() and lab.confidence[c] < best_conf:
+                    best, best_conf = c, float(lab.confidence[c])
+            if best >= 0:
+                ed.flip(np.array([best]))
+                flipped.append(np.array([best]))
+                touched.update(int(u) for u in lab.simplices[best].tolist() if u < lab.n)
+        return touched
+
+
+def _chi_and_vertices(faces: np.ndarray, region: np.ndarray, n: int) -> tuple[int, np.ndarray]:
+    """V - E + F counted on the faces that touch ``region`` (a vertex mask), and their vertices."""
+    if len(faces) == 0:
+        return 0, np.zeros(0, np.int64)
+    e = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [0, 2]]]), axis=1)
+    e = e[region[e[:, 0]] | region[e[:, 1]]]
+    n_e = len(np.unique(e[:, 0].astype(np.int64) * n + e[:, 1]))
+    vs = np.unique(faces)
+    return int(region[vs].sum()) - n_e + len(faces), vs
+
+
+def _components(faces: np.ndarray, n: int) -> int:
+    """Connected components of a triangle set (over its vertices)."""
+    rows = np.r_[faces[:, 0], faces[:, 1]]
+    cols = np.r_[faces[:, 1], faces[:, 2]]
+    used = np.zeros(n, bool)
+    used[faces.ravel()] = True
+    nc, label = connected_components(
+        coo_matrix((np.ones(len(rows), np.int8), (rows, cols)), shape=(n, n)), directed=False
+    )
+    return len(np.unique(label[used]))
+
+
+def _fan(ed: LabelEditor, loop: list[int]) -> np.ndarray:
+    """The cells that have an edge of the loop."""
+    return np.unique(
+        np.concatenate([np.intersect1d(ed.star(u), ed.star(v)) for u, v in zip(loop, loop[1:] + loop[:1], strict=True)])
+    )
+
+
+def _star(ed: LabelEditor, loop: list[int]) -> np.ndarray:
+    """The cells that have a vertex of the loop."""
+    return np.unique(np.concatenate([ed.star(v) for v in loop]))
+
+
+def cut_handles(ed: LabelEditor, points: np.ndarray) -> CutHandles:
+    """Apply ``cut-handle`` to the labelling in ``ed`` (changed in place).
+
+    Parameters
+    ----------
+    ed : LabelEditor
+        The labelling after ``repair-vertex`` and ``sculpt-sample``.
+    points : ndarray of shape (n, 3)
+        The samples.
+
+    Returns
+    -------
+    CutHandles
+        The handles removed, in order, with the cells that took the other
+        label and the faces M_S lost and gained; and the uncertain handles
+        left.
+    """
+    lab = ed.lab
+    n = lab.n
+    out = CutHandles()
+    ed.cut = lab.cut()
+    local = _Local(ed)
+    for rnd in range(HANDLE_ROUNDS + 1):
+        surf = lab.faces[ed.cut]
+        # no handle at all (b1 = 0, e.g. every genus-0 scan): nothing to measure
+        if len(surf) == 0 or analyse(surf, n, 2).betti[1] == 0:
+            out.left = []
+            break
+        short = [f for f in features(points, surf, 2) if f.kind == "handle" and f.uncertain]
+        out.left = short
+        if not short or rnd == HANDLE_ROUNDS:
+            break
+        b0 = _components(surf, n)
+        done = 0
+        for feat in short:
+            if len(feat.vertices) < 3:
+                continue
+            cut = _try(ed, local, feat, n, b0)
+            if cut is not None:
+                out.cuts.append(cut)
+                done += 1
+        if not done:
+            break
+    return out
+
+
+def _try(ed: LabelEditor, local: _Local, feat: Feature, n: int, b0: int) -> Cut | None:
+    """The cheapest relabelling around one short loop that removes a handle, applied; None if there is none."""
+    lab = ed.lab
+    loop = [int(v) for v in feat.vertices.tolist()]
+    for cells in (_fan(ed, loop), _star(ed, loop)):
+        best = None
+        for side, how in ((False, "fill"), (True, "cut")):
+            sel = cells[(lab.inside[cells] == side) & ~lab.outside[cells]]
+            if len(sel) == 0:
+                continue
+            trial = _trial(ed, local, sel, n, b0)
+            if trial is not None and (best is None or trial[0] < best[0]):
+                best = (trial[0], how, trial[1])
+        if best is not None:
+            cost, how, flipped = best
+            inside0 = lab.inside.copy()
+            cut0 = ed.cut.copy()
+            for f in flipped:
+                ed.flip(f)
+            allc = np.unique(np.concatenate(flipped))
+            changed = np.flatnonzero(cut0 != ed.cut)
+            del inside0
+            return Cut(feat, allc, how, changed[cut0[changed]], changed[ed.cut[changed]], cost)
+    return None
+
+
+def _trial(ed: LabelEditor, local: _Local, sel: np.ndarray, n: int, b0: int) -> tuple[float, list] | None:
+    """Flip ``sel``, repair and sculpt around it, judge, and undo; (cost, flips) when it removes a handle."""
+    lab = ed.lab
+    inside0 = lab.inside.copy()
+    cut0 = ed.cut.copy()
+    flipped = [sel]
+    ed.flip(sel)
+    vs = {int(u) for u in np.unique(lab.simplices[sel]).tolist() if u < n}
+    was_on = {v for v in vs if _was_on(ed, inside0, v)}
+    ok = True
+    for _ in range(LOCAL_ROUNDS):
+        if not local.repair(vs, flipped):
+            ok = False
+            break
+        more = local.sculpt(vs, flipped)
+        if not more:
+            break
+        vs |= more
+    result = None
+    if ok:
+        region = np.zeros(n, bool)
+        allc = np.unique(np.concatenate(flipped))
+        touched = np.unique(lab.simplices[allc])
+        region[touched[touched < n]] = True
+        rv = np.flatnonzero(region).tolist()
+        ok = all(local.on_surface(v) for v in was_on | {v for v in rv if _was_on(ed, inside0, v)})
+        ok = ok and all(local.pieces(v)[1].max(initial=-1) + 1 <= 2 for v in rv)
+        if ok:
+            near = np.unique(np.concatenate([ed.faces_of(ed.star(v)) for v in rv]))
+            before = lab.faces[near[cut0[near]]]
+            after = lab.faces[near[ed.cut[near]]]
+            chi0, _ = _chi_and_vertices(before, region, n)
+            chi1, _ = _chi_and_vertices(after, region, n)
+            if chi1 > chi0 and _components(lab.faces[ed.cut], n) == b0:
+                result = (float(lab.confidence[allc].sum()), flipped)
+    lab.inside[:] = inside0
+    ed.cut[:] = cut0
+    return result
+
+
+def _was_on(ed: LabelEditor, inside0: np.ndarray, v: int) -> bool:
+    """Whether v was a vertex of M_S under the labels ``inside0``."""
+    ins = inside0[ed.star(v)]
+    return bool(ins.any() and not ins.all())

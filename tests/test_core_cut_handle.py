@@ -1,0 +1,150 @@
+"""Rule cut-handle: handles below the sample's resolution are removed, resolved ones stay.
+
+The short handles come from a real case: the decimated knight (502 samples,
+genus 0) with Gaussian noise of 0.1 of its median spacing
+(``resources/decimated-knight-n10.xyz``, written by ``../shared/tools/noisy.py``,
+the noise model crustview is judged with), whose labelled surface has handles
+with loops of about five spacings.
+"""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from crustview.core import reconstruct
+from crustview.core.analysis.features import LOOP_MIN, features
+from crustview.core.analysis.topology import analyse
+from crustview.core.robust.cells import extract_by_labels
+from crustview.core.robust.cut_handle import cut_handles
+from crustview.core.robust.label_repair import LabelEditor
+from crustview.core.robust.labelling import Labelling
+from crustview.core.samples.manifolds import get_manifold
+from crustview.core.steps import RULE_CUT
+from crustview.io import read_points
+
+KNIGHT = Path(__file__).resolve().parents[1] / "resources" / "decimated-knight-n10.xyz"
+
+
+def _editor(points):
+    rec = reconstruct(points, 2, mode="paper")
+    m = len(rec.delaunay_simplices)
+    lab = Labelling(rec.points, rec.delaunay_points, rec.delaunay_simplices, rec.voronoi_vertices[:m])
+    ed = LabelEditor(lab)
+    ed.repair()
+    ed.sculpt()
+    return rec, lab, ed
+
+
+def _top(ed, n):
+    return analyse(ed.lab.faces[ed.cut], n, 2)
+
+
+def _handles(rec, ed):
+    return [f for f in features(rec.points, ed.lab.faces[ed.cut], 2) if f.kind == "handle"]
+
+
+@pytest.fixture(scope="module")
+def knight():
+    return read_points(KNIGHT)
+
+
+def test_short_handles_are_removed_and_nothing_else_changes(knight):
+    """Each cut removes one handle (b1 down by 2, b0 the same), keeps a closed manifold through
+    every sample that was a vertex, and every handle it removed had a loop below 2 pi spacings."""
+    rec, lab, ed = _editor(knight)
+    before = _top(ed, rec.n)
+    short = [f for f in _handles(rec, ed) if f.uncertain]
+    assert before.closed_manifold and len(short) >= 2  # the case this test is about
+    out = cut_handles(ed, rec.points)
+    after = _top(ed, rec.n)
+    assert len(out.cuts) >= 2
+    assert all(c.feature.size_spacings < LOOP_MIN for c in out.cuts)
+    assert after.closed_manifold
+    assert after.betti[0] == before.betti[0]
+    assert after.betti[1] == before.betti[1] - 2 * len(out.cuts)
+    assert after.unused_samples <= before.unused_samples
+    # what is left is what the features analysis still calls short
+    assert len(out.left) == sum(f.uncertain for f in _handles(rec, ed))
+
+
+def test_a_cut_flips_only_cells_near_its_loop(knight):
+    """The cells that take the other label touch the loop's samples or the samples around them."""
+    rec, lab, ed = _editor(knight)
+    out = cut_handles(ed, rec.points)
+    assert out.cuts
+    tree_pts = rec.points
+    for c in out.cuts:
+        loop = tree_pts[c.feature.vertices]
+        corners = rec.delaunay_points[lab.simplices[c.cells]].reshape(-1, 3)
+        far = np.linalg.norm(corners[:, None, :] - loop[None, :, :], axis=2).min(axis=1)
+        # within a few loop lengths (sampling radii) of the loop
+        assert far.max() < 3 * c.feature.size_spacings * rec.spacing
+
+
+def test_a_resolved_handle_stays():
+    """The torus's own handles have loops far above 2 pi spacings: nothing is cut."""
+    pts = get_manifold("torus").sample(2000, seed=2).points
+    rec, lab, ed = _editor(pts)
+    before = lab.inside.copy()
+    assert _top(ed, rec.n).betti == (1, 2, 1)
+    out = cut_handles(ed, rec.points)
+    assert out.cuts == [] and out.left == []
+    assert np.array_equal(lab.inside, before)
+
+
+def test_the_step_log_replays_each_cut(knight):
+    """Through the labelling path: each cut-handle step's removed and added faces replay."""
+    rec = reconstruct(knight, 2, mode="paper")
+    m = len(rec.delaunay_simplices)
+    ts = np.sort(rec.candidates.select("cocone"), axis=1)
+    ext = extract_by_labels(
+        rec.points,
+        rec.delaunay_points,
+        rec.delaunay_simplices,
+        rec.voronoi_vertices[:m],
+        rec.candidates.faces,
+        ts,
+        rec.spacing,
+    )
+    rules = [s.rule for s in ext.steps]
+    assert rules.count(RULE_CUT) >= 2
+    assert len(ext.removed_features) == rules.count(RULE_CUT)
+
+    def rows(a):
+        return {tuple(r) for r in np.sort(np.asarray(a).reshape(-1, 3), axis=1).tolist()}
+
+    for i, st in enumerate(ext.steps):
+        if st.rule != RULE_CUT:
+            continue
+        assert len(st.removed) + len(st.added) > 0
+        want = (rows(ext.complex_at(i)) - rows(ext.simplices[list(st.removed)])) | rows(ext.simplices[list(st.added)])
+        assert rows(ext.complex_at(i + 1)) == want
+        before = analyse(ext.complex_at(i), rec.n, 2)
+        after = analyse(ext.complex_at(i + 1), rec.n, 2)
+        assert after.betti[1] == before.betti[1] - 2
+
+
+def test_a_removed_handle_stays_uncertain_in_the_report(knight, tmp_path):
+    """reconstruct(): every cut handle is an uncertain feature marked removed, counted in the summary
+    and in the JSON report, and not counted among the features of M_S."""
+    from crustview.cli_reconstruct import result_summary
+    from crustview.report import report_dict
+
+    rec = reconstruct(knight, 2)
+    cuts = rec.extraction.counts_by_rule().get(RULE_CUT, {}).get("steps", 0)
+    removed = [f for f in rec.uncertain_features if f.removed]
+    assert cuts >= 2 and len(removed) == cuts
+    assert all(f.kind == "handle" and f.size_spacings < LOOP_MIN for f in removed)
+    assert all(f.reason.startswith("removed (rule cut-handle)") for f in removed)
+    # in R^3 input coordinates: each location is near the samples of its loop
+    for f in removed:
+        assert np.linalg.norm(rec.points[f.vertices].mean(axis=0) - f.location) < 1e-9
+    rep = report_dict(rec)
+    listed = [u for u in rep["uncertain_features"] if u["removed"]]
+    assert len(listed) == cuts
+    kept_handles = sum(f.kind == "handle" and not f.removed for f in rec.features)
+    assert rep["features"]["handle"] == kept_handles
+    text = result_summary(rec, 1.0, tmp_path / "out.npz")
+    n_unc = sum(f.kind == "handle" for f in rec.uncertain_features)
+    assert text.endswith(f"(uncertain: {n_unc} handles, 0 holes, 0 components)")
