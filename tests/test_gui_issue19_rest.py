@@ -351,3 +351,15 @@ def test_the_uncertain_features_legend_says_they_are_of_the_final_result_before_
     assert line().endswith("(of the final M_S)")
     window.model.player.last()
     assert not line().endswith("(of the final M_S)")
+
+
+def test_new_data_shows_its_m_s_even_when_the_last_file_had_it_hidden(qtbot, window):
+    from tests.gui_helpers import load
+
+    load(qtbot, window, "torus")
+    window.model.layers["manifold"].visible = False  # the user looked at the holes without M_S
+    load(qtbot, window, "sphere")
+    assert window.model.layers["manifold"].visible
+    assert window.view.adapters["manifold"].part.actor.GetVisibility()
+    assert window.layers_panel.rows["manifold"].visible.isChecked()
+    assert "Shown again: M_S at this step." in window.statusBar().currentMessage()

@@ -175,6 +175,8 @@ class RunActions:
         words = []
         if reset:
             words.append("Turned off for the new data: " + ", ".join(reset) + ".")
+        if self.model.shown_notes:
+            words.append("Shown again: " + ", ".join(self.model.shown_notes) + ".")
         if pending.get("kept_mode"):
             words.append("Kept from the last file: the paper's Algorithm 3 (Run panel ▸ extraction).")
         return " ".join(words)

@@ -90,6 +90,8 @@ class SceneModel:
         self.comparison = None
         #: Settings of the last file that a new one turned off (see :meth:`set_reconstruction`).
         self.reset_notes: list[str] = []
+        #: Layers the last file had hidden that new data shows again (its result: M_S).
+        self.shown_notes: list[str] = []
 
     # -- setting data ----------------------------------------------------
     def set_reconstruction(
@@ -122,6 +124,7 @@ class SceneModel:
         self.theorems = None
         self.comparison = None  # it compared the previous M_S
         self.reset_notes = []
+        self.shown_notes = []
         if not keep_view:
             self.slice_offset = 0.0
             if self.slice_cut:
@@ -139,6 +142,9 @@ class SceneModel:
             self.projection.reset(rec.k, origin=rec.points.mean(axis=0))
         if not keep_view:
             m = self.layers["manifold"]
+            if not m.visible:  # new data opens on its result, also after the last file's M_S was hidden
+                m.visible = True
+                self.shown_notes.append(m.title)
             m.shrink = 0.8 if rec.d >= 3 else 1.0
             m.colorby = default_coloring(rec.k)  # in R^4: the depth the projection drops
             # a curve is thin: a darker, wider line keeps it visible on the light background
