@@ -363,3 +363,25 @@ def test_new_data_shows_its_m_s_even_when_the_last_file_had_it_hidden(qtbot, win
     assert window.view.adapters["manifold"].part.actor.GetVisibility()
     assert window.layers_panel.rows["manifold"].visible.isChecked()
     assert "Shown again: M_S at this step." in window.statusBar().currentMessage()
+
+
+def test_at_1024_by_700_the_step_table_headers_are_whole(qtbot, window):
+    from PySide6.QtCore import Qt
+
+    from tests.gui_helpers import load
+
+    load(qtbot, window, "torus")
+    _settle(qtbot, window)
+    window.docks["steps"].raise_()
+    qtbot.wait(50)
+    table = window.steps_panel.table
+    header = table.horizontalHeader()
+    fm = header.fontMetrics()
+    model = table.model()
+    for c in range(model.columnCount()):
+        text = model.headerData(c, Qt.Orientation.Horizontal)
+        assert fm.horizontalAdvance(text) + 8 <= header.sectionSize(c), (c, text, header.sectionSize(c))
+    for c in range(model.columnCount()):
+        assert model.headerData(c, Qt.Orientation.Horizontal, Qt.ItemDataRole.ToolTipRole)
+    assert model.headerData(4, Qt.Orientation.Horizontal) == "rem."
+    assert "removed" in model.headerData(4, Qt.Orientation.Horizontal, Qt.ItemDataRole.ToolTipRole)

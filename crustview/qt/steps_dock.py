@@ -32,6 +32,18 @@ from .steady import SteadyLabel
 from .timeline import TimelineView
 
 COLUMNS = ("#", "rule", "τ", "kept", "removed", "added", "angle")
+#: Header labels of a narrow table (the tabbed column of a small window); tooltips say them whole.
+SHORT_COLUMNS = ("#", "rule", "τ", "kept", "rem.", "add.", "angle")
+#: What each column holds (header tooltips).
+COLUMN_TIPS = (
+    "step number",
+    "the rule that made the step",
+    "tau: the face the step looked at",
+    "kept: the pair of simplices the step kept (paper's resolve)",
+    "removed: the simplices the step removed",
+    "added: the simplices the step added (robust extension)",
+    "angle: the angle of the kept pair at tau (resolve steps)",
+)
 
 #: Playback draws at most this many frames per second; the steps in between are applied undrawn.
 FRAME_RATE = 30
@@ -81,6 +93,8 @@ class StepLog(QAbstractTableModel):
         self.model = model
         #: Display texts of the rows painted lately (the view asks for every cell and role on each paint).
         self._rows: dict[int, tuple[str, ...]] = {}
+        #: Abbreviated header labels (:data:`SHORT_COLUMNS`) for a narrow table.
+        self.short_headers = False
 
     def rowCount(self, parent=QModelIndex()) -> int:  # noqa: B008, N802 - Qt API
         return 0 if parent.isValid() else self.model.player.n_steps
@@ -89,8 +103,12 @@ class StepLog(QAbstractTableModel):
         return len(COLUMNS)
 
     def headerData(self, section, orientation, role=Qt.ItemDataRole.DisplayRole):  # noqa: N802
-        if role == Qt.ItemDataRole.DisplayRole and orientation == Qt.Orientation.Horizontal:
-            return COLUMNS[section]
+        if orientation != Qt.Orientation.Horizontal:
+            return None
+        if role == Qt.ItemDataRole.DisplayRole:
+            return (SHORT_COLUMNS if self.short_headers else COLUMNS)[section]
+        if role == Qt.ItemDataRole.ToolTipRole:
+            return COLUMN_TIPS[section]
         return None
 
     def data(self, index, role=Qt.ItemDataRole.DisplayRole):
@@ -267,6 +285,8 @@ class StepsPanel(QWidget):
 
     def compact(self) -> None:
         """Narrower controls for small screens."""
+        self.log.short_headers = True  # "removed" was cut to "emove" at 1024 px
+        self.log.headerDataChanged.emit(Qt.Orientation.Horizontal, 0, len(COLUMNS) - 1)
         self.speed.setSuffix("/s")
         self.follow.setText("Frame each step")
         self.to_rule.setText("Next of rule")
