@@ -385,3 +385,18 @@ def test_at_1024_by_700_the_step_table_headers_are_whole(qtbot, window):
         assert model.headerData(c, Qt.Orientation.Horizontal, Qt.ItemDataRole.ToolTipRole)
     assert model.headerData(4, Qt.Orientation.Horizontal) == "rem."
     assert "removed" in model.headerData(4, Qt.Orientation.Horizontal, Qt.ItemDataRole.ToolTipRole)
+
+
+def test_a_dense_mesh_opens_with_its_faces_hidden_and_says_so(qtbot, window, monkeypatch):
+    from crustview.qt import files
+    from tests.gui_helpers import load, wait_idle
+
+    load(qtbot, window, "torus")
+    window.model.layers["truth"].visible = True  # shown for the last data
+    monkeypatch.setattr(files, "TRUTH_SHOWN_FACES", 100)  # the knight's faces count as dense here
+    assert window.open_file(KNIGHT, d=2)
+    wait_idle(qtbot, window)
+    faces = len(window.model.truth.faces)
+    assert faces > 100
+    assert not window.model.layers["truth"].visible  # the result is not greyed out by a wireframe
+    assert f"The mesh's {faces:,} faces are not drawn" in window.statusBar().currentMessage()

@@ -79,6 +79,10 @@ def _result_suffixes() -> tuple[str, ...]:
     return tuple(io.RESULT_SUFFIXES)
 
 
+#: Most faces of a mesh file drawn as its ground truth when it opens (a denser one starts hidden).
+TRUTH_SHOWN_FACES = 30_000
+
+
 class FileActions:
     """Mixin of :class:`~crustview.qt.window.MainWindow`: opening files and built-ins.
 
@@ -194,7 +198,13 @@ class FileActions:
         if not self.start_reconstruction(points, int(d), truth=truth, source=name, origin=origin, **params):
             return False
         if mesh is not None:  # the mesh's faces shown with its result, not over the last file's while it runs
-            self._pending["show_truth"] = True
+            faces = len(truth.faces)
+            # a dense wireframe on top would grey the whole result out (the armadillo's 86,482 faces)
+            self._pending["show_truth"] = faces <= TRUTH_SHOWN_FACES
+            if faces > TRUTH_SHOWN_FACES:
+                self._pending["truth_note"] = (
+                    f"The mesh's {faces:,} faces are not drawn (Layers ▸ Ground truth shows them)."
+                )
         if note:
             self.statusBar().showMessage(note, 20000)
         elif saved is not None:

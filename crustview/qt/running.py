@@ -239,8 +239,8 @@ class RunActions:
             if self.steps_panel.follow.isChecked():  # before the new result's last step is shown
                 self.steps_panel.follow.setChecked(False)
                 pending["follow_reset"] = True
-        if pending.get("show_truth"):
-            self.model.layers["truth"].visible = True
+        if "show_truth" in pending:
+            self.model.layers["truth"].visible = bool(pending["show_truth"])
         self.model.set_reconstruction(
             rec,
             truth=truth,
@@ -280,7 +280,7 @@ class RunActions:
                 if same
                 else f" M_S DIFFERS from the one saved in {saved[1]} (other crustview version?)."
             )
-        for extra in pending.get("notes", ()):
+        for extra in [*pending.get("notes", ()), *([pending["truth_note"]] if "truth_note" in pending else [])]:
             message += " " + extra
         if getattr(self, "prune_note", None):
             message += " " + self.prune_note
