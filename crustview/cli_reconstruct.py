@@ -73,6 +73,13 @@ def add_parser(sub, angle_type) -> None:
     p.add_argument("--theta", type=angle_type, default=22.5, help="angle threshold in degrees (default: 22.5 = pi/8)")
     p.add_argument("--paper", action="store_true", help=_PAPER_HELP)
     p.add_argument(
+        "--normals",
+        choices=("paper", "smoothed"),
+        default="paper",
+        help="normal planes: 'paper' (Algorithm 1 as printed, the default) or 'smoothed' (averaged over the "
+        "samples within 2 spacings: steadier under scanner noise, blurs a sparse sample's thin parts)",
+    )
+    p.add_argument(
         "--keep-boundary",
         action="store_true",
         help="paper mode only (implies --paper): do not prune (d-1)-faces with a single "
@@ -184,6 +191,7 @@ def reconstruct_file(
         prune_boundary=not args.keep_boundary,
         mode=mode,
         progress=progress,
+        normals=getattr(args, "normals", "paper"),
     )
     seconds = time.perf_counter() - start
     comparison = None

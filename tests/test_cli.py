@@ -470,3 +470,20 @@ def test_view_takes_paper_and_keep_boundary_stays_with_reconstruct():
     assert parser.parse_args(["reconstruct", "x.npy", "-d", "2", "-o", "y.npz", "--paper"]).paper
     proc = run("reconstruct", "--help")
     assert "--paper" in proc.stdout and "implies --paper" in " ".join(proc.stdout.split())
+
+
+def test_reconstruct_with_smoothed_normals(capsys, torus_file, tmp_path):
+    """--normals smoothed: the report says so, the stored normals are the averaged planes (not those
+    of Algorithm 1), and the torus still comes out right; a bad value is one line, no traceback."""
+    out_p, out_s = tmp_path / "p.npz", tmp_path / "s.npz"
+    rep = tmp_path / "s.json"
+    assert run_main(capsys, "reconstruct", torus_file, "-d", 2, "-o", out_p).returncode == 0
+    proc = run_main(capsys, "reconstruct", torus_file, "-d", 2, "-o", out_s, "--normals", "smoothed", "--report", rep)
+    assert proc.returncode == 0, proc.stderr
+    assert "(1, 2, 1)" in proc.stdout
+    assert json.loads(rep.read_text())["normals"] == "smoothed"
+    with np.load(out_p) as zp, np.load(out_s) as zs:
+        diff = np.abs(np.einsum("nk,nk->n", zp["normals"][:, :, 0], zs["normals"][:, :, 0]))
+    assert diff.min() < 0.9999  # some planes moved
+    bad = run_main(capsys, "reconstruct", torus_file, "-d", 2, "-o", out_s, "--normals", "blurred")
+    assert bad.returncode != 0 and "Traceback" not in bad.stderr and "--normals" in bad.stderr

@@ -41,7 +41,6 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from ..analysis.features import Feature, features
-from ..analysis.topology import analyse
 from .label_repair import LabelEditor
 
 #: Rounds of the rule: the loops of a short basis change once a handle is cut, so the features are
@@ -176,6 +175,13 @@ def _chi_and_vertices(faces: np.ndarray, region: np.ndarray, n: int) -> tuple[in
     return int(region[vs].sum()) - n_e + len(faces), vs
 
 
+def _euler(faces: np.ndarray, n: int) -> int:
+    """V - E + F of a triangle set."""
+    e = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [0, 2]]]), axis=1).astype(np.int64)
+    n_e = len(np.unique(e[:, 0] * n + e[:, 1]))
+    return len(np.unique(faces)) - n_e + len(faces)
+
+
 def _components(faces: np.ndarray, n: int) -> int:
     """Connected components of a triangle set (over its vertices)."""
     rows = np.r_[faces[:, 0], faces[:, 1]]
@@ -224,8 +230,8 @@ def cut_handles(ed: LabelEditor, points: np.ndarray) -> CutHandles:
     local = _Local(ed)
     for rnd in range(HANDLE_ROUNDS + 1):
         surf = lab.faces[ed.cut]
-        # no handle at all (b1 = 0, e.g. every genus-0 scan): nothing to measure
-        if len(surf) == 0 or analyse(surf, n, 2).betti[1] == 0:
+        # no handle at all (chi = 2 b0: every closed genus-0 part, e.g. most scans): nothing to measure
+        if len(surf) == 0 or _euler(surf, n) == 2 * _components(surf, n):
             out.left = []
             break
         short = [f for f in features(points, surf, 2) if f.kind == "handle" and f.uncertain]
