@@ -8,9 +8,11 @@ Both are optional: without the headers or a C++ compiler the build skips them
 and crustview falls back to the ``cgal`` wheel (R^3) and Qhull.
 ``crustview.core.delaunay._faces`` (no third-party code) lists the faces of a
 triangulation and the simplices around each, ``crustview.core.delaunay._poles`` runs
-Algorithm 1's greedy rounds and ``crustview.core.delaunay._segments`` the first steps
-of Algorithm 2's cocone score in codimension 1, ``crustview.core.delaunay._centres``
-the simplices' circumcentres; without them numpy does the same.
+Algorithm 1's greedy rounds, ``crustview.core.delaunay._segments`` and
+``crustview.core.delaunay._cellpass`` the first steps of Algorithm 2's cocone score in
+codimension 1 and 2, ``crustview.core.delaunay._literal`` its literal test on triangles,
+``crustview.core.delaunay._centres`` the simplices' circumcentres; without them numpy
+does the same.
 """
 
 from setuptools import Extension, setup
@@ -46,6 +48,20 @@ setup(
         Extension(  # no third-party headers: Algorithm 2's codimension-1 segment ends (core/paper/candidates.py)
             "crustview.core.delaunay._segments",
             sources=["crustview/core/delaunay/_segments.cpp"],
+            language="c++",
+            extra_compile_args=[*FLAGS, "-ffp-contract=off"],
+            optional=True,
+        ),
+        Extension(  # no third-party headers: Algorithm 2's codimension-2 vertex pass (core/paper/candidates.py)
+            "crustview.core.delaunay._cellpass",
+            sources=["crustview/core/delaunay/_cellpass.cpp"],
+            language="c++",
+            extra_compile_args=[*FLAGS, "-ffp-contract=off"],
+            optional=True,
+        ),
+        Extension(  # no third-party headers: Algorithm 2's literal test on triangles (core/paper/literal.py)
+            "crustview.core.delaunay._literal",
+            sources=["crustview/core/delaunay/_literal.cpp"],
             language="c++",
             extra_compile_args=[*FLAGS, "-ffp-contract=off"],
             optional=True,

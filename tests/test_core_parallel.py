@@ -176,3 +176,44 @@ def test_codimension_1_segment_ends_compiled_equal_numpy_bit_for_bit(monkeypatch
             3,
             3,
         )
+
+
+@pytest.mark.parametrize("name,n", [("flat-klein", 600), ("clifford-torus", 500)])
+def test_codimension_2_vertex_pass_compiled_equals_numpy_bit_for_bit(monkeypatch, name, n):
+    # the compiled _cellpass does numpy's arithmetic operation for operation, and the exact step after it
+    # sees the same arrays: the whole cocone scores are equal, in one chunk and in many on two threads
+    work, normals, centres, faces, ptr, cs, simp = _stage_inputs(name, n)
+    assert cand._native_cellpass is not None  # setup.py builds it
+    native = cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp, workers=1)
+    monkeypatch.setattr(cand, "CHUNK_CELL_VERTICES", 300)
+    assert np.array_equal(cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp, workers=2), native)
+    monkeypatch.setattr(cand, "_native_cellpass", None)
+    assert np.array_equal(cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp, workers=1), native)
+    # a Voronoi vertex on the sample itself: |x| = 0 is guarded the same way
+    hit = centres.copy()
+    hit[cs[ptr[0]]] = work[faces[0, 0]]
+    plain = cand.cocone_angles(work, normals, hit, faces, ptr, cs, simplices=simp, workers=1)
+    monkeypatch.undo()
+    assert np.array_equal(cand.cocone_angles(work, normals, hit, faces, ptr, cs, simplices=simp, workers=1), plain)
+    from crustview.core.delaunay import _cellpass
+
+    with pytest.raises(ValueError, match="outside"):
+        _cellpass.cellpass(
+            work, normals, centres, np.full((1, 3), 10**9, dtype=np.int64), np.zeros((1, 4), np.int64), 4, 2, 3, 4
+        )
+
+
+@pytest.mark.parametrize("name,n", [("torus", 600), ("flat-klein", 400), ("torus-r5", 120)])
+def test_literal_test_on_triangles_compiled_equals_numpy_bit_for_bit(monkeypatch, name, n):
+    # codimension 1, 2 and 3: the compiled _literal does numpy's arithmetic operation for operation
+    from crustview.core.paper import literal
+
+    work, normals, centres, faces, ptr, cs, simp = _stage_inputs(name, n)
+    assert literal._native is not None and faces.shape[1] == 3  # setup.py builds it
+    native = cand.literal_angles(work[: len(normals)], normals, faces)
+    monkeypatch.setattr(literal, "_native", None)
+    assert np.array_equal(cand.literal_angles(work[: len(normals)], normals, faces), native)
+    from crustview.core.delaunay import _literal
+
+    with pytest.raises(ValueError, match="outside"):
+        _literal.literal(work, normals, np.full((1, 3), 10**9, dtype=np.int64), work.shape[1], normals.shape[2])

@@ -3,8 +3,8 @@
 * :mod:`.normals`: Algorithm 1, the poles and the approximate normal planes AN_s.
 * :mod:`.candidates`: Algorithm 2, the candidate complex T_S with the two
   cocone tests; :mod:`.literal` is the paper's literal orientation test, and
-  :mod:`.conemin` and :mod:`.dualcells` the geometry of the cocone score
-  over each face's dual Voronoi cell.
+  :mod:`.conemin`, :mod:`.dualcells` and :mod:`.exactmin` the geometry of
+  the cocone score over each face's dual Voronoi cell.
 * :mod:`.extraction`: Algorithm 3 as printed (``prune-sharp``,
   ``resolve-nonmanifold``), a recorded sequence of steps.
 

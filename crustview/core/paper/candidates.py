@@ -80,14 +80,19 @@ from scipy.spatial import cKDTree
 
 from ..delaunay.faces import enumerate_faces, sort_rows  # noqa: F401 - part of this module's API
 from ..util.parallel import chunks, run_in_order
-from .conemin import cone_min, dot_rows, lean_bound, over_cell
-from .dualcells import CellFaces, cell_boundary_min
+from .conemin import lean_bound, over_cell
+from .dualcells import CellFaces
+from .exactmin import exact_min as _exact_min
 from .literal import _orthonormal, literal_angles  # noqa: F401 - literal_angles is part of this module's API
 
 try:  # codimension 1's segment ends in compiled code (setup.py builds it; numpy does the same without it)
     from ..delaunay import _segments as _native_segments
 except ImportError:  # pragma: no cover - depends on the build
     _native_segments = None
+try:  # codimension 2's vertex minima and certificates likewise (see _score_cells_native)
+    from ..delaunay import _cellpass as _native_cellpass
+except ImportError:  # pragma: no cover - depends on the build
+    _native_cellpass = None
 
 #: Cells with more vertices skip the (k-d)-subset enumeration in codim >= 3.
 MAX_SUBSET_VERTICES = 12
@@ -158,7 +163,10 @@ def cocone_angles(
     if len(sizes) == 1 and (nv_all == sizes[0]).all():  # every cell a segment (codimension 1): plain slices
         groups = [(int(sizes[0]), None)]
     else:
-        groups = [(int(nv), np.flatnonzero(nv_all == nv)) for nv in np.unique(nv_all)]
+        # each size's faces in increasing order (a stable sort: one pass, not one scan per size)
+        order = np.argsort(nv_all, kind="stable")
+        values, starts = np.unique(nv_all[order], return_index=True)
+        groups = [(int(nv), sel) for nv, sel in zip(values, np.split(order, starts[1:]))]
     for nv, sel in groups:
         subsets = [] if own_faces and nv > m + 1 else _boundary_subsets(nv, m)
         # a slice needs no gathers of faces and pointers, and no scatter of the result
@@ -205,13 +213,15 @@ def _score_chunk(
     sin_lim = np.sin(limit)
     if m == 1 and nv == 2:
         return _score_segments(work, normals, tangents, centres, fc, cell_ids, subsets, tree, limit)
-    cells = np.take(centres, cell_ids, axis=0)  # (F, nv, r)
-    simp_rows = np.take(simplices, cell_ids, axis=0) if simplices is not None and m in (2, 3) else None
     # the cells' own edges/polygons replace subset enumeration where known
-    use_cells = simp_rows is not None and nv > m + 1
+    use_cells = simplices is not None and m in (2, 3) and nv > m + 1
     if use_cells:
         subsets = []
-    cell_faces = CellFaces(fc, simp_rows, len(work), m) if use_cells else None
+    cell_faces = CellFaces(fc, simplices, cell_ids, len(work), m) if use_cells else None
+    if m == 2 and _native_cellpass is not None and work.dtype == normals.dtype == centres.dtype == np.float64:
+        args = (work, normals, tangents, centres, fc, cell_ids, subsets, tree, sin_lim, cell_faces)
+        return _score_cells_native(*args)
+    cells = np.take(centres, cell_ids, axis=0)  # (F, nv, r)
     out = np.empty(fc.shape)
     r = work.shape[1]
     # coordinates as contiguous (F, nv) planes: the per-vertex products below
@@ -253,6 +263,63 @@ def _score_chunk(
                 np.take(tangents, fc[todo, a], axis=0),
                 np.take(work, fc[todo], axis=0),
                 s[todo],
+                best[todo],
+                subsets,
+                m,
+                tree,
+                sin_lim**2,
+                cell_faces,
+                todo,
+            )
+        out[:, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
+    return out
+
+
+def _score_cells_native(
+    work: np.ndarray,
+    normals: np.ndarray,
+    tangents: np.ndarray,
+    centres: np.ndarray,
+    fc: np.ndarray,
+    cell_ids: np.ndarray,
+    subsets: list[np.ndarray],
+    tree: cKDTree,
+    sin_lim: float,
+    cell_faces: CellFaces | None,
+) -> np.ndarray:
+    """:func:`_score_chunk` in codimension 2 with the vertex pass in compiled code (:mod:`._cellpass`).
+
+    The extension computes each pair's vertex minimum and one-sided bound
+    with numpy's arithmetic, bit for bit, without the GIL; numpy then runs
+    the exact minimum on the pairs it does not certify, from the same arrays
+    in the same memory layout, so the scores equal :func:`_score_chunk`'s.
+    """
+    f, w = fc.shape
+    r, nv = work.shape[1], cell_ids.shape[1]
+    m = normals.shape[2]
+    fc64 = np.ascontiguousarray(fc, dtype=np.int64)
+    ids64 = np.ascontiguousarray(cell_ids, dtype=np.int64)
+    arrays = (np.ascontiguousarray(a) for a in (work, normals, centres))
+    best_b, lean_b = _native_cellpass.cellpass(*arrays, fc64, ids64, r, m, w, nv)
+    best_all = np.frombuffer(best_b, dtype=np.float64).reshape(f, w)
+    lean_all = np.frombuffer(lean_b, dtype=np.float64).reshape(f, w)
+    out = np.empty(fc.shape)
+    for a in range(w):
+        lean = lean_all[:, a]
+        certified = lean >= sin_lim
+        best = np.where(certified, lean**2, best_all[:, a])
+        todo = np.flatnonzero(~certified)
+        if len(todo):
+            va = fc[todo, a]
+            s = np.take(work, va, axis=0)
+            # (r, T, nv) contiguous, as _score_chunk's x_t[:, todo]: the exact step sees the same strides
+            x_t = np.ascontiguousarray(np.take(centres, cell_ids[todo], axis=0).transpose(2, 0, 1)) - s.T[:, :, None]
+            best[todo] = _exact_min(
+                x_t.transpose(1, 2, 0),
+                np.take(normals, va, axis=0),
+                np.take(tangents, va, axis=0),
+                np.take(work, fc[todo], axis=0),
+                s,
                 best[todo],
                 subsets,
                 m,
@@ -382,84 +449,3 @@ def _boundary_subsets(nv: int, m: int) -> list[np.ndarray]:
             break
         out.append(np.array(list(itertools.combinations(range(nv), j))))
     return out
-
-
-def _exact_min(
-    x: np.ndarray,
-    nrm: np.ndarray,
-    tan: np.ndarray,
-    fpts: np.ndarray,
-    s: np.ndarray,
-    best: np.ndarray,
-    subsets: list[np.ndarray],
-    m: int,
-    tree: cKDTree,
-    sin_lim2: float = np.sin(SCORE_LIMIT) ** 2,
-    cell_faces: CellFaces | None = None,
-    batch: np.ndarray | None = None,
-) -> np.ndarray:
-    """Minimum of sin^2 angle(y - s, AT_s) over the dual cell for a batch of faces.
-
-    ``x``: cell vertices minus s (F, nv, r); ``best``: the vertex minimum.
-    """
-    nv = x.shape[1]
-    best = best.copy()
-    if nv > m + 1:
-        # the tangent plane at s meets the cell's plane in one point y*; if
-        # y* is in the cell the minimum is 0
-        u = _orthonormal(fpts[:, 1:] - fpts[:, :1])  # (F, r, d)
-        ut = np.swapaxes(u, 1, 2) @ tan  # (F, d, d)
-        rhs = np.einsum("frd,fr->fd", u, x[:, 0])
-        det = np.abs(np.linalg.det(ut))
-        ok = det > 1e-9
-        coef = np.linalg.solve(np.where(ok[:, None, None], ut, np.eye(ut.shape[1])), rhs[..., None])[..., 0]
-        xs = np.einsum("frd,fd->fr", tan, coef)
-        y = s + xs
-        radius = np.linalg.norm(xs, axis=1)
-        # the convex cell lies in the bounding box of its vertices: y* outside
-        # that box is outside the cell (no query needed)
-        lo, hi = over_cell(np.minimum, x), over_cell(np.maximum, x)
-        slack = 1e-9 * (np.maximum(-lo, hi).max(axis=1) + radius)[:, None]
-        in_box = ((xs >= lo - slack) & (xs <= hi + slack)).all(axis=1)
-        ask = np.flatnonzero(ok & in_box)
-        inside = np.zeros(len(x), dtype=bool)
-        if len(ask):
-            dist, _ = tree.query(y[ask])
-            inside[ask] = dist >= radius[ask] * (1 - 1e-9) - 1e-12
-        best[inside] = 0.0
-        rest = np.flatnonzero(~inside)
-    else:
-        rest = np.arange(len(x))
-    if len(rest) == 0:
-        return best
-    if cell_faces is not None and nv > m + 1:
-        edges, polygons = cell_faces.for_batch(batch[rest])
-        cap = np.minimum(best[rest], sin_lim2)
-        exact = cell_boundary_min(x[rest], nrm[rest], s[rest], edges, polygons, cap, tree)
-        best[rest] = np.minimum(best[rest], exact)
-        return best
-    if not subsets:
-        return best
-    xr, nr = x[rest], nrm[rest]
-    # lower bound per vertex subset: with any unit normal direction nu, a
-    # subset whose vertices all have nu . N^T x / |x| >= c > 0 has sin >= c on
-    # its whole cone; skip subsets that cannot beat the current minimum
-    xn = xr @ nr
-    unit = xn / np.maximum(np.linalg.norm(xr, axis=2), 1e-300)[..., None]
-    nu = np.einsum("fvm->fm", unit)
-    nu /= np.maximum(np.linalg.norm(nu, axis=1, keepdims=True), 1e-300)
-    dots = dot_rows(unit, nu)
-    cap = np.minimum(best[rest], sin_lim2)
-    for sub in subsets:
-        lb = dots[:, sub].min(axis=2)  # (F, S)
-        need = (lb <= 0) | (lb**2 < cap[:, None])
-        fi, si = np.nonzero(need)
-        if len(fi) == 0:
-            continue
-        v2, ins = cone_min(xr[fi[:, None], sub[si]], nr[fi])
-        val = np.where(ins, v2, np.inf)
-        low = np.full(len(rest), np.inf)
-        np.minimum.at(low, fi, val)
-        best[rest] = np.minimum(best[rest], low)
-        cap = np.minimum(best[rest], sin_lim2)
-    return best

@@ -74,19 +74,35 @@ class CellFaces:
 
     Most faces are settled before the boundary is needed; the structure is
     built for just the requested batch, or once for the whole bucket when a
-    batch covers a third of it or more (later batches then reuse it).
+    batch covers a third of it or more (later batches then reuse it).  The
+    cells' simplex rows are gathered the same way, only for the faces asked
+    about (a gather from the whole triangulation is mostly cache misses).
+
+    Parameters
+    ----------
+    face : ndarray of shape (F, d + 1)
+    simplices : ndarray of shape (t, r + 1)
+        The Delaunay simplices.
+    cell_ids : ndarray of shape (F, nv)
+        Each face's cell simplices (rows of ``simplices``).
+    n_all, m : int
+        Delaunay vertices; the codimension.
     """
 
-    def __init__(self, face: np.ndarray, simp_rows: np.ndarray, n_all: int, m: int) -> None:
-        self.face, self.simp_rows, self.n_all, self.m = face, simp_rows, n_all, m
+    def __init__(self, face: np.ndarray, simplices: np.ndarray, cell_ids: np.ndarray, n_all: int, m: int) -> None:
+        self.face, self.simplices, self.cell_ids, self.n_all, self.m = face, simplices, cell_ids, n_all, m
         self.whole: tuple | None = None
+
+    def _rows(self, idx: np.ndarray | None = None) -> np.ndarray:
+        ids = self.cell_ids if idx is None else self.cell_ids[idx]
+        return np.take(self.simplices, ids, axis=0)
 
     def for_batch(self, idx: np.ndarray) -> tuple[np.ndarray, tuple]:
         """Structure with face column renumbered to positions in ``idx`` (sorted)."""
         if self.whole is None and 3 * len(idx) < len(self.face):
-            return cell_structure(self.face[idx], self.simp_rows[idx], self.n_all, self.m)
+            return cell_structure(self.face[idx], self._rows(idx), self.n_all, self.m)
         if self.whole is None:
-            self.whole = cell_structure(self.face, self.simp_rows, self.n_all, self.m)
+            self.whole = cell_structure(self.face, self._rows(), self.n_all, self.m)
         edges, (polygons, members) = self.whole
         pos = np.full(len(self.face), -1)
         pos[idx] = np.arange(len(idx))
