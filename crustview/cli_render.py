@@ -153,6 +153,7 @@ def load_session(path: str, args: argparse.Namespace):
         raise InputError(str(err)) from None
     run = {"test": args.test or s.test, "theta": s.theta if args.theta is None else args.theta}
     run["prune_boundary"] = s.prune_boundary
+    run["normals"] = s.normals
     mode = args.mode_given or s.mode
     rec, truth, label = load(where, args.d or s.d, mode, run, seed=seed, n=n)
     return rec, truth, label, s

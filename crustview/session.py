@@ -203,6 +203,9 @@ class Session:
     comparison : dict or None
         What M_S was compared with (the spec of
         :func:`crustview.scene.comparison.comparison_job`): computed again on opening.
+    normals : str
+        The run's normal planes: ``"paper"`` (Algorithm 1) or ``"smoothed"``
+        (``reconstruct(normals=...)``).
     """
 
     source: FileSource | BuiltinSource
@@ -219,6 +222,7 @@ class Session:
     speed: float = 10.0
     selection: dict | None = None
     comparison: dict | None = None
+    normals: str = "paper"
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object written to the file."""
@@ -254,6 +258,9 @@ class Session:
         prune = data.get("prune_boundary", True)
         if not isinstance(prune, bool):
             raise SessionError("'prune_boundary' must be true or false")
+        normals = data.get("normals", "paper")
+        if normals not in ("paper", "smoothed"):
+            raise SessionError(f"'normals' is {normals!r}; expected 'paper' or 'smoothed'")
         return cls(
             src,
             d,
@@ -269,6 +276,7 @@ class Session:
             _speed(data.get("speed", 10.0)),
             _selection(data.get("selection")),
             _comparison(data.get("comparison")),
+            normals,
         )
 
 

@@ -27,6 +27,9 @@ from ..core.result import CANDIDATE_TESTS, EXTRACTION_MODES
 from ..scene.describe import TEST_WORDS
 from ..scene.model import SceneModel
 
+#: The Run panel's choice of normal planes: (label, value of ``reconstruct(normals=...)``).
+NORMAL_LABELS = (("Algorithm 1 (paper)", "paper"), ("smoothed (noise)", "smoothed"))
+NORMAL_WORDS = {v: k for k, v in NORMAL_LABELS}
 #: Label of each extraction mode in the Run panel.
 MODE_LABELS = {"robust": "robust (default)", "paper": "paper's Algorithm 3"}
 
@@ -122,19 +125,34 @@ class RunPanel(QWidget):
             self.extraction.addItem(MODE_LABELS.get(m, m), m)
         self.extraction.setToolTip(
             "<p><b>robust</b> (default): the paper's Algorithm 3, and where it cannot give a closed "
-            "manifold through every sample, an extension that grows M_S across boundaries (rules seed, "
-            "grow, grow-relaxed, fill-hole, drop-stray, insert-sample) instead of pruning it. "
+            "manifold through every sample, an extension: for a surface in R³ the Delaunay cells are "
+            "labelled inside or outside (label-cells, repair-vertex, sculpt-sample, cut-handle, open-cap), "
+            "and M_S is also grown across boundaries (seed, grow, grow-relaxed, fill-hole, drop-stray, "
+            "insert-sample) where the labelling leaves doubt; elsewhere it is grown. "
             "The result is identical whenever the "
             "paper's loop succeeds.</p><p><b>paper's Algorithm 3</b>: exactly as printed (prune sharp "
             "and boundary faces, resolve non-manifold faces); its prune cascades are listed in the "
             "Information panel.</p><p>Switching re-runs only Algorithm 3 on the current result.</p>"
         )
         form.addRow("extraction", self.extraction)
+        self.normals = QComboBox(self)
+        for label, value in NORMAL_LABELS:
+            self.normals.addItem(label, value)
+        self.normals.setToolTip(
+            "<p><b>Algorithm 1</b> (the paper): each sample's normal plane from its poles, the far "
+            "Voronoi vertices.</p><p><b>smoothed</b>: those planes averaged over the samples within two "
+            "spacings (crustview.core.robust.smooth_normals): steadier under scanner noise, where single "
+            "poles are off by tens of degrees; on a sparse sample it blurs thin parts. The Normal planes "
+            "layer and the colouring by normal error show the difference.</p>"
+            "<p>Changing it needs a new run (Reconstruct): the candidates depend on the planes.</p>"
+        )
+        self.normals.currentIndexChanged.connect(lambda *_: self.update_stale())
+        form.addRow("normals", self.normals)
         lay = QVBoxLayout(self)
         lay.setContentsMargins(6, 4, 6, 4)
         # the dock grows when the out-of-date note appears instead of squashing the fields
         lay.setSizeConstraint(QLayout.SizeConstraint.SetMinimumSize)
-        for w in (self.d, self.test, self.theta, self.prune, self.extraction):
+        for w in (self.d, self.test, self.theta, self.prune, self.extraction, self.normals):
             w.setMinimumHeight(w.sizeHint().height())
         lay.addLayout(form)
         buttons = QHBoxLayout()
@@ -205,9 +223,24 @@ class RunPanel(QWidget):
         self.model.set_candidate_display(test=test)
         self.update_stale()
 
+    @property
+    def normals_method(self) -> str:
+        """The chosen normal planes, ``"paper"`` (Algorithm 1) or ``"smoothed"``."""
+        return str(self.normals.currentData() or "paper")
+
     def update_stale(self) -> None:
         """Say so when the candidates layer no longer matches M_S and the steps."""
         rec = self.model.rec
+        if rec is not None and getattr(rec, "normals_method", "paper") != self.normals_method:
+            self.stale.setText(
+                f"Normals: <b>{self.normals.currentText()}</b> is chosen; this result was made with "
+                f"<b>{NORMAL_WORDS.get(rec.normals_method, rec.normals_method)}</b>. "
+                "Press Reconstruct to run it again with the chosen planes."
+            )
+            self.stale.setVisible(True)
+            self.run.setText("Reconstruct")
+            self.run.setStyleSheet("QPushButton { font-weight: bold; }")
+            return
         # the slider has half-degree steps: a result at 22.3° (API, CLI) shows as 22.5° and is current
         stale = rec is not None and (
             self.test.currentText() != rec.test or self.theta.value() != int(round(np.degrees(rec.theta) * 2))
@@ -245,9 +278,10 @@ class RunPanel(QWidget):
         rec = self.model.rec
         if rec is None:
             return
-        widgets = (self.d, self.test, self.theta, self.prune, self.extraction)
+        widgets = (self.d, self.test, self.theta, self.prune, self.extraction, self.normals)
         for w in widgets:
             w.blockSignals(True)
+        self.normals.setCurrentIndex(max(0, self.normals.findData(getattr(rec, "normals_method", "paper"))))
         self.extraction.setCurrentIndex(max(0, self.extraction.findData(rec.mode)))
         self.prune.setEnabled(rec.mode == "paper" and self.run.isEnabled())
         self.d.setRange(1, max(1, rec.k - 1))

@@ -83,9 +83,19 @@ class RunActions:
         kept_mode = self._kept_mode(mode)
         mode = mode or self.run_panel.mode
 
+        normals = self.run_panel.normals_method
+
         def job(progress, cancel):
             rec = reconstruct(
-                points, d, test=test, theta=theta, prune_boundary=prune, mode=mode, progress=progress, cancel=cancel
+                points,
+                d,
+                test=test,
+                theta=theta,
+                prune_boundary=prune,
+                mode=mode,
+                progress=progress,
+                cancel=cancel,
+                normals=normals,
             )
             return {"rec": rec, "truth": truth, "points": points, "quality": _quality(rec, progress, cancel)}
 
@@ -104,6 +114,7 @@ class RunActions:
             keep_view=False,
             origin=origin,
             kept_mode=kept_mode,
+            kept_normals=self._kept_normals(),
         )
 
     def load_builtin(
@@ -141,6 +152,8 @@ class RunActions:
         if early is not None:
             self.view.show_preview(early.points)
 
+        normals = self.run_panel.normals_method
+
         def job(progress, cancel):
             progress("prepare", 0.0)
             sample = early if early is not None else m.sample(n, seed=seed)
@@ -153,6 +166,7 @@ class RunActions:
                 mode=mode,
                 progress=progress,
                 cancel=cancel,
+                normals=normals,
             )
             return {"rec": rec, "truth": sample, "points": sample.points, "quality": _quality(rec, progress, cancel)}
 
@@ -163,11 +177,16 @@ class RunActions:
             keep_view=False,
             origin=BuiltinSource(name, int(n), int(seed)),
             kept_mode=kept_mode,
+            kept_normals=self._kept_normals(),
         )
 
     def _kept_mode(self, mode: str | None) -> bool:
         """Whether new data runs in the paper's mode only because the last one did (said when it is shown)."""
         return mode is None and self.run_panel.mode == "paper" and self.model.rec is not None
+
+    def _kept_normals(self) -> bool:
+        """Whether new data runs with smoothed normals because they were chosen for the last one."""
+        return self.run_panel.normals_method != "paper" and self.model.rec is not None
 
     def _carried_over(self, pending: dict) -> str:
         """Turn off the last file's step framing; name what was reset and what was kept."""
@@ -179,6 +198,8 @@ class RunActions:
             words.append("Shown again: " + ", ".join(self.model.shown_notes) + ".")
         if pending.get("kept_mode"):
             words.append("Kept from the last file: the paper's Algorithm 3 (Run panel ▸ extraction).")
+        if pending.get("kept_normals"):
+            words.append("Kept from the last file: smoothed normals (Run panel ▸ normals).")
         return " ".join(words)
 
     def _default_prune(self) -> None:
@@ -201,7 +222,8 @@ class RunActions:
             self.run_panel.sync_prune()
             return
         mode = self.run_panel.mode
-        if rec is not None and rec.d == d:  # same points and d: only Algorithm 3 again
+        same_planes = rec is not None and getattr(rec, "normals_method", "paper") == self.run_panel.normals_method
+        if rec is not None and rec.d == d and same_planes:  # same points, d and planes: only Algorithm 3 again
 
             def job(progress, cancel):
                 return reextract(rec, test, theta, prune_boundary=prune, mode=mode, progress=progress, cancel=cancel)

@@ -94,6 +94,7 @@ class SessionActions:
             float(m.player.speed),
             self._selection_state(),
             dict(m.comparison.spec) if m.comparison is not None and m.comparison.spec else None,
+            getattr(rec, "normals_method", "paper"),
         )
 
     def _selection_state(self) -> dict | None:
@@ -183,6 +184,8 @@ class SessionActions:
             self.show_error(f"Cannot open the session: {err}.")
             return False
         run = {"test": s.test, "theta": s.theta, "prune_boundary": s.prune_boundary}
+        box = self.run_panel.normals  # the run reads the panel's planes
+        box.setCurrentIndex(max(0, box.findData(s.normals)))
         if isinstance(s.source, BuiltinSource):
             ok = self.load_builtin(s.source.name, s.source.n, s.source.seed, mode=s.mode, **run)
         else:
