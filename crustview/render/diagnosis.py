@@ -35,7 +35,8 @@ class HolesAdapter(LayerAdapter):
 
     Drawn by rim (:mod:`crustview.scene.holes`): the rim faces as lines (dots
     for curves, triangles for 3-manifolds), a surface rim's patch faintly
-    shaded, and the largest rims labelled with their size; the legend names
+    shaded, and the largest rims labelled with their size (up to
+    :attr:`LABELLED`, none over a bigger one's on the screen); the legend names
     how many there are and the largest.
     """
 
@@ -69,6 +70,10 @@ class HolesAdapter(LayerAdapter):
         self.plotter.renderer.AddViewProp(self.label_actor)
         self.label_actor.SetVisibility(bool(self.layer.visible))
         self.labels: list[str] = []
+        self._label_xk = np.zeros((0, self.model.projection.k))
+        self._label_p3 = np.zeros((0, 3))
+        self._placed: tuple = ()
+        self.plotter.renderer.AddObserver("StartEvent", self.place_labels)
 
     def rebuild(self) -> None:
         from ..scene.holes import hole_rims, rim_patches
@@ -80,21 +85,22 @@ class HolesAdapter(LayerAdapter):
         self.rims = hole_rims(holes, rec.points, self.model.spacing)
         centres, patch = rim_patches(self.rims, rec.n)
         self.xk = np.vstack([rec.points, centres]) if len(centres) else rec.points
-        big = self.rims[: self.LABELLED]
+        # candidates: a few more than are shown; each frame drops a label that would cover a bigger one's
+        big = list(enumerate(self.rims[: 2 * self.LABELLED]))  # (rank among all holes, rim)
         # short, and centred on the hole: a label near the view's edge is not cut off as soon
         unit = {1: "end", 2: "edge", 3: "triangle"}.get(rec.d, "face")
         self.labels = [
-            f"hole {i + 1}: {r.size:,} {unit}{'' if r.size == 1 else 's'}, {r.span:.0f} spacings"
-            for i, r in enumerate(big)
+            f"hole {rank + 1}: {r.size:,} {unit}{'' if r.size == 1 else 's'}, {r.span:.0f} spacings" for rank, r in big
         ]
-        self._label_xk = np.array([r.centre for r in big]).reshape(-1, rec.k)
+        self._label_xk = np.array([r.centre for _, r in big]).reshape(-1, rec.k)
+        self._label_p3 = np.zeros((0, 3))
+        self._placed: tuple = ()
         self.project()
         set_cells(self.part.mesh, **face_cells(holes))
         set_cells(self.parts[1].mesh, polys=patch if len(patch) else None)
         self.layer.count = len(holes)
 
     def project(self) -> None:
-        from vtkmodules.vtkCommonCore import vtkStringArray
 
         proj = self.model.projection
         if not len(self.xk) or self.xk.shape[1] != proj.k:
@@ -102,14 +108,51 @@ class HolesAdapter(LayerAdapter):
         p3 = proj.project(self.xk)
         set_points(self.part.mesh, p3)
         set_points(self.parts[1].mesh, p3)
-        pts = proj.project(self._label_xk) if len(self.labels) else np.zeros((0, 3))
-        set_points(self.label_points, pts)
+        self._label_p3 = proj.project(self._label_xk) if len(self.labels) else np.zeros((0, 3))
+        self._placed = ()  # placed again at the next frame
+        self._show_labels(list(range(min(self.LABELLED, len(self.labels)))))
+
+    def _show_labels(self, chosen: list[int]) -> None:
+        from vtkmodules.vtkCommonCore import vtkStringArray
+
+        if tuple(chosen) == self._placed:
+            return
+        self._placed = tuple(chosen)
+        set_points(self.label_points, self._label_p3[chosen] if chosen else np.zeros((0, 3)))
         names = vtkStringArray()
         names.SetName("labels")
-        for text in self.labels:
-            names.InsertNextValue(text)
+        for i in chosen:
+            names.InsertNextValue(self.labels[i])
         self.label_points.GetPointData().AddArray(names)
         self.label_points.Modified()
+
+    def place_labels(self, *_) -> None:
+        """Before each frame: the largest holes' labels, leaving out one that would cover a bigger one's.
+
+        Up to :attr:`LABELLED`, judged on the screen (a label is about 7 px a
+        character wide and 18 px high).
+        """
+        if not self.layer.visible or not len(self._label_p3):
+            return
+        from .fitting import display_points
+
+        xy = display_points(self.plotter.renderer, self._label_p3)
+        boxes: list = []
+        chosen: list[int] = []
+        for i, (x, y) in enumerate(xy):
+            half = 3.6 * len(self.labels[i]) + 4
+            box = (x - half, y - 10, x + half, y + 10)
+            if any(box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3] for b in boxes):
+                continue
+            boxes.append(box)
+            chosen.append(i)
+            if len(chosen) == self.LABELLED:
+                break
+        self._show_labels(chosen)
+
+    def placed_labels(self) -> list[str]:
+        """The labels drawn at the last frame, largest hole first."""
+        return [self.labels[i] for i in self._placed]
 
     def legend_label(self) -> str:
         """The legend's line: how many holes, and the largest one's size."""

@@ -266,7 +266,35 @@ def robust_result(app, win, name: str, direction, zoom: float, up=(0.0, 1.0, 0.0
     look_from(win, direction, zoom, up)
 
 
+SCANS2 = DATA / "scans2"
+
+
+def scan_just_opened(app, win) -> None:
+    """A scan opened from a file, as it first shows: the final M_S, framed clear of the legend."""
+    win.open_file(SCANS2 / "casting.off", d=2)
+    wait(app, win)
+
+
+def bunny_holes(app, win) -> None:
+    """The holes of T_S on the bunny: rims, faint patches, the largest labelled with their size."""
+    win.run_panel.set_mode("paper")  # step 0 of the paper's Algorithm 3: M_S = T_S, with its holes
+    win.open_file(DATA / "stanford-bunny.xyz", d=2)
+    wait(app, win)
+    m = win.model
+    m.player.first()
+    m.layers["candidates"].visible = False
+    m.layers["holes"].visible = True
+    m.layers["points"].visible = False
+    m.layers["normals"].visible = False
+    look_from(win, (-0.4, -3.0, 0.8), 1.3, up=(0.0, 0.0, -1.0))  # from below: the bunny's open base
+
+
+#: Window sizes other than :data:`SIZE`.
+SIZES = {"scan-just-opened": (1600, 1000)}
+
 CASES = {
+    "scan-just-opened": scan_just_opened,
+    "bunny-holes": bunny_holes,
     "fertility-epsilon": lambda app, win: epsilon_and_cascade(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
     "nefertiti-epsilon": lambda app, win: epsilon_and_cascade(app, win, "nefertiti.obj", (0.3, 0.4, 3.0), 1.6),
     "fertility-robust": lambda app, win: robust_result(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
@@ -306,7 +334,7 @@ def main(names: list[str]) -> int:
     settings = QSettings(str(HERE / ".settings.ini"), QSettings.Format.IniFormat)
     for name in names or list(CASES):
         win = MainWindow(settings=settings)
-        win.resize(*SIZE)
+        win.resize(*SIZES.get(name, SIZE))
         win.show()
         settle(app, win)
         CASES[name](app, win)
