@@ -410,3 +410,33 @@ def test_a_dense_mesh_opens_with_its_faces_hidden_and_says_so(qtbot, window, mon
     assert faces > 100
     assert not window.model.layers["truth"].visible  # the result is not greyed out by a wireframe
     assert f"The mesh's {faces:,} faces are not drawn" in window.statusBar().currentMessage()
+
+
+def test_compare_waits_for_a_change_and_the_result_is_scrolled_into_view(qtbot, window):
+    from crustview.qt.compare_panel import CompareDialog
+    from tests.gui_helpers import load
+
+    rec = load(qtbot, window, "torus", n=700)
+    dlg = CompareDialog(window, rec.test, float(rec.theta), rec.mode)
+    qtbot.addWidget(dlg)
+    dlg.show()
+    ok = dlg.buttons.button(dlg.buttons.StandardButton.Ok)
+    assert not ok.isEnabled() and dlg.same.isVisible()  # B = the shown run: nothing to compare
+    dlg.test.setCurrentText("literal")
+    assert ok.isEnabled() and not dlg.same.isVisible()
+    dlg.test.setCurrentText(rec.test)
+    dlg.mode.setCurrentIndex(dlg.mode.findData("paper" if rec.mode == "robust" else "robust"))
+    assert ok.isEnabled()
+    dlg.radio["result"].setChecked(True)  # a file: OK once one is named
+    assert not ok.isEnabled() and not dlg.same.isVisible()
+    dlg.close()
+    window.docks["info"].raise_()
+    panel = window.info_panel.compare
+    area = window.docks["info"].widget()
+    area.verticalScrollBar().setValue(0)
+    qtbot.wait(50)
+    assert panel.visibleRegion().isEmpty()  # below the topology and the histogram
+    assert panel.start({"kind": "run", "test": "literal", "theta": float(rec.theta), "mode": rec.mode})
+    qtbot.waitUntil(lambda: window.model.comparison is not None, timeout=30_000)
+    qtbot.wait(50)
+    assert not panel.visibleRegion().isEmpty()

@@ -30,6 +30,7 @@ from PySide6.QtWidgets import (
     QProgressBar,
     QPushButton,
     QRadioButton,
+    QScrollArea,
     QVBoxLayout,
     QWidget,
 )
@@ -101,10 +102,18 @@ class CompareDialog(QDialog):
         )
         self.buttons.accepted.connect(self.accept)
         self.buttons.rejected.connect(self.reject)
+        #: Says why OK waits: B would be the shown run itself.
+        self.same = QLabel("B is the shown run: change the test, θ or extraction.", self)
+        self.same.setStyleSheet("color: #9a5800;")
+        form.addRow(self.same)
         form.addRow(self.buttons)
+        self._shown = (test, round(math.degrees(theta), 1), mode)
         for b in self.radio.values():
             b.toggled.connect(self._changed)
         self.path.textChanged.connect(self._changed)
+        self.test.currentTextChanged.connect(self._changed)
+        self.theta.valueChanged.connect(self._changed)
+        self.mode.currentIndexChanged.connect(self._changed)
         self.radio["run"].setChecked(True)
 
     @property
@@ -117,7 +126,10 @@ class CompareDialog(QDialog):
         for w in (self.test, self.theta, self.mode):
             w.setEnabled(run)
         ok = self.buttons.button(QDialogButtonBox.StandardButton.Ok)
-        ok.setEnabled(run or bool(self.path.text().strip()))
+        # comparing the shown run with itself finds nothing: OK waits for a change
+        same = run and (self.test.currentText(), round(self.theta.value(), 1), self.mode.currentData()) == self._shown
+        self.same.setVisible(same)
+        ok.setEnabled((run and not same) or (not run and bool(self.path.text().strip())))
 
     def _browse(self) -> None:
         pattern = (
@@ -218,6 +230,16 @@ class ComparePanel(QGroupBox):
         if not self.model.set_comparison(comparison):
             self.refresh()
             self.label.setText("The result changed while comparing; compare again.")
+            return
+        self.bring_into_view()
+
+    def bring_into_view(self) -> None:
+        """Scroll the Information panel to this box (a comparison just made is read here)."""
+        area = self.parentWidget()
+        while area is not None and not isinstance(area, QScrollArea):
+            area = area.parentWidget()
+        if area is not None:
+            area.ensureWidgetVisible(self, 0, 0)
 
     def _ended(self, text: str) -> None:
         self._idle()
