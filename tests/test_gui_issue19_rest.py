@@ -440,3 +440,22 @@ def test_compare_waits_for_a_change_and_the_result_is_scrolled_into_view(qtbot, 
     qtbot.waitUntil(lambda: window.model.comparison is not None, timeout=30_000)
     qtbot.wait(50)
     assert not panel.visibleRegion().isEmpty()
+
+
+def test_the_raw_points_preview_looks_from_where_the_result_will_be_seen(qtbot, window):
+    from crustview.core.samples.manifolds import get_manifold
+    from tests.gui_helpers import wait_idle
+
+    def direction():
+        cam = window.plotter.camera
+        v = np.asarray(cam.position) - np.asarray(cam.focal_point)
+        return v / np.linalg.norm(v), np.asarray(cam.up)
+
+    pts = get_manifold("torus").sample(800, seed=3).points
+    window.view.show_preview(pts)  # while d is asked and the first run goes
+    before, up_before = direction()
+    assert window.start_reconstruction(pts, 2, source="torus 800")
+    wait_idle(qtbot, window)
+    after, up_after = direction()
+    assert np.degrees(np.arccos(np.clip(before @ after, -1, 1))) < 1.0  # the view does not turn
+    assert np.allclose(up_before, up_after)

@@ -28,14 +28,7 @@ class CameraControl:
             bounds = (-r, r, -r, r, 0.0, 0.0)
         else:
             self.plotter.disable_parallel_projection()
-            cam = self.plotter.camera
-            cam.focal_point = (0.0, 0.0, 0.0)
-            if self.y_up:  # scans are often stored Y-up (the bunny, spot)
-                cam.position = (1.6 * r, 1.4 * r, 2.2 * r)
-                cam.up = (0.0, 1.0, 0.0)
-            else:
-                cam.position = (1.6 * r, -2.2 * r, 1.4 * r)
-                cam.up = (0.0, 0.0, 1.0)
+            self.aim(r)
             p = self.model.projection.project(self.model.rec.points)
             lo, hi = p.min(axis=0), p.max(axis=0)
             bounds = tuple(np.ravel(np.stack([lo, hi], axis=1)))
@@ -66,6 +59,18 @@ class CameraControl:
             x, y = bar.GetPositionCoordinate().GetValue()[:2]
             blocks.append((x * w, y * h, (x + bar.GetWidth()) * w, (y + bar.GetHeight()) * h + 24))
         return blocks
+
+    def aim(self, r: float = 1.0) -> None:
+        """The reset's view direction, from ``r`` away: also the raw points' preview, so the view does not turn."""
+        cam = self.plotter.camera
+        cam.SetWindowCenter(0.0, 0.0)
+        cam.focal_point = (0.0, 0.0, 0.0)
+        if self.y_up:  # scans are often stored Y-up (the bunny, spot)
+            cam.position = (1.6 * r, 1.4 * r, 2.2 * r)
+            cam.up = (0.0, 1.0, 0.0)
+        else:
+            cam.position = (1.6 * r, -2.2 * r, 1.4 * r)
+            cam.up = (0.0, 0.0, 1.0)
 
     def frame_step(self, step) -> None:
         """Look at ``step``'s tau from its open side and cut away the geometry in front (:mod:`.framing`)."""

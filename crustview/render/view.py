@@ -278,6 +278,8 @@ class SceneView(CameraControl):
         )
         if flat:
             self.plotter.view_xy(render=False)
+        else:
+            self.aim()  # from where the result will be seen
         self.plotter.reset_camera(
             render=False, bounds=tuple(np.ravel(np.stack([p3.min(axis=0), p3.max(axis=0)], axis=1)))
         )
