@@ -217,3 +217,19 @@ def test_literal_test_on_triangles_compiled_equals_numpy_bit_for_bit(monkeypatch
 
     with pytest.raises(ValueError, match="outside"):
         _literal.literal(work, normals, np.full((1, 3), 10**9, dtype=np.int64), work.shape[1], normals.shape[2])
+
+
+@pytest.mark.parametrize("k,d,n", [(3, 2, 2000), (4, 2, 400), (4, 1, 300)])
+def test_face_lists_on_two_threads_equal_one_thread(k, d, n):
+    # from 2**20 records the compiled _faces sorts on two threads: the same arrays (here forced from 2 records)
+    from crustview.core.delaunay import _faces
+
+    rng = np.random.default_rng(3)
+    simp = delaunay(rng.normal(size=(n, k)), bounding_points(k))
+    w = simp.shape[1]
+    one = _faces.faces(simp, w, d + 1, n, 2**62)
+    assert one == _faces.faces(simp, w, d + 1, n, 2) and one == _faces.faces(simp, w, d + 1, n)
+    if d == k - 1:
+        simp2, nbrs = delaunay(rng.normal(size=(n, k)), bounding_points(k), neighbors=True)
+        one = _faces.facets(simp2, nbrs, w, n, 2**62)
+        assert one == _faces.facets(simp2, nbrs, w, n, 2) and one == _faces.facets(simp2, nbrs, w, n)
