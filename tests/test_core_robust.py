@@ -170,6 +170,22 @@ def test_noisy_builtins_fail_in_paper_mode_and_succeed_robustly(name):
     assert t.closed_manifold and t.unused_samples == 0 and t.betti == m.betti
 
 
+@pytest.mark.parametrize(
+    "name,reach,frac,seed",
+    [("torus", 0.45, 0.03, 1), ("torus", 0.45, 0.03, 2), ("sphere", 1.0, 0.03, 1), ("sphere", 1.0, 0.03, 2)],
+)
+def test_builtins_with_noise_of_three_percent_of_the_reach(name, reach, frac, seed):
+    """Gaussian noise of 3 % of the reach (torus: its tube radius 0.45; sphere: 1): the paper's loop
+    gives up, the robust extraction is right through every sample."""
+    m = get_manifold(name)
+    s = m.sample(m.default_n, seed=seed)
+    pts = s.points + np.random.default_rng(seed + 100).normal(scale=frac * reach, size=s.points.shape)
+    rec = reconstruct(pts, m.d)
+    t = rec.topology
+    assert "abandoned" in rec.extraction.notes[0]  # the case is one the paper's loop does not solve
+    assert t.closed_manifold and t.unused_samples == 0 and t.betti == m.betti
+
+
 def test_sparse_torus_in_r3():
     m = get_manifold("torus")
     rec = reconstruct(m.sample(350, seed=2).points, 2)
@@ -233,7 +249,10 @@ def test_open_scan_keeps_its_cut_open_and_zips_the_slit_of_a_thin_ear(monkeypatc
     pts = scan_points("camelhead.off")
     rec = reconstruct(pts, 2)
     assert rec.topology.components == 1 and rec.topology.unused_samples == 0
-    assert not rec.topology.closed_manifold and rec.topology.boundary_faces >= 56
+    # one opening, the cut (a disc: b1 = 0), whose rim runs through about the cut's 56 samples
+    # (the labelled rim may cut a corner of it)
+    assert not rec.topology.closed_manifold and rec.topology.betti[:2] == (1, 0)
+    assert 50 <= rec.topology.boundary_faces <= 62
     ext, t = _grown(rec)
     slits = [s for s in ext.steps if s.rule == RULE_FILL and "slit" in s.reason]
     assert slits and t.components == 1 and t.unused_samples == 0
