@@ -459,3 +459,21 @@ def test_the_raw_points_preview_looks_from_where_the_result_will_be_seen(qtbot, 
     after, up_after = direction()
     assert np.degrees(np.arccos(np.clip(before @ after, -1, 1))) < 1.0  # the view does not turn
     assert np.allclose(up_before, up_after)
+
+
+def test_a_run_without_kept_pairs_hides_the_empty_kept_and_angle_columns(qtbot, window):
+    from crustview.qt.steps_dock import COLUMNS
+    from tests.gui_helpers import load
+
+    rec = load(qtbot, window, "torus")
+    table = window.steps_panel.table
+    kept, angle = COLUMNS.index("kept"), COLUMNS.index("angle")
+    assert any(len(st.kept) for st in rec.extraction.steps)  # the paper's resolve steps keep pairs
+    assert not table.isColumnHidden(kept) and not table.isColumnHidden(angle)
+    assert window.open_file(KNIGHT, d=2)  # the labelling path: cells labelled, no pairs kept
+    from tests.gui_helpers import wait_idle
+
+    wait_idle(qtbot, window)
+    steps = window.model.rec.extraction.steps
+    assert steps and not any(len(st.kept) for st in steps)
+    assert table.isColumnHidden(kept) and table.isColumnHidden(angle)

@@ -298,6 +298,12 @@ class StepsPanel(QWidget):
         header = self.table.horizontalHeader()
         header.setSectionResizeMode(0, QHeaderView.ResizeMode.Fixed)
         header.resizeSection(0, fm.horizontalAdvance(str(max(n, 10))) + 14)
+        # a run without kept pairs (the labelling path) leaves 'kept' and 'angle' empty: their
+        # width goes to the removed and added simplices
+        ext = self.model.player.extraction
+        paired = ext is not None and any(len(st.kept) for st in ext.steps)
+        for col in (COLUMNS.index("kept"), COLUMNS.index("angle")):
+            self.table.setColumnHidden(col, not paired)
         self.slider.blockSignals(True)
         self.slider.setRange(0, n)
         self.slider.blockSignals(False)
