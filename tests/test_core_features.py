@@ -139,3 +139,15 @@ def test_local_spacing_sees_the_sparse_direction():
     h = local_spacing(pts, tris)
     assert np.median(h) > 3 * np.median(nn)
     assert analyse(tris, len(pts), 2).betti == (1, 2, 1)
+
+
+def test_is_closed_manifold_agrees_with_the_full_report():
+    """The quick test gives analyse()'s closed_manifold on closed, open, pinched and non-manifold complexes."""
+    from crustview.core.analysis.topology import analyse, is_closed_manifold
+
+    tet = np.array([[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]])
+    pinched = np.vstack([tet, tet + 3])  # two tetrahedra sharing vertex 3
+    fin = np.vstack([tet, [[0, 1, 4]]])  # an extra triangle on edge 0-1: non-manifold
+    for cx in (tet, tet[:3], pinched, fin, np.zeros((0, 3), np.int64)):
+        assert is_closed_manifold(cx, 2) == analyse(cx, 8, 2).closed_manifold
+    assert is_closed_manifold(tet, 2) and not is_closed_manifold(pinched, 2) and not is_closed_manifold(fin, 2)

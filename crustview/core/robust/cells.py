@@ -32,7 +32,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ..analysis.features import enclosing_radii
-from ..analysis.topology import analyse
+from ..analysis.topology import is_closed_manifold
 from ..steps import RULE_CUT, RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
 from .cut_handle import cut_handles
 from .grow import SIZE_MAX, size_ratio
@@ -149,7 +149,7 @@ def extract_by_labels(
     report(0.4)
     ed = LabelEditor(lab)
     # the vertex test of repair-vertex costs a pass over every cell corner: only when something pinches
-    pinched = not analyse(surf, n, surf.shape[1] - 1).closed_manifold
+    pinched = not is_closed_manifold(surf, surf.shape[1] - 1)
     for v, cells, removed, added in ed.repair() if pinched else []:
         log.step(
             RULE_REPAIR,

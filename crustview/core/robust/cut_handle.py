@@ -84,29 +84,8 @@ class _Local:
         self.lab = ed.lab
 
     def pieces(self, v: int) -> tuple[np.ndarray, np.ndarray]:
-        """The cells of v's star and each one's piece (same label, joined through faces at v)."""
-        ed, lab = self.ed, self.lab
-        cells = ed.star(v)
-        fs = ed.faces_of(cells)
-        fs = fs[(lab.faces[fs] == v).any(axis=1)]
-        fs = fs[lab.inside[lab.a[fs]] == lab.inside[lab.b[fs]]]
-        # a star has a few dozen cells: a plain union-find beats building a sparse graph
-        pos = {c: i for i, c in enumerate(cells.tolist())}
-        parent = list(range(len(cells)))
-
-        def root(i: int) -> int:
-            while parent[i] != i:
-                parent[i] = parent[parent[i]]
-                i = parent[i]
-            return i
-
-        for a, b in zip(lab.a[fs].tolist(), lab.b[fs].tolist(), strict=True):
-            ra, rb = root(pos[a]), root(pos[b])
-            if ra != rb:
-                parent[ra] = rb
-        roots = [root(i) for i in range(len(cells))]
-        _, comp = np.unique(np.array(roots, np.int64), return_inverse=True)
-        return cells, comp.reshape(-1)
+        """The cells of v's star and each one's piece (:meth:`.LabelEditor.star_pieces`)."""
+        return self.ed.star_pieces(v)
 
     def on_surface(self, v: int) -> bool:
         """Whether v is a vertex of M_S."""

@@ -95,6 +95,33 @@ class LabelEditor:
         key = np.unique(vert[ok].astype(np.int64) * size + comp[ok])
         return np.bincount((key // size).astype(np.int64), minlength=n), comp
 
+    def star_pieces(self, v: int) -> tuple[np.ndarray, np.ndarray]:
+        """The cells of v's star and each one's piece (same label, joined through faces at v).
+
+        What :meth:`pieces` gives for one vertex, from its star alone.
+        """
+        lab = self.lab
+        cells = self.star(v)
+        fs = self.faces_of(cells)
+        fs = fs[(lab.faces[fs] == v).any(axis=1)]
+        fs = fs[lab.inside[lab.a[fs]] == lab.inside[lab.b[fs]]]
+        # a star has a few dozen cells: a plain union-find beats building a sparse graph
+        pos = {c: i for i, c in enumerate(cells.tolist())}
+        parent = list(range(len(cells)))
+
+        def root(i: int) -> int:
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        for a, b in zip(lab.a[fs].tolist(), lab.b[fs].tolist(), strict=True):
+            ra, rb = root(pos[a]), root(pos[b])
+            if ra != rb:
+                parent[ra] = rb
+        _, comp = np.unique(np.array([root(i) for i in range(len(cells))], np.int64), return_inverse=True)
+        return cells, comp.reshape(-1)
+
     def flip(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Give ``cells`` the other label: the faces (ids into ``lab.faces``) M_S loses and gains."""
         lab = self.lab
@@ -106,39 +133,48 @@ class LabelEditor:
         return removed, added
 
     def repair(self) -> list[tuple[int, np.ndarray, np.ndarray, np.ndarray]]:
-        """``repair-vertex`` until no vertex pinches: (vertex, flipped cells, removed, added) per step."""
+        """``repair-vertex`` until no vertex pinches: (vertex, flipped cells, removed, added) per step.
+
+        One pass over every star finds the pinched vertices; after that only
+        the vertices of flipped cells can change, so each round looks at
+        those (and at the pinched ones an earlier flip of the round touched)
+        with :meth:`star_pieces`.
+        """
         lab = self.lab
-        w = self.w
-        s = lab.simplices
         self.cut = lab.cut()
         steps = []
+        count, _ = self.pieces()
+        todo = np.flatnonzero(count > 2).tolist()
         for _ in range(REPAIR_ROUNDS):
-            count, comp = self.pieces()
-            bad = np.flatnonzero(count > 2)
-            if len(bad) == 0:
+            if not todo:
                 break
             touched = np.zeros(lab.m, bool)
-            for v in bad.tolist():
-                cells = self.star(v)
+            again: set[int] = set()
+            for v in todo:
+                cells, piece = self.star_pieces(v)
+                if piece.max(initial=-1) + 1 <= 2:
+                    continue
                 if touched[cells].any():
-                    continue  # its star changed in this round: the next round looks again
-                corner = np.argmax(s[cells] == v, axis=1)
-                piece = comp[cells * w + corner]
-                ids, inv = np.unique(piece, return_inverse=True)
-                is_in = np.zeros(len(ids), bool)
-                is_in[inv] = lab.inside[cells]
-                weight = np.bincount(inv, weights=lab.confidence[cells], minlength=len(ids))
+                    again.add(v)  # its star changed in this round: the next round looks again
+                    continue
+                n_p = piece.max() + 1
+                is_in = np.zeros(n_p, bool)
+                is_in[piece] = lab.inside[cells]
+                weight = np.bincount(piece, weights=lab.confidence[cells], minlength=n_p)
                 keep = []
                 for side in (True, False):
                     cand = np.flatnonzero(is_in == side)
                     if len(cand):
                         keep.append(int(cand[np.argmax(weight[cand])]))
-                flipped = cells[~np.isin(inv, keep)]
+                flipped = cells[~np.isin(piece, keep)]
                 flipped = flipped[~lab.outside[flipped]]
                 if len(flipped) == 0:
                     continue
                 touched[cells] = True
                 steps.append((v, flipped, *self.flip(flipped)))
+                near = np.unique(lab.simplices[flipped])
+                again.update(int(u) for u in near[near < lab.n].tolist())
+            todo = sorted(again)
         return steps
 
     def sculpt(self) -> list[tuple[int, np.ndarray, np.ndarray, np.ndarray]]:
