@@ -78,6 +78,18 @@ def _cascades(rec: Reconstruction) -> dict[str, Any]:
     }
 
 
+def left_out_samples(rec: Reconstruction) -> list[int]:
+    """The input rows of the samples that are no vertex of M_S (ascending; empty when every sample is one).
+
+    Rows of the input file (``rec.point_input``: the first row of each merged
+    duplicate), so that a user can find them in the data.
+    """
+    used = np.zeros(rec.n, bool)
+    if len(rec.manifold):
+        used[np.asarray(rec.manifold).ravel()] = True
+    return sorted(int(rec.point_input[i]) for i in np.flatnonzero(~used))
+
+
 def report_dict(
     rec: Reconstruction,
     comparison: MeshComparison | None = None,
@@ -125,6 +137,7 @@ def report_dict(
             "stopped": rec.extraction.stopped,
             "notes": list(rec.extraction.notes),
             "topology": rec.topology.as_dict(),
+            "left_out_samples": left_out_samples(rec),
             "uncertain_features": [f.as_dict() for f in rec.uncertain_features],
             "features": {
                 kind: sum(f.kind == kind and not f.removed for f in rec.features)

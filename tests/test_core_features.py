@@ -151,3 +151,27 @@ def test_is_closed_manifold_agrees_with_the_full_report():
     for cx in (tet, tet[:3], pinched, fin, np.zeros((0, 3), np.int64)):
         assert is_closed_manifold(cx, 2) == analyse(cx, 8, 2).closed_manifold
     assert is_closed_manifold(tet, 2) and not is_closed_manifold(pinched, 2) and not is_closed_manifold(fin, 2)
+
+
+def test_the_report_names_the_samples_left_out():
+    """left_out_samples: the input rows of exactly the samples that are no vertex of M_S, with a
+    duplicate input row reported by its first occurrence."""
+    from crustview.core import reconstruct
+    from crustview.report import report_dict
+
+    pts = get_manifold("sphere").sample(400, seed=3).points
+    pts = np.vstack([pts, pts[:1]])  # row 400 duplicates row 0
+    rec = reconstruct(pts, 2, mode="paper")
+    rep = report_dict(rec)
+    assert rep["left_out_samples"] == []  # the paper's sphere uses every sample
+    # drop the simplices of three samples: those and only those are named, as input rows
+    gone = [5, 17, 0]
+    keep = ~np.isin(rec.manifold, [int(rec.input_index[g]) for g in gone]).any(axis=1)
+    from dataclasses import replace
+
+    cut = replace(rec, manifold=rec.manifold[keep])
+    used = np.zeros(rec.n, bool)
+    used[cut.manifold.ravel()] = True
+    want = sorted(int(rec.point_input[i]) for i in np.flatnonzero(~used))
+    got = report_dict(cut)["left_out_samples"]
+    assert got == want and set(gone) <= set(got) and 400 not in got
