@@ -148,3 +148,26 @@ def test_a_removed_handle_stays_uncertain_in_the_report(knight, tmp_path):
     text = result_summary(rec, 1.0, tmp_path / "out.npz")
     n_unc = sum(f.kind == "handle" for f in rec.uncertain_features)
     assert text.endswith(f"(uncertain: {n_unc} handles, 0 holes, 0 components)")
+
+
+def test_a_tie_keeps_the_handles_only_when_every_loop_is_resolved():
+    """Two answers the sample supports equally: fewer handles wins, unless the other one's every
+    handle loop is at least 4 pi sampling radii (what an eps = 1/2 sample resolves)."""
+    from types import SimpleNamespace as NS
+
+    from crustview.core.analysis.features import Feature
+    from crustview.core.robust.driver import LOOP_RESOLVED, _tie
+
+    def handle(size):
+        return Feature("handle", np.zeros(3), size, size < LOOP_MIN, np.array([0, 1, 2]), "")
+
+    torus, sphere = NS(betti=(1, 2, 1)), NS(betti=(1, 0, 1))
+    lab_strong = NS(features=[handle(LOOP_RESOLVED + 0.1), handle(30.0)])
+    lab_weak = NS(features=[handle(LOOP_RESOLVED - 0.1), handle(30.0)])
+    grown = NS(features=[])
+    assert _tie(lab_strong, grown, torus, sphere) is lab_strong
+    assert _tie(lab_weak, grown, torus, sphere) is grown
+    # the same the other way round, and equal handle counts keep the labelled answer
+    assert _tie(grown, lab_strong, sphere, torus) is lab_strong
+    assert _tie(grown, lab_weak, sphere, torus) is grown
+    assert _tie(lab_weak, NS(features=[]), torus, torus) is lab_weak

@@ -192,8 +192,10 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     (:func:`~crustview.core.analysis.features.features`) and the sample has
     more than :data:`SECOND_OPINION_N` points.  Otherwise M_S is also grown,
     and the result with fewer problems is kept, in this order: not closed,
-    samples left out, uncertain features, boundary faces, handles (of two
-    answers the sample supports equally, the one that claims fewer handles).
+    samples left out, uncertain features, boundary faces.  Of two answers
+    the sample supports equally, the one claiming fewer handles, unless every
+    handle loop of the other is long enough for an eps = 1/2 sample to
+    resolve (:func:`_tie`).
     When
     both are closed manifolds through (nearly) every sample and their Betti
     numbers differ, the sample does not decide between them: the difference
@@ -231,10 +233,14 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     f_gro = uncertain(grown.features)
 
     def problems(top, unc) -> tuple:
-        return (not top.closed_manifold, top.unused_samples, len(unc), top.boundary_faces, sum(top.betti[1:-1]))
+        return (not top.closed_manifold, top.unused_samples, len(unc), top.boundary_faces)
 
     p_lab, p_gro = problems(top_lab, f_lab), problems(top_gro, f_gro)
-    keep, why = (lab, "labelled") if p_lab <= p_gro else (grown, "grown")
+    if p_lab != p_gro:
+        keep, why = (lab, "labelled") if p_lab < p_gro else (grown, "grown")
+    else:
+        keep = _tie(lab, grown, top_lab, top_gro)
+        why = "labelled" if keep is lab else "grown"
     m_keep, m_other = (m_lab, m_gro) if keep is lab else (m_gro, m_lab)
     t_keep, t_other = (top_lab, top_gro) if keep is lab else (top_gro, top_lab)
     keep.notes.insert(
@@ -252,6 +258,28 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     ):
         keep.disputed = disagreement(points, m_keep, m_other, t_keep.betti, t_other.betti)
     return keep
+
+
+#: Loop length (in sampling radii) that an eps = 1/2 sample resolves: 2 pi / eps.  Used only to settle a
+#: tie between two answers the sample supports equally (:func:`_tie`); eps = 1/2 is the sampling
+#: assumption of open-cap's CAP_RATIO too.  The flags stay at the eps < 1 bound (features.LOOP_MIN).
+LOOP_RESOLVED = 4 * math.pi
+
+
+def _tie(lab: Extraction, grown: Extraction, top_lab, top_gro) -> Extraction:
+    """Of two results with the same problems, the one to keep.
+
+    The one claiming fewer handles (a handle needs evidence), unless the other
+    one's every handle loop is at least :data:`LOOP_RESOLVED` sampling radii
+    long: then its extra handles are features an eps = 1/2 sample resolves,
+    and the answer without them has spanned a tunnel the sample shows.
+    """
+    h_lab, h_gro = sum(top_lab.betti[1:-1]), sum(top_gro.betti[1:-1])
+    if h_lab == h_gro:
+        return lab
+    more, fewer = (lab, grown) if h_lab > h_gro else (grown, lab)
+    loops = [f.size_spacings for f in (more.features or []) if f.kind == "handle"]
+    return more if loops and min(loops) >= LOOP_RESOLVED else fewer
 
 
 def _row_keys(rows: np.ndarray, base: int) -> np.ndarray:
