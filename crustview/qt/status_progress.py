@@ -7,6 +7,7 @@ opened; this one is, whatever tab is in front.
 
 from __future__ import annotations
 
+from PySide6.QtCore import QTimer
 from PySide6.QtWidgets import QHBoxLayout, QProgressBar, QToolButton, QWidget
 
 from .run_dock import RunPanel
@@ -43,4 +44,10 @@ class StatusProgress(QWidget):
         self.bar.setValue(src.value())
         self.bar.setFormat(src.format())
         self.bar.setToolTip(src.format())
+        if self.panel.cancel.isEnabled() != self.isVisible():
+            # at the next turn of the event loop: showing it lays the window out again, which must
+            # not happen inside the call that starts the job (nor once per progress report)
+            QTimer.singleShot(0, self._show_if_busy)
+
+    def _show_if_busy(self) -> None:
         self.setVisible(self.panel.cancel.isEnabled())
