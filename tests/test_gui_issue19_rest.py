@@ -477,3 +477,15 @@ def test_a_run_without_kept_pairs_hides_the_empty_kept_and_angle_columns(qtbot, 
     steps = window.model.rec.extraction.steps
     assert steps and not any(len(st.kept) for st in steps)
     assert table.isColumnHidden(kept) and table.isColumnHidden(angle)
+
+
+def test_largest_free_rect_avoids_every_block():
+    from crustview.render.fitting import largest_free_rect
+
+    # a legend in the upper left and a caption in the lower left of a 600 x 600 view
+    legend, caption = (0.0, 420.0, 380.0, 600.0), (0.0, 0.0, 260.0, 40.0)
+    x0, y0, x1, y1 = largest_free_rect(600, 600, [legend, caption])
+    for b in (legend, caption):
+        assert not (x0 < b[2] and b[0] < x1 and y0 < b[3] and b[1] < y1)
+    assert (x0, y0, x1, y1) == (0.0, 40.0, 600.0, 420.0)  # below the legend: 380 high, the larger side
+    assert largest_free_rect(600, 600, []) == (0.0, 0.0, 600.0, 600.0)

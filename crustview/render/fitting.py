@@ -14,6 +14,8 @@ import numpy as np
 
 #: Pixels kept between the data and the view's edges or a block of text.
 MARGIN = 6.0
+#: Smallest free rectangle (its smaller side, as a share of the view's) the data is moved into.
+SMALLEST_FREE = 0.45
 #: Most points projected to measure the data's image.
 MEASURED = 20_000
 
@@ -87,6 +89,8 @@ def fit_clear(renderer, pts: np.ndarray, blocks: list[Rect], rounds: int = 3) ->
     if len(pts) > MEASURED:
         pts = pts[np.linspace(0, len(pts) - 1, MEASURED).astype(np.int64)]
     x0, y0, x1, y1 = largest_free_rect(w, h, blocks)
+    if min(x1 - x0, y1 - y0) < SMALLEST_FREE * min(w, h):
+        return 1.0  # so much text that the data would shrink to a stamp: better partly under it
     x0, y0, x1, y1 = x0 + MARGIN, y0 + MARGIN, x1 - MARGIN, y1 - MARGIN
     total = 1.0
     for _ in range(rounds):
