@@ -64,8 +64,8 @@ def test_short_handles_are_removed_and_nothing_else_changes(knight):
     assert after.betti[0] == before.betti[0]
     assert after.betti[1] == before.betti[1] - 2 * len(out.cuts)
     assert after.unused_samples <= before.unused_samples
-    # what is left is what the features analysis still calls short
-    assert len(out.left) == sum(f.uncertain for f in _handles(rec, ed))
+    # what is left is what the features analysis still measures below 2 pi
+    assert len(out.left) == sum(f.size_spacings < LOOP_MIN for f in _handles(rec, ed))
 
 
 def test_a_cut_flips_only_cells_near_its_loop(knight):

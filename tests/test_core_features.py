@@ -175,3 +175,18 @@ def test_the_report_names_the_samples_left_out():
     want = sorted(int(rec.point_input[i]) for i in np.flatnonzero(~used))
     got = report_dict(cut)["left_out_samples"]
     assert got == want and set(gone) <= set(got) and 400 not in got
+
+
+def test_a_handle_between_the_two_bounds_is_uncertain_for_its_own_reason():
+    """A tube of 5 samples around: its loop is above 2 pi but below 4 pi sampling radii, resolved only
+    by a sample coarser than eps = 1/2, so uncertain with that reason; 9 around is above 4 pi."""
+    from crustview.core.analysis.features import LOOP_SUPPORTED
+
+    for around, unc in ((5, True), (9, False)):
+        pts, tris = _torus_mesh(40, around)
+        short = min((x for x in features(pts, tris, 2) if x.kind == "handle"), key=lambda x: x.size_spacings)
+        assert short.uncertain == unc
+        if unc:
+            assert LOOP_MIN <= short.size_spacings < LOOP_SUPPORTED and "eps = 1/2" in short.reason
+        else:
+            assert short.size_spacings >= LOOP_SUPPORTED

@@ -21,6 +21,9 @@ below one spacing is below the resolution of *any* sampling condition:
   spacings is below resolution: fewer than about six samples around it.
   Both a false bridge between parts that nearly touch and a tunnel punched
   through a thin part leave such a short loop.
+  A loop below :data:`LOOP_SUPPORTED` = 4 pi is resolved only if eps > 1/2,
+  beyond where reconstruction works in practice: such a handle is uncertain
+  too (the rule ``cut-handle`` removes only those below LOOP_MIN).
 * **Component**: two sheets at distance g have LFS <= g / 2 between them,
   so eps < 1 needs h < g / 2.  A component closer than :data:`GAP_MIN` = 2
   spacings to another one may be one object with the other.
@@ -46,6 +49,11 @@ from .loops import short_basis
 
 #: Shortest loop (in local spacings) that an eps < 1 sample can resolve: 2 pi (see the module text).
 LOOP_MIN = 2 * math.pi
+#: Shortest loop (in local spacings) that an eps = 1/2 sample resolves: 2 pi / eps.  A handle whose loop
+#: lies between LOOP_MIN and this is resolved only by a sample coarser than eps = 1/2, where the
+#: reconstruction theory no longer holds in practice (noise tunnels of the public scans' 0.3 h copies
+#: and their other draws measure 6.9-11 radii, the scans' real handles 12.7 and more): uncertain too.
+LOOP_SUPPORTED = 4 * math.pi
 #: Closest distance (in local spacings) between two components that an eps < 1 sample can resolve.
 GAP_MIN = 2.0
 
@@ -298,9 +306,13 @@ def _handles(
     result = []
     for loop, length in basis:
         size = length / float(np.median(h[loop]))
-        unc = size < LOOP_MIN
+        unc = size < LOOP_SUPPORTED
         reason = f"loop of {len(loop)} samples, {size:.3g} sampling radii long" + (
-            " (fewer samples around it than a sample can resolve: may be a bridge across a gap)" if unc else ""
+            " (fewer samples around it than a sample can resolve: may be a bridge across a gap)"
+            if size < LOOP_MIN
+            else " (only a sample coarser than eps = 1/2 resolves it: may be a tunnel of noise or a bridge)"
+            if unc
+            else ""
         )
         result.append(Feature("handle", points[loop].mean(axis=0), size, unc, loop, reason))
     return result

@@ -40,7 +40,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from ..analysis.features import Feature, features
+from ..analysis.features import LOOP_MIN, Feature, features
 from .label_repair import LabelEditor
 
 #: Rounds of the rule: the loops of a short basis change once a handle is cut, so the features are
@@ -213,7 +213,7 @@ def cut_handles(ed: LabelEditor, points: np.ndarray) -> CutHandles:
         if len(surf) == 0 or _euler(surf, n) == 2 * _components(surf, n):
             out.left = []
             break
-        short = [f for f in features(points, surf, 2) if f.kind == "handle" and f.uncertain]
+        short = [f for f in features(points, surf, 2) if f.kind == "handle" and f.size_spacings < LOOP_MIN]
         out.left = short
         if not short or rnd == HANDLE_ROUNDS:
             break

@@ -81,6 +81,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ..analysis.features import LOOP_SUPPORTED
 from ..analysis.topology import analyse
 from ..errors import Cancelled
 from ..paper.extraction import extract
@@ -260,10 +261,9 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     return keep
 
 
-#: Loop length (in sampling radii) that an eps = 1/2 sample resolves: 2 pi / eps.  Used only to settle a
-#: tie between two answers the sample supports equally (:func:`_tie`); eps = 1/2 is the sampling
-#: assumption of open-cap's CAP_RATIO too.  The flags stay at the eps < 1 bound (features.LOOP_MIN).
-LOOP_RESOLVED = 4 * math.pi
+#: Loop length (in sampling radii) that an eps = 1/2 sample resolves: 2 pi / eps
+#: (:data:`~crustview.core.analysis.features.LOOP_SUPPORTED`; eps = 1/2 is open-cap's CAP_RATIO's too).
+LOOP_RESOLVED = LOOP_SUPPORTED
 
 
 def _tie(lab: Extraction, grown: Extraction, top_lab, top_gro) -> Extraction:
