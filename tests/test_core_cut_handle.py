@@ -16,7 +16,7 @@ from crustview.core import reconstruct
 from crustview.core.analysis.features import LOOP_MIN, features
 from crustview.core.analysis.topology import analyse
 from crustview.core.robust.cells import extract_by_labels
-from crustview.core.robust.cut_handle import cut_handles
+from crustview.core.robust.cut_handle import CUT_BELOW, cut_handles
 from crustview.core.robust.label_repair import LabelEditor
 from crustview.core.robust.labelling import Labelling
 from crustview.core.samples.manifolds import get_manifold
@@ -51,7 +51,7 @@ def knight():
 
 def test_short_handles_are_removed_and_nothing_else_changes(knight):
     """Each cut removes one handle (b1 down by 2, b0 the same), keeps a closed manifold through
-    every sample that was a vertex, and every handle it removed had a loop below 2 pi spacings."""
+    every sample that was a vertex, and every handle it removed had a loop below 4 pi sampling radii (CUT_BELOW)."""
     rec, lab, ed = _editor(knight)
     before = _top(ed, rec.n)
     short = [f for f in _handles(rec, ed) if f.uncertain]
@@ -59,13 +59,13 @@ def test_short_handles_are_removed_and_nothing_else_changes(knight):
     out = cut_handles(ed, rec.points)
     after = _top(ed, rec.n)
     assert len(out.cuts) >= 2
-    assert all(c.feature.size_spacings < LOOP_MIN for c in out.cuts)
+    assert all(c.feature.size_spacings < CUT_BELOW for c in out.cuts)
     assert after.closed_manifold
     assert after.betti[0] == before.betti[0]
     assert after.betti[1] == before.betti[1] - 2 * len(out.cuts)
     assert after.unused_samples <= before.unused_samples
-    # what is left is what the features analysis still measures below 2 pi
-    assert len(out.left) == sum(f.size_spacings < LOOP_MIN for f in _handles(rec, ed))
+    # what is left is what the features analysis still measures below the cut bound
+    assert len(out.left) == sum(f.size_spacings < CUT_BELOW for f in _handles(rec, ed))
 
 
 def test_a_cut_flips_only_cells_near_its_loop(knight):
@@ -135,7 +135,7 @@ def test_a_removed_handle_stays_uncertain_in_the_report(knight, tmp_path):
     cuts = rec.extraction.counts_by_rule().get(RULE_CUT, {}).get("steps", 0)
     removed = [f for f in rec.uncertain_features if f.removed]
     assert cuts >= 2 and len(removed) == cuts
-    assert all(f.kind == "handle" and f.size_spacings < LOOP_MIN for f in removed)
+    assert all(f.kind == "handle" and f.size_spacings < CUT_BELOW for f in removed)
     assert all(f.reason.startswith("removed (rule cut-handle)") for f in removed)
     # in R^3 input coordinates: each location is near the samples of its loop
     for f in removed:

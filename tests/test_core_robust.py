@@ -278,3 +278,18 @@ def test_a_slit_whose_rim_folds_in_its_plane_is_zipped_in_space(monkeypatch):
     monkeypatch.setattr(holes.Patcher, "_zip", lambda self, loop, why: None)
     _, flat = _grown(rec)
     assert flat.boundary_faces >= t.boundary_faces + 40
+
+
+def test_an_open_scan_labelled_soundly_is_not_grown_again():
+    """camelhead (11,381 samples): the labelled result is open only at the opening open-cap found,
+    through every sample, nothing uncertain: it is kept at once (no growing rule ran), with the cut
+    as its one hole."""
+    from crustview.core.steps import RULE_GROW, RULE_OPEN, RULE_SEED
+
+    rec = reconstruct(scan_points("camelhead.off"), 2)
+    rules = {s.rule for s in rec.extraction.steps}
+    assert RULE_OPEN in rules and not rules & {RULE_SEED, RULE_GROW}
+    assert "grew M_S" not in rec.extraction.notes[0]
+    t = rec.topology
+    assert t.betti[:2] == (1, 0) and t.unused_samples == 0 and rec.uncertain_features == []
+    assert [f.kind for f in rec.features] == ["hole"]

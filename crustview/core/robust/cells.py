@@ -233,5 +233,6 @@ def extract_by_labels(
     ext = log.extraction(stopped, notes)
     ext.labelling = lab  # type: ignore[attr-defined]
     ext.removed_features = handles.removed
+    ext.openings = len(patches)  # type: ignore[attr-defined]
     ext.patch_start = start  # type: ignore[attr-defined]
     return ext

@@ -1,13 +1,16 @@
-"""Rule ``cut-handle``: a handle of the labelled surface that no sample can resolve is cut or filled.
+"""Rule ``cut-handle``: a handle of the labelled surface that the sample does not resolve is cut or filled.
 
 A handle of M_S whose shortest loop is shorter than
 :data:`~crustview.core.analysis.features.LOOP_MIN` = 2 pi local sampling radii
 cannot be a feature of the sampled surface under any sampling condition with
 eps < 1 (a loop around a tube of radius r is 2 pi r long, and eps < 1 needs
-the sampling radius below r; :mod:`crustview.core.analysis.features`).  On
-real scans such handles come from the labelling, where noise or a gap leaves
-a few cells of the wrong label: a thin tunnel of outside cells through a
-part, or a thin bridge of inside cells between two parts that nearly touch.
+the sampling radius below r; :mod:`crustview.core.analysis.features`); one
+below :data:`CUT_BELOW` = 4 pi is resolved only by a sample coarser than
+eps = 1/2.  On real scans such handles come from the labelling, where noise
+or a gap leaves a few cells of the wrong label: a thin tunnel of outside
+cells through a part, or a thin bridge of inside cells between two parts
+that nearly touch (noise tunnels of the public scans at 0.3 h and of their
+other draws measure 3-11 radii; the scans' real handles 12.7 and more).
 
 The rule relabels the least confident set of cells that removes the handle.
 Around the loop it tries, in order, the cells that have a loop *edge* (the
@@ -28,8 +31,9 @@ Of the trials that pass in the first set, the one whose cells had the least
 labelling confidence in all is kept; the vertex set is tried only when the
 edge set gives none.  A handle the rule cannot remove stays, and the
 features analysis reports it as uncertain.  The removed handles are kept on
-the extraction (:attr:`CutHandles.removed`) and named in the report, so the
-result still says what it decided at the limit of its sampling.
+the extraction (:attr:`CutHandles.removed`) and reported as uncertain
+features marked ``removed``: real thin handles have loops that short too, so
+the result says what it decided at the limit of its sampling.
 """
 
 from __future__ import annotations
@@ -40,12 +44,15 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from ..analysis.features import LOOP_MIN, Feature, features
+from ..analysis.features import LOOP_SUPPORTED, Feature, features
 from .label_repair import LabelEditor
 
 #: Rounds of the rule: the loops of a short basis change once a handle is cut, so the features are
 #: measured again, at most this often (a handle that only shows after another is cut is found then).
 HANDLE_ROUNDS = 3
+#: Handles with a loop below this many sampling radii are cut (the features' LOOP_SUPPORTED, 4 pi: what
+#: an eps = 1/2 sample resolves).
+CUT_BELOW = LOOP_SUPPORTED
 #: Rounds of local repair and sculpting after each trial (as in :data:`.label_repair.REPAIR_ROUNDS`,
 #: a pinch can move to a neighbour; the trial is refused when one is left after these).
 LOCAL_ROUNDS = 8
@@ -213,7 +220,7 @@ def cut_handles(ed: LabelEditor, points: np.ndarray) -> CutHandles:
         if len(surf) == 0 or _euler(surf, n) == 2 * _components(surf, n):
             out.left = []
             break
-        short = [f for f in features(points, surf, 2) if f.kind == "handle" and f.size_spacings < LOOP_MIN]
+        short = [f for f in features(points, surf, 2) if f.kind == "handle" and f.size_spacings < CUT_BELOW]
         out.left = short
         if not short or rnd == HANDLE_ROUNDS:
             break

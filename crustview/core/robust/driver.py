@@ -189,6 +189,7 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     """The labelling path, and the growing path where the labelling leaves doubt; the better of the two.
 
     The labelling's result is kept at once when it is a closed manifold
+    (or a manifold open only at the openings ``open-cap`` found)
     through every sample with no uncertain feature
     (:func:`~crustview.core.analysis.features.features`) and the sample has
     more than :data:`SECOND_OPINION_N` points.  Otherwise M_S is also grown,
@@ -221,7 +222,11 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     top_lab = analyse(m_lab, n, d)
     lab.features = features(points, m_lab, d)
     f_lab = uncertain(lab.features)
-    if top_lab.closed_manifold and top_lab.unused_samples == 0 and not f_lab and n > SECOND_OPINION_N:
+    # sound: a closed manifold, or one whose only boundary is the openings open-cap kept open
+    sound = top_lab.closed_manifold or (
+        getattr(lab, "openings", 0) > 0 and top_lab.nonmanifold_faces == 0 and top_lab.singular_vertices == 0
+    )
+    if sound and top_lab.unused_samples == 0 and not f_lab and n > SECOND_OPINION_N:
         lab.notes.insert(0, note_paper + "; the robust extension labelled the Delaunay cells instead")
         return lab
     report(0.5)
