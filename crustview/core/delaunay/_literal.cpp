@@ -34,24 +34,32 @@ struct Inputs {
     int r, m;
 };
 
-double dot(const double* a, const double* b, int r) {
-    double out = a[0] * b[0];
-    for (int q = 1; q < r; ++q) {
-        out += a[q] * b[q];
-    }
-    return out;
-}
-
-void normalise(double* v, int r) {
-    const double size = std::max(std::sqrt(dot(v, v, r)), 1e-300);
-    for (int q = 0; q < r; ++q) {
-        v[q] /= size;
-    }
-}
-
+// R coordinates and M normal directions as compile-time constants (0: the
+// run-time in.r, in.m), so the compiler keeps a face's values in registers;
+// the operations and their order are the same in every instance.
+template <int R, int M>
 void sines(const Inputs& in, double* out) {
-    const int r = in.r, m = in.m;
-    std::vector<double> e1(r), e2(r), g1(m), g2(m);
+    constexpr int kMax = 8;  // R and M above this take the run-time instance's heap buffers
+    const int r = R > 0 ? R : in.r, m = M > 0 ? M : in.m;
+    std::vector<double> heap(R > 0 && M > 0 ? 0 : 2 * (r + m));
+    double local[4 * kMax];
+    double* e1 = R > 0 && M > 0 ? local : heap.data();
+    double* e2 = e1 + r;
+    double* g1 = e2 + r;
+    double* g2 = g1 + m;
+    const auto dot = [](const double* a, const double* b, int size) {
+        double acc = a[0] * b[0];
+        for (int q = 1; q < size; ++q) {
+            acc += a[q] * b[q];
+        }
+        return acc;
+    };
+    const auto normalise = [&](double* v) {
+        const double size = std::max(std::sqrt(dot(v, v, r)), 1e-300);
+        for (int q = 0; q < r; ++q) {
+            v[q] /= size;
+        }
+    };
     for (std::int64_t i = 0; i < in.f; ++i) {
         const std::int64_t* face = in.faces + 3 * i;
         const double* p0 = in.work + face[0] * r;
@@ -60,15 +68,15 @@ void sines(const Inputs& in, double* out) {
         for (int q = 0; q < r; ++q) {
             e1[q] = p1[q] - p0[q];
         }
-        normalise(e1.data(), r);
+        normalise(e1);
         for (int q = 0; q < r; ++q) {
             e2[q] = p2[q] - p0[q];
         }
-        const double proj = dot(e2.data(), e1.data(), r);
+        const double proj = dot(e2, e1, r);
         for (int q = 0; q < r; ++q) {
             e2[q] -= proj * e1[q];
         }
-        normalise(e2.data(), r);
+        normalise(e2);
         double best = std::numeric_limits<double>::infinity();
         for (int a = 0; a < 3; ++a) {
             const double* nr = in.normals + face[a] * r * m;  // nr[q * m + j]
@@ -85,15 +93,27 @@ void sines(const Inputs& in, double* out) {
             if (m == 1) {  // rank one: the Frobenius norm
                 sq = g1[0] * g1[0] + g2[0] * g2[0];
             } else {
-                const double aa = dot(g1.data(), g1.data(), m);
-                const double bb = dot(g1.data(), g2.data(), m);
-                const double cc = dot(g2.data(), g2.data(), m);
+                const double aa = dot(g1, g1, m);
+                const double bb = dot(g1, g2, m);
+                const double cc = dot(g2, g2, m);
                 const double diff = aa - cc;
                 sq = 0.5 * (aa + cc) + std::sqrt(0.25 * (diff * diff) + bb * bb);
             }
             best = std::min(best, std::sqrt(sq));
         }
         out[i] = best;
+    }
+}
+
+void sines_any(const Inputs& in, double* out) {
+    if (in.r == 3 && in.m == 1) {
+        sines<3, 1>(in, out);
+    } else if (in.r == 4 && in.m == 2) {
+        sines<4, 2>(in, out);
+    } else if (in.r == 5 && in.m == 3) {
+        sines<5, 3>(in, out);
+    } else {
+        sines<0, 0>(in, out);
     }
 }
 
@@ -137,7 +157,7 @@ PyObject* literal(PyObject* /*self*/, PyObject* args) {
     }
     double* o = reinterpret_cast<double*>(PyByteArray_AS_STRING(out));
     Py_BEGIN_ALLOW_THREADS
-    sines(in, o);
+    sines_any(in, o);
     Py_END_ALLOW_THREADS
     release();
     return out;
