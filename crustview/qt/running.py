@@ -83,20 +83,11 @@ class RunActions:
         kept_mode = self._kept_mode(mode)
         mode = mode or self.run_panel.mode
 
-        normals = self.run_panel.normals_method
+        run = {"test": test, "theta": theta, "prune_boundary": prune, "mode": mode}
+        run["normals"] = self.run_panel.normals_method
 
         def job(progress, cancel):
-            rec = reconstruct(
-                points,
-                d,
-                test=test,
-                theta=theta,
-                prune_boundary=prune,
-                mode=mode,
-                progress=progress,
-                cancel=cancel,
-                normals=normals,
-            )
+            rec = reconstruct(points, d, progress=progress, cancel=cancel, **run)
             return {"rec": rec, "truth": truth, "points": points, "quality": _quality(rec, progress, cancel)}
 
         job = _comparing(job, truth, points)
@@ -152,22 +143,13 @@ class RunActions:
         if early is not None:
             self.view.show_preview(early.points)
 
-        normals = self.run_panel.normals_method
+        run = {"test": test, "theta": theta, "prune_boundary": prune, "mode": mode}
+        run["normals"] = self.run_panel.normals_method
 
         def job(progress, cancel):
             progress("prepare", 0.0)
             sample = early if early is not None else m.sample(n, seed=seed)
-            rec = reconstruct(
-                sample.points,
-                m.d,
-                test=test,
-                theta=theta,
-                prune_boundary=prune,
-                mode=mode,
-                progress=progress,
-                cancel=cancel,
-                normals=normals,
-            )
+            rec = reconstruct(sample.points, m.d, progress=progress, cancel=cancel, **run)
             return {"rec": rec, "truth": sample, "points": sample.points, "quality": _quality(rec, progress, cancel)}
 
         return self.start_job(
