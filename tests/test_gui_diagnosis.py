@@ -143,8 +143,18 @@ def test_a_robust_run_whose_paper_loop_succeeded_does_not_say_the_loop_was_aband
     assert not info.diagnosis.to_paper.isVisible()
 
 
+def grown_points() -> np.ndarray:
+    """A sample whose robust result is grown (the growing path is the only one off R^3): the flat
+    Klein bottle in R^4 with noise of 1 % of its size, where the paper's loop gives up."""
+    from crustview.core.samples.manifolds import get_manifold
+
+    m = get_manifold("flat-klein")
+    pts = m.sample(m.default_n, seed=1).points
+    return pts + np.random.default_rng(1).normal(scale=0.01 * np.ptp(pts, axis=0).max(), size=pts.shape)
+
+
 def test_step_overlay_shows_added_simplices_and_removed_so_far_ignores_not_yet_added(qtbot, window):
-    rec = run(qtbot, window, knight_points(), "robust")
+    rec = run(qtbot, window, grown_points(), "robust")
     ext = rec.extraction
     grow = next(s for s in ext.steps if s.rule == "grow")
     player = window.model.player
