@@ -138,6 +138,16 @@ def test_kill_9_between_writing_and_renaming_keeps_the_old_result(setup):
     assert "pausing before renaming" in seen, seen
 
 
+def _terminal_ctrl_c() -> None:
+    """In the child: Ctrl-C as a shell on a terminal leaves it (default), whatever the test worker inherited.
+
+    A child inherits an ignored SIGINT, and Python then keeps ignoring it; the
+    pytest-xdist worker that runs these tests may have it ignored (in one of
+    two full runs the command slept through the signal).
+    """
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def test_ctrl_c_cancels_cleanly_with_one_line_and_no_partial_file(setup):
     folder, old = setup
     proc = subprocess.Popen(
@@ -146,6 +156,7 @@ def test_ctrl_c_cancels_cleanly_with_one_line_and_no_partial_file(setup):
         stderr=subprocess.PIPE,
         stdout=subprocess.PIPE,
         text=True,
+        preexec_fn=_terminal_ctrl_c,
     )
     for line in proc.stderr:
         if "pausing before renaming" in line:
@@ -253,6 +264,7 @@ def test_ctrl_c_stops_a_batch_and_its_workers_with_one_line(setup, sample):
         stdout=subprocess.PIPE,
         text=True,
         start_new_session=True,  # a process group of its own, as a terminal's foreground job
+        preexec_fn=_terminal_ctrl_c,
     )
     for line in proc.stderr:  # a worker has its result written, not yet renamed
         if "pausing before renaming" in line:
