@@ -148,6 +148,20 @@ def _terminal_ctrl_c() -> None:
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
+def _communicate_or_kill(proc: subprocess.Popen, group: bool = False) -> tuple[str, str]:
+    """The child's output once it ends; a child still running after 30 s is killed (with its group)
+    and the test fails, so that no process outlives it into the next tests."""
+    try:
+        return proc.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        if group:
+            os.killpg(proc.pid, signal.SIGKILL)
+        else:
+            proc.kill()
+        proc.communicate()
+        raise
+
+
 def test_ctrl_c_cancels_cleanly_with_one_line_and_no_partial_file(setup):
     folder, old = setup
     proc = subprocess.Popen(
@@ -162,7 +176,7 @@ def test_ctrl_c_cancels_cleanly_with_one_line_and_no_partial_file(setup):
         if "pausing before renaming" in line:
             break
     proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=30)
+    out, err = _communicate_or_kill(proc)
     assert proc.returncode == 130
     assert err.strip().splitlines() == ["crustview: cancelled (Ctrl-C); no partial file was written"]
     assert out == ""
@@ -270,7 +284,7 @@ def test_ctrl_c_stops_a_batch_and_its_workers_with_one_line(setup, sample):
         if "pausing before renaming" in line:
             break
     os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C reaches the whole group
-    out_text, err = proc.communicate(timeout=30)
+    out_text, err = _communicate_or_kill(proc, group=True)
     assert proc.returncode == 130
     assert err.strip().splitlines()[-1] == "crustview: cancelled (Ctrl-C); no partial file was written"
     assert "Traceback" not in err and out_text == ""
