@@ -150,22 +150,16 @@ class _Local:
         return touched
 
 
-def _chi_and_vertices(faces: np.ndarray, region: np.ndarray, n: int) -> tuple[int, np.ndarray]:
-    """V - E + F counted on the faces that touch ``region`` (a vertex mask), and their vertices."""
+def _euler(faces: np.ndarray, n: int, region: np.ndarray | None = None) -> int:
+    """V - E + F of a triangle set; with ``region`` (a vertex mask), of its vertices and edges there only."""
     if len(faces) == 0:
-        return 0, np.zeros(0, np.int64)
-    e = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [0, 2]]]), axis=1)
-    e = e[region[e[:, 0]] | region[e[:, 1]]]
-    n_e = len(np.unique(e[:, 0].astype(np.int64) * n + e[:, 1]))
-    vs = np.unique(faces)
-    return int(region[vs].sum()) - n_e + len(faces), vs
-
-
-def _euler(faces: np.ndarray, n: int) -> int:
-    """V - E + F of a triangle set."""
+        return 0
     e = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [0, 2]]]), axis=1).astype(np.int64)
-    n_e = len(np.unique(e[:, 0] * n + e[:, 1]))
-    return len(np.unique(faces)) - n_e + len(faces)
+    vs = np.unique(faces)
+    if region is not None:
+        e = e[region[e[:, 0]] | region[e[:, 1]]]
+        vs = vs[region[vs]]
+    return len(vs) - len(np.unique(e[:, 0] * n + e[:, 1])) + len(faces)
 
 
 def _components(faces: np.ndarray, n: int) -> int:
@@ -253,13 +247,11 @@ def _try(ed: LabelEditor, local: _Local, feat: Feature, n: int, b0: int) -> Cut 
                 best = (trial[0], how, trial[1])
         if best is not None:
             cost, how, flipped = best
-            inside0 = lab.inside.copy()
             cut0 = ed.cut.copy()
-            for f in flipped:
+            for f in flipped:  # the trial's flips again, from the same labels: the same end state
                 ed.flip(f)
             allc = np.unique(np.concatenate(flipped))
             changed = np.flatnonzero(cut0 != ed.cut)
-            del inside0
             return Cut(feat, allc, how, changed[cut0[changed]], changed[ed.cut[changed]], cost)
     return None
 
@@ -295,9 +287,7 @@ def _trial(ed: LabelEditor, local: _Local, sel: np.ndarray, n: int, b0: int) -> 
             near = np.unique(np.concatenate([ed.faces_of(ed.star(v)) for v in rv]))
             before = lab.faces[near[cut0[near]]]
             after = lab.faces[near[ed.cut[near]]]
-            chi0, _ = _chi_and_vertices(before, region, n)
-            chi1, _ = _chi_and_vertices(after, region, n)
-            if chi1 > chi0 and _components(lab.faces[ed.cut], n) == b0:
+            if _euler(after, n, region) > _euler(before, n, region) and _components(lab.faces[ed.cut], n) == b0:
                 result = (float(lab.confidence[allc].sum()), flipped)
     lab.inside[:] = inside0
     ed.cut[:] = cut0
