@@ -16,6 +16,7 @@ from PySide6.QtWidgets import (
     QLayout,
     QProgressBar,
     QPushButton,
+    QSizePolicy,
     QSlider,
     QSpinBox,
     QVBoxLayout,
@@ -170,6 +171,8 @@ class RunPanel(QWidget):
         self.stale.setWordWrap(True)
         self.stale.setStyleSheet("QLabel { background: #fff3cd; color: #6b4e00; padding: 3px; border-radius: 3px; }")
         self.stale.setVisible(False)
+        # as tall as its text: the dock's spare height goes below the bar, not into an amber block
+        self.stale.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Maximum)
         lay.addWidget(self.stale)
         self.progress = QProgressBar(self)
         self.progress.setRange(0, 1000)
