@@ -126,15 +126,21 @@ def test_the_step_log_replays_each_cut(knight):
 
 
 def test_a_removed_handle_stays_uncertain_in_the_report(knight, tmp_path):
-    """reconstruct(): every cut handle is an uncertain feature marked removed, counted in the summary
-    and in the JSON report, and not counted among the features of M_S."""
+    """reconstruct(): every cut handle is a feature marked removed; it is uncertain exactly when its loop
+    was at least LOOP_MIN (below it no eps < 1 sample resolves it); the uncertain ones are counted in
+    the summary and in the JSON report, and no removed one among the features of M_S."""
     from crustview.cli_reconstruct import result_summary
     from crustview.report import report_dict
 
     rec = reconstruct(knight, 2)
     cuts = rec.extraction.counts_by_rule().get(RULE_CUT, {}).get("steps", 0)
+    every = [f for f in rec.features if f.removed]
+    assert cuts >= 2 and len(every) == cuts
+    assert all(f.uncertain == (f.size_spacings >= LOOP_MIN) for f in every)
+    # the knight's noisy copy has both kinds, so both branches are exercised
+    assert any(f.uncertain for f in every) and not all(f.uncertain for f in every)
     removed = [f for f in rec.uncertain_features if f.removed]
-    assert cuts >= 2 and len(removed) == cuts
+    cuts = len(removed)
     assert all(f.kind == "handle" and f.size_spacings < CUT_BELOW for f in removed)
     assert all(f.reason.startswith("removed (rule cut-handle)") for f in removed)
     # in R^3 input coordinates: each location is near the samples of its loop
@@ -143,6 +149,7 @@ def test_a_removed_handle_stays_uncertain_in_the_report(knight, tmp_path):
     rep = report_dict(rec)
     listed = [u for u in rep["uncertain_features"] if u["removed"]]
     assert len(listed) == cuts
+    assert len(rep["removed_features"]) == len(every) and all(u["removed"] for u in rep["removed_features"])
     kept_handles = sum(f.kind == "handle" and not f.removed for f in rec.features)
     assert rep["features"]["handle"] == kept_handles
     text = result_summary(rec, 1.0, tmp_path / "out.npz")
@@ -171,3 +178,23 @@ def test_a_tie_keeps_the_handles_only_when_every_loop_is_resolved():
     assert _tie(grown, lab_strong, sphere, torus) is lab_strong
     assert _tie(grown, lab_weak, sphere, torus) is grown
     assert _tie(lab_weak, NS(features=[]), torus, torus) is lab_weak
+
+
+def test_handles_decided_only_for_more_handles_all_resolved():
+    """Two closed results with different b1: no dispute only when the kept one has more handles and
+    every loop of its basis is at least LOOP_SUPPORTED; a kept result with fewer handles stays disputed."""
+    from crustview.core.analysis.features import LOOP_SUPPORTED, Feature, handles_decided
+
+    def handle(size):
+        return Feature("handle", np.zeros(3), size, size < LOOP_SUPPORTED, np.array([0, 1, 2]), "")
+
+    strong = [handle(LOOP_SUPPORTED + 0.01), handle(90.0)]
+    weak = [handle(LOOP_SUPPORTED - 0.01), handle(90.0)]
+    assert handles_decided(strong, [], 2, 0)
+    assert not handles_decided(weak, [], 2, 0)
+    # fewer handles kept: the other's short loops are not taken as proof (6.27 radii straddles 2 pi)
+    assert not handles_decided([], [handle(1.0), handle(1.0)], 0, 2)
+    assert not handles_decided([], strong, 0, 2)
+    # a basis too large to list (one feature of size 0 standing for b1 loops) is not resolved
+    assert not handles_decided([handle(0.0)], [], 40, 0)
+    assert handles_decided(weak, weak, 2, 2)

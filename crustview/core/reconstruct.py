@@ -8,7 +8,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from .analysis.features import features, summary_suffix
+from .analysis.features import LOOP_MIN, features, summary_suffix
 from .analysis.topology import analyse
 from .delaunay.triangulation import backend_label, bounding_points, circumcenters, delaunay
 from .errors import Cancelled, InputError
@@ -333,12 +333,14 @@ def reextract(
         for f in (features(rec.points / scale, manifold, rec.d) if ext.features is None else ext.features)
         + list(ext.disputed)
     ]
-    # handles cut below the sample's resolution stay uncertain: the sample did not decide them
+    # a handle cut in the band [LOOP_MIN, LOOP_SUPPORTED) stays uncertain: a sample coarser than
+    # eps = 1/2 resolves it, so the sample did not decide it; one below LOOP_MIN is below what any
+    # eps < 1 sample resolves, and its removal is what the sampling condition implies
     feats += [
         replace(
             f,
             location=f.location * scale,
-            uncertain=True,
+            uncertain=f.size_spacings >= LOOP_MIN,
             removed=True,
             reason=f"removed (rule cut-handle): {f.reason}",
         )

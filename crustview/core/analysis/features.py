@@ -23,7 +23,8 @@ below one spacing is below the resolution of *any* sampling condition:
   through a thin part leave such a short loop.
   A loop below :data:`LOOP_SUPPORTED` = 4 pi is resolved only if eps > 1/2,
   beyond where reconstruction works in practice: such a handle is uncertain
-  too (the rule ``cut-handle`` removes only those below LOOP_MIN).
+  too.  The rule ``cut-handle`` removes both kinds where it can; a removed
+  handle stays uncertain only if its loop was at least LOOP_MIN.
 * **Component**: two sheets at distance g have LFS <= g / 2 between them,
   so eps < 1 needs h < g / 2.  A component closer than :data:`GAP_MIN` = 2
   spacings to another one may be one object with the other.
@@ -80,7 +81,9 @@ class Feature:
     removed : bool
         The extraction removed this feature as below the sample's resolution
         (rule ``cut-handle``): it was in M_S before the cut and is not in the
-        result.  Such a feature stays *uncertain*: the sample did not decide it.
+        result.  Such a feature stays *uncertain* when its loop was at least
+        :data:`LOOP_MIN` (a sample coarser than eps = 1/2 resolves it: the
+        sample did not decide it); below LOOP_MIN no eps < 1 sample resolves it.
     """
 
     kind: str
@@ -330,6 +333,40 @@ def summary_suffix(feats: list[Feature]) -> str:
         return ""
     c = {k: sum(f.kind == k for f in u) for k in ("handle", "hole", "component")}
     return f"(uncertain: {c['handle']} handles, {c['hole']} holes, {c['component']} components)"
+
+
+def handles_decided(kept: list[Feature], other: list[Feature], b1_kept: int, b1_other: int) -> bool:
+    """Whether the sampling bound decides for the kept result over another closed one with another b_1.
+
+    The kept result is decided when it has the larger b_1 and every loop of its
+    short basis is at least :data:`LOOP_SUPPORTED` long: an eps = 1/2 sample
+    resolves each of its handles, so the other result has spanned tunnels the
+    sample shows (the choice :func:`~crustview.core.robust.driver._tie` makes
+    on a tie).  The converse is not claimed: when the kept result has fewer
+    handles, the other's extra handles would all have to be below the
+    resolution of any eps < 1 sample (loops under :data:`LOOP_MIN`), a bound
+    that measured loops straddle (the seahorse's tail in its 0.1 h copy: 6.27
+    radii against 2 pi = 6.28), so that case stays a dispute.
+
+    Parameters
+    ----------
+    kept, other : list of Feature
+        The features of the two results (:func:`features`).
+    b1_kept, b1_other : int
+        Their first Betti numbers.
+
+    Returns
+    -------
+    bool
+        True when the two are not a dispute as far as handles go.  A basis
+        too large to list (one feature of size 0) counts as unresolved.
+    """
+    if b1_kept == b1_other:
+        return True
+    if b1_kept < b1_other:
+        return False
+    loops = [f.size_spacings for f in kept if f.kind == "handle"]
+    return len(loops) == b1_kept and min(loops) >= LOOP_SUPPORTED
 
 
 def disagreement(

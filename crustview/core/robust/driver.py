@@ -205,8 +205,12 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     (:attr:`Extraction.disputed`), even when the other result flags its own
     version of it (two parts that nearly touch, kept apart and flagged by
     one path, joined by the other: the joined result must not look sure).
+    Where they differ only in b_1 and the kept one has more handles, every
+    loop of them resolved at eps = 1/2
+    (:func:`~crustview.core.analysis.features.handles_decided`), there is no
+    dispute: the other has spanned tunnels the sample shows.
     """
-    from ..analysis.features import disagreement, features, uncertain
+    from ..analysis.features import disagreement, features, handles_decided, uncertain
 
     n = len(points)
     d = faces.shape[1] - 1
@@ -256,11 +260,16 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
         f"(Betti {top_gro.betti}, {top_gro.unused_samples} left out, {len(f_gro)} uncertain); the {why} "
         "result is kept",
     )
+    other = grown if keep is lab else lab
     if (
         t_keep.closed_manifold
         and t_other.closed_manifold
         and t_keep.betti != t_other.betti
         and min(t_keep.unused_samples, t_other.unused_samples) <= 0.01 * n
+        and not (
+            t_keep.betti[0] == t_other.betti[0]
+            and handles_decided(keep.features or [], other.features or [], t_keep.betti[1], t_other.betti[1])
+        )
     ):
         keep.disputed = disagreement(points, m_keep, m_other, t_keep.betti, t_other.betti)
     return keep
