@@ -31,7 +31,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..analysis.features import enclosing_radii
+from ..analysis.features import LOOP_MIN, enclosing_radii
 from ..analysis.topology import is_closed_manifold
 from ..steps import RULE_CUT, RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
 from .cut_handle import cut_handles
@@ -180,8 +180,13 @@ def extract_by_labels(
             lab.faces[c.added],
             lab.faces[c.removed],
             math.nan,
-            f"a handle whose shortest loop is {c.feature.size_spacings:.3g} sampling radii long (below 2 pi: no "
-            f"sample with eps < 1 resolves it); {len(c.cells)} cells took the other label "
+            f"a handle whose shortest loop is {c.feature.size_spacings:.3g} sampling radii long ("
+            + (
+                "below 2 pi: no sample with eps < 1 resolves it"
+                if c.feature.size_spacings < LOOP_MIN
+                else "below 4 pi: only a sample coarser than eps = 1/2 resolves it"
+            )
+            + f"); {len(c.cells)} cells took the other label "
             f"({'a tunnel filled' if c.how == 'fill' else 'a bridge cut'}, labelling confidence {c.cost:.2f} in all, "
             "the least of the trials around its loop)",
         )
