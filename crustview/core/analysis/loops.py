@@ -97,15 +97,13 @@ def short_basis(
     dg = dg + dg.T
     _, tlabel = connected_components(dg, directed=False)
     tparent = np.full(tcount, -1, np.int64)
-    tdepth = np.zeros(tcount, np.int64)
     cotree = np.zeros(len(edges), bool)
     for c in np.unique(tlabel):
         r = int(np.nonzero(tlabel == c)[0][0])
         bfs, par = breadth_first_order(dg, r, directed=False, return_predecessors=True)
         nz = bfs[1:]
         tparent[nz] = par[nz]
-        for t in nz:  # depth in BFS order (parents come first)
-            tdepth[t] = tdepth[tparent[t]] + 1
+    tdepth = _depths(tparent)  # hops to the BFS root (pointer doubling, not one Python step per triangle)
     # cotree edges: the edge shared by a triangle and its dual parent
     kids = np.nonzero(tparent >= 0)[0]
     if len(kids):
