@@ -97,7 +97,7 @@ except ImportError:  # pragma: no cover - depends on the build
 #: Cells with more vertices skip the (k-d)-subset enumeration in codim >= 3.
 MAX_SUBSET_VERTICES = 12
 #: Cell vertices per chunk of faces scored at once (keeps temporaries in cache).
-CHUNK_CELL_VERTICES = 1 << 16
+CHUNK_CELL_VERTICES = 1 << 18
 #: Cocone scores below this are exact; larger ones are only known to be >= it.
 SCORE_LIMIT = np.pi / 4
 
