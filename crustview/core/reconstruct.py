@@ -21,6 +21,7 @@ from .result import CANDIDATE_TESTS, EXTRACTION_MODES, CandidateAngles, Candidat
 from .robust.driver import extract_robust
 from .robust.smooth_normals import smoothed_normals
 from .util.memory import gc_paused, release_free_memory
+from .util.parallel import start_in_background
 
 ProgressFn = Callable[[str, float], None]
 
@@ -161,25 +162,31 @@ def reconstruct(
     timings["delaunay"] = time.perf_counter() - t0
     _next_stage(cancel)
 
+    # Algorithm 2's face lists need only the simplices: listed on the other core during Algorithm 1
+    listing = start_in_background(cand.enumerate_faces, simplices, n, d, neighbors=neighbors)
+    del neighbors
     t0 = time.perf_counter()
     report("normals", 0.0)
-    pole_w, normals_w, infinite = greedy_poles(work_all, simplices, centres, n, r - d)
-    if normals_method == "smoothed":  # beyond the paper: AN_s averaged over the samples nearby
-        normals_w = smoothed_normals(prep.work, normals_w)
-    # lift: in-subspace normals plus the complement of the affine hull
-    normals = prep.lift_vectors(np.swapaxes(normals_w, 1, 2))  # (n, r-d, k)
-    if r < k:
-        comp = np.linalg.qr(prep.basis, mode="complete")[0][:, r:]  # (k, k-r)
-        normals = np.concatenate([normals, np.broadcast_to(comp.T, (n, k - r, k))], axis=1)
-        pole_w = np.concatenate([pole_w, np.full((n, k - r), -1, dtype=np.int64)], axis=1)
-    normals, tangents = complete_bases(np.swapaxes(normals, 1, 2))
+    try:
+        pole_w, normals_w, infinite = greedy_poles(work_all, simplices, centres, n, r - d)
+        if normals_method == "smoothed":  # beyond the paper: AN_s averaged over the samples nearby
+            normals_w = smoothed_normals(prep.work, normals_w)
+        # lift: in-subspace normals plus the complement of the affine hull
+        normals = prep.lift_vectors(np.swapaxes(normals_w, 1, 2))  # (n, r-d, k)
+        if r < k:
+            comp = np.linalg.qr(prep.basis, mode="complete")[0][:, r:]  # (k, k-r)
+            normals = np.concatenate([normals, np.broadcast_to(comp.T, (n, k - r, k))], axis=1)
+            pole_w = np.concatenate([pole_w, np.full((n, k - r), -1, dtype=np.int64)], axis=1)
+        normals, tangents = complete_bases(np.swapaxes(normals, 1, 2))
+    except BaseException:
+        listing.exception()  # waits: the listing is not left running past a failed run
+        raise
     timings["normals"] = time.perf_counter() - t0
-    _next_stage(cancel)
-
     t0 = time.perf_counter()
     report("candidates", 0.0)
-    faces, cptr, csimp = cand.enumerate_faces(simplices, n, d, neighbors=neighbors)
-    del neighbors
+    faces, cptr, csimp = listing.result()  # what is left of the listing counts as candidates
+    del listing
+    _next_stage(cancel)
     lit = cand.literal_angles(prep.work, normals_w, faces)
     _next_stage(cancel)
     coc = cand.cocone_angles(

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
 from typing import TypeVar
 
 T = TypeVar("T")
@@ -60,3 +60,22 @@ def run_in_order(fn: Callable[[T], R], tasks: Iterable[T], workers: int | None =
         for fut in pending:
             fut.cancel()
         pool.shutdown(wait=True, cancel_futures=True)
+
+
+def start_in_background(fn: Callable[..., R], *args: object, **kwargs: object) -> Future[R]:
+    """Run ``fn(*args, **kwargs)`` on a thread of its own while the caller goes on.
+
+    For a compiled step that releases the GIL (the face lists of Algorithm 2)
+    beside a stage that leaves the second core idle (Algorithm 1).  The
+    result, or the exception ``fn`` raised, comes from ``.result()``; the
+    thread ends with ``fn``.
+
+    Returns
+    -------
+    concurrent.futures.Future
+    """
+    pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="crustview-bg")
+    try:
+        return pool.submit(fn, *args, **kwargs)
+    finally:
+        pool.shutdown(wait=False)
