@@ -198,3 +198,15 @@ def test_handles_decided_only_for_more_handles_all_resolved():
     # a basis too large to list (one feature of size 0 standing for b1 loops) is not resolved
     assert not handles_decided([handle(0.0)], [], 40, 0)
     assert handles_decided(weak, weak, 2, 2)
+
+
+def test_a_cut_the_sample_may_resolve_brings_the_second_opinion(knight):
+    """Up to SECOND_OPINION_N samples, a labelled result for which cut-handle removed a loop of at
+    least LOOP_MIN is grown too (the note names both answers); the knight's two answers agree."""
+    from crustview.core.robust.driver import SECOND_OPINION_N
+
+    rec = reconstruct(knight, 2)
+    assert len(knight) <= SECOND_OPINION_N
+    assert any(f.removed and f.size_spacings >= LOOP_MIN for f in rec.features)
+    assert "grew M_S" in rec.extraction.notes[0] and "labelled result is kept" in rec.extraction.notes[0]
+    assert rec.topology.betti == (1, 0, 1)

@@ -8,9 +8,9 @@ import pytest
 from crustview.core import reconstruct, reextract
 from crustview.core.analysis.topology import analyse
 from crustview.core.paper.extraction import extract
-from crustview.core.robust.driver import extract_robust
+from crustview.core.robust.driver import SECOND_OPINION_N, extract_robust
 from crustview.core.samples.manifolds import get_manifold
-from crustview.core.steps import RULE_FILL, RULE_PRUNE, RULE_RELAX
+from crustview.core.steps import RULE_FILL, RULE_GROW, RULE_PRUNE, RULE_RELAX, RULE_SEED
 from crustview.io import read_mesh
 
 RESOURCES = Path(__file__).resolve().parents[1] / "resources"
@@ -184,6 +184,9 @@ def test_builtins_with_noise_of_three_percent_of_the_reach(name, reach, frac, se
     t = rec.topology
     assert "abandoned" in rec.extraction.notes[0]  # the case is one the paper's loop does not solve
     assert t.closed_manifold and t.unused_samples == 0 and t.betti == m.betti
+    # a sound labelled result that cut no handle the sample may resolve is not grown a second time
+    assert len(pts) <= SECOND_OPINION_N and "grew M_S" not in rec.extraction.notes[0]
+    assert not any(s.rule in (RULE_GROW, RULE_SEED) for s in rec.extraction.steps)
 
 
 def test_sparse_torus_in_r3():
