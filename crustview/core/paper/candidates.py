@@ -80,6 +80,7 @@ from scipy.spatial import cKDTree
 
 from ..delaunay.faces import enumerate_faces, sort_rows  # noqa: F401 - part of this module's API
 from ..util.parallel import chunks, run_in_order
+from .cocone2 import codim2_scores
 from .conemin import lean_bound, over_cell
 from .dualcells import CellFaces
 from .exactmin import exact_min as _exact_min
@@ -89,7 +90,7 @@ try:  # codimension 1's segment ends in compiled code (setup.py builds it; numpy
     from ..delaunay import _segments as _native_segments
 except ImportError:  # pragma: no cover - depends on the build
     _native_segments = None
-try:  # codimension 2's vertex minima and certificates likewise (see _score_cells_native)
+try:  # codimension 2's vertex minima and certificates likewise (see .cocone2)
     from ..delaunay import _cellpass as _native_cellpass
 except ImportError:  # pragma: no cover - depends on the build
     _native_cellpass = None
@@ -181,6 +182,11 @@ def cocone_angles(
     if workers is None and len(cell_simplices) < CHUNK_CELL_VERTICES:  # one chunk's worth: threads only add overhead
         workers = 1
 
+    if m == 2 and _native_cellpass is not None and work.dtype == normals.dtype == centres.dtype == np.float64:
+        # the compiled vertex pass per chunk, then the exact step in large batches (same values)
+        args = (work, normals, tangents, centres, faces, cell_ptr, cell_simplices, simplices, tasks, tree)
+        return codim2_scores(_native_cellpass, *args, np.sin(limit), workers, progress)
+
     def score(task: tuple) -> tuple[np.ndarray | slice, np.ndarray]:
         nv, sel, subsets = task
         if isinstance(sel, slice):
@@ -222,9 +228,6 @@ def _score_chunk(
     if use_cells:
         subsets = []
     cell_faces = CellFaces(fc, simplices, cell_ids, len(work), m) if use_cells else None
-    if m == 2 and _native_cellpass is not None and work.dtype == normals.dtype == centres.dtype == np.float64:
-        args = (work, normals, tangents, centres, fc, cell_ids, subsets, tree, sin_lim, cell_faces)
-        return _score_cells_native(*args)
     cells = np.take(centres, cell_ids, axis=0)  # (F, nv, r)
     out = np.empty(fc.shape)
     r = work.shape[1]
@@ -267,63 +270,6 @@ def _score_chunk(
                 np.take(tangents, fc[todo, a], axis=0),
                 np.take(work, fc[todo], axis=0),
                 s[todo],
-                best[todo],
-                subsets,
-                m,
-                tree,
-                sin_lim**2,
-                cell_faces,
-                todo,
-            )
-        out[:, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
-    return out
-
-
-def _score_cells_native(
-    work: np.ndarray,
-    normals: np.ndarray,
-    tangents: np.ndarray,
-    centres: np.ndarray,
-    fc: np.ndarray,
-    cell_ids: np.ndarray,
-    subsets: list[np.ndarray],
-    tree: cKDTree,
-    sin_lim: float,
-    cell_faces: CellFaces | None,
-) -> np.ndarray:
-    """:func:`_score_chunk` in codimension 2 with the vertex pass in compiled code (:mod:`._cellpass`).
-
-    The extension computes each pair's vertex minimum and one-sided bound
-    with numpy's arithmetic, bit for bit, without the GIL; numpy then runs
-    the exact minimum on the pairs it does not certify, from the same arrays
-    in the same memory layout, so the scores equal :func:`_score_chunk`'s.
-    """
-    f, w = fc.shape
-    r, nv = work.shape[1], cell_ids.shape[1]
-    m = normals.shape[2]
-    fc64 = np.ascontiguousarray(fc, dtype=np.int64)
-    ids64 = np.ascontiguousarray(cell_ids, dtype=np.int64)
-    arrays = (np.ascontiguousarray(a) for a in (work, normals, centres))
-    best_b, lean_b = _native_cellpass.cellpass(*arrays, fc64, ids64, r, m, w, nv)
-    best_all = np.frombuffer(best_b, dtype=np.float64).reshape(f, w)
-    lean_all = np.frombuffer(lean_b, dtype=np.float64).reshape(f, w)
-    out = np.empty(fc.shape)
-    for a in range(w):
-        lean = lean_all[:, a]
-        certified = lean >= sin_lim
-        best = np.where(certified, lean**2, best_all[:, a])
-        todo = np.flatnonzero(~certified)
-        if len(todo):
-            va = fc[todo, a]
-            s = np.take(work, va, axis=0)
-            # (r, T, nv) contiguous, as _score_chunk's x_t[:, todo]: the exact step sees the same strides
-            x_t = np.ascontiguousarray(np.take(centres, cell_ids[todo], axis=0).transpose(2, 0, 1)) - s.T[:, :, None]
-            best[todo] = _exact_min(
-                x_t.transpose(1, 2, 0),
-                np.take(normals, va, axis=0),
-                np.take(tangents, va, axis=0),
-                np.take(work, fc[todo], axis=0),
-                s,
                 best[todo],
                 subsets,
                 m,

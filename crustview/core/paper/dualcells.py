@@ -87,11 +87,17 @@ class CellFaces:
         Each face's cell simplices (rows of ``simplices``).
     n_all, m : int
         Delaunay vertices; the codimension.
+    once : bool
+        Asked for one batch only: build the structure for just that batch,
+        however large it is.
     """
 
-    def __init__(self, face: np.ndarray, simplices: np.ndarray, cell_ids: np.ndarray, n_all: int, m: int) -> None:
+    def __init__(
+        self, face: np.ndarray, simplices: np.ndarray, cell_ids: np.ndarray, n_all: int, m: int, once: bool = False
+    ) -> None:
         self.face, self.simplices, self.cell_ids, self.n_all, self.m = face, simplices, cell_ids, n_all, m
         self.whole: tuple | None = None
+        self.once = once
 
     def _rows(self, idx: np.ndarray | None = None) -> np.ndarray:
         ids = self.cell_ids if idx is None else self.cell_ids[idx]
@@ -99,7 +105,7 @@ class CellFaces:
 
     def for_batch(self, idx: np.ndarray) -> tuple[np.ndarray, tuple]:
         """Structure with face column renumbered to positions in ``idx`` (sorted)."""
-        if self.whole is None and 3 * len(idx) < len(self.face):
+        if self.whole is None and (self.once or 3 * len(idx) < len(self.face)):
             return cell_structure(self.face[idx], self._rows(idx), self.n_all, self.m)
         if self.whole is None:
             self.whole = cell_structure(self.face, self._rows(), self.n_all, self.m)
