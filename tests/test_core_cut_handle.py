@@ -139,6 +139,10 @@ def test_a_removed_handle_stays_uncertain_in_the_report(knight, tmp_path):
     assert all(f.uncertain == (f.size_spacings >= LOOP_MIN) for f in every)
     # the knight's noisy copy has both kinds, so both branches are exercised
     assert any(f.uncertain for f in every) and not all(f.uncertain for f in every)
+    # the ones below resolution are named in the report's messages, not left to the step log
+    n_below = sum(not f.uncertain for f in every)
+    said = [m for m in rec.topology.messages if m.startswith(f"cut-handle removed {n_below} handle")]
+    assert len(said) == 1 and "shorter than any eps < 1 sample resolves" in said[0]
     removed = [f for f in rec.uncertain_features if f.removed]
     cuts = len(removed)
     assert all(f.kind == "handle" and f.size_spacings < CUT_BELOW for f in removed)

@@ -353,6 +353,15 @@ def reextract(
         )
         for f in ext.removed_features
     ]
+    below = [f for f in feats if f.removed and not f.uncertain]
+    if below:
+        topo.messages.append(
+            f"cut-handle removed {len(below)} handle{'s' if len(below) > 1 else ''} whose loop ("
+            + ", ".join(f"{f.size_spacings:.3g}" for f in below[:5])
+            + (" ..." if len(below) > 5 else "")
+            + " sampling radii) is shorter than any eps < 1 sample resolves (2 pi): noise or a bridge, "
+            "below the sample's resolution (see removed_features)"
+        )
     if any(f.uncertain for f in feats):
         topo.messages.append(
             "the sample does not support every feature of M_S: "

@@ -227,7 +227,8 @@ class DiagnosisPanel(QWidget):
         if grown and not self._list:
             self.cascade_label.setText(
                 "This robust run's log has no prune cascades: the paper's loop was abandoned "
-                "(see the notes above) and M_S was grown instead. The paper's run shows where its "
+                "(see the notes above) and the robust extension built M_S instead (labelled or grown). "
+                "The paper's run shows where its "
                 "pruning cascaded."
             )
             self.to_paper.setVisible(True)
