@@ -77,7 +77,8 @@ def short_basis(
         lo, hi = np.minimum(a, b), np.maximum(a, b)
         return order[np.searchsorted(skey, lo * n + hi)]
 
-    _, pred_ms, _ = dijkstra(g, indices=roots0, return_predecessors=True, min_only=True)
+    dist0, pred0, _ = dijkstra(g, indices=roots0, return_predecessors=True, min_only=True)
+    pred_ms = pred0
     child = np.nonzero((pred_ms >= 0) & used)[0]
     in_tree[edge_ids(child, pred_ms[child])] = True
     # dual graph over triangles through inner non-tree edges: spanning forest (BFS)
@@ -138,7 +139,7 @@ def short_basis(
     # candidate loops from several roots per component; the leftover edges' own loops through
     # the first tree always complete the basis
     cand_len, cand_mask, cand_info = [], [], []
-    dist0, pred0 = dijkstra(g, indices=roots0, return_predecessors=True, min_only=True)[0:2]
+    spread_pred: dict[int, np.ndarray] = {}
     vs_all = np.nonzero(used)[0]
     pm0 = _path_masks(pred0, dist0, vs_all, mask, edge_ids)
     a0, b0 = edges[left, 0], edges[left, 1]
@@ -149,6 +150,8 @@ def short_basis(
         vs = np.nonzero(used & (label == c))[0]
         roots = _spread(points, vs, ROOTS)
         dist, pred = dijkstra(g, indices=roots, return_predecessors=True)
+        # each row is its own single-source search: the chosen loops are walked on these trees below
+        spread_pred.update((int(r), pred[ri]) for ri, r in enumerate(roots))
         for ri, r in enumerate(roots):
             pm = _path_masks(pred[ri], dist[ri], vs, mask, edge_ids)
             sel = np.nonzero(inner & (label[edges[:, 0]] == c))[0]
@@ -217,7 +220,8 @@ def short_basis(
             pr = pred0
         else:
             if r not in all_pred:
-                all_pred[r] = dijkstra(g, indices=[r], return_predecessors=True)[1][0]
+                found = spread_pred.get(r) if ri >= 0 else None
+                all_pred[r] = found if found is not None else dijkstra(g, indices=[r], return_predecessors=True)[1][0]
             pr = all_pred[r]
         loop = _walk(pr, a)[::-1] + _walk(pr, b)
         result.append((np.array(loop, np.int64), float(L[i])))
