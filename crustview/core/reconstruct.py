@@ -360,7 +360,7 @@ def reextract(
             + ", ".join(f"{f.size_spacings:.3g}" for f in below[:5])
             + (" ..." if len(below) > 5 else "")
             + " sampling radii) is shorter than any eps < 1 sample resolves (2 pi): noise or a bridge, "
-            "below the sample's resolution (see removed_features)"
+            "below the sample's resolution (the JSON report lists them under removed_features)"
         )
     if any(f.uncertain for f in feats):
         topo.messages.append(
