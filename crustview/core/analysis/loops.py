@@ -138,10 +138,12 @@ def short_basis(
                 b = int(tparent[b])
     # candidate loops from several roots per component; the leftover edges' own loops through
     # the first tree always complete the basis
+    # the few edges on the leftover edges' dual paths are the only ones with a nonzero mask
+    hot = np.flatnonzero(mask.any(axis=1))
+    marked, marked_mask = edges[hot], mask[hot]
     cand_len, cand_mask, cand_info = [], [], []
     spread_pred: dict[int, np.ndarray] = {}
-    vs_all = np.nonzero(used)[0]
-    pm0 = _path_masks(pred0, dist0, vs_all, mask, edge_ids)
+    pm0 = _path_masks(pred0, marked, marked_mask)
     a0, b0 = edges[left, 0], edges[left, 1]
     cand_len.append(dist0[a0] + length[left] + dist0[b0])
     cand_mask.append(pm0[a0] ^ pm0[b0] ^ mask[left])
@@ -152,12 +154,12 @@ def short_basis(
         dist, pred = dijkstra(g, indices=roots, return_predecessors=True)
         # each row is its own single-source search: the chosen loops are walked on these trees below
         spread_pred.update((int(r), pred[ri]) for ri, r in enumerate(roots))
+        sel_c = np.nonzero(inner & (label[edges[:, 0]] == c))[0]  # the same for every root
+        a_c, b_c = edges[sel_c, 0], edges[sel_c, 1]
         for ri, r in enumerate(roots):
-            pm = _path_masks(pred[ri], dist[ri], vs, mask, edge_ids)
-            sel = np.nonzero(inner & (label[edges[:, 0]] == c))[0]
-            a, b = edges[sel, 0], edges[sel, 1]
-            tree_edge = (pred[ri][a] == b) | (pred[ri][b] == a)
-            sel, a, b = sel[~tree_edge], a[~tree_edge], b[~tree_edge]
+            pm = _path_masks(pred[ri], marked, marked_mask)
+            tree_edge = (pred[ri][a_c] == b_c) | (pred[ri][b_c] == a_c)
+            sel, a, b = sel_c[~tree_edge], a_c[~tree_edge], b_c[~tree_edge]
             cls = pm[a] ^ pm[b] ^ mask[sel]
             nz = cls.any(axis=1)
             if not nz.any():
@@ -173,7 +175,7 @@ def short_basis(
             dist, pred = dijkstra(g, indices=[r], return_predecessors=True, limit=float(local[r]))
             dist, pred = dist[0], pred[0]
             reach = np.flatnonzero(np.isfinite(dist))
-            pm = _path_masks(pred, dist, reach, mask, edge_ids)
+            pm = _path_masks(pred, marked, marked_mask)
             near = np.zeros(n, bool)
             near[reach] = True
             sel = np.flatnonzero(inner & near[edges[:, 0]] & near[edges[:, 1]])
@@ -242,28 +244,43 @@ def _spread(points: np.ndarray, vs: np.ndarray, k: int) -> list[int]:
     return [int(vs[j]) for j in chosen]
 
 
-def _path_masks(pred: np.ndarray, dist: np.ndarray, vs: np.ndarray, mask: np.ndarray, edge_ids) -> np.ndarray:
+def _path_masks(pred: np.ndarray, marked: np.ndarray, marked_mask: np.ndarray) -> np.ndarray:
     """XOR of the edge masks along each vertex's tree path to the root.
 
-    The tree's depths come from pointer doubling (log n passes over the
-    reached vertices); then one pass per depth level, each over that level
-    only, so the work is O(n log n) however deep the tree.
+    Parameters
+    ----------
+    pred : ndarray of shape (n,)
+        The tree's predecessors (negative at roots and unreached vertices).
+    marked : ndarray of shape (e, 2)
+        The edges whose mask is not zero (every other edge adds nothing).
+    marked_mask : ndarray of shape (e, words)
+        Their masks.
+
+    Returns
+    -------
+    ndarray of shape (n, words)
+        Zero at roots and unreached vertices.
+
+    A vertex whose tree edge is marked starts with that edge's mask; the
+    XOR up to the root then comes from pointer doubling: after each pass
+    ``acc[v]`` covers the path from ``v`` to ``anc[v]``, whose length
+    doubles (log depth passes; XOR is exact, so this equals a walk level by
+    level).
     """
-    pm = np.zeros((len(pred), mask.shape[1]), np.uint64)
-    reach = vs[np.isfinite(dist[vs])]
-    kids = reach[pred[reach] >= 0]
-    if len(kids) == 0:
-        return pm
-    em = np.zeros((len(pred), mask.shape[1]), np.uint64)
-    em[kids] = mask[edge_ids(kids, pred[kids])]
-    depth = _depths(pred)
-    order = kids[np.argsort(depth[kids], kind="stable")]
-    dsorted = depth[order]
-    bounds = np.flatnonzero(np.r_[True, dsorted[1:] != dsorted[:-1], True])
-    for lo, hi in zip(bounds[:-1], bounds[1:]):
-        lvl = order[lo:hi]
-        pm[lvl] = pm[pred[lvl]] ^ em[lvl]
-    return pm
+    n = len(pred)
+    acc = np.zeros((n, marked_mask.shape[1]), np.uint64)
+    u, v = marked[:, 0], marked[:, 1]
+    up = pred[u] == v  # the tree edge of u
+    acc[u[up]] = marked_mask[up]
+    down = pred[v] == u
+    acc[v[down]] = marked_mask[down]
+    anc = np.where(pred >= 0, pred, np.arange(n))
+    while True:
+        nxt = anc[anc]
+        if np.array_equal(nxt, anc):  # every ancestor is a root, whose own entry is 0
+            return acc
+        acc ^= acc[anc]
+        anc = nxt
 
 
 def _depths(pred: np.ndarray) -> np.ndarray:
