@@ -125,10 +125,10 @@ def test_the_step_log_replays_each_cut(knight):
         assert after.betti[1] == before.betti[1] - 2
 
 
-def test_a_removed_handle_stays_uncertain_in_the_report(knight, tmp_path):
+def test_a_removed_handle_is_reported_by_its_bound(knight, tmp_path):
     """reconstruct(): every cut handle is a feature marked removed; it is uncertain exactly when its loop
     was at least LOOP_MIN (below it no eps < 1 sample resolves it); the uncertain ones are counted in
-    the summary and in the JSON report, and no removed one among the features of M_S."""
+    the summary and in the JSON report, every one is in removed_features, none among the features of M_S."""
     from crustview.cli_reconstruct import result_summary
     from crustview.report import report_dict
 
@@ -136,6 +136,8 @@ def test_a_removed_handle_stays_uncertain_in_the_report(knight, tmp_path):
     cuts = rec.extraction.counts_by_rule().get(RULE_CUT, {}).get("steps", 0)
     every = [f for f in rec.features if f.removed]
     assert cuts >= 2 and len(every) == cuts
+    assert all(f.kind == "handle" and f.size_spacings < CUT_BELOW for f in every)
+    assert all(f.reason.startswith("removed (rule cut-handle)") for f in every)
     assert all(f.uncertain == (f.size_spacings >= LOOP_MIN) for f in every)
     # the knight's noisy copy has both kinds, so both branches are exercised
     assert any(f.uncertain for f in every) and not all(f.uncertain for f in every)
@@ -143,16 +145,13 @@ def test_a_removed_handle_stays_uncertain_in_the_report(knight, tmp_path):
     n_below = sum(not f.uncertain for f in every)
     said = [m for m in rec.topology.messages if m.startswith(f"cut-handle removed {n_below} handle")]
     assert len(said) == 1 and "shorter than any eps < 1 sample resolves" in said[0]
-    removed = [f for f in rec.uncertain_features if f.removed]
-    cuts = len(removed)
-    assert all(f.kind == "handle" and f.size_spacings < CUT_BELOW for f in removed)
-    assert all(f.reason.startswith("removed (rule cut-handle)") for f in removed)
+    removed = [f for f in every if f.uncertain]
     # in R^3 input coordinates: each location is near the samples of its loop
     for f in removed:
         assert np.linalg.norm(rec.points[f.vertices].mean(axis=0) - f.location) < 1e-9
     rep = report_dict(rec)
     listed = [u for u in rep["uncertain_features"] if u["removed"]]
-    assert len(listed) == cuts
+    assert len(listed) == len(removed) == cuts - n_below
     assert len(rep["removed_features"]) == len(every) and all(u["removed"] for u in rep["removed_features"])
     kept_handles = sum(f.kind == "handle" and not f.removed for f in rec.features)
     assert rep["features"]["handle"] == kept_handles
@@ -185,8 +184,8 @@ def test_a_tie_keeps_the_handles_only_when_every_loop_is_resolved():
 
 
 def test_handles_decided_only_for_more_handles_all_resolved():
-    """Two closed results with different b1: no dispute only when the kept one has more handles and
-    every loop of its basis is at least LOOP_SUPPORTED; a kept result with fewer handles stays disputed."""
+    """Two closed results with different b1: the kept one is decided only when it has more handles and
+    every loop of its basis is at least LOOP_SUPPORTED; a kept result with fewer handles never is."""
     from crustview.core.analysis.features import LOOP_SUPPORTED, Feature, handles_decided
 
     def handle(size):
@@ -194,14 +193,39 @@ def test_handles_decided_only_for_more_handles_all_resolved():
 
     strong = [handle(LOOP_SUPPORTED + 0.01), handle(90.0)]
     weak = [handle(LOOP_SUPPORTED - 0.01), handle(90.0)]
-    assert handles_decided(strong, [], 2, 0)
-    assert not handles_decided(weak, [], 2, 0)
-    # fewer handles kept: the other's short loops are not taken as proof (6.27 radii straddles 2 pi)
-    assert not handles_decided([], [handle(1.0), handle(1.0)], 0, 2)
-    assert not handles_decided([], strong, 0, 2)
+    assert handles_decided(strong, 2, 0)
+    assert not handles_decided(weak, 2, 0)
+    # fewer handles kept: not decided, whatever the other's loops (6.27 radii straddles 2 pi)
+    assert not handles_decided([], 0, 2)
     # a basis too large to list (one feature of size 0 standing for b1 loops) is not resolved
-    assert not handles_decided([handle(0.0)], [], 40, 0)
-    assert handles_decided(weak, weak, 2, 2)
+    assert not handles_decided([handle(0.0)], 40, 0)
+
+
+def test_a_dispute_is_dropped_only_when_the_kept_handles_are_resolved():
+    """choose()'s dispute test (driver._disputed): two closed results through every sample with other
+    Betti numbers are a dispute, unless they differ only in b1 and the kept one has the more handles,
+    every loop of them at least LOOP_SUPPORTED; a different b0 is always a dispute."""
+    from types import SimpleNamespace as NS
+
+    from crustview.core.analysis.features import LOOP_SUPPORTED, Feature
+    from crustview.core.robust.driver import _disputed
+
+    def handle(size):
+        return Feature("handle", np.zeros(3), size, size < LOOP_SUPPORTED, np.array([0, 1, 2]), "")
+
+    def top(betti, closed=True, unused=0):
+        return NS(betti=betti, closed_manifold=closed, unused_samples=unused)
+
+    torus, sphere, two = top((1, 2, 1)), top((1, 0, 1)), top((2, 2, 2))
+    resolved, band = [handle(30.0), handle(60.0)], [handle(LOOP_SUPPORTED - 0.5), handle(60.0)]
+    assert not _disputed(torus, sphere, resolved, 1000)
+    assert _disputed(torus, sphere, band, 1000)
+    assert _disputed(sphere, torus, [], 1000)  # fewer handles kept: always disputed
+    assert _disputed(torus, two, resolved, 1000)  # b0 differs
+    assert not _disputed(torus, top((1, 2, 1)), band, 1000)  # same Betti numbers
+    assert not _disputed(torus, top((1, 0, 1), closed=False), band, 1000)  # the other is not closed
+    assert _disputed(torus, top((1, 0, 1), unused=20), band, 1000)  # one through (nearly) every sample
+    assert not _disputed(top((1, 2, 1), unused=20), top((1, 0, 1), unused=20), band, 1000)  # both leave 2 % out
 
 
 def test_a_cut_the_sample_may_resolve_brings_the_second_opinion(knight):

@@ -356,10 +356,12 @@ def reextract(
     below = [f for f in feats if f.removed and not f.uncertain]
     if below:
         topo.messages.append(
-            f"cut-handle removed {len(below)} handle{'s' if len(below) > 1 else ''} whose loop ("
+            f"cut-handle removed {len(below)} "
+            + ("handles whose loops (" if len(below) > 1 else "handle whose loop (")
             + ", ".join(f"{f.size_spacings:.3g}" for f in below[:5])
             + (" ..." if len(below) > 5 else "")
-            + " sampling radii) is shorter than any eps < 1 sample resolves (2 pi): noise or a bridge, "
+            + (" sampling radii) are" if len(below) > 1 else " sampling radii) is")
+            + " shorter than any eps < 1 sample resolves (2 pi): noise or a bridge, "
             "below the sample's resolution (the JSON report lists them under removed_features)"
         )
     if any(f.uncertain for f in feats):

@@ -183,8 +183,9 @@ class Extraction:
         The features of the final complex when the extraction already
         measured them (in the coordinates it was given); None otherwise.
     removed_features : list
-        Handles the extraction removed because no sample with eps < 1
-        resolves them (rule ``cut-handle``, :mod:`crustview.core.robust.cut_handle`),
+        Handles the extraction removed (rule ``cut-handle``,
+        :mod:`crustview.core.robust.cut_handle`): loops below CUT_BELOW = 4 pi,
+        of which only those below LOOP_MIN = 2 pi are beyond every eps < 1 sample,
         as :class:`~crustview.core.analysis.features.Feature` records of the
         complex before the cut.
     """

@@ -335,7 +335,7 @@ def summary_suffix(feats: list[Feature]) -> str:
     return f"(uncertain: {c['handle']} handles, {c['hole']} holes, {c['component']} components)"
 
 
-def handles_decided(kept: list[Feature], other: list[Feature], b1_kept: int, b1_other: int) -> bool:
+def handles_decided(kept: list[Feature], b1_kept: int, b1_other: int) -> bool:
     """Whether the sampling bound decides for the kept result over another closed one with another b_1.
 
     The kept result is decided when it has the larger b_1 and every loop of its
@@ -350,20 +350,19 @@ def handles_decided(kept: list[Feature], other: list[Feature], b1_kept: int, b1_
 
     Parameters
     ----------
-    kept, other : list of Feature
-        The features of the two results (:func:`features`).
+    kept : list of Feature
+        The features of the kept result (:func:`features`); the other
+        result's own loops do not decide (see above).
     b1_kept, b1_other : int
-        Their first Betti numbers.
+        The first Betti numbers of the two.
 
     Returns
     -------
     bool
-        True when the two are not a dispute as far as handles go.  A basis
+        True when the kept result is decided over the other.  A basis
         too large to list (one feature of size 0) counts as unresolved.
     """
-    if b1_kept == b1_other:
-        return True
-    if b1_kept < b1_other:
+    if b1_kept <= b1_other:
         return False
     loops = [f.size_spacings for f in kept if f.kind == "handle"]
     return len(loops) == b1_kept and min(loops) >= LOOP_SUPPORTED

@@ -34,8 +34,9 @@ features analysis reports it as uncertain.  The removed handles are kept on
 the extraction (:attr:`CutHandles.removed`) and reported as features marked
 ``removed``.  One whose loop was at least LOOP_MIN is *uncertain*: a sample
 coarser than eps = 1/2 resolves such a loop, and real thin handles have loops
-that short too (the seahorse's tail, 6.3 radii, in its 0.1 h copy), so the
-result says what it decided at the limit of its sampling.  One below LOOP_MIN
+that short too (the knight's 9.5-radius loop is a false bridge where the arm
+touches the body; a thin real handle measures the same), so the result says
+what it decided at the limit of its sampling.  One below LOOP_MIN
 is not: no eps < 1 sample resolves it, so its removal is what the sampling
 condition the reconstruction needs implies (real features that small -- the
 seahorse's fin holes of 1.4-3.8 radii, the owl's one-triangle holes -- are

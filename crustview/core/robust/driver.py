@@ -214,7 +214,7 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     (:func:`~crustview.core.analysis.features.handles_decided`), there is no
     dispute: the other has spanned tunnels the sample shows.
     """
-    from ..analysis.features import disagreement, features, handles_decided, uncertain
+    from ..analysis.features import disagreement, features, uncertain
 
     n = len(points)
     d = faces.shape[1] - 1
@@ -265,19 +265,29 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
         f"(Betti {top_gro.betti}, {top_gro.unused_samples} left out, {len(f_gro)} uncertain); the {why} "
         "result is kept",
     )
-    other = grown if keep is lab else lab
-    if (
+    if _disputed(t_keep, t_other, keep.features or [], n):
+        keep.disputed = disagreement(points, m_keep, m_other, t_keep.betti, t_other.betti)
+    return keep
+
+
+def _disputed(t_keep, t_other, keep_features: list, n: int) -> bool:
+    """Whether two results of the same sample are a dispute (:func:`choose`).
+
+    Both closed manifolds through all but at most 1 % of the samples, with
+    other Betti numbers; not when they differ only in b_1 and the kept one is
+    decided (:func:`~crustview.core.analysis.features.handles_decided`).
+    """
+    from ..analysis.features import handles_decided
+
+    return bool(
         t_keep.closed_manifold
         and t_other.closed_manifold
         and t_keep.betti != t_other.betti
         and min(t_keep.unused_samples, t_other.unused_samples) <= 0.01 * n
         and not (
-            t_keep.betti[0] == t_other.betti[0]
-            and handles_decided(keep.features or [], other.features or [], t_keep.betti[1], t_other.betti[1])
+            t_keep.betti[0] == t_other.betti[0] and handles_decided(keep_features, t_keep.betti[1], t_other.betti[1])
         )
-    ):
-        keep.disputed = disagreement(points, m_keep, m_other, t_keep.betti, t_other.betti)
-    return keep
+    )
 
 
 #: Loop length (in sampling radii) that an eps = 1/2 sample resolves: 2 pi / eps

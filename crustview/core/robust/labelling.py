@@ -229,13 +229,14 @@ def _farthest(vert: np.ndarray, cell: np.ndarray, r: np.ndarray, n: int) -> np.n
     Two unbuffered reductions (``np.maximum.at``) instead of a sort by sample: the
     largest radius of each sample, then the last incidence that reaches it
     (nefertiti's 1.3 million incidences: 0.24 s sorted, 0.01 s so; the same
-    cells).  A sample whose radii are all NaN gets -1.
+    cells).  NaN radii (a flat cell's centre) are passed over (``np.fmax``); a
+    sample with no other radius gets -1.
     """
     out = np.full(n, -1, np.int64)
     if len(vert) == 0:
         return out
     top = np.full(n, -np.inf)
-    np.maximum.at(top, vert, r)
+    np.fmax.at(top, vert, r)
     hit = np.flatnonzero(r == top[vert])
     last = np.full(n, -1, np.int64)
     np.maximum.at(last, vert[hit], hit)
