@@ -296,3 +296,5 @@ def test_an_open_scan_labelled_soundly_is_not_grown_again():
     t = rec.topology
     assert t.betti[:2] == (1, 0) and t.unused_samples == 0 and rec.uncertain_features == []
     assert [f.kind for f in rec.features] == ["hole"]
+    # an open result says that holes below the sample's resolution cannot be told apart
+    assert any("does not show in a sample" in m for m in t.messages)

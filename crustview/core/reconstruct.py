@@ -398,7 +398,9 @@ def _robust_messages(ext, topo) -> None:
     if topo.boundary_faces:
         topo.messages.append(
             f"{topo.boundary_faces} boundary faces remain: holes too large to be undersampling gaps "
-            "(an open scan), or gaps the extension could not close"
+            "(an open scan), or gaps the extension could not close; a hole whose rim is shorter than "
+            "2 pi local spacings (a missing triangle or two) does not show in a sample, so this result "
+            "cannot tell whether the object has such holes too"
         )
     if topo.unused_samples:
         topo.messages.append(f"{topo.unused_samples} samples are not vertices of M_S")
