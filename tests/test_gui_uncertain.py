@@ -121,3 +121,20 @@ def test_footbones_show_amber(qtbot, window):
     assert "uncertain: " in window.run_panel.progress.format()
     assert window.info_panel.features.list.count() == len(rec.uncertain_features)
     assert window.model.layers["uncertain"].visible
+
+
+def test_an_open_scan_kept_open_is_amber_and_names_its_hole(qtbot, window):
+    """camelhead.off (an open scan, its faces the truth): the robust result is a surface with boundary
+    through every sample with the mesh's Betti numbers: the Run bar is amber, not red, and says so;
+    the banner names the hole."""
+    from crustview.qt.info_dock import BANNER_STYLE
+
+    path = Path(__file__).parent.parent / "resources" / "camelhead.off"
+    assert window.open_file(path, d=2)
+    wait_idle(qtbot, window, 60_000)
+    rec = window.model.rec
+    assert not rec.topology.closed_manifold and rec.topology.unused_samples == 0
+    assert "#e0a020" in _chunk_colour(window)  # amber
+    assert "surface with boundary (1 hole)" in window.run_panel.progress.format()
+    assert window.info_panel.banner.styleSheet() == BANNER_STYLE["warn"]
+    assert "surface with boundary through every sample (1 hole" in window.info_panel.banner.text()

@@ -233,7 +233,7 @@ def interpretation_rows(rec: Reconstruction) -> list[tuple[str, str, str]]:
     return rows
 
 
-def _open_surface(t) -> bool:
+def open_surface(t) -> bool:
     """A surface with boundary through every sample: boundary faces, no face in more than two simplices.
 
     (Pinched vertices are counted only on complexes without boundary, by
@@ -269,7 +269,7 @@ def verdict(rec: Reconstruction) -> tuple[str, str]:
         return "ok", "M_S is a closed manifold through every sample"
     if t.closed_manifold:
         return "warn", f"M_S is closed but skips {t.unused_samples} samples" + (f" ({unc})" if unc else "")
-    if rec.mode == "robust" and _open_surface(t):
+    if rec.mode == "robust" and open_surface(t):
         # the robust extension keeps real openings open (an open scan): a surface with boundary through
         # every sample is a possible right answer, not a failure -- but not the paper's closed manifold
         holes = sum(f.kind == "hole" for f in (rec.features or []))
