@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import cost_warning, reconstruct, reextract
-from ..scene.describe import open_surface
+from ..scene.describe import boundary_words, kept_open
 from ..scene.features import uncertain_features, uncertain_summary
 from ..scene.shapes import name_of
 from ..session import BuiltinSource
@@ -255,12 +255,11 @@ class RunActions:
         )
         t = rec.topology
         # a robust surface with boundary through every sample: an open scan's openings kept open
-        is_open = not t.closed_manifold and rec.mode == "robust" and open_surface(t)
-        holes = sum(f.kind == "hole" for f in (rec.features or []))
+        is_open = kept_open(rec)
         verdict = (
             "closed manifold"
             if t.closed_manifold
-            else f"surface with boundary ({holes} hole{'s' if holes != 1 else ''})"
+            else f"surface with boundary ({boundary_words(rec)})"
             if is_open
             else f"NOT a closed manifold ({rec.extraction.stopped})"
         )

@@ -249,6 +249,20 @@ def open_surface(t) -> bool:
     )
 
 
+def kept_open(rec: Reconstruction) -> bool:
+    """A robust result that is a surface with boundary through every sample (:func:`open_surface`)."""
+    t = rec.topology
+    return rec.mode == "robust" and not t.closed_manifold and open_surface(t)
+
+
+def boundary_words(rec: Reconstruction) -> str:
+    """The boundary in words: "1 hole", "3 holes" (the hole features), or the boundary face count."""
+    holes = sum(f.kind == "hole" for f in (rec.features or []))
+    if holes:
+        return f"{holes} hole{'s' if holes != 1 else ''}"
+    return f"{rec.topology.boundary_faces} boundary faces"
+
+
 def verdict(rec: Reconstruction) -> tuple[str, str]:
     """(level, one-line verdict): level is "ok", "warn" or "bad".
 
@@ -269,12 +283,10 @@ def verdict(rec: Reconstruction) -> tuple[str, str]:
         return "ok", "M_S is a closed manifold through every sample"
     if t.closed_manifold:
         return "warn", f"M_S is closed but skips {t.unused_samples} samples" + (f" ({unc})" if unc else "")
-    if rec.mode == "robust" and open_surface(t):
+    if kept_open(rec):
         # the robust extension keeps real openings open (an open scan): a surface with boundary through
         # every sample is a possible right answer, not a failure -- but not the paper's closed manifold
-        holes = sum(f.kind == "hole" for f in (rec.features or []))
-        what = f"{holes} hole{'s' if holes != 1 else ''}" if holes else f"{t.boundary_faces} boundary faces"
-        return "warn", f"M_S is a surface with boundary through every sample ({what}: an open scan?" + (
+        return "warn", f"M_S is a surface with boundary through every sample ({boundary_words(rec)}: an open scan?" + (
             f"; {unc})" if unc else ")"
         )
     why = f"extraction stopped: {rec.extraction.stopped}" + (f"; {unc}" if unc else "")

@@ -80,7 +80,7 @@ from scipy.spatial import cKDTree
 
 from ..delaunay.faces import enumerate_faces, sort_rows  # noqa: F401 - part of this module's API
 from ..util.parallel import chunks, run_in_order
-from .cocone2 import codim2_scores
+from .cocone2 import codim2_scores, task_cells
 from .conemin import lean_bound, over_cell
 from .dualcells import CellFaces
 from .exactmin import exact_min as _exact_min
@@ -189,11 +189,7 @@ def cocone_angles(
 
     def score(task: tuple) -> tuple[np.ndarray | slice, np.ndarray]:
         nv, sel, subsets = task
-        if isinstance(sel, slice):
-            fc, starts = faces[sel], cell_ptr[sel]
-        else:
-            fc, starts = np.take(faces, sel, axis=0), np.take(cell_ptr, sel)
-        cell_ids = np.take(cell_simplices, starts[:, None] + np.arange(nv))
+        fc, cell_ids = task_cells(faces, cell_ptr, cell_simplices, nv, sel)
         return sel, _score_chunk(work, normals, tangents, centres, fc, cell_ids, simplices, subsets, tree, limit)
 
     done = 0

@@ -35,6 +35,20 @@ EXACT_BATCH = 1 << 14
 PASS_SHARE = 0.9
 
 
+def task_cells(
+    faces: np.ndarray, cell_ptr: np.ndarray, cell_simplices: np.ndarray, nv: int, sel: np.ndarray | slice
+) -> tuple[np.ndarray, np.ndarray]:
+    """The faces of one chunk of Algorithm 2's work and the ``nv`` cells of each one's dual cell.
+
+    ``sel`` is a slice (faces with consecutive rows) or the rows themselves.
+    """
+    if isinstance(sel, slice):
+        fc, starts = faces[sel], cell_ptr[sel]
+    else:
+        fc, starts = np.take(faces, sel, axis=0), np.take(cell_ptr, sel)
+    return fc, np.take(cell_simplices, starts[:, None] + np.arange(nv))
+
+
 def codim2_scores(
     native,  # noqa: ANN001 - the compiled module crustview.core.delaunay._cellpass
     work: np.ndarray,
@@ -87,11 +101,7 @@ def codim2_scores(
 
     def vertex_pass(task: tuple) -> tuple:
         nv, sel, _ = task
-        if isinstance(sel, slice):
-            fc, starts = faces[sel], cell_ptr[sel]
-        else:
-            fc, starts = np.take(faces, sel, axis=0), np.take(cell_ptr, sel)
-        cell_ids = np.take(cell_simplices, starts[:, None] + np.arange(nv))
+        fc, cell_ids = task_cells(faces, cell_ptr, cell_simplices, nv, sel)
         fc64 = np.ascontiguousarray(fc, dtype=np.int64)
         ids64 = np.ascontiguousarray(cell_ids, dtype=np.int64)
         best_b, lean_b = native.cellpass(*arrays, fc64, ids64, work.shape[1], m, w, nv)
