@@ -141,6 +141,30 @@ def test_local_spacing_sees_the_sparse_direction():
     assert analyse(tris, len(pts), 2).betti == (1, 2, 1)
 
 
+def _sheet(nx: int, ny: int, ax: float, ay: float, z: float):
+    """A flat grid sheet at height z, ax apart along x and ay along y, as points and triangles."""
+    x, y = np.meshgrid(np.arange(nx) * ax, np.arange(ny) * ay, indexing="ij")
+    pts = np.c_[x.ravel(), y.ravel(), np.full(nx * ny, z)]
+    idx = lambda i, j: i * ny + j  # noqa: E731
+    tris = [(idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)) for i in range(nx - 1) for j in range(ny - 1)]
+    tris += [(idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)) for i in range(nx - 1) for j in range(ny - 1)]
+    return pts, np.array(tris)
+
+
+def test_two_walls_closer_than_the_sparse_spacing_are_uncertain_components():
+    """Two parallel sheets 2.5 dense spacings apart.  Sampled 3 times sparser across rows than along
+    them (thin triangles), they are closer than two sampling radii (h = the triangles' circumradius,
+    1.58 dense spacings): uncertain, though 2.5 nearest-neighbour distances apart.  Sampled evenly
+    (h = 0.71), the same gap is resolved."""
+    for ay, flagged in ((3.0, True), (1.0, False)):
+        a, ta = _sheet(30, int(30 / ay), 1.0, ay, 0.0)
+        b, tb = _sheet(30, int(30 / ay), 1.0, ay, 2.5)
+        pts, tris = np.vstack([a, b]), np.vstack([ta, tb + len(a)])
+        comps = [f for f in features(pts, tris, 2) if f.kind == "component"]
+        assert len(comps) == 2
+        assert all(f.uncertain == flagged for f in comps), (ay, [f.size_spacings for f in comps])
+
+
 def test_is_closed_manifold_agrees_with_the_full_report():
     """The quick test gives analyse()'s closed_manifold on closed, open, pinched and non-manifold complexes."""
     from crustview.core.analysis.topology import analyse, is_closed_manifold

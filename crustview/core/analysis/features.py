@@ -27,7 +27,11 @@ below one spacing is below the resolution of *any* sampling condition:
   handle stays uncertain only if its loop was at least LOOP_MIN.
 * **Component**: two sheets at distance g have LFS <= g / 2 between them,
   so eps < 1 needs h < g / 2.  A component closer than :data:`GAP_MIN` = 2
-  spacings to another one may be one object with the other.
+  spacings to another one may be one object with the other.  The spacing
+  here is the larger of the sample's nearest-neighbour distance and h: on
+  an anisotropic sample (rings dense along, sparse across) the nearest
+  neighbour sees only the dense direction, and two walls closer than the
+  sparse one are not resolved.
 * **Hole** (a boundary loop of an open result): a hole whose span is below
   :data:`LOOP_MIN` / pi = 2 spacings (diameter of a circle of circumference
   LOOP_MIN) is as wide as one missing sample: it may be an undersampling
@@ -230,7 +234,10 @@ def _components(points: np.ndarray, simplices: np.ndarray, h: np.ndarray) -> lis
     other = label[verts[idx]] != label[verts][:, None]
     gap = np.where(other, dist, np.inf).min(axis=1)
     own = np.where(~other & (dist > 0), dist, np.inf).min(axis=1)
-    own = np.where(np.isfinite(own), own, h[verts])
+    # the unit: the larger of the nearest-neighbour distance and the sampling radius h, so a gap counts
+    # as resolved only if it beats both (h is the larger one where the sampling is anisotropic: thin
+    # triangles across rings, whose nearest neighbours lie along the dense direction)
+    own = np.maximum(np.where(np.isfinite(own), own, h[verts]), h[verts])
     where = np.where(other, idx, -1)
     for c in comps:
         mine = label[verts] == c
