@@ -204,7 +204,8 @@ def test_handles_decided_only_for_more_handles_all_resolved():
 def test_a_dispute_is_dropped_only_when_the_kept_handles_are_resolved():
     """choose()'s dispute test (driver._disputed): two closed results through every sample with other
     Betti numbers are a dispute, unless they differ only in b1 and the kept one has the more handles,
-    every loop of them at least LOOP_SUPPORTED; a different b0 is always a dispute."""
+    every loop of them at least LOOP_SUPPORTED, and it is the labelled one; a different b0 is always a
+    dispute."""
     from types import SimpleNamespace as NS
 
     from crustview.core.analysis.features import LOOP_SUPPORTED, Feature
@@ -219,6 +220,8 @@ def test_a_dispute_is_dropped_only_when_the_kept_handles_are_resolved():
     torus, sphere, two = top((1, 2, 1)), top((1, 0, 1)), top((2, 2, 2))
     resolved, band = [handle(30.0), handle(60.0)], [handle(LOOP_SUPPORTED - 0.5), handle(60.0)]
     assert not _disputed(torus, sphere, resolved, 1000)
+    # a grown result's handles come from gluing moves, not from the sample's balls: never decided
+    assert _disputed(torus, sphere, resolved, 1000, labelled=False)
     assert _disputed(torus, sphere, band, 1000)
     assert _disputed(sphere, torus, [], 1000)  # fewer handles kept: always disputed
     assert _disputed(torus, two, resolved, 1000)  # b0 differs

@@ -265,17 +265,26 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
         f"(Betti {top_gro.betti}, {top_gro.unused_samples} left out, {len(f_gro)} uncertain); the {why} "
         "result is kept",
     )
-    if _disputed(t_keep, t_other, keep.features or [], n):
+    if _disputed(t_keep, t_other, keep.features or [], n, labelled=keep is lab):
         keep.disputed = disagreement(points, m_keep, m_other, t_keep.betti, t_other.betti)
     return keep
 
 
-def _disputed(t_keep, t_other, keep_features: list, n: int) -> bool:
+def _disputed(t_keep, t_other, keep_features: list, n: int, *, labelled: bool = True) -> bool:
     """Whether two results of the same sample are a dispute (:func:`choose`).
 
     Both closed manifolds through all but at most 1 % of the samples, with
     other Betti numbers; not when they differ only in b_1 and the kept one is
-    decided (:func:`~crustview.core.analysis.features.handles_decided`).
+    the labelled result and decided
+    (:func:`~crustview.core.analysis.features.handles_decided`).
+
+    Only a labelled handle can be decided so: its tunnel is a chain of cells
+    the labelling put outside by their balls, evidence from the sample
+    itself.  A grown handle comes from a gluing move, which growing takes
+    only when no other move is left, with no ball behind it; a grown result
+    with more handles than the labelled one stays disputed whatever its
+    loops measure (neptune at 0.1 h, another draw: a grown genus 4 with a
+    13.7-radius loop against the labelled genus 3 that left 2 samples out).
     """
     from ..analysis.features import handles_decided
 
@@ -285,7 +294,9 @@ def _disputed(t_keep, t_other, keep_features: list, n: int) -> bool:
         and t_keep.betti != t_other.betti
         and min(t_keep.unused_samples, t_other.unused_samples) <= 0.01 * n
         and not (
-            t_keep.betti[0] == t_other.betti[0] and handles_decided(keep_features, t_keep.betti[1], t_other.betti[1])
+            labelled
+            and t_keep.betti[0] == t_other.betti[0]
+            and handles_decided(keep_features, t_keep.betti[1], t_other.betti[1])
         )
     )
 
