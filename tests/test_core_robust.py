@@ -94,6 +94,40 @@ def test_left_out_sample_is_inserted_by_stellar_subdivision():
     assert len(m) == 10 and same_rows(m[(m == 6).any(axis=1)], [[0, 2, 6], [0, 4, 6], [2, 4, 6]])
 
 
+def test_a_chain_of_left_out_samples_comes_in_one_link_a_pass():
+    """Seven left-out samples in a column above a flat sheet, 1.2 and 1.3 spacings apart in turn and
+    numbered from the top: each is within the insertion limit (2 x its nearest-neighbour distance,
+    2.4) only once the one below it is in, so the passes go on until the whole column is in (a fixed
+    four passes left three out), and the sheet stays a manifold."""
+    from crustview.core.robust.patcher import Patcher
+
+    x, y = np.meshgrid(np.arange(10.0), np.arange(10.0), indexing="ij")
+    sheet = np.c_[x.ravel(), y.ravel(), np.zeros(100)]
+    idx = lambda i, j: i * 10 + j  # noqa: E731
+    tris = [tuple(sorted((idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)))) for i in range(9) for j in range(9)]
+    tris += [tuple(sorted((idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)))) for i in range(9) for j in range(9)]
+    heights = np.cumsum([1.2, 1.3, 1.2, 1.3, 1.2, 1.3, 1.2])[::-1]  # the highest first
+    column = np.c_[4.3 + 0.05 * np.sin(heights), 4.6 + 0.05 * np.cos(heights), heights]
+    pts = np.vstack([sheet, column])
+    pt = Patcher(pts, tris, np.array(tris), 1.0)
+    left = pt.insert_unused()
+    assert left == []
+    m = np.array([pt.simp[i] for i in range(len(pt.simp)) if pt.alive[i]])
+    assert set(range(100, 107)) <= set(m.ravel().tolist())
+    rep = analyse(m, len(pts), 2)
+    assert rep.nonmanifold_faces == 0 and rep.singular_vertices == 0 and rep.components == 1
+
+
+def test_nearest_face_of_a_collinear_triangle_is_its_long_edge():
+    """A triangle whose three corners lie on a line has no plane: the nearest face is its longest
+    edge, at the distance to that segment (no division by its zero area)."""
+    from crustview.core.robust.insert_sample import _nearest_triangle_face
+
+    pts = np.array([[0.0, 0, 0], [1.0, 0, 0], [3.0, 0, 0], [0.0, 5, 0], [1.0, 5, 0], [0.0, 5, 1]])
+    dist, face = _nearest_triangle_face(pts, np.array([2.0, 1.0, 0.0]), [(0, 1, 2), (3, 4, 5)])
+    assert face == (0, 2) and dist == 1.0
+
+
 def test_curve_with_a_gap_is_closed_by_joining_its_ends():
     t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
     pts = np.c_[np.cos(t), np.sin(t)]

@@ -20,8 +20,6 @@ Simplex = tuple[int, ...]
 
 #: Largest distance, in median spacings, from a left-out sample to the simplex it is inserted in.
 INSERT_MAX = 2.0
-#: Passes of insertion: a sample beyond the limit may come within it once its neighbours are in.
-INSERT_PASSES = 4
 
 
 class SampleInsertion:
@@ -34,11 +32,15 @@ class SampleInsertion:
         it, never a single vertex) is subdivided: every simplex sigma that
         contains that face tau is replaced by the simplices
         (sigma - {v}) + {x} for v in tau.  This keeps a manifold a manifold.
+
+        Passes repeat while one inserts a sample: an inserted sample brings
+        M_S nearer to its neighbours, so a chain of left-out samples (a
+        stray bubble's, dropped a layer away from the surface) comes in one
+        link a pass.  Every pass but the last inserts one sample at least,
+        so there are at most as many passes as left-out samples.
         """
         left = self._insert_pass()
-        for _ in range(INSERT_PASSES - 1):  # an inserted sample brings M_S nearer to its neighbours
-            if not left:
-                break
+        while left:
             again = self._insert_pass()
             if len(again) == len(left):
                 break
@@ -137,14 +139,19 @@ def _nearest_triangle_face(points: np.ndarray, x: np.ndarray, tris: list[Simplex
     g11, g12, g22 = (e1 * e1).sum(1), (e1 * e2).sum(1), (e2 * e2).sum(1)
     r1, r2 = (e1 * w).sum(1), (e2 * w).sum(1)
     det = g11 * g22 - g12 * g12
-    det = np.where(np.abs(det) > 1e-300, det, 1e-300)
-    l1 = (g22 * r1 - g12 * r2) / det
-    l2 = (g11 * r2 - g12 * r1) / det
+    # a degenerate (collinear) triangle has no plane: it is never "inside", only its edges count
+    flat = det <= 1e-12 * g11 * g22
+    det = np.where(flat, 1.0, det)
+    l1 = np.where(flat, 0.0, (g22 * r1 - g12 * r2) / det)
+    l2 = np.where(flat, 0.0, (g11 * r2 - g12 * r1) / det)
     bary = np.stack([1 - l1 - l2, l1, l2], axis=1)
-    inside = (bary >= -1e-12).all(axis=1)
+    inside = (bary >= -1e-12).all(axis=1) & ~flat
     foot = p0 + np.clip(l1, 0, None)[:, None] * e1 + np.clip(l2, 0, None)[:, None] * e2
     dist = np.linalg.norm(x - foot, axis=1)
     drop = np.argmin(bary, axis=1)
+    if flat.any():  # the edge opposite the middle vertex: the longest, which covers the other two
+        sq = np.stack([((p1 - p2) ** 2).sum(1), ((p0 - p2) ** 2).sum(1), ((p0 - p1) ** 2).sum(1)], axis=1)
+        drop = np.where(flat, np.argmax(sq, axis=1), drop)
     keep = np.array([[1, 2], [0, 2], [0, 1]])[drop]
     rows = np.arange(len(t))
     qa, qb = points[t[rows, keep[:, 0]]], points[t[rows, keep[:, 1]]]
