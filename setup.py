@@ -11,8 +11,9 @@ triangulation and the simplices around each, ``crustview.core.delaunay._poles`` 
 Algorithm 1's greedy rounds, ``crustview.core.delaunay._segments`` and
 ``crustview.core.delaunay._cellpass`` the first steps of Algorithm 2's cocone score in
 codimension 1 and 2, ``crustview.core.delaunay._literal`` its literal test on triangles,
-``crustview.core.delaunay._centres`` the simplices' circumcentres; without them numpy
-does the same.
+``crustview.core.delaunay._centres`` the simplices' circumcentres and
+``crustview.core.paper._prune`` Algorithm 3's loop; without them numpy and Python
+do the same.
 """
 
 from setuptools import Extension, setup
@@ -70,6 +71,14 @@ setup(
             "crustview.core.delaunay._centres",
             sources=["crustview/core/delaunay/_centres.cpp"],
             language="c++",
+            extra_compile_args=[*FLAGS, "-ffp-contract=off"],
+            optional=True,
+        ),
+        Extension(  # no third-party headers: Algorithm 3's loop (core/paper/extraction.py)
+            "crustview.core.paper._prune",
+            sources=["crustview/core/paper/_prune.cpp"],
+            language="c++",
+            # no fused multiply-add: the same dot products, bit for bit, as the Python loop
             extra_compile_args=[*FLAGS, "-ffp-contract=off"],
             optional=True,
         ),

@@ -52,6 +52,7 @@ import numpy as np
 
 from ..steps import RULE_PRUNE, RULE_RESOLVE, Extraction, Step
 from ..util.rows import unique_rows
+from . import compiled_loop
 
 HALF_PI = np.pi / 2
 #: Largest prune cascade simulated when choosing a pair (see _choose_pair).
@@ -206,7 +207,9 @@ class _Extractor:
         for i in range(m):
             vi = vec[i]
             for j in range(i + 1, m):
-                dot = sum(x * y for x, y in zip(vi, vec[j]))
+                dot = 0.0  # left to right, as the compiled loop (sum() compensates from Python 3.12 on)
+                for x, y in zip(vi, vec[j]):
+                    dot += x * y
                 ang[i][j] = ang[j][i] = math.acos(-1.0 if dot < -1.0 else 1.0 if dot > 1.0 else dot)
         return ang
 
@@ -276,6 +279,7 @@ def extract(
     stop_when_sample_lost: bool = False,
     cancel: object | None = None,
     progress: Callable[[float], None] | None = None,
+    compiled: bool = True,
 ) -> Extraction:
     """Run Algorithm 3 on a d-complex and record every step.
 
@@ -299,20 +303,57 @@ def extract(
         Checked every 256 steps; raises :class:`~crustview.core.errors.Cancelled`.
     progress : callable, optional
         Called with a rough fraction of simplices decided.
+    compiled : bool
+        Run the loop in C++ (:mod:`.compiled_loop`, the same steps) when the
+        extension is built; False runs the Python loop below, the reference.
 
     Returns
     -------
     Extraction
     """
-    from ..errors import Cancelled
-
     simplices = np.asarray(simplices, dtype=np.int64)
     d1 = simplices.shape[1] if simplices.ndim == 2 else 1
     if len(simplices) == 0:
         return Extraction(np.empty((0, d1), np.int64), [], np.zeros(0, np.int64), "empty")
     ex = _Extractor(points, simplices, prune_boundary)
     holes = ex.facets[ex.count == 1]
-    prune = deque(_initial_sharp(ex))
+    first = _initial_sharp(ex)
+    if compiled and compiled_loop.available(ex):
+        compiled_loop.run(
+            ex, first, CASCADE_LIMIT, stop_when_sample_lost=stop_when_sample_lost, cancel=cancel, progress=progress
+        )
+    else:
+        _python_loop(ex, first, stop_when_sample_lost, cancel, progress)
+    n_steps = len(ex.steps)
+    # a simplex removed by step j is alive after i steps iff i <= j
+    removed_at = np.where(ex.removed_at < 0, n_steps, ex.removed_at)
+    if stop_when_sample_lost and ex.lost is not None:
+        stopped = "sample-lost"
+    elif not ex.alive.any():
+        stopped = "empty"
+    elif (ex.count[ex.count > 0] == 2).all():
+        stopped = "closed"
+    elif not prune_boundary:
+        stopped = "open"  # boundary faces were kept on request
+    else:  # pragma: no cover - with pruning the loop only ends with counts in {0, 2}
+        stopped = "stuck"
+    ext = Extraction(ex.simplices, ex.steps, removed_at, stopped, holes=holes)
+    if stopped == "sample-lost":
+        ext.notes.append(f"sample {ex.lost} lost its last simplex at step {n_steps - 1}")
+    return ext
+
+
+def _python_loop(
+    ex: _Extractor,
+    first: list[int],
+    stop_when_sample_lost: bool,
+    cancel: object | None,
+    progress: Callable[[float], None] | None,
+) -> None:
+    """The paper's loop (lines 2-5) on ``ex``, its steps appended: the reference of :mod:`.compiled_loop`."""
+    from ..errors import Cancelled
+
+    prune = deque(first)
     queued = set(prune)
     heap = []
     for g in np.flatnonzero(ex.count > 2):
@@ -398,23 +439,6 @@ def extract(
             break
         if progress is not None and idx % 64 == 0:
             progress(1.0 - len(heap) / max(len(ex.facets), 1))
-    n_steps = len(ex.steps)
-    # a simplex removed by step j is alive after i steps iff i <= j
-    removed_at = np.where(ex.removed_at < 0, n_steps, ex.removed_at)
-    if stop_when_sample_lost and ex.lost is not None:
-        stopped = "sample-lost"
-    elif not ex.alive.any():
-        stopped = "empty"
-    elif (ex.count[ex.count > 0] == 2).all():
-        stopped = "closed"
-    elif not prune_boundary:
-        stopped = "open"  # boundary faces were kept on request
-    else:  # pragma: no cover - with pruning the loop only ends with counts in {0, 2}
-        stopped = "stuck"
-    ext = Extraction(ex.simplices, ex.steps, removed_at, stopped, holes=holes)
-    if stopped == "sample-lost":
-        ext.notes.append(f"sample {ex.lost} lost its last simplex at step {n_steps - 1}")
-    return ext
 
 
 def _cascade_loss(ex: _Extractor, drop: list[int], limit: int) -> int:
