@@ -15,6 +15,7 @@
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -32,7 +33,7 @@ struct View {
 bool get(PyObject* o, View& v, Py_ssize_t itemsize, const char* name) {
     if (PyObject_GetBuffer(o, &v.b, PyBUF_C_CONTIGUOUS) != 0) return false;
     v.ok = true;
-    if (v.b.itemsize != itemsize && v.b.len % itemsize != 0) {
+    if (v.b.itemsize != itemsize) {
         PyErr_Format(PyExc_TypeError, "%s has the wrong item size", name);
         return false;
     }
@@ -134,6 +135,78 @@ PyObject* label(PyObject*, PyObject* args) {
     return Py_BuildValue("NNN", out_label, out_when, out_viol);
 }
 
+// The pieces of one vertex's star (crustview.core.robust.label_repair.LabelEditor.star_pieces): the
+// cells that have v, joined through the faces at v whose two cells have the same label.  The same
+// union-find as the Python reference, step for step: the faces in increasing id, parent[root(a)] =
+// root(b), path halving; piece ids are the ranks of the roots, as numpy's unique(return_inverse).
+PyObject* star_pieces(PyObject*, PyObject* args) {
+    long long v, width;
+    PyObject *osp, *osc, *ocp, *ocf, *ofaces, *oa, *ob, *oin;
+    if (!PyArg_ParseTuple(args, "LLOOOOOOOO", &v, &width, &osp, &osc, &ocp, &ocf, &ofaces, &oa, &ob, &oin))
+        return nullptr;
+    View vsp, vsc, vcp, vcf, vfaces, va, vb, vin;
+    if (!get(osp, vsp, 8, "star_ptr") || !get(osc, vsc, 8, "star_cells") || !get(ocp, vcp, 8, "cell_ptr") ||
+        !get(ocf, vcf, 8, "cell_faces") || !get(ofaces, vfaces, 8, "faces") || !get(oa, va, 8, "a") ||
+        !get(ob, vb, 8, "b") || !get(oin, vin, 1, "inside"))
+        return nullptr;
+    const std::int64_t n_star = vsp.b.len / 8 - 1, n_cells = vcp.b.len / 8 - 1, n_faces = va.b.len / 8;
+    if (v < 0 || v >= n_star || width <= 0 || vfaces.b.len / 8 != n_faces * width || vb.b.len / 8 != n_faces ||
+        vin.b.len != n_cells) {
+        PyErr_SetString(PyExc_ValueError, "star_pieces: inconsistent arrays");
+        return nullptr;
+    }
+    const auto* sp = static_cast<const std::int64_t*>(vsp.b.buf);
+    const auto* sc = static_cast<const std::int64_t*>(vsc.b.buf);
+    const auto* cp = static_cast<const std::int64_t*>(vcp.b.buf);
+    const auto* cf = static_cast<const std::int64_t*>(vcf.b.buf);
+    const auto* faces = static_cast<const std::int64_t*>(vfaces.b.buf);
+    const auto* a = static_cast<const std::int64_t*>(va.b.buf);
+    const auto* b = static_cast<const std::int64_t*>(vb.b.buf);
+    const auto* inside = static_cast<const std::uint8_t*>(vin.b.buf);
+    const std::int64_t lo = sp[v], hi = sp[v + 1], k = hi - lo;
+    std::vector<std::int64_t> fs;
+    for (std::int64_t i = lo; i < hi; ++i) {
+        const std::int64_t c = sc[i];
+        for (std::int64_t j = cp[c]; j < cp[c + 1]; ++j) fs.push_back(cf[j]);
+    }
+    std::sort(fs.begin(), fs.end());
+    fs.erase(std::unique(fs.begin(), fs.end()), fs.end());
+    auto pos = [&](std::int64_t c) -> std::int64_t {  // a star has a few dozen cells
+        for (std::int64_t i = 0; i < k; ++i)
+            if (sc[lo + i] == c) return i;
+        return -1;
+    };
+    std::vector<std::int64_t> parent(static_cast<std::size_t>(k));
+    for (std::int64_t i = 0; i < k; ++i) parent[i] = i;
+    auto root = [&](std::int64_t i) {
+        while (parent[i] != i) {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        return i;
+    };
+    for (const std::int64_t f : fs) {
+        bool at_v = false;
+        for (std::int64_t c = 0; c < width; ++c) at_v = at_v || faces[f * width + c] == v;
+        if (!at_v || (inside[a[f]] != 0) != (inside[b[f]] != 0)) continue;
+        const std::int64_t pa = pos(a[f]), pb = pos(b[f]);
+        if (pa < 0 || pb < 0) continue;
+        const std::int64_t ra = root(pa), rb = root(pb);
+        if (ra != rb) parent[ra] = rb;
+    }
+    PyObject* out = PyByteArray_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(8 * k));
+    if (out == nullptr) return nullptr;
+    auto* comp = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out));
+    std::vector<std::int64_t> roots(static_cast<std::size_t>(k));
+    for (std::int64_t i = 0; i < k; ++i) roots[i] = root(i);
+    std::vector<std::int64_t> uniq(roots);
+    std::sort(uniq.begin(), uniq.end());
+    uniq.erase(std::unique(uniq.begin(), uniq.end()), uniq.end());
+    for (std::int64_t i = 0; i < k; ++i)
+        comp[i] = std::lower_bound(uniq.begin(), uniq.end(), roots[i]) - uniq.begin();
+    return out;
+}
+
 PyMethodDef methods[] = {
     {"label", label, METH_VARARGS,
      "label(n, a, b, sign, root) -> (label, when, violated)\n\n"
@@ -142,6 +215,10 @@ PyMethodDef methods[] = {
      "label int8 per node relative to root (0 = root's, 1 = the other, -1 = not\n"
      "connected), when int64 per node (the edge at which its set joined root's, -1\n"
      "for root and unconnected nodes), violated int8 per edge."},
+    {"star_pieces", star_pieces, METH_VARARGS,
+     "star_pieces(v, width, star_ptr, star_cells, cell_ptr, cell_faces, faces, a, b, inside) -> bytearray\n\n"
+     "The piece of each cell of v's star (int64, in star order): cells joined through\n"
+     "faces at v whose two cells have the same label.  Index arrays int64, inside 1 byte."},
     {nullptr, nullptr, 0, nullptr},
 };
 

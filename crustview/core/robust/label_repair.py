@@ -31,6 +31,11 @@ from scipy.sparse.csgraph import connected_components
 
 from .labelling import Labelling
 
+try:  # the compiled star_pieces; the Python reference below gives the same pieces
+    from . import _labels as _kernel
+except ImportError:  # pragma: no cover - only without the extension
+    _kernel = None
+
 #: Rounds of repair (each flips the extra pieces at every pinched vertex found; flips can move a
 #: pinch to a neighbour, real scans settle in 2-6 rounds).
 REPAIR_ROUNDS = 30
@@ -61,6 +66,11 @@ class LabelEditor:
         #: local repairs of cut-handle ask again for stars whose labels did not change (43 % of the
         #: calls on six noisy scans)
         self._pieces: dict[tuple[int, bytes], tuple[np.ndarray, np.ndarray]] = {}
+        #: the incidences as the compiled star_pieces reads them (int64, contiguous)
+        self._k_arrays = tuple(
+            np.ascontiguousarray(x, dtype=np.int64)
+            for x in (self.star_ptr, self.star_cells, self.cell_ptr, self.cell_faces, lab.faces, lab.a, lab.b)
+        )
         #: which shared faces are on M_S now (kept up to date by :meth:`flip`)
         self.cut = lab.cut()
 
@@ -110,6 +120,20 @@ class LabelEditor:
         hit = self._pieces.get(key)
         if hit is not None:
             return hit
+        if _kernel is not None and lab.inside.flags.c_contiguous:
+            comp = np.frombuffer(
+                _kernel.star_pieces(v, lab.faces.shape[1], *self._k_arrays, lab.inside),
+                np.int64,
+            )
+        else:
+            comp = self._star_pieces_py(v, cells)
+        comp.flags.writeable = False  # shared by every later call with the same star labels
+        self._pieces[key] = (cells, comp)
+        return cells, comp
+
+    def _star_pieces_py(self, v: int, cells: np.ndarray) -> np.ndarray:
+        """:meth:`star_pieces` in Python: the reference of the compiled kernel's union-find."""
+        lab = self.lab
         fs = self.faces_of(cells)
         fs = fs[(lab.faces[fs] == v).any(axis=1)]
         fs = fs[lab.inside[lab.a[fs]] == lab.inside[lab.b[fs]]]
@@ -128,10 +152,7 @@ class LabelEditor:
             if ra != rb:
                 parent[ra] = rb
         _, comp = np.unique(np.array([root(i) for i in range(len(cells))], np.int64), return_inverse=True)
-        comp = comp.reshape(-1)
-        comp.flags.writeable = False  # shared by every later call with the same star labels
-        self._pieces[key] = (cells, comp)
-        return cells, comp
+        return comp.reshape(-1).astype(np.int64)
 
     def flip(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Give ``cells`` the other label: the faces (ids into ``lab.faces``) M_S loses and gains."""
