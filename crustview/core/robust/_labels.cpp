@@ -139,71 +139,117 @@ PyObject* label(PyObject*, PyObject* args) {
 // cells that have v, joined through the faces at v whose two cells have the same label.  The same
 // union-find as the Python reference, step for step: the faces in increasing id, parent[root(a)] =
 // root(b), path halving; piece ids are the ranks of the roots, as numpy's unique(return_inverse).
-PyObject* star_pieces(PyObject*, PyObject* args) {
-    long long v, width;
-    PyObject *osp, *osc, *ocp, *ocf, *ofaces, *oa, *ob, *oin;
-    if (!PyArg_ParseTuple(args, "LLOOOOOOOO", &v, &width, &osp, &osc, &ocp, &ocf, &ofaces, &oa, &ob, &oin))
-        return nullptr;
-    View vsp, vsc, vcp, vcf, vfaces, va, vb, vin;
-    if (!get(osp, vsp, 8, "star_ptr") || !get(osc, vsc, 8, "star_cells") || !get(ocp, vcp, 8, "cell_ptr") ||
-        !get(ocf, vcf, 8, "cell_faces") || !get(ofaces, vfaces, 8, "faces") || !get(oa, va, 8, "a") ||
-        !get(ob, vb, 8, "b") || !get(oin, vin, 1, "inside"))
-        return nullptr;
-    const std::int64_t n_star = vsp.b.len / 8 - 1, n_cells = vcp.b.len / 8 - 1, n_faces = va.b.len / 8;
-    if (v < 0 || v >= n_star || width <= 0 || vfaces.b.len / 8 != n_faces * width || vb.b.len / 8 != n_faces ||
-        vin.b.len != n_cells) {
-        PyErr_SetString(PyExc_ValueError, "star_pieces: inconsistent arrays");
-        return nullptr;
-    }
-    const auto* sp = static_cast<const std::int64_t*>(vsp.b.buf);
-    const auto* sc = static_cast<const std::int64_t*>(vsc.b.buf);
-    const auto* cp = static_cast<const std::int64_t*>(vcp.b.buf);
-    const auto* cf = static_cast<const std::int64_t*>(vcf.b.buf);
-    const auto* faces = static_cast<const std::int64_t*>(vfaces.b.buf);
-    const auto* a = static_cast<const std::int64_t*>(va.b.buf);
-    const auto* b = static_cast<const std::int64_t*>(vb.b.buf);
-    const auto* inside = static_cast<const std::uint8_t*>(vin.b.buf);
-    const std::int64_t lo = sp[v], hi = sp[v + 1], k = hi - lo;
-    std::vector<std::int64_t> fs;
-    for (std::int64_t i = lo; i < hi; ++i) {
-        const std::int64_t c = sc[i];
-        for (std::int64_t j = cp[c]; j < cp[c + 1]; ++j) fs.push_back(cf[j]);
-    }
-    std::sort(fs.begin(), fs.end());
-    fs.erase(std::unique(fs.begin(), fs.end()), fs.end());
-    auto pos = [&](std::int64_t c) -> std::int64_t {  // a star has a few dozen cells
-        for (std::int64_t i = 0; i < k; ++i)
-            if (sc[lo + i] == c) return i;
-        return -1;
-    };
-    std::vector<std::int64_t> parent(static_cast<std::size_t>(k));
-    for (std::int64_t i = 0; i < k; ++i) parent[i] = i;
-    auto root = [&](std::int64_t i) {
-        while (parent[i] != i) {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
+struct Stars {
+    const std::int64_t *sp, *sc, *cp, *cf, *faces, *a, *b;
+    const std::uint8_t* inside;
+    std::int64_t width, n_star;
+    std::vector<std::int64_t> fs, parent, roots, uniq;
+
+    // writes the piece of each star cell into comp (star order); returns the number of pieces
+    std::int64_t pieces(std::int64_t v, std::int64_t* comp) {
+        const std::int64_t lo = sp[v], hi = sp[v + 1], k = hi - lo;
+        fs.clear();
+        for (std::int64_t i = lo; i < hi; ++i) {
+            const std::int64_t c = sc[i];
+            for (std::int64_t j = cp[c]; j < cp[c + 1]; ++j) fs.push_back(cf[j]);
         }
-        return i;
-    };
-    for (const std::int64_t f : fs) {
-        bool at_v = false;
-        for (std::int64_t c = 0; c < width; ++c) at_v = at_v || faces[f * width + c] == v;
-        if (!at_v || (inside[a[f]] != 0) != (inside[b[f]] != 0)) continue;
-        const std::int64_t pa = pos(a[f]), pb = pos(b[f]);
-        if (pa < 0 || pb < 0) continue;
-        const std::int64_t ra = root(pa), rb = root(pb);
-        if (ra != rb) parent[ra] = rb;
+        std::sort(fs.begin(), fs.end());
+        fs.erase(std::unique(fs.begin(), fs.end()), fs.end());
+        auto pos = [&](std::int64_t c) -> std::int64_t {  // a star has a few dozen cells
+            for (std::int64_t i = 0; i < k; ++i)
+                if (sc[lo + i] == c) return i;
+            return -1;
+        };
+        parent.resize(static_cast<std::size_t>(k));
+        for (std::int64_t i = 0; i < k; ++i) parent[i] = i;
+        auto root = [&](std::int64_t i) {
+            while (parent[i] != i) {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            return i;
+        };
+        for (const std::int64_t f : fs) {
+            bool at_v = false;
+            for (std::int64_t c = 0; c < width; ++c) at_v = at_v || faces[f * width + c] == v;
+            if (!at_v || (inside[a[f]] != 0) != (inside[b[f]] != 0)) continue;
+            const std::int64_t pa = pos(a[f]), pb = pos(b[f]);
+            if (pa < 0 || pb < 0) continue;
+            const std::int64_t ra = root(pa), rb = root(pb);
+            if (ra != rb) parent[ra] = rb;
+        }
+        roots.resize(static_cast<std::size_t>(k));
+        for (std::int64_t i = 0; i < k; ++i) roots[i] = root(i);
+        uniq = roots;
+        std::sort(uniq.begin(), uniq.end());
+        uniq.erase(std::unique(uniq.begin(), uniq.end()), uniq.end());
+        if (comp != nullptr)
+            for (std::int64_t i = 0; i < k; ++i)
+                comp[i] = std::lower_bound(uniq.begin(), uniq.end(), roots[i]) - uniq.begin();
+        return static_cast<std::int64_t>(uniq.size());
     }
+};
+
+// parses (width, star_ptr, star_cells, cell_ptr, cell_faces, faces, a, b, inside) from args[first:]
+bool get_stars(PyObject* args, Py_ssize_t first, Stars& st, View* views) {
+    const char* names[] = {"star_ptr", "star_cells", "cell_ptr", "cell_faces", "faces", "a", "b", "inside"};
+    if (PyTuple_GET_SIZE(args) != first + 9) {
+        PyErr_SetString(PyExc_TypeError, "star pieces: wrong number of arguments");
+        return false;
+    }
+    st.width = PyLong_AsLongLong(PyTuple_GET_ITEM(args, first));
+    if (st.width == -1 && PyErr_Occurred()) return false;
+    for (int i = 0; i < 8; ++i)
+        if (!get(PyTuple_GET_ITEM(args, first + 1 + i), views[i], i == 7 ? 1 : 8, names[i])) return false;
+    st.sp = static_cast<const std::int64_t*>(views[0].b.buf);
+    st.sc = static_cast<const std::int64_t*>(views[1].b.buf);
+    st.cp = static_cast<const std::int64_t*>(views[2].b.buf);
+    st.cf = static_cast<const std::int64_t*>(views[3].b.buf);
+    st.faces = static_cast<const std::int64_t*>(views[4].b.buf);
+    st.a = static_cast<const std::int64_t*>(views[5].b.buf);
+    st.b = static_cast<const std::int64_t*>(views[6].b.buf);
+    st.inside = static_cast<const std::uint8_t*>(views[7].b.buf);
+    st.n_star = views[0].b.len / 8 - 1;
+    const std::int64_t n_cells = views[2].b.len / 8 - 1, n_faces = views[5].b.len / 8;
+    if (st.width <= 0 || st.n_star < 0 || views[4].b.len / 8 != n_faces * st.width || views[6].b.len / 8 != n_faces ||
+        views[7].b.len != n_cells) {
+        PyErr_SetString(PyExc_ValueError, "star pieces: inconsistent arrays");
+        return false;
+    }
+    return true;
+}
+
+PyObject* star_pieces(PyObject*, PyObject* args) {
+    if (PyTuple_GET_SIZE(args) < 1) {
+        PyErr_SetString(PyExc_TypeError, "star_pieces: v missing");
+        return nullptr;
+    }
+    const long long v = PyLong_AsLongLong(PyTuple_GET_ITEM(args, 0));
+    if (v == -1 && PyErr_Occurred()) return nullptr;
+    Stars st;
+    View views[8];
+    if (!get_stars(args, 1, st, views)) return nullptr;
+    if (v < 0 || v >= st.n_star) {
+        PyErr_SetString(PyExc_ValueError, "star_pieces: v out of range");
+        return nullptr;
+    }
+    const std::int64_t k = st.sp[v + 1] - st.sp[v];
     PyObject* out = PyByteArray_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(8 * k));
     if (out == nullptr) return nullptr;
-    auto* comp = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out));
-    std::vector<std::int64_t> roots(static_cast<std::size_t>(k));
-    for (std::int64_t i = 0; i < k; ++i) roots[i] = root(i);
-    std::vector<std::int64_t> uniq(roots);
-    std::sort(uniq.begin(), uniq.end());
-    uniq.erase(std::unique(uniq.begin(), uniq.end()), uniq.end());
-    for (std::int64_t i = 0; i < k; ++i)
-        comp[i] = std::lower_bound(uniq.begin(), uniq.end(), roots[i]) - uniq.begin();
+    st.pieces(v, reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out)));
+    return out;
+}
+
+PyObject* piece_counts(PyObject*, PyObject* args) {
+    Stars st;
+    View views[8];
+    if (!get_stars(args, 0, st, views)) return nullptr;
+    PyObject* out = PyByteArray_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(8 * st.n_star));
+    if (out == nullptr) return nullptr;
+    auto* count = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out));
+    Py_BEGIN_ALLOW_THREADS;
+    for (std::int64_t v = 0; v < st.n_star; ++v) count[v] = st.sp[v + 1] > st.sp[v] ? st.pieces(v, nullptr) : 0;
+    Py_END_ALLOW_THREADS;
     return out;
 }
 
@@ -219,6 +265,9 @@ PyMethodDef methods[] = {
      "star_pieces(v, width, star_ptr, star_cells, cell_ptr, cell_faces, faces, a, b, inside) -> bytearray\n\n"
      "The piece of each cell of v's star (int64, in star order): cells joined through\n"
      "faces at v whose two cells have the same label.  Index arrays int64, inside 1 byte."},
+    {"piece_counts", piece_counts, METH_VARARGS,
+     "piece_counts(width, star_ptr, star_cells, cell_ptr, cell_faces, faces, a, b, inside) -> bytearray\n\n"
+     "The number of pieces of every vertex's star (int64; 0 for a vertex in no cell)."},
     {nullptr, nullptr, 0, nullptr},
 };
 

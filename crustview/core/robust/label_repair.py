@@ -109,6 +109,12 @@ class LabelEditor:
         key = np.unique(vert[ok].astype(np.int64) * size + comp[ok])
         return np.bincount((key // size).astype(np.int64), minlength=n), comp
 
+    def piece_counts(self) -> np.ndarray:
+        """Per sample, the number of same-label pieces of its star (:meth:`pieces`' first array)."""
+        if _kernel is None or not self.lab.inside.flags.c_contiguous:
+            return self.pieces()[0]
+        return np.frombuffer(_kernel.piece_counts(self.lab.faces.shape[1], *self._k_arrays, self.lab.inside), np.int64)
+
     def star_pieces(self, v: int) -> tuple[np.ndarray, np.ndarray]:
         """The cells of v's star and each one's piece (same label, joined through faces at v).
 
@@ -175,8 +181,7 @@ class LabelEditor:
         lab = self.lab
         self.cut = lab.cut()
         steps = []
-        count, _ = self.pieces()
-        todo = np.flatnonzero(count > 2).tolist()
+        todo = np.flatnonzero(self.piece_counts() > 2).tolist()
         for _ in range(REPAIR_ROUNDS):
             if not todo:
                 break
