@@ -165,6 +165,27 @@ def test_two_walls_closer_than_the_sparse_spacing_are_uncertain_components():
         assert all(f.uncertain == flagged for f in comps), (ay, [f.size_spacings for f in comps])
 
 
+def test_the_loop_search_is_skipped_exactly_when_b1_is_zero():
+    """_no_loops by Euler-Poincare: an octahedron and two octahedra sharing a vertex (b1 = 0) skip the
+    loop basis; a torus (b1 = 2) and an open sheet do not, and the torus keeps its two handles."""
+    from crustview.core.analysis.features import _edges, _no_loops
+
+    octa = np.array([[0, 2, 4], [0, 2, 5], [0, 3, 4], [0, 3, 5], [1, 2, 4], [1, 2, 5], [1, 3, 4], [1, 3, 5]])
+    wedge = np.vstack([octa, np.where(octa == 0, 0, octa + 5)])  # the second one shares vertex 0
+
+    def no_loops(tris, n):
+        e, te = _edges(tris)
+        return _no_loops(tris, e, te, np.bincount(te.ravel(), minlength=len(e)), n)
+
+    assert no_loops(octa, 6) and no_loops(wedge, 11)
+    assert analyse(wedge, 11, 2).betti[1] == 0
+    pts, tris = _torus_mesh(24, 12)
+    assert not no_loops(tris, len(pts))
+    assert len([f for f in features(pts, tris, 2) if f.kind == "handle"]) == 2
+    _, sheet = _sheet(5, 5, 1.0, 1.0, 0.0)
+    assert not no_loops(sheet, 25)
+
+
 def test_is_closed_manifold_agrees_with_the_full_report():
     """The quick test gives analyse()'s closed_manifold on closed, open, pinched and non-manifold complexes."""
     from crustview.core.analysis.topology import analyse, is_closed_manifold
