@@ -12,8 +12,8 @@ Algorithm 1's greedy rounds, ``crustview.core.delaunay._segments`` and
 ``crustview.core.delaunay._cellpass`` the first steps of Algorithm 2's cocone score in
 codimension 1 and 2, ``crustview.core.delaunay._literal`` its literal test on triangles,
 ``crustview.core.delaunay._centres`` the simplices' circumcentres and
-``crustview.core.paper._prune`` Algorithm 3's loop; without them numpy and Python
-do the same.
+``crustview.core.paper._prune`` Algorithm 3's loop, ``crustview.core.analysis._components``
+graph components; without them numpy, scipy and Python do the same.
 """
 
 from setuptools import Extension, setup
@@ -80,6 +80,13 @@ setup(
             language="c++",
             # no fused multiply-add: the same dot products, bit for bit, as the Python loop
             extra_compile_args=[*FLAGS, "-ffp-contract=off"],
+            optional=True,
+        ),
+        Extension(  # no third-party headers: graph components with scipy's labels (core/analysis/topology.py)
+            "crustview.core.analysis._components",
+            sources=["crustview/core/analysis/_components.cpp"],
+            language="c++",
+            extra_compile_args=FLAGS,
             optional=True,
         ),
         Extension(  # no third-party headers: the robust extension's cell labelling (core/robust/labelling.py)

@@ -346,3 +346,20 @@ def test_analyse_remembers_the_last_complex_by_its_rows(torus_run, monkeypatch):
     changed = m_s[1:]  # one triangle fewer: an open surface now
     third = topology.analyse(changed, rec.n, 2)
     assert len(calls) == 2 and not third.closed_manifold and first.closed_manifold
+
+
+def test_compiled_graph_components_give_scipys_labels(torus_run):
+    # graph_components' union-find (core/analysis/_components.cpp) numbers components as scipy does
+    from crustview.core.analysis import topology
+
+    rng = np.random.default_rng(0)
+    graphs = [(1, np.array([[0, 0]])), (6, np.array([[5, 4], [3, 3], [1, 5]]))]
+    graphs += [(n, rng.integers(0, n, size=(m, 2))) for n, m in ((50, 20), (2000, 1500), (100_000, 99_000))]
+    tris = torus_run[0].manifold
+    edges = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]]]).astype(np.int32)  # int32, as some callers pass
+    graphs += [(int(tris.max()) + 1, edges), (int(tris.max()) + 1, edges[: len(edges) // 3])]
+    for n, edges in graphs:
+        count, labels = topology.graph_components(n, edges)
+        want_count, want = topology.scipy_components(n, edges)
+        assert count == want_count and labels.dtype == want.dtype and np.array_equal(labels, want)
+    assert topology._components is not None  # the compiled one ran (setup.py builds it)

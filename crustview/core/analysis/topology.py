@@ -30,6 +30,11 @@ from ..result import TopologyReport
 from ..util.memory import release_free_memory
 from ..util.rows import unique_rows
 
+try:
+    from . import _components
+except ImportError:  # pragma: no cover - the extension is optional
+    _components = None
+
 
 def all_faces(simplices: np.ndarray, facets: np.ndarray | None = None) -> list[np.ndarray]:
     """Unique j-faces for j = 0..d as sorted rows (``faces[j]`` has j+1 columns).
@@ -42,6 +47,11 @@ def all_faces(simplices: np.ndarray, facets: np.ndarray | None = None) -> list[n
     for j in range(dp1):
         if facets is not None and j == dp1 - 2:
             out.append(facets)
+            continue
+        if j == 0 and len(srt) and srt.min() >= 0:  # the vertices: sorted, unique, without a sort
+            present = np.zeros(int(srt.max()) + 1, dtype=bool)
+            present[srt.ravel()] = True
+            out.append(np.flatnonzero(present).astype(np.int64).reshape(-1, 1))
             continue
         combos = np.array(list(itertools.combinations(range(dp1), j + 1)))
         f = srt[:, combos].reshape(-1, j + 1)
@@ -92,9 +102,34 @@ def boundary_rank_gf2(faces_hi: np.ndarray, faces_lo: np.ndarray) -> int:
 
 
 def graph_components(n: int, edges: np.ndarray) -> tuple[int, np.ndarray]:
-    """Connected components of an undirected graph on ``n`` nodes."""
+    """Connected components of an undirected graph on ``n`` nodes.
+
+    Parameters
+    ----------
+    n : int
+    edges : ndarray of shape (e, 2)
+
+    Returns
+    -------
+    count : int
+    labels : ndarray of shape (n,)
+        scipy's ``connected_components`` labels (int32): components numbered
+        in the order of their smallest node.  The compiled union-find
+        (``_components.cpp``) gives the same labels without the sparse matrix.
+    """
     if len(edges) == 0:
         return n, np.arange(n)
+    if _components is not None and n < 2**31:
+        edges = np.asarray(edges)
+        count, labels = _components.components(
+            n, np.ascontiguousarray(edges[:, 0], dtype=np.int64), np.ascontiguousarray(edges[:, 1], dtype=np.int64)
+        )
+        return count, np.frombuffer(labels, dtype=np.int32).copy()
+    return scipy_components(n, edges)
+
+
+def scipy_components(n: int, edges: np.ndarray) -> tuple[int, np.ndarray]:
+    """:func:`graph_components` by scipy (the reference of the compiled one)."""
     g = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
     return connected_components(g, directed=False)
 
@@ -117,7 +152,9 @@ def _facet_pairs(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndar
     """
     srt = np.sort(simplices, axis=1)
     dp1 = srt.shape[1]
-    allf = np.stack([np.delete(srt, a, axis=1) for a in range(dp1)], axis=1).reshape(-1, dp1 - 1)
+    # entry i * dp1 + a: row i without its a-th column (one gather)
+    keep = np.array([[b for b in range(dp1) if b != a] for a in range(dp1)], dtype=np.intp).reshape(1, -1)
+    allf = np.take_along_axis(srt, np.broadcast_to(keep, (len(srt), keep.shape[1])), axis=1).reshape(-1, dp1 - 1)
     del srt
     facets, inv = unique_rows(allf)
     del allf
@@ -188,9 +225,12 @@ def singular_vertices(simplices: np.ndarray, faces: list[np.ndarray], pairs: tup
     edges = np.concatenate(edges)
     ncomp, labels = graph_components(c * dp1, edges)
     del edges
-    # components of the link of v = distinct labels among v's nodes
-    key = np.unique(srt.ravel().astype(np.int64) * ncomp + labels)
-    per_vertex = np.bincount(key // ncomp, minlength=n)
+    # components of the link of v = distinct labels among v's nodes; an edge joins two nodes of
+    # one vertex, so every component's nodes are one vertex's, and counting components per vertex
+    # counts them
+    comp_vertex = np.empty(ncomp, dtype=np.int64)
+    comp_vertex[labels] = srt.ravel()
+    per_vertex = np.bincount(comp_vertex, minlength=n)
     bad |= per_vertex[verts] != 1
     return verts[bad]
 
