@@ -155,20 +155,21 @@ def short_basis(
         # each row is its own single-source search: the chosen loops are walked on these trees below
         spread_pred.update((int(r), pred[ri]) for ri, r in enumerate(roots))
         sel_c = np.nonzero(inner & (label[edges[:, 0]] == c))[0]  # the same for every root
-        a_c, b_c = edges[sel_c, 0], edges[sel_c, 1]
+        a_c, b_c, mask_c = edges[sel_c, 0], edges[sel_c, 1], mask[sel_c]
         for ri, r in enumerate(roots):
             pm = _path_masks(pred[ri], marked, marked_mask)
-            tree_edge = (pred[ri][a_c] == b_c) | (pred[ri][b_c] == a_c)
-            sel, a, b = sel_c[~tree_edge], a_c[~tree_edge], b_c[~tree_edge]
-            cls = pm[a] ^ pm[b] ^ mask[sel]
-            nz = cls.any(axis=1)
-            if not nz.any():
+            # a tree edge's class is 0 (pm of the child = pm of the parent ^ the edge's mask), so the
+            # nonzero classes are those of non-tree edges without removing the tree edges first
+            cls = pm[a_c] ^ pm[b_c] ^ mask_c
+            nz = np.flatnonzero(cls.any(axis=1))
+            if len(nz) == 0:
                 continue
-            L = dist[ri][a[nz]] + length[sel[nz]] + dist[ri][b[nz]]
+            sel, a, b = sel_c[nz], a_c[nz], b_c[nz]
+            L = dist[ri][a] + length[sel] + dist[ri][b]
             keep = np.argsort(L)[: 8 * len(left)]
             cand_len.append(L[keep])
             cand_mask.append(cls[nz][keep])
-            cand_info.extend((ri, int(r), int(x), int(y)) for x, y in zip(a[nz][keep], b[nz][keep]))
+            cand_info.extend((ri, int(r), int(x), int(y)) for x, y in zip(a[keep], b[keep]))
     if local is not None:
         lroots = np.unique(edges[left].ravel())
         for r in lroots.tolist():
