@@ -13,8 +13,13 @@ the shortest loop of its class.  Used by :mod:`.features` for handles.
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import coo_matrix
+from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra
+
+try:
+    from . import _paths
+except ImportError:  # pragma: no cover - the extension is optional
+    _paths = None
 
 #: Shortest-path-tree roots per component for the loop basis (more: shorter loops, slower).
 ROOTS = 12
@@ -151,7 +156,7 @@ def short_basis(
     for c in np.unique(label[used]):
         vs = np.nonzero(used & (label == c))[0]
         roots = _spread(points, vs, ROOTS)
-        dist, pred = dijkstra(g, indices=roots, return_predecessors=True)
+        dist, pred = shortest_path_trees(g, roots)
         # each row is its own single-source search: the chosen loops are walked on these trees below
         spread_pred.update((int(r), pred[ri]) for ri, r in enumerate(roots))
         sel_c = np.nonzero(inner & (label[edges[:, 0]] == c))[0]  # the same for every root
@@ -229,6 +234,39 @@ def short_basis(
         loop = _walk(pr, a)[::-1] + _walk(pr, b)
         result.append((np.array(loop, np.int64), float(L[i])))
     return result
+
+
+def shortest_path_trees(g: csr_matrix, roots: list[int]) -> tuple[np.ndarray, np.ndarray]:
+    """The trees of scipy's ``dijkstra(g, indices=roots, return_predecessors=True)``, the roots on two threads.
+
+    Parameters
+    ----------
+    g : csr_matrix of shape (n, n)
+        Non-negative edge lengths.
+    roots : list of int
+
+    Returns
+    -------
+    dist : ndarray of shape (len(roots), n)
+    pred : ndarray of shape (len(roots), n) of int32
+        scipy's arrays.  The compiled search (``_paths.cpp``) gives them
+        wherever no two nodes are at the same distance from the root (then
+        the order of the search, and so every tree, is fixed); a root with
+        such a tie is searched by scipy.
+    """
+    if _paths is None or g.indptr.dtype != np.int32 or g.indices.dtype != np.int32 or not len(roots):
+        return dijkstra(g, indices=roots, return_predecessors=True)
+    n = g.shape[0]
+    weights = np.ascontiguousarray(g.data, dtype=np.float64)
+    raw_dist, raw_pred, ties = _paths.shortest_paths(
+        np.ascontiguousarray(g.indptr), np.ascontiguousarray(g.indices), weights, np.asarray(roots, np.int64), 2
+    )
+    dist = np.frombuffer(raw_dist, dtype=np.float64).reshape(len(roots), n).copy()
+    pred = np.frombuffer(raw_pred, dtype=np.int32).reshape(len(roots), n).copy()
+    for i in np.flatnonzero(np.frombuffer(ties, dtype=np.uint8)).tolist():
+        d1, p1 = dijkstra(g, indices=[roots[i]], return_predecessors=True)
+        dist[i], pred[i] = d1[0], p1[0]
+    return dist, pred
 
 
 def _spread(points: np.ndarray, vs: np.ndarray, k: int) -> list[int]:

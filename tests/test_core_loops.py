@@ -1,0 +1,32 @@
+"""The loop basis's compiled shortest-path trees (core/analysis/_paths.cpp) against scipy."""
+
+import numpy as np
+
+
+def test_compiled_shortest_path_trees_are_scipys():
+    # loops.shortest_path_trees (core/analysis/_paths.cpp) against scipy's dijkstra: random lengths on a
+    # mesh's edges with an unreached piece, and a unit grid, whose ties send its roots to scipy
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import dijkstra
+
+    from crustview.core.analysis import loops
+
+    rng = np.random.default_rng(0)
+    graphs = []
+    n = 3000
+    e = rng.integers(0, n - 100, size=(9000, 2))  # nodes n - 100 .. n - 1 are unreached
+    graphs.append((n, e, rng.random(len(e)) + 1e-3))
+    side = 30
+    idx = np.arange(side * side).reshape(side, side)
+    grid = np.concatenate([np.c_[idx[:, :-1].ravel(), idx[:, 1:].ravel()], np.c_[idx[:-1].ravel(), idx[1:].ravel()]])
+    graphs.append((side * side, grid, np.ones(len(grid))))
+    for n, e, w in graphs:
+        g = coo_matrix((w, (e[:, 0], e[:, 1])), shape=(n, n)).tocsr()
+        g = g + g.T
+        roots = [0, 5, int(e[-1, 0]), 17]
+        dist, pred = loops.shortest_path_trees(g, roots)
+        want_dist, want_pred = dijkstra(g, indices=roots, return_predecessors=True)
+        assert dist.dtype == want_dist.dtype and pred.dtype == want_pred.dtype
+        assert np.array_equal(dist, want_dist) and np.array_equal(pred, want_pred)
+        ties = loops._paths.shortest_paths(g.indptr, g.indices, g.data, np.asarray(roots, np.int64), 2)[2]
+        assert set(ties) == ({1} if n == side * side else {0})  # the grid's roots went to scipy, the others not
