@@ -223,6 +223,18 @@ def test_builtins_with_noise_of_three_percent_of_the_reach(name, reach, frac, se
     assert not any(s.rule in (RULE_GROW, RULE_SEED) for s in rec.extraction.steps)
 
 
+def test_a_large_sound_result_that_is_unsure_is_not_grown_again():
+    """Above SECOND_OPINION_N samples (the casting's 5,096) a sound labelled result through every
+    sample is kept as it is, uncertain features and all: they already say where it is unsure, and
+    the growing path is not run a second time."""
+    rec = reconstruct(read_mesh(RESOURCES / "casting.off").points, 2)
+    t = rec.topology
+    assert len(rec.points) > SECOND_OPINION_N
+    assert t.closed_manifold and t.unused_samples == 0 and rec.uncertain_features
+    assert "grew M_S" not in rec.extraction.notes[0]
+    assert not any(s.rule in (RULE_GROW, RULE_SEED) for s in rec.extraction.steps)
+
+
 def test_sparse_torus_in_r3():
     m = get_manifold("torus")
     rec = reconstruct(m.sample(350, seed=2).points, 2)

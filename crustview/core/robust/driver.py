@@ -178,13 +178,17 @@ def extract_robust(
 
 
 #: Up to this many samples the growing path also runs as a second opinion on a labelled result that
-#: looks sound but for which ``cut-handle`` removed a handle the sample may resolve (a loop of at
-#: least LOOP_MIN): a cost rule (growing takes under half a second there, against tens of seconds on
-#: noisy scans of 50,000 points).  The decimated knight (502 samples of long slivers) is why: the
-#: labelling closes a torus through a 9.5-radius loop where the arm touches the body, cut-handle
-#: removes it, and growing, the independent answer, gives the same sphere.  A sound labelled result
-#: with no such cut is not grown again at any size: on the public scans of up to 5,000 samples the
-#: grown result never replaced one (21 files).
+#: looks sound but has uncertain features, or for which ``cut-handle`` removed a handle the sample may
+#: resolve (a loop of at least LOOP_MIN): a cost rule (growing takes under half a second there, against
+#: up to 36 s on the public noisy scans: gears at 0.1 h).  Above it a sound labelled result through
+#: every sample is kept as it is: its uncertain features already say where it is unsure (on the public
+#: files of more than 5,000 samples growing again never gave a right answer where the labelled one was
+#: wrong: seahorse at 0.1 h, plastic-vase, casting; both answers wrong and flagged).  The decimated
+#: knight (502 samples of long slivers) is why the second opinion exists: the labelling closes a torus
+#: through a 9.5-radius loop where the arm touches the body, cut-handle removes it, and growing, the
+#: independent answer, gives the same sphere.  A sound labelled result with no uncertain feature and
+#: no such cut is not grown again at any size: on the public scans of up to 5,000 samples the grown
+#: result never replaced one (21 files).
 SECOND_OPINION_N = 5000
 
 
@@ -193,10 +197,10 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
 
     The labelling's result is kept at once when it is a closed manifold
     (or a manifold open only at the openings ``open-cap`` found)
-    through every sample with no uncertain feature
-    (:func:`~crustview.core.analysis.features.features`), unless the sample
-    has at most :data:`SECOND_OPINION_N` points and ``cut-handle`` removed a
-    handle whose loop was at least LOOP_MIN.  Otherwise M_S is also grown,
+    through every sample, and either the sample has more than
+    :data:`SECOND_OPINION_N` points or the result has no uncertain feature
+    (:func:`~crustview.core.analysis.features.features`) and ``cut-handle``
+    removed no handle whose loop was at least LOOP_MIN.  Otherwise M_S is also grown,
     and the result with fewer problems is kept, in this order: not closed,
     samples left out, uncertain features, boundary faces.  Of two answers
     the sample supports equally, the one claiming fewer handles, unless every
@@ -235,7 +239,9 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
         getattr(lab, "openings", 0) > 0 and top_lab.nonmanifold_faces == 0 and top_lab.singular_vertices == 0
     )
     band_cut = any(f.size_spacings >= LOOP_MIN for f in lab.removed_features)
-    if sound and top_lab.unused_samples == 0 and not f_lab and (n > SECOND_OPINION_N or not band_cut):
+    # above SECOND_OPINION_N a sound result through every sample is kept as it is: its uncertain
+    # features already say where it is unsure, and growing again costs up to 36 s (gears at 0.1 h)
+    if sound and top_lab.unused_samples == 0 and (n > SECOND_OPINION_N or (not f_lab and not band_cut)):
         lab.notes.insert(0, note_paper + "; the robust extension labelled the Delaunay cells instead")
         return lab
     report(0.5)
