@@ -22,6 +22,7 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
+from scipy.spatial.distance import pdist
 
 from .complex import Simplex, _facets
 from .polygons import is_ear, min_angle, orientation, plane_polygon
@@ -79,7 +80,7 @@ class FillHole:
             return False
         verts = sorted({v for f in hole for v in f})
         p = self.points[verts]
-        span = float(np.sqrt(((p[:, None] - p[None]) ** 2).sum(-1).max())) if len(verts) > 1 else 0.0
+        span = float(pdist(p).max()) if len(verts) > 1 else 0.0  # compiled: holes of hundreds of vertices
         local = max(float(self.nn[verts].mean()), self.spacing)
         if len(hole[0]) == 1:  # curves: the ends of all paths, joined in pairs below
             self._join_ends(hole, "gap between two ends of the curve")
