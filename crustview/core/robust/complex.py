@@ -175,6 +175,21 @@ class EditableComplex:
     def boundary(self) -> list[Simplex]:
         return sorted(self.bset)
 
+    def boundary_near(self, vs: set[int]) -> list[Simplex]:
+        """The boundary faces with a vertex in ``vs``, in :meth:`boundary`'s order.
+
+        A boundary face at v lies in the one simplex of v's star that has it,
+        so the stars of ``vs`` hold them all: no pass over the whole boundary.
+        """
+        out = set()
+        bset, simp = self.bset, self.simp
+        for v in vs:
+            for i in self._star(v):
+                for f in _facets(simp[i]):
+                    if f in bset and v in f:
+                        out.add(f)
+        return sorted(out)
+
     def used(self) -> np.ndarray:
         mask = self._used0.copy()
         for v, ids in self.star.items():  # the stars made so far are the ones that changed

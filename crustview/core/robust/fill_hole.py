@@ -156,7 +156,7 @@ class FillHole:
                 "and the wider hole is closed again",
             )
         )
-        return [f for f in self.boundary() if any(x in touched for x in f)]
+        return self.boundary_near(touched)
 
     def _unpinch(self, edges: list[Simplex], why: str) -> list[Simplex]:
         """At each vertex where the hole's boundary pinches, drop all but the largest fan.
@@ -187,7 +187,7 @@ class FillHole:
                         f"{len(fan)} simplices there so the hole has a simple rim",
                     )
                 )
-        return [f for f in self.boundary() if any(x in touched for x in f)]
+        return self.boundary_near(touched)
 
     def _fill_delaunay(self, verts: set[int], why: str) -> None:
         cand = set()

@@ -42,10 +42,10 @@ class Patcher(FillHole, DropStray, SampleInsertion, EditableComplex):
         left: list[int] = []
         for _ in range(PATCH_ROUNDS):  # closing, inserting, unpinching and dropping can each leave work for the others
             for _ in range(4):  # eroding one hole can reach another: repeat while something closes
-                before = len(self.boundary())
+                before = len(self.bset)
                 for hole in self.holes():
                     self.fill(hole)
-                if len(self.boundary()) in (0, before):
+                if len(self.bset) in (0, before):
                     break
             left = self.insert_unused()
             # unpinching frees samples and opens holes; the last filling can close off a stray bubble
