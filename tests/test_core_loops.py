@@ -30,3 +30,27 @@ def test_compiled_shortest_path_trees_are_scipys():
         assert np.array_equal(dist, want_dist) and np.array_equal(pred, want_pred)
         ties = loops._paths.shortest_paths(g.indptr, g.indices, g.data, np.asarray(roots, np.int64), 2)[2]
         assert set(ties) == ({1} if n == side * side else {0})  # the grid's roots went to scipy, the others not
+
+
+def test_compiled_path_masks_are_the_pointer_doubling_ones(monkeypatch):
+    # loops._path_masks by one walk per vertex (_paths.path_xor) against its numpy pointer doubling, on
+    # random forests with unreached vertices (scipy's -9999) and masks of one and three words
+    from crustview.core.analysis import loops
+
+    rng = np.random.default_rng(1)
+    for n, words in ((1, 1), (50, 1), (5000, 3)):
+        pred = np.array([rng.integers(-1, v) if v else -9999 for v in range(n)], dtype=np.int32)  # parents first
+        pred[pred == -1] = -9999
+        perm = rng.permutation(n)  # the same forest under other names: children before parents too
+        inv = np.argsort(perm)
+        pred = np.where(pred[perm] >= 0, inv[np.maximum(pred[perm], 0)], -9999).astype(np.int32)
+        kids = np.flatnonzero(pred >= 0)
+        pick = rng.choice(kids, size=min(len(kids), 40), replace=False)
+        marked = np.stack([pick, pred[pick]], axis=1)
+        marked[::2] = marked[::2, ::-1]  # either end first
+        mask = rng.integers(0, 2**63, size=(len(marked), words), dtype=np.uint64)
+        compiled = loops._path_masks(pred, marked, mask)
+        monkeypatch.setattr(loops, "_paths", None)
+        reference = loops._path_masks(pred, marked, mask)
+        monkeypatch.undo()
+        assert compiled.dtype == reference.dtype and np.array_equal(compiled, reference)

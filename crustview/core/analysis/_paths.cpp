@@ -164,7 +164,65 @@ PyObject* shortest_paths(PyObject*, PyObject* args) {
     return result;
 }
 
+// acc[v] = start[v] ^ acc[pred[v]] (pred < 0: a root or unreached, acc = start), by walks up
+// the tree that stop at the first node already done; each node is done once.
+PyObject* path_xor(PyObject*, PyObject* args) {
+    Py_buffer pred, start;
+    int words;
+    if (!PyArg_ParseTuple(args, "y*y*i", &pred, &start, &words)) return nullptr;
+    PyObject* result = nullptr;
+    const i64 n = pred.len / 4;
+    if (words < 1 || pred.len % 4 != 0 || start.len != n * words * 8) {
+        PyErr_SetString(PyExc_ValueError, "path_xor: int32 pred and (n, words) uint64 start");
+    } else {
+        const auto* p = static_cast<const std::int32_t*>(pred.buf);
+        bool ok = true;
+        for (i64 v = 0; ok && v < n; ++v) ok = p[v] < n;
+        PyObject* out = ok ? PyBytes_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(n * words * 8)) : nullptr;
+        if (!ok) PyErr_SetString(PyExc_ValueError, "path_xor: a predecessor is not a node");
+        if (out != nullptr) {
+            auto* acc = reinterpret_cast<std::uint64_t*>(PyBytes_AS_STRING(out));
+            const auto* st = static_cast<const std::uint64_t*>(start.buf);
+            bool cycle = false;
+            Py_BEGIN_ALLOW_THREADS;
+            std::vector<unsigned char> state(static_cast<std::size_t>(n), 0);  // 0 new, 1 on the walk, 2 done
+            std::vector<std::int32_t> walk;
+            for (i64 v0 = 0; v0 < n && !cycle; ++v0) {
+                walk.clear();
+                i64 v = v0;
+                while (v >= 0 && state[v] == 0) {
+                    state[v] = 1;
+                    walk.push_back(static_cast<std::int32_t>(v));
+                    v = p[v];
+                }
+                if (v >= 0 && state[v] == 1) cycle = true;  // not a forest
+                for (std::size_t i = walk.size(); i-- > 0;) {
+                    const i64 u = walk[i];
+                    const i64 up = p[u];
+                    for (int w = 0; w < words; ++w) {
+                        acc[u * words + w] = st[u * words + w] ^ (up >= 0 ? acc[up * words + w] : 0);
+                    }
+                    state[u] = 2;
+                }
+            }
+            Py_END_ALLOW_THREADS;
+            if (cycle) {
+                Py_DECREF(out);
+                PyErr_SetString(PyExc_ValueError, "path_xor: the predecessors have a cycle");
+            } else {
+                result = out;
+            }
+        }
+    }
+    PyBuffer_Release(&pred);
+    PyBuffer_Release(&start);
+    return result;
+}
+
 PyMethodDef methods[] = {
+    {"path_xor", path_xor, METH_VARARGS,
+     "path_xor(pred, start, words) -> acc: per node the XOR of start (uint64, words per node) over its tree path "
+     "to the root, the root's own entry included (int32 pred, negative at roots)."},
     {"shortest_paths", shortest_paths, METH_VARARGS,
      "shortest_paths(indptr, indices, weights, roots, threads) -> (dist, pred, ties): one shortest-path tree per "
      "root (int32 CSR arrays, float64 weights, int64 roots); dist float64 and pred int32 bytes, (roots, n) row "

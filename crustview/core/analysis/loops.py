@@ -301,10 +301,11 @@ def _path_masks(pred: np.ndarray, marked: np.ndarray, marked_mask: np.ndarray) -
         Zero at roots and unreached vertices.
 
     A vertex whose tree edge is marked starts with that edge's mask; the
-    XOR up to the root then comes from pointer doubling: after each pass
-    ``acc[v]`` covers the path from ``v`` to ``anc[v]``, whose length
-    doubles (log depth passes; XOR is exact, so this equals a walk level by
-    level).
+    XOR up to the root then comes from one walk per vertex in compiled code
+    (``_paths.path_xor``, each vertex done once), or else from pointer
+    doubling: after each pass ``acc[v]`` covers the path from ``v`` to
+    ``anc[v]``, whose length doubles (log depth passes).  XOR is exact, so
+    both equal a walk level by level.
     """
     n = len(pred)
     acc = np.zeros((n, marked_mask.shape[1]), np.uint64)
@@ -313,6 +314,9 @@ def _path_masks(pred: np.ndarray, marked: np.ndarray, marked_mask: np.ndarray) -
     acc[u[up]] = marked_mask[up]
     down = pred[v] == u
     acc[v[down]] = marked_mask[down]
+    if _paths is not None and pred.dtype == np.int32:  # one walk per node instead of log(depth) passes (same XOR)
+        words = acc.shape[1]
+        return np.frombuffer(_paths.path_xor(pred, acc, words), dtype=np.uint64).reshape(n, words).copy()
     anc = np.where(pred >= 0, pred, np.arange(n))
     while True:
         nxt = anc[anc]
