@@ -85,3 +85,19 @@ def test_the_kernel_rejects_bad_input_clearly():
         _poles.farthest(cen, work, np.zeros((2, 3), dtype=np.int32), basis, 4, 3, 4, 1, 0)  # w != r + 1
     with pytest.raises(ValueError, match="outside work"):
         _poles.farthest(cen, work, np.full((2, 4), 9, dtype=np.int32), basis, 4, 3, 4, 1, 0)
+
+
+def test_compiled_vertex_counts_are_numpys():
+    # _Incidences' counts per sample and far flags (_poles.vertex_counts) against bincount and any
+    from crustview.core.delaunay import _poles
+
+    rng = np.random.default_rng(0)
+    for n, t, w in [(0, 0, 4), (5, 0, 3), (10, 7, 3), (1000, 5000, 4), (20_000, 90_000, 5)]:
+        simp = rng.integers(0, n + 4, size=(t, w)).astype(np.int32)
+        count, far = _poles.vertex_counts(simp, n, w)
+        count, far = np.frombuffer(count, np.int64), np.frombuffer(far, np.bool_)
+        want = np.bincount(simp.ravel(), minlength=n)[:n]
+        assert count.dtype == want.dtype and np.array_equal(count, want)
+        assert np.array_equal(far, (simp >= n).any(axis=1))
+    with pytest.raises(ValueError, match="negative"):
+        _poles.vertex_counts(np.array([[0, -1, 2]], np.int32), 3, 3)

@@ -126,7 +126,66 @@ PyObject* farthest(PyObject* /*self*/, PyObject* args) {
     return Py_BuildValue("NNd", first_out, best_out, max_abs);
 }
 
+// Simplices per sample and whether a simplex has a vertex >= n (a bounding point): numpy's
+// bincount(simplices.ravel(), minlength=n)[:n] and (simplices >= n).any(axis=1), in one pass
+// over the int32 table, without bincount's int64 copy of it.
+PyObject* vertex_counts(PyObject* /*self*/, PyObject* args) {
+    Py_buffer simp;
+    long long n = 0;
+    int w = 0;
+    if (!PyArg_ParseTuple(args, "y*Li", &simp, &n, &w)) {
+        return nullptr;
+    }
+    const Py_ssize_t t = w > 0 ? simp.len / (4 * static_cast<Py_ssize_t>(w)) : 0;
+    if (w < 1 || n < 0 || simp.len != t * w * 4) {
+        PyBuffer_Release(&simp);
+        PyErr_SetString(PyExc_ValueError, "expected int32 simplices (t x w), w >= 1 and n >= 0");
+        return nullptr;
+    }
+    PyObject* count_out = PyByteArray_FromStringAndSize(nullptr, n * 8);
+    PyObject* far_out = PyByteArray_FromStringAndSize(nullptr, t);
+    if (count_out == nullptr || far_out == nullptr) {
+        Py_XDECREF(count_out);
+        Py_XDECREF(far_out);
+        PyBuffer_Release(&simp);
+        return nullptr;
+    }
+    auto* count = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(count_out));
+    auto* far = reinterpret_cast<unsigned char*>(PyByteArray_AS_STRING(far_out));
+    const auto* v = static_cast<const std::int32_t*>(simp.buf);
+    bool negative = false;
+    Py_BEGIN_ALLOW_THREADS
+    for (std::int64_t s = 0; s < n; ++s) count[s] = 0;
+    for (Py_ssize_t i = 0; i < t; ++i) {
+        unsigned char out = 0;
+        for (int a = 0; a < w; ++a) {
+            const std::int64_t x = v[i * w + a];
+            if (x < 0) negative = true;
+            if (x >= n) {
+                out = 1;
+            } else if (x >= 0) {
+                ++count[x];
+            }
+        }
+        far[i] = out;
+    }
+    Py_END_ALLOW_THREADS
+    PyBuffer_Release(&simp);
+    if (negative) {  // numpy's bincount refuses these
+        Py_DECREF(count_out);
+        Py_DECREF(far_out);
+        PyErr_SetString(PyExc_ValueError, "a simplex has a negative vertex number");
+        return nullptr;
+    }
+    return Py_BuildValue("NN", count_out, far_out);
+}
+
 PyMethodDef methods[] = {
+    {"vertex_counts", vertex_counts, METH_VARARGS,
+     "vertex_counts(simplices, n, w) -> (count, far)\n\n"
+     "For int32 simplices (t x w): per vertex 0 .. n - 1 the number of\n"
+     "entries naming it (int64) and per simplex whether an entry is >= n\n"
+     "(bool), as bytearrays."},
     {"farthest", farthest, METH_VARARGS,
      "farthest(centres, work, simplices, basis, n, r, w, p, j) -> (first, best, max_abs)\n\n"
      "One greedy round of Algorithm 1: per sample, the position of the first\n"

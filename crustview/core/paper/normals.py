@@ -208,8 +208,14 @@ class _Incidences:
     def __init__(self, work: np.ndarray, simplices: np.ndarray, centres: np.ndarray, n_samples: int) -> None:
         self.work, self.simplices, self.centres, self.n = work, simplices, centres, n_samples
         self.width = simplices.shape[1]
-        self.far = (simplices >= n_samples).any(axis=1)
-        self.count = np.bincount(simplices.ravel(), minlength=n_samples)[:n_samples]
+        if _native is not None and simplices.dtype == np.int32 and simplices.flags.c_contiguous:
+            # one pass, without bincount's int64 copy of the table (the same counts and flags)
+            count, far = _native.vertex_counts(simplices, n_samples, self.width)
+            self.count = np.frombuffer(count, dtype=np.int64)
+            self.far = np.frombuffer(far, dtype=np.bool_)
+        else:
+            self.far = (simplices >= n_samples).any(axis=1)
+            self.count = np.bincount(simplices.ravel(), minlength=n_samples)[:n_samples]
         self.size = simplices.size
         self.extra_owner = np.empty(0, np.int64)
         self.extra_vec = np.empty((0, work.shape[1]))
