@@ -165,6 +165,23 @@ def test_two_walls_closer_than_the_sparse_spacing_are_uncertain_components():
         assert all(f.uncertain == flagged for f in comps), (ay, [f.size_spacings for f in comps])
 
 
+def test_two_holes_with_a_strip_narrower_than_two_spacings_between_them_are_uncertain():
+    """Two square holes cut in a grid sheet (spacing 1), one row of faces apart: the strip between
+    them is 1 spacing wide, below GAP_MIN, so both are uncertain (one opening with a ribbon left
+    across it, or a strip the sample cannot resolve); 4 spacings apart, neither is."""
+    pts, tris = _sheet(20, 24, 1.0, 1.0, 0.0)
+    cen = pts[tris].mean(axis=1)
+
+    def cut(y0: float, y1: float):
+        return (cen[:, 0] > 3) & (cen[:, 0] < 8) & (cen[:, 1] > y0) & (cen[:, 1] < y1)
+
+    for second, flagged in ((9.0, True), (12.0, False)):
+        keep = ~(cut(3, 8) | cut(second, second + 5))
+        holes = [f for f in features(pts, tris[keep], 2) if f.kind == "hole" and f.size_spacings < 20]
+        assert len(holes) == 2
+        assert all(f.uncertain == flagged for f in holes), (second, [f.reason for f in holes])
+
+
 def test_the_loop_search_is_skipped_exactly_when_b1_is_zero():
     """_no_loops by Euler-Poincare: an octahedron and two octahedra sharing a vertex (b1 = 0) skip the
     loop basis; a torus (b1 = 2) and an open sheet do not, and the torus keeps its two handles."""

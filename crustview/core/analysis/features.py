@@ -35,7 +35,10 @@ below one spacing is below the resolution of *any* sampling condition:
 * **Hole** (a boundary loop of an open result): a hole whose span is below
   :data:`LOOP_MIN` / pi = 2 spacings (diameter of a circle of circumference
   LOOP_MIN) is as wide as one missing sample: it may be an undersampling
-  gap rather than a real opening.
+  gap rather than a real opening.  Two holes closer than GAP_MIN spacings
+  (the components' bound, in the same unit) are uncertain too: the strip of
+  M_S between them is narrower than the sample resolves, one opening with a
+  ribbon left across it (a cap the labelling split in two) or a real strip.
 
 Handles are the loops of a short basis of H_1 (Z/2), found by :mod:`.loops`.
 """
@@ -300,17 +303,49 @@ def _holes(points: np.ndarray, edges: np.ndarray, count: np.ndarray, h: np.ndarr
     _, label = connected_components(g, directed=False)
     result = []
     lab = label[rim[:, 0]]
-    for c in np.unique(lab):
+    holes = np.unique(lab)
+    strip = _strips(points, rim, lab, h) if len(holes) > 1 else {}
+    for c in holes:
         vs = np.unique(rim[lab == c])
         p = points[vs]
         span = float(np.max(np.linalg.norm(p - p.mean(axis=0), axis=1)) * 2)
         size = span / float(np.median(h[vs]))
-        unc = size < LOOP_MIN / math.pi
+        narrow = strip.get(int(c), np.inf) < GAP_MIN
+        unc = size < LOOP_MIN / math.pi or narrow
         reason = f"hole with {int((lab == c).sum())} rim edges, {size:.3g} spacings across" + (
-            " (as wide as one missing sample: may be a gap)" if unc else ""
+            " (as wide as one missing sample: may be a gap)"
+            if size < LOOP_MIN / math.pi
+            else f" (a strip of {strip[int(c)]:.2g} spacings from another hole, narrower than the sample can "
+            "separate: may be one opening)"
+            if narrow
+            else ""
         )
         result.append(Feature("hole", p.mean(axis=0), size, unc, vs, reason))
     return result
+
+
+def _strips(points: np.ndarray, rim: np.ndarray, lab: np.ndarray, h: np.ndarray) -> dict[int, float]:
+    """Per hole, the narrowest strip of M_S between its rim and another hole's, in local spacings.
+
+    The unit is the one of the components' gaps: the larger of the nearest-neighbour distance and h.
+    Two holes closer than GAP_MIN may be one opening with a ribbon of faces left across it (the
+    labelling's cap split in two), or a thin strip of surface: the sample does not tell them apart.
+    """
+    verts = np.unique(rim)
+    hole_of = np.full(len(points), -1, np.int64)
+    hole_of[rim[:, 0]] = lab
+    hole_of[rim[:, 1]] = lab
+    own = cKDTree(points).query(points[verts], k=2)[0][:, 1]
+    unit = np.maximum(own, h[verts])
+    k = min(len(verts), 16)
+    dist, idx = cKDTree(points[verts]).query(points[verts], k=k)
+    dist, idx = dist.reshape(len(verts), k), idx.reshape(len(verts), k)
+    other = hole_of[verts[idx]] != hole_of[verts][:, None]
+    gap = np.where(other, dist, np.inf).min(axis=1) / unit
+    out: dict[int, float] = {}
+    for v, g in zip(hole_of[verts].tolist(), gap.tolist(), strict=True):
+        out[v] = min(out.get(v, np.inf), g)
+    return out
 
 
 def _handles(
