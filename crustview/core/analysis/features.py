@@ -304,7 +304,7 @@ def _holes(points: np.ndarray, edges: np.ndarray, count: np.ndarray, h: np.ndarr
     result = []
     lab = label[rim[:, 0]]
     holes = np.unique(lab)
-    strip = _strips(points, rim, lab, h) if len(holes) > 1 else {}
+    strip = _strips(points, edges, rim, lab, h) if len(holes) > 1 else {}
     for c in holes:
         vs = np.unique(rim[lab == c])
         p = points[vs]
@@ -324,27 +324,34 @@ def _holes(points: np.ndarray, edges: np.ndarray, count: np.ndarray, h: np.ndarr
     return result
 
 
-def _strips(points: np.ndarray, rim: np.ndarray, lab: np.ndarray, h: np.ndarray) -> dict[int, float]:
+def _strips(points: np.ndarray, edges: np.ndarray, rim: np.ndarray, lab: np.ndarray, h: np.ndarray) -> dict[int, float]:
     """Per hole, the narrowest strip of M_S between its rim and another hole's, in local spacings.
 
-    The unit is the one of the components' gaps: the larger of the nearest-neighbour distance and h.
-    Two holes closer than GAP_MIN may be one opening with a ribbon of faces left across it (the
-    labelling's cap split in two), or a thin strip of surface: the sample does not tell them apart.
+    The strip's width is the shortest path along the edges of M_S from one rim to the other (two
+    holes that face each other across empty space are not a strip: the surface between them goes
+    the long way round).  The unit is the one of the components' gaps, the larger of the
+    nearest-neighbour distance and h, at the far rim's vertex.  Two holes closer than GAP_MIN may be
+    one opening with a ribbon of faces left across it (the labelling's cap split in two), or a thin
+    strip of surface: the sample does not tell them apart.
     """
+    from scipy.sparse.csgraph import dijkstra
+
+    n = len(points)
     verts = np.unique(rim)
-    hole_of = np.full(len(points), -1, np.int64)
+    hole_of = np.full(n, -1, np.int64)
     hole_of[rim[:, 0]] = lab
     hole_of[rim[:, 1]] = lab
-    own = cKDTree(points).query(points[verts], k=2)[0][:, 1]
-    unit = np.maximum(own, h[verts])
-    k = min(len(verts), 16)
-    dist, idx = cKDTree(points[verts]).query(points[verts], k=k)
-    dist, idx = dist.reshape(len(verts), k), idx.reshape(len(verts), k)
-    other = hole_of[verts[idx]] != hole_of[verts][:, None]
-    gap = np.where(other, dist, np.inf).min(axis=1) / unit
+    unit = np.zeros(n)
+    unit[verts] = np.maximum(cKDTree(points).query(points[verts], k=2)[0][:, 1], h[verts])
+    length = np.linalg.norm(points[edges[:, 0]] - points[edges[:, 1]], axis=1)
+    graph = coo_matrix((length, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
+    limit = GAP_MIN * float(unit[verts].max())
     out: dict[int, float] = {}
-    for v, g in zip(hole_of[verts].tolist(), gap.tolist(), strict=True):
-        out[v] = min(out.get(v, np.inf), g)
+    for c in np.unique(lab).tolist():
+        mine = verts[hole_of[verts] == c]
+        dist = dijkstra(graph, directed=False, indices=mine, min_only=True, limit=limit)
+        far = verts[(hole_of[verts] != c) & np.isfinite(dist[verts])]
+        out[c] = float((dist[far] / unit[far]).min()) if len(far) else np.inf
     return out
 
 
