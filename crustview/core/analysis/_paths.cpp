@@ -131,14 +131,15 @@ PyObject* shortest_paths(PyObject*, PyObject* args) {
     if (!ok) {
         PyErr_SetString(PyExc_ValueError, "shortest_paths: not a CSR graph with int32 indices and weights >= 0");
     } else {
-        PyObject* dist = PyBytes_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(r * n * 8));
-        PyObject* pred = PyBytes_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(r * n * 4));
-        PyObject* ties = PyBytes_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(r));
+        // bytearrays: numpy wraps them writable, without a copy
+        PyObject* dist = PyByteArray_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(r * n * 8));
+        PyObject* pred = PyByteArray_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(r * n * 4));
+        PyObject* ties = PyByteArray_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(r));
         if (dist != nullptr && pred != nullptr && ties != nullptr) {
             const Graph g{ptr, static_cast<const std::int32_t*>(indices.buf), static_cast<const double*>(weights.buf), n};
-            auto* d = reinterpret_cast<double*>(PyBytes_AS_STRING(dist));
-            auto* p = reinterpret_cast<std::int32_t*>(PyBytes_AS_STRING(pred));
-            auto* t = reinterpret_cast<unsigned char*>(PyBytes_AS_STRING(ties));
+            auto* d = reinterpret_cast<double*>(PyByteArray_AS_STRING(dist));
+            auto* p = reinterpret_cast<std::int32_t*>(PyByteArray_AS_STRING(pred));
+            auto* t = reinterpret_cast<unsigned char*>(PyByteArray_AS_STRING(ties));
             const int workers = static_cast<int>(std::max<i64>(1, std::min<i64>(threads, r)));
             Py_BEGIN_ALLOW_THREADS;
             auto work = [&](int w) {
@@ -225,8 +226,8 @@ PyMethodDef methods[] = {
      "to the root, the root's own entry included (int32 pred, negative at roots)."},
     {"shortest_paths", shortest_paths, METH_VARARGS,
      "shortest_paths(indptr, indices, weights, roots, threads) -> (dist, pred, ties): one shortest-path tree per "
-     "root (int32 CSR arrays, float64 weights, int64 roots); dist float64 and pred int32 bytes, (roots, n) row "
-     "by row, and one byte per root, 1 where two nodes were reached at the same distance."},
+     "root (int32 CSR arrays, float64 weights, int64 roots); dist float64 and pred int32 bytearrays, (roots, n) "
+     "row by row, and one byte per root, 1 where two nodes were reached at the same distance."},
     {nullptr, nullptr, 0, nullptr},
 };
 

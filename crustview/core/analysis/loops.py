@@ -261,8 +261,8 @@ def shortest_path_trees(g: csr_matrix, roots: list[int]) -> tuple[np.ndarray, np
     raw_dist, raw_pred, ties = _paths.shortest_paths(
         np.ascontiguousarray(g.indptr), np.ascontiguousarray(g.indices), weights, np.asarray(roots, np.int64), 2
     )
-    dist = np.frombuffer(raw_dist, dtype=np.float64).reshape(len(roots), n).copy()
-    pred = np.frombuffer(raw_pred, dtype=np.int32).reshape(len(roots), n).copy()
+    dist = np.frombuffer(raw_dist, dtype=np.float64).reshape(len(roots), n)  # writable: bytearrays, no copy
+    pred = np.frombuffer(raw_pred, dtype=np.int32).reshape(len(roots), n)
     for i in np.flatnonzero(np.frombuffer(ties, dtype=np.uint8)).tolist():
         d1, p1 = dijkstra(g, indices=[roots[i]], return_predecessors=True)
         dist[i], pred[i] = d1[0], p1[0]
