@@ -6,7 +6,7 @@ import pytest
 from crustview.core import reconstruct
 from crustview.core.analysis.topology import analyse
 from crustview.core.robust import labelling
-from crustview.core.robust.cells import CAP_RATIO, OPEN_MIN_FACES, cap_patches, caps, extract_by_labels, with_touching
+from crustview.core.robust.cells import CAP_RATIO, OPEN_MIN_FACES, cap_patches, caps, extract_by_labels
 from crustview.core.robust.label_repair import LabelEditor
 from crustview.core.robust.labelling import Labelling, cell_adjacency, label_python
 from crustview.core.robust.steplog import StepLog
@@ -193,17 +193,6 @@ def test_a_cap_is_a_patch_much_larger_than_the_faces_around_it():
     for factor, want in ((1.05, 1), (0.95, 0)):
         pts, faces = _fan_with_ring(factor * CAP_RATIO * r_ring / r_fan, 1.0)
         assert len(caps(faces, [patch], pts)) == want
-
-
-def test_a_cap_takes_the_big_faces_that_touch_it():
-    """A cap (faces 0-1) takes the big faces that share a vertex with it, and theirs in turn (2, then
-    3 through 2), across a small face (4) that keeps them apart edge-wise; a big face touching none
-    of them (5) and the small face stay."""
-    faces = np.array([[0, 1, 2], [1, 2, 3], [3, 4, 5], [5, 6, 7], [2, 3, 8], [20, 21, 22]])
-    big = np.array([True, True, True, True, False, True])
-    (grown,) = with_touching(faces, big, [np.array([0, 1])])
-    assert sorted(grown.tolist()) == [0, 1, 2, 3]
-    assert with_touching(faces, big, []) == []
 
 
 def test_open_scan_is_kept_open_by_open_cap():

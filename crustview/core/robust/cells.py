@@ -12,9 +12,8 @@ by construction, in one step.  Then, each a step of the log:
    below 2.2, see :mod:`.grow`) spans a gap no sample supports.  A patch of
    at least :data:`OPEN_MIN_FACES` adjacent ones, more than :data:`CAP_RATIO`
    times larger than the faces around it, is the cap the labelling
-   puts over the opening of an open scan: it is removed with the big faces
-   that touch it (:func:`with_touching`), and the opening is never closed
-   again by ``fill-hole``.  Smaller patches (where noise or one
+   puts over the opening of an open scan: it is removed, and the opening is
+   never closed again by ``fill-hole``.  Smaller patches (where noise or one
    missing sample leaves a few large faces on a closed object) stay;
 3. the last phase shared with the growing path (:meth:`.patcher.Patcher.settle`):
    holes that are undersampling gaps are closed again (``fill-hole``), real
@@ -92,37 +91,6 @@ def caps(faces: np.ndarray, patches: list[np.ndarray], points: np.ndarray) -> li
         ring = np.isin(faces, np.unique(faces[p])).any(axis=1) & ~inside
         if not ring.any() or r[p].max() > CAP_RATIO * float(np.median(r[ring])):
             out.append(p)
-    return out
-
-
-def with_touching(faces: np.ndarray, big: np.ndarray, patches: list[np.ndarray]) -> list[np.ndarray]:
-    """Each cap with the big faces that share a vertex with it, to closure.
-
-    The labelling's cap over one opening can come in pieces: big faces
-    separated by a few small ones (a ribbon of samples across the opening
-    keeps them apart edge-wise).  A big face touching a cap is part of the
-    same unsupported span, however few faces its own piece has; left in
-    place it stays as a ribbon across the opening (the lion at 0.1 h, another
-    noise draw: two sure holes with a band of faces 21-25 times the median
-    size between them).
-    """
-    if not patches:
-        return patches
-    taken = np.zeros(len(faces), bool)
-    for p in patches:
-        taken[p] = True
-    out = []
-    for p in patches:
-        grown = list(p.tolist())
-        verts = np.unique(faces[p])
-        while True:
-            more = np.flatnonzero(big & ~taken & np.isin(faces, verts).any(axis=1))
-            if len(more) == 0:
-                break
-            taken[more] = True
-            grown += more.tolist()
-            verts = np.unique(faces[more])
-        out.append(np.array(grown, np.int64))
     return out
 
 
@@ -228,8 +196,7 @@ def extract_by_labels(
     now = lab.faces[cut]
     orient = oriented(now, inner, simplices, delaunay_points)
     pt = Patcher(points, list(map(tuple, now.tolist())), faces, spacing, orient=orient.tolist(), orientable=True)
-    big = size_ratio(points, now) > SIZE_MAX
-    patches = with_touching(now, big, caps(now, cap_patches(now, big, n), points))
+    patches = caps(now, cap_patches(now, size_ratio(points, now) > SIZE_MAX, n), points)
     for patch in patches:
         for i in patch.tolist():
             pt._delete(i)
