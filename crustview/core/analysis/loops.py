@@ -254,10 +254,11 @@ def shortest_path_trees(g: csr_matrix, roots: list[int]) -> tuple[np.ndarray, np
         the order of the search, and so every tree, is fixed); a root with
         such a tie is searched by scipy.
     """
-    if _paths is None or g.indptr.dtype != np.int32 or g.indices.dtype != np.int32 or not len(roots):
+    weights = np.ascontiguousarray(g.data, dtype=np.float64)
+    compiled = _paths is not None and g.indptr.dtype == g.indices.dtype == np.int32 and len(roots) > 0
+    if not compiled or not (weights >= 0).all():  # NaN or negative lengths: scipy's own answer
         return dijkstra(g, indices=roots, return_predecessors=True)
     n = g.shape[0]
-    weights = np.ascontiguousarray(g.data, dtype=np.float64)
     raw_dist, raw_pred, ties = _paths.shortest_paths(
         np.ascontiguousarray(g.indptr), np.ascontiguousarray(g.indices), weights, np.asarray(roots, np.int64), 2
     )
