@@ -228,7 +228,10 @@ def _no_loops(tris: np.ndarray, edges: np.ndarray, tri_edges: np.ndarray, count:
     """
     if len(count) == 0 or not (count == 2).all():
         return False
-    used = np.unique(tris)
+    used = np.flatnonzero(np.bincount(tris.ravel(), minlength=n))
+    chi = len(used) - len(edges) + len(tris)
+    if chi <= 0:  # b1 = b0 + b2 - chi > 0: every genus >= 1 surface, no component count needed
+        return False
     _, b0_label = connected_components(
         coo_matrix((np.ones(len(edges), np.int8), (edges[:, 0], edges[:, 1])), shape=(n, n)), directed=False
     )
@@ -237,7 +240,7 @@ def _no_loops(tris: np.ndarray, edges: np.ndarray, tri_edges: np.ndarray, count:
     owner = np.argsort(tri_edges.ravel(), kind="stable") // 3
     t = len(tris)
     b2, _ = connected_components(coo_matrix((np.ones(len(edges), np.int8), (owner[0::2], owner[1::2])), shape=(t, t)))
-    return b0 + b2 - (len(used) - len(edges) + t) == 0
+    return b0 + b2 - chi == 0
 
 
 def _components(points: np.ndarray, simplices: np.ndarray, h: np.ndarray) -> list[Feature]:
