@@ -200,14 +200,17 @@ def features(points: np.ndarray, simplices: np.ndarray, d: int, spacing: np.ndar
     Returns
     -------
     list of Feature
-        Components first, then holes, then handles.
+        Components first (with the clusters of samples M_S does not reach,
+        :mod:`.missing`), then holes, then handles.
     """
     simplices = np.asarray(simplices, dtype=np.int64).reshape(-1, d + 1)
     n = len(points)
     if len(simplices) == 0:
         return []
     h = local_spacing(points, simplices) if spacing is None else np.asarray(spacing, dtype=float)
-    out = _components(points, simplices, h)
+    from .missing import left_out  # it builds on this module's Feature and GAP_MIN
+
+    out = _components(points, simplices, h) + left_out(points, simplices, d)
     if d == 2:
         edges, tri_edges = _edges(simplices)
         count = np.bincount(tri_edges.ravel(), minlength=len(edges))
