@@ -31,3 +31,9 @@ def test_nothing_left_out_and_two_samples_are_no_part():
     pts = np.vstack([OCTA_PTS, [[5.0, 0, 0], [5.2, 0, 0]]])  # two near samples: fewer than d + 1
     assert left_out(pts, OCTA, 2) == []
     assert len(left_out(pts, OCTA, 1)) == 1  # for a curve two samples are an edge's worth
+
+
+def test_an_empty_result_reaches_no_sample():
+    """M_S empty (the paper's loop pruned everything): the samples it does not reach are one part."""
+    (f,) = features(OCTA_PTS, np.zeros((0, 3), np.int64), 2)
+    assert f.kind == "component" and f.uncertain and sorted(f.vertices.tolist()) == list(range(6))

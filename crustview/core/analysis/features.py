@@ -203,13 +203,13 @@ def features(points: np.ndarray, simplices: np.ndarray, d: int, spacing: np.ndar
         Components first (with the clusters of samples M_S does not reach,
         :mod:`.missing`), then holes, then handles.
     """
+    from .missing import left_out  # it builds on this module's Feature and GAP_MIN
+
     simplices = np.asarray(simplices, dtype=np.int64).reshape(-1, d + 1)
     n = len(points)
     if len(simplices) == 0:
-        return []
+        return left_out(points, simplices, d)  # an empty M_S reaches no sample
     h = local_spacing(points, simplices) if spacing is None else np.asarray(spacing, dtype=float)
-    from .missing import left_out  # it builds on this module's Feature and GAP_MIN
-
     out = _components(points, simplices, h) + left_out(points, simplices, d)
     if d == 2:
         edges, tri_edges = _edges(simplices)
