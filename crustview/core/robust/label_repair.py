@@ -66,10 +66,14 @@ class LabelEditor:
         #: local repairs of cut-handle ask again for stars whose labels did not change (43 % of the
         #: calls on six noisy scans)
         self._pieces: dict[tuple[int, bytes], tuple[np.ndarray, np.ndarray]] = {}
-        #: the incidences as the compiled star_pieces reads them (int64, contiguous)
-        self._k_arrays = tuple(
-            np.ascontiguousarray(x, dtype=np.int64)
-            for x in (self.star_ptr, self.star_cells, self.cell_ptr, self.cell_faces, lab.faces, lab.a, lab.b)
+        #: the incidences as the compiled star_pieces reads them (int64, contiguous); none without it
+        self._k_arrays = (
+            tuple(
+                np.ascontiguousarray(x, dtype=np.int64)
+                for x in (self.star_ptr, self.star_cells, self.cell_ptr, self.cell_faces, lab.faces, lab.a, lab.b)
+            )
+            if _kernel is not None
+            else ()
         )
         #: which shared faces are on M_S now (kept up to date by :meth:`flip`)
         self.cut = lab.cut()
