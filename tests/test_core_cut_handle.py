@@ -241,3 +241,38 @@ def test_a_cut_the_sample_may_resolve_brings_the_second_opinion(knight):
     assert any(f.removed and f.size_spacings >= LOOP_MIN for f in rec.features)
     assert "grew M_S" in rec.extraction.notes[0] and "labelled result is kept" in rec.extraction.notes[0]
     assert rec.topology.betti == (1, 0, 1)
+
+
+CAMEL = Path(__file__).resolve().parents[1] / "resources" / "camelhead-n10.xyz"
+
+
+def test_a_tunnel_the_loop_sets_miss_is_closed_by_a_ball():
+    """The camel head (an open genus-0 scan) with noise of 0.1 h: its labelled surface has a
+    handle with a loop of about 5 sampling radii that relabelling the cells at the loop's edges or
+    vertices does not remove (the surface moves, the tunnel stays); the cells of a ball around the
+    loop do.  The result is the mesh's topology, an open genus-0 surface through every sample."""
+    from crustview.core.robust import cut_handle as ch
+
+    pts = read_points(CAMEL)
+    rec, lab, ed = _editor(pts)
+    short = sorted((f for f in _handles(rec, ed) if f.size_spacings < LOOP_MIN), key=lambda f: f.size_spacings)
+    assert short  # the case this test is about
+    ed.cut = lab.cut()
+    local = ch._Local(ed)
+    b0 = ch._components(lab.faces[ed.cut], rec.n)
+    feat = short[0]
+    loop = [int(v) for v in feat.vertices.tolist()]
+    # neither loop set removes it, in either direction
+    for cells in (ch._fan(ed, loop), ch._star(ed, loop)):
+        for side in (False, True):
+            sel = cells[(lab.inside[cells] == side) & ~lab.outside[cells]]
+            if len(sel):
+                assert ch._trial(ed, local, sel, rec.n, b0) is None
+    before = _top(ed, rec.n)
+    cut = ch._try(ed, local, feat, rec.n, b0, rec.points)
+    assert cut is not None
+    after = _top(ed, rec.n)
+    assert after.betti[1] == before.betti[1] - 2 and after.betti[0] == before.betti[0]
+    out = reconstruct(pts, 2)
+    assert tuple(out.topology.betti) == (1, 0, 0)  # one boundary loop, no handle: the mesh's own
+    assert out.topology.unused_samples == 0

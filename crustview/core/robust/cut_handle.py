@@ -15,21 +15,26 @@ other draws measure 3-11 radii; the scans' real handles 12.7 and more).
 The rule relabels the least confident set of cells that removes the handle.
 Around the loop it tries, in order, the cells that have a loop *edge* (the
 smallest set that closes a tunnel or cuts a bridge across the loop), then the
-cells that have a loop *vertex*; for each set both directions: the set's
+cells that have a loop *vertex*, then the cells inside balls around the
+loop's centroid of 0.7 to 2 times its radius (:data:`BALL_RADII`: a noise
+tunnel narrower than its loop, or one that bends away from it, at 0.3 h
+noise); for each set both directions: the set's
 outside cells taking the inside label (``fill``: a tunnel closed) and its
 inside cells taking the outside label (``cut``: a bridge cut).  After each
 trial the rules ``repair-vertex`` and ``sculpt-sample`` run on the cells
 touched, and the trial is kept only when
 
 * every vertex touched is still a manifold vertex of M_S and every sample that
-  was a vertex still is one;
+  was a vertex still is one (letting a trial take in as many samples as its
+  loop has, for ``insert-sample`` to put back, also removed a real handle of
+  neptune at 0.3 h);
 * M_S has as many components as before, and its first Betti number is lower
   (for a closed surface b1 = 2 b0 - chi, so a lower b1 with the same b0 is
   a higher Euler characteristic, counted on the touched faces only).
 
 Of the trials that pass in the first set, the one whose cells had the least
-labelling confidence in all is kept; the vertex set is tried only when the
-edge set gives none.  A handle the rule cannot remove stays, and the
+labelling confidence in all is kept; a later set is tried only when the
+ones before it give none.  A handle the rule cannot remove stays, and the
 features analysis reports it as uncertain.  The removed handles are kept on
 the extraction (:attr:`CutHandles.removed`) and reported as features marked
 ``removed``.  One whose loop was at least LOOP_MIN is *uncertain*: a sample
@@ -45,6 +50,7 @@ below the resolution of the sample and of any method working from it).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -60,6 +66,11 @@ HANDLE_ROUNDS = 3
 #: Handles with a loop below this many sampling radii are cut (the features' LOOP_SUPPORTED, 4 pi: what
 #: an eps = 1/2 sample resolves).
 CUT_BELOW = LOOP_SUPPORTED
+#: Radii of the balls of cells tried after the loop's edge and vertex sets, in units of the loop's own
+#: radius L / (2 pi) (the radius of the tube whose meridian the loop would be): a geometric sequence by
+#: sqrt 2 from inside the tube (a noise tunnel narrower than its loop's samples, where the vertex set
+#: takes in the faces around it too) out to twice its radius (a tunnel that bends away from its loop).
+BALL_RADII = (math.sqrt(0.5), 1.0, math.sqrt(2.0), 2.0)
 #: Rounds of local repair and sculpting after each trial (as in :data:`.label_repair.REPAIR_ROUNDS`,
 #: a pinch can move to a neighbour; the trial is refused when one is left after these).
 LOCAL_ROUNDS = 8
@@ -193,6 +204,27 @@ def _star(ed: LabelEditor, loop: list[int]) -> np.ndarray:
     return np.unique(np.concatenate([ed.star(v) for v in loop]))
 
 
+def _balls(ed: LabelEditor, loop: list[int], points: np.ndarray) -> list[np.ndarray]:
+    """Cells near the loop inside balls around its centroid (:data:`BALL_RADII`), smallest first.
+
+    A cell is in a ball when all its vertices are samples within the radius.  The cells looked at are
+    those with a vertex in the star of the loop's vertices: a ball of at most twice the loop's radius
+    holds no other samples' cells on a sample whose spacing the loop resolves.
+    """
+    n = ed.lab.n
+    near = _star(ed, loop)
+    vs = np.unique(ed.lab.simplices[near])
+    cells = np.unique(np.concatenate([ed.star(int(v)) for v in vs[vs < n].tolist()]))
+    simp = ed.lab.simplices[cells]
+    ring = points[loop]
+    centre = ring.mean(axis=0)
+    radius = float(np.linalg.norm(ring - np.roll(ring, 1, axis=0), axis=1).sum()) / (2 * math.pi)
+    real = (simp < n).all(axis=1)
+    far = np.full(len(cells), np.inf)
+    far[real] = np.linalg.norm(points[simp[real]] - centre, axis=2).max(axis=1)
+    return [cells[far <= f * radius] for f in BALL_RADII]
+
+
 def cut_handles(ed: LabelEditor, points: np.ndarray) -> CutHandles:
     """Apply ``cut-handle`` to the labelling in ``ed`` (changed in place).
 
@@ -230,7 +262,7 @@ def cut_handles(ed: LabelEditor, points: np.ndarray) -> CutHandles:
         for feat in short:
             if len(feat.vertices) < 3:
                 continue
-            cut = _try(ed, local, feat, n, b0)
+            cut = _try(ed, local, feat, n, b0, points)
             if cut is not None:
                 out.cuts.append(cut)
                 done += 1
@@ -239,11 +271,20 @@ def cut_handles(ed: LabelEditor, points: np.ndarray) -> CutHandles:
     return out
 
 
-def _try(ed: LabelEditor, local: _Local, feat: Feature, n: int, b0: int) -> Cut | None:
-    """The cheapest relabelling around one short loop that removes a handle, applied; None if there is none."""
+def _try(ed: LabelEditor, local: _Local, feat: Feature, n: int, b0: int, points: np.ndarray) -> Cut | None:
+    """The cheapest relabelling around one short loop that removes a handle, applied; None if there is none.
+
+    The sets of cells are tried in order (the loop's edges, its vertices, then the balls of
+    :func:`_balls`); the first set with a trial that passes gives the cut.
+    """
     lab = ed.lab
     loop = [int(v) for v in feat.vertices.tolist()]
-    for cells in (_fan(ed, loop), _star(ed, loop)):
+    tried: set[bytes] = set()
+    for cells in [_fan(ed, loop), _star(ed, loop), *_balls(ed, loop, points)]:
+        key = cells.tobytes()
+        if len(cells) == 0 or key in tried:
+            continue
+        tried.add(key)
         best = None
         for side, how in ((False, "fill"), (True, "cut")):
             sel = cells[(lab.inside[cells] == side) & ~lab.outside[cells]]
