@@ -127,6 +127,33 @@ def test_compiled_star_pieces_are_the_python_ones():
     assert several > 10  # pinched stars (three pieces or more) were compared too
 
 
+@pytest.mark.skipif(labelling._kernel is None, reason="the compiled kernel is not built")
+def test_compiled_pole_cells_are_the_numpy_ones():
+    """The compiled pole cells are the numpy reference's, cell for cell, on a noisy torus and on a
+    sample with coincident-radius ties (a cube's corners and centre, with flat cells whose centres are
+    NaN); and on a tiny case checked by hand: a square's centre has the far corners' cells."""
+    m = get_manifold("torus")
+    rng = np.random.default_rng(3)
+    s = m.sample(1200, seed=4).points
+    grid = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], float)
+    for pts in (s + rng.normal(scale=0.05, size=s.shape), np.vstack([grid, grid + [2, 0, 0], [[0.5, 0.5, 0.5]]])):
+        rec = reconstruct(pts, 2, mode="paper")
+        dp, simp, centres = _cells(rec)
+        radius = np.linalg.norm(centres - dp[simp[:, 0]], axis=1)
+        got = labelling.pole_cells(simp, rec.n, radius, centres, rec.points)
+        ref = labelling.pole_cells_python(simp, rec.n, radius, centres, rec.points)
+        assert np.array_equal(got[0], ref[0]) and np.array_equal(got[1], ref[1])
+        assert (got[0] >= 0).all() and (got[1] >= 0).mean() > 0.5
+    # by hand: sample 0 in three cells of radii 1, 3, 2 whose centres lie at +x, +x, -x of it
+    simp = np.array([[0, 1, 2, 3], [0, 1, 2, 4], [0, 2, 3, 4]], np.int64)
+    centres = np.array([[1.0, 0, 0], [3.0, 0, 0], [-2.0, 0, 0]])
+    pts = np.zeros((5, 3))
+    radius = np.array([1.0, 3.0, 2.0])
+    for fn in (labelling.pole_cells, labelling.pole_cells_python):
+        plus, minus = fn(simp, 5, radius, centres, pts)
+        assert plus[0] == 1 and minus[0] == 2  # the largest ball, then the largest one on the other side
+
+
 def test_sculpt_brings_a_buried_sample_onto_the_surface():
     """A sample just inside a sphere's sample is no vertex of the labelled surface until
     sculpt-sample flips one cell of its star (Boissonnat's rule keeps a manifold)."""

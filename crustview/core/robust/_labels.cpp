@@ -16,6 +16,7 @@
 #include <Python.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -253,6 +254,74 @@ PyObject* piece_counts(PyObject*, PyObject* args) {
     return out;
 }
 
+
+// The two pole cells of every sample (crustview.core.robust.labelling.Labelling._pole_pairs): over the
+// sample's incidences in cell-major order, the cell of largest radius (the last incidence reaching it;
+// NaN radii passed over), then, among the incidences whose centre lies on the other side of the sample
+// (negative dot product with the direction to the first pole), the same again.  -1 where there is none.
+PyObject* pole_cells(PyObject*, PyObject* args) {
+    PyObject *os, *or_, *oc, *op;
+    long long n, w, k;
+    if (!PyArg_ParseTuple(args, "LLLOOOO", &n, &w, &k, &os, &or_, &oc, &op)) return nullptr;
+    View vs, vr, vc, vp;
+    if (!get(os, vs, 8, "simplices") || !get(or_, vr, 8, "radius") || !get(oc, vc, 8, "centres") ||
+        !get(op, vp, 8, "points"))
+        return nullptr;
+    const std::int64_t m = vr.b.len / 8;
+    if (n <= 0 || w <= 0 || k <= 0 || vs.b.len / 8 != m * w || vc.b.len / 8 != m * k || vp.b.len / 8 < n * k) {
+        PyErr_SetString(PyExc_ValueError, "pole_cells: inconsistent arrays");
+        return nullptr;
+    }
+    const auto* s = static_cast<const std::int64_t*>(vs.b.buf);
+    const auto* r = static_cast<const double*>(vr.b.buf);
+    const auto* c = static_cast<const double*>(vc.b.buf);
+    const auto* pt = static_cast<const double*>(vp.b.buf);
+    PyObject* out_plus = PyByteArray_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(8 * n));
+    PyObject* out_minus = PyByteArray_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(8 * n));
+    if (!out_plus || !out_minus) {
+        Py_XDECREF(out_plus);
+        Py_XDECREF(out_minus);
+        return nullptr;
+    }
+    auto* plus = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out_plus));
+    auto* minus = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out_minus));
+    Py_BEGIN_ALLOW_THREADS;
+    std::vector<double> top(static_cast<std::size_t>(n), -HUGE_VAL);
+    for (std::int64_t i = 0; i < n; ++i) plus[i] = minus[i] = -1;
+    // first pole: the largest radius (>= keeps the last incidence that reaches it)
+    for (std::int64_t q = 0; q < m; ++q) {
+        const double rq = r[q];
+        if (rq != rq) continue;  // NaN
+        for (std::int64_t j = 0; j < w; ++j) {
+            const std::int64_t v = s[q * w + j];
+            if (v < 0 || v >= n) continue;
+            if (rq >= top[v]) {
+                top[v] = rq;
+                plus[v] = q;
+            }
+        }
+    }
+    std::fill(top.begin(), top.end(), -HUGE_VAL);
+    for (std::int64_t q = 0; q < m; ++q) {
+        const double rq = r[q];
+        if (rq != rq) continue;
+        for (std::int64_t j = 0; j < w; ++j) {
+            const std::int64_t v = s[q * w + j];
+            if (v < 0 || v >= n || plus[v] < 0) continue;
+            double dot = 0.0;
+            for (std::int64_t x = 0; x < k; ++x)
+                dot += (c[q * k + x] - pt[v * k + x]) * (c[plus[v] * k + x] - pt[v * k + x]);
+            if (dot < 0 && rq >= top[v]) {
+                top[v] = rq;
+                minus[v] = q;
+            }
+        }
+    }
+    Py_END_ALLOW_THREADS;
+    PyObject* res = Py_BuildValue("(NN)", out_plus, out_minus);
+    return res;
+}
+
 PyMethodDef methods[] = {
     {"label", label, METH_VARARGS,
      "label(n, a, b, sign, root) -> (label, when, violated)\n\n"
@@ -268,6 +337,12 @@ PyMethodDef methods[] = {
     {"piece_counts", piece_counts, METH_VARARGS,
      "piece_counts(width, star_ptr, star_cells, cell_ptr, cell_faces, faces, a, b, inside) -> bytearray\n\n"
      "The number of pieces of every vertex's star (int64; 0 for a vertex in no cell)."},
+    {"pole_cells", pole_cells, METH_VARARGS,
+     "pole_cells(n, width, k, simplices, radius, centres, points) -> (plus, minus)\n\n"
+     "Per sample, the cell of largest radius among its incidences and the same among those whose\n"
+     "centre is on the other side (negative dot product with the way to the first): int64\n"
+     "bytearrays, -1 for none.  simplices int64 (m, width), radius float64 (m,), centres (m, k),\n"
+     "points (n, k) float64; vertices >= n (bounding points) are passed over."},
     {nullptr, nullptr, 0, nullptr},
 };
 

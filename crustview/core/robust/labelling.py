@@ -189,22 +189,9 @@ class Labelling:
         self, points: np.ndarray, centres: np.ndarray, radius: np.ndarray, g: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Each sample's two pole cells (farthest, and farthest on the other side) and the tie's confidence."""
-        n, s = self.n, self.simplices
-        w = s.shape[1]
-        cell = np.repeat(np.arange(self.m, dtype=np.int64), w)
-        vert = s.ravel()
-        ok = vert < n
-        cell, vert = cell[ok], vert[ok]
-        r = radius[cell]
-        plus = _farthest(vert, cell, r, n)
-        has = plus >= 0
-        to_plus = np.zeros_like(points)
-        to_plus[has] = centres[plus[has]] - points[has]
-        dot = ((centres[cell] - points[vert]) * to_plus[vert]).sum(axis=1)
-        other = dot < 0
-        minus = _farthest(vert[other], cell[other], r[other], n)
+        plus, minus = pole_cells(self.simplices, self.n, radius, centres, points)
         smp = np.flatnonzero((plus >= 0) & (minus >= 0))
-        u = to_plus[smp]
+        u = centres[plus[smp]] - points[smp]
         v = centres[minus[smp]] - points[smp]
         with np.errstate(invalid="ignore", divide="ignore"):
             cos = (u * v).sum(axis=1) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
@@ -221,6 +208,52 @@ class Labelling:
         c = self.cut()
         inner = np.where(self.inside[self.a[c]], self.a[c], self.b[c])
         return self.faces[c], inner
+
+
+def pole_cells(
+    simplices: np.ndarray, n: int, radius: np.ndarray, centres: np.ndarray, points: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per sample, its two pole cells: the farthest Voronoi vertex, and the farthest on the other side.
+
+    The first is the incident cell of largest radius (:func:`_farthest`); the second the same among
+    the incident cells whose centre lies on the other side of the sample (negative dot product with
+    the way to the first).  -1 where a sample has none.  The compiled kernel
+    (``_labels.pole_cells``) gives the same cells as :func:`pole_cells_python`.
+    """
+    if _kernel is not None:
+        s = np.ascontiguousarray(simplices, dtype=np.int64)
+        k = points.shape[1]
+        plus, minus = _kernel.pole_cells(
+            int(n),
+            int(s.shape[1]),
+            int(k),
+            s,
+            np.ascontiguousarray(radius, dtype=np.float64),
+            np.ascontiguousarray(centres, dtype=np.float64),
+            np.ascontiguousarray(points, dtype=np.float64),
+        )
+        return np.frombuffer(plus, np.int64).copy(), np.frombuffer(minus, np.int64).copy()
+    return pole_cells_python(simplices, n, radius, centres, points)
+
+
+def pole_cells_python(
+    simplices: np.ndarray, n: int, radius: np.ndarray, centres: np.ndarray, points: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`pole_cells` in numpy (the reference the kernel is tested against)."""
+    w = simplices.shape[1]
+    cell = np.repeat(np.arange(len(simplices), dtype=np.int64), w)
+    vert = simplices.ravel()
+    ok = vert < n
+    cell, vert = cell[ok], vert[ok]
+    r = radius[cell]
+    plus = _farthest(vert, cell, r, n)
+    has = plus >= 0
+    to_plus = np.zeros_like(points)
+    to_plus[has] = centres[plus[has]] - points[has]
+    dot = ((centres[cell] - points[vert]) * to_plus[vert]).sum(axis=1)
+    other = dot < 0
+    minus = _farthest(vert[other], cell[other], r[other], n)
+    return plus, minus
 
 
 def _farthest(vert: np.ndarray, cell: np.ndarray, r: np.ndarray, n: int) -> np.ndarray:
