@@ -270,9 +270,10 @@ def test_a_tunnel_the_loop_sets_miss_is_closed_by_a_ball():
                 assert ch._trial(ed, local, sel, rec.n, b0) is None
     before = _top(ed, rec.n)
     cut = ch._try(ed, local, feat, rec.n, b0, rec.points)
-    assert cut is not None
+    assert cut is not None and cut.around.startswith("a ball")
     after = _top(ed, rec.n)
     assert after.betti[1] == before.betti[1] - 2 and after.betti[0] == before.betti[0]
     out = reconstruct(pts, 2)
     assert tuple(out.topology.betti) == (1, 0, 0)  # one boundary loop, no handle: the mesh's own
+    assert any("a ball of" in s.reason for s in out.extraction.steps if s.rule == RULE_CUT)  # the log says how
     assert out.topology.unused_samples == 0

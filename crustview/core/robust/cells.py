@@ -229,7 +229,7 @@ def extract_by_labels(
                 if c.feature.size_spacings < LOOP_MIN
                 else "below 4 pi: only a sample coarser than eps = 1/2 resolves it"
             )
-            + f"); {len(c.cells)} cells took the other label "
+            + f"); {len(c.cells)} cells around the loop ({c.around}) took the other label "
             f"({'a tunnel filled' if c.how == 'fill' else 'a bridge cut'}, labelling confidence {c.cost:.2f} in all, "
             "the least of the trials around its loop)",
         )

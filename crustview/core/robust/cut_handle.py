@@ -86,6 +86,7 @@ class Cut:
     removed: np.ndarray
     added: np.ndarray
     cost: float
+    around: str = "its edges"
 
 
 @dataclass
@@ -280,7 +281,9 @@ def _try(ed: LabelEditor, local: _Local, feat: Feature, n: int, b0: int, points:
     lab = ed.lab
     loop = [int(v) for v in feat.vertices.tolist()]
     tried: set[bytes] = set()
-    for cells in [_fan(ed, loop), _star(ed, loop), *_balls(ed, loop, points)]:
+    sets = [_fan(ed, loop), _star(ed, loop), *_balls(ed, loop, points)]
+    names = ["its edges", "its vertices", *(f"a ball of {f:.2g} times its radius" for f in BALL_RADII)]
+    for cells, around in zip(sets, names, strict=True):
         key = cells.tobytes()
         if len(cells) == 0 or key in tried:
             continue
@@ -300,7 +303,7 @@ def _try(ed: LabelEditor, local: _Local, feat: Feature, n: int, b0: int, points:
                 ed.flip(f)
             allc = np.unique(np.concatenate(flipped))
             changed = np.flatnonzero(cut0 != ed.cut)
-            return Cut(feat, allc, how, changed[cut0[changed]], changed[ed.cut[changed]], cost)
+            return Cut(feat, allc, how, changed[cut0[changed]], changed[ed.cut[changed]], cost, around)
     return None
 
 
