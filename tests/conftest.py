@@ -8,6 +8,7 @@ create their own ``Plotter(off_screen=True)``.
 
 from __future__ import annotations
 
+import contextlib
 import os
 
 import pytest
@@ -167,28 +168,53 @@ def _shared_reconstructions(request, monkeypatch):
 
 
 # ---------------------------------------------------------------- timed tests run alone under xdist
+#: Where a ``timing`` test finds this run's lock files (set in its setup, used around its call).
+_TIMING_LOCKS = pytest.StashKey[object]()
+
+
 @pytest.fixture(autouse=True)
 def _timed_tests_run_alone(request, tmp_path_factory):
-    """Under pytest-xdist, a test marked ``timing`` runs while no other worker runs a test.
+    """Under pytest-xdist, the call of a test marked ``timing`` runs while no other worker runs a test.
 
-    Every test holds a shared lock on a file of this run's base temporary
-    folder (common to the workers); a ``timing`` test takes it exclusively,
-    so it waits for the other worker's current test and the other worker
-    waits for it.  A gate lock, held while a test asks for the main lock,
-    keeps a waiting ``timing`` test from being starved.  Without xdist it
-    does nothing.
+    Every other test holds a shared lock on a file of this run's base temporary
+    folder (common to the workers) for its setup, call and teardown; a
+    ``timing`` test takes it exclusively for its call only (in
+    ``pytest_runtest_call`` below), so it waits for the other worker's current
+    test and the other worker waits for it.  Its setup (the window, a long
+    reconstruction of a module fixture) and teardown measure nothing and run
+    beside the other worker's tests.  A gate lock, held while a test asks for
+    the main lock, keeps a waiting ``timing`` test from being starved.
+    Without xdist it does nothing.
     """
     if os.environ.get("PYTEST_XDIST_WORKER") is None:
         yield
         return
+    folder = tmp_path_factory.getbasetemp().parent
+    if request.node.get_closest_marker("timing") is not None:
+        request.node.stash[_TIMING_LOCKS] = folder
+        yield
+        return
+    with _locked(folder, exclusive=False):
+        yield
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_call(item):
+    folder = item.stash.get(_TIMING_LOCKS, None)
+    if folder is None:
+        return (yield)
+    with _locked(folder, exclusive=True):
+        return (yield)
+
+
+@contextlib.contextmanager
+def _locked(folder, exclusive: bool):
     import fcntl
 
-    folder = tmp_path_factory.getbasetemp().parent
-    alone = request.node.get_closest_marker("timing") is not None
     with open(folder / "crustview-timing.gate", "a") as gate, open(folder / "crustview-timing.lock", "a") as lock:
         fcntl.flock(gate, fcntl.LOCK_EX)
-        fcntl.flock(lock, fcntl.LOCK_EX if alone else fcntl.LOCK_SH)
-        if not alone:
+        fcntl.flock(lock, fcntl.LOCK_EX if exclusive else fcntl.LOCK_SH)
+        if not exclusive:
             fcntl.flock(gate, fcntl.LOCK_UN)
         try:
             yield
