@@ -224,8 +224,14 @@ def _locked(folder, exclusive: bool):
 
 
 def pytest_collection_modifyitems(config, items):
-    """The readers' fuzz tests first: the longest tests start first on both xdist workers, and they run
-    before any window or reconstruction exists in the process, as they do in a serial run (in a worker that
-    had run GUI tests before, the PCD case with a 1,111,111-value field went over its 256 MiB and 5 s bounds).
+    """The readers' fuzz tests first, the ``timing`` tests last, otherwise collection order.
+
+    The fuzz tests run before any window or reconstruction exists in the process, as they do in a serial
+    run (in a worker that had run GUI tests before, the PCD case with a 1,111,111-value field went over its
+    256 MiB and 5 s bounds).  The ``timing`` tests' calls run while the other xdist worker waits: at the end,
+    that wait takes the place of the other worker's idle time after its last test (when pytest-xdist's
+    last chunks of tests end at different times), instead of adding to the run (about 5 s of a 200 s run
+    here).  The timing tests' module fixtures (``long_run``, ``fertility_run``) serve only them, so they
+    are still built once.
     """
-    items.sort(key=lambda item: item.get_closest_marker("fuzz") is None)  # stable: otherwise collection order
+    items.sort(key=lambda item: (not item.get_closest_marker("fuzz"), bool(item.get_closest_marker("timing"))))
