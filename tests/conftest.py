@@ -24,6 +24,27 @@ except ImportError:  # pragma: no cover
     pyvista = None
 
 
+def pytest_configure(config):
+    """Compile crustview's modules to ``__pycache__`` before the xdist workers and the command-line tests'
+    subprocesses (about 100) import them.
+
+    Where ``PYTHONDONTWRITEBYTECODE`` is set (as on this project's CI machines) nothing else writes them,
+    and on a fresh clone each of those processes compiled every module it imported (about 0.07 s each).
+    Compiling takes about 0.2 s; up-to-date files are skipped.
+    """
+    if hasattr(config, "workerinput"):  # an xdist worker: the controller has done it
+        return
+    import compileall
+    import importlib.util
+
+    spec = importlib.util.find_spec("crustview")
+    for folder in spec.submodule_search_locations if spec is not None else ():
+        try:
+            compileall.compile_dir(folder, quiet=2)
+        except OSError:  # a read-only install: the processes compile in memory, as before
+            pass
+
+
 @pytest.fixture(scope="session")
 def torus_run():
     """A real reconstruction of the built-in torus (closed, ~3k triangles)."""
