@@ -171,7 +171,8 @@ def _shared_reconstructions(request, monkeypatch):
     """In the GUI tests, the window's worker reconstructs each distinct input once per process.
 
     The GUI tests load the same built-ins again and again (the torus about 40
-    times); the reconstruction itself is the core tests' subject.  A repeat
+    times); the sampling and the reconstruction are the core tests' subject,
+    so each distinct seeded sample is drawn once per process too.  A repeat
     gets a shallow copy of the same ``Reconstruction`` (its arrays made
     read-only, so a viewer writing into one fails) after
     the first run's progress calls, replayed in the worker, so stages,
@@ -181,11 +182,39 @@ def _shared_reconstructions(request, monkeypatch):
     if not request.node.path.name.startswith("test_gui_") or request.node.get_closest_marker("fresh_runs"):
         yield
         return
+    from crustview.core.samples.sampling import TestManifold
     from crustview.qt import running
 
     monkeypatch.setattr(running, "reconstruct", _remembered(running.reconstruct))
     monkeypatch.setattr(running, "_quality", _remembered_quality(running._quality))
+    monkeypatch.setattr(TestManifold, "sample", _remembered_sample(TestManifold.sample))
     yield
+
+
+#: Per process: a built-in's seeded sample by its arguments (the GUI tests load the torus about 40 times).
+_SAMPLES: dict = {}
+
+
+def _remembered_sample(sample):
+    """``TestManifold.sample`` drawing each distinct seeded sample once; a repeat gets a copy of the first.
+
+    The copy is a new ``Sample`` holding the first one's arrays, made read-only (a viewer that wrote into
+    one would fail its test).  An unseeded sample (``seed=None``) is drawn every time.
+    """
+    import dataclasses
+
+    def draw(self, n, *, seed=0, **kwargs):
+        if seed is None:
+            return sample(self, n, seed=seed, **kwargs)
+        key = (self.name, n, seed, tuple(sorted(kwargs.items())))
+        if key not in _SAMPLES:
+            first = sample(self, n, seed=seed, **kwargs)
+            first.points.flags.writeable = False
+            first.tangents.flags.writeable = False
+            _SAMPLES[key] = first
+        return dataclasses.replace(_SAMPLES[key])
+
+    return draw
 
 
 # ---------------------------------------------------------------- timed tests run alone under xdist
