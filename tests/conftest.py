@@ -285,3 +285,26 @@ def pytest_collection_modifyitems(config, items):
     are still built once.
     """
     items.sort(key=lambda item: (not item.get_closest_marker("fuzz"), bool(item.get_closest_marker("timing"))))
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config, log):
+    """pytest-xdist's ``load`` scheduling, sending tests two at a time once half of them are left.
+
+    By default a worker that asks for more tests gets up to a quarter of those left, so near the end one
+    worker could hold a queue of some fifteen GUI tests while the other ran out of tests (and waited the
+    ``timing`` tests out) and went idle: 8-15 s of a 205-225 s run here.  Earlier chunks stay large, so
+    a module's tests (and its module fixtures) mostly stay on one worker.  An explicit
+    ``--maxschedchunk`` is left as given.
+    """
+    if config.getvalue("dist") != "load" or config.getoption("maxschedchunk") is not None:
+        return None
+    from xdist.scheduler import LoadScheduling
+
+    class EvenEnd(LoadScheduling):
+        def check_schedule(self, node, duration=0):
+            if self.collection is not None and len(self.pending) <= len(self.collection) // 2:
+                self.maxschedchunk = 2
+            super().check_schedule(node, duration)
+
+    return EvenEnd(config, log)
