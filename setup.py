@@ -13,8 +13,8 @@ Algorithm 1's greedy rounds, ``crustview.core.delaunay._segments`` and
 codimension 1 and 2, ``crustview.core.delaunay._literal`` its literal test on triangles,
 ``crustview.core.delaunay._centres`` the simplices' circumcentres and
 ``crustview.core.paper._prune`` Algorithm 3's loop, ``crustview.core.analysis._components``
-graph components and ``crustview.core.analysis._paths`` the loop basis's shortest-path
-trees; without them numpy, scipy and Python do the same.
+graph components, ``crustview.core.analysis._spacing`` the local spacing's enclosing radii
+and ``crustview.core.analysis._paths`` the loop basis's shortest-path trees; without them numpy, scipy and Python do the same.
 """
 
 from setuptools import Extension, setup
@@ -88,6 +88,14 @@ setup(
             sources=["crustview/core/analysis/_components.cpp"],
             language="c++",
             extra_compile_args=FLAGS,
+            optional=True,
+        ),
+        Extension(  # no third-party headers: the local spacing's enclosing radii (core/analysis/features.py)
+            "crustview.core.analysis._spacing",
+            sources=["crustview/core/analysis/_spacing.cpp"],
+            language="c++",
+            extra_compile_args=FLAGS,
+            extra_link_args=["-pthread"],
             optional=True,
         ),
         Extension(  # no third-party headers: shortest-path trees on two threads (core/analysis/loops.py)

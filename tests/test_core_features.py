@@ -10,6 +10,7 @@ from crustview.core.analysis.features import (
     GAP_MIN,
     LOOP_MIN,
     disagreement,
+    enclosing_cover,
     enclosing_radii,
     features,
     local_spacing,
@@ -41,6 +42,32 @@ def test_enclosing_radius_on_paper():
     p = np.array([[0, 0, 0], [1, 0, 0], [0.5, math.sqrt(3) / 2, 0], [0.5, 0.05, 0]], float)
     r = enclosing_radii(p, np.array([[0, 1, 2], [0, 1, 3]]))
     assert np.allclose(r, [1 / math.sqrt(3), 0.5])
+
+
+def test_compiled_enclosing_cover_matches_numpy_on_paper_and_on_a_noisy_torus():
+    """The compiled largest-radius-per-sample equals numpy's to rounding; 0 at a sample in no simplex."""
+    p = np.array([[0, 0, 0], [1, 0, 0], [0.5, math.sqrt(3) / 2, 0], [0.5, 0.05, 0], [9, 9, 9]], float)
+    tris = np.array([[0, 1, 2], [0, 1, 3]])
+    cover = enclosing_cover(p, tris)
+    assert np.allclose(cover, [1 / math.sqrt(3)] * 3 + [0.5, 0.0], rtol=1e-14, atol=0)
+    rng = np.random.default_rng(5)
+    pts, tris = _torus_mesh(400, 80)  # 64,000 triangles: the two-thread split
+    pts = pts + rng.normal(scale=0.003, size=pts.shape)
+    for simplices in (tris, tris[:, :2], np.c_[tris, (tris[:, 0] + 1) % len(pts)]):  # d = 2, 1, 3
+        fast = enclosing_cover(pts, simplices)
+        slow = enclosing_cover(pts, simplices, compiled=False)
+        assert fast.flags.writeable and (fast > 0).all()
+        assert np.allclose(fast, slow, rtol=1e-12, atol=0)
+
+
+def test_local_spacing_of_samples_in_no_simplex_is_their_nearest_neighbour():
+    """Covered samples get their largest enclosing radius, the others their nearest-neighbour distance."""
+    p = np.array([[0, 0, 0], [1, 0, 0], [0.5, math.sqrt(3) / 2, 0], [5, 0, 0], [5, 0.25, 0]], float)
+    h = local_spacing(p, np.array([[0, 1, 2]]))
+    assert np.allclose(h, [1 / math.sqrt(3)] * 3 + [0.25, 0.25])
+    q = np.r_[p, p[3:4]]  # a duplicate of an uncovered sample: the median positive distance, 1 (of 1, 1, 1, 0.25)
+    h = local_spacing(q, np.array([[0, 1, 2]]))
+    assert np.allclose(h, [1 / math.sqrt(3)] * 3 + [1.0, 0.25, 1.0])
 
 
 def test_torus_loops_are_its_two_circles():

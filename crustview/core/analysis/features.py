@@ -55,6 +55,11 @@ from scipy.spatial import cKDTree
 
 from .loops import short_basis
 
+try:
+    from . import _spacing
+except ImportError:  # pragma: no cover - the extension is optional
+    _spacing = None
+
 #: Shortest loop (in local spacings) that an eps < 1 sample can resolve: 2 pi (see the module text).
 LOOP_MIN = 2 * math.pi
 #: Shortest loop (in local spacings) that an eps = 1/2 sample resolves: 2 pi / eps.  A handle whose loop
@@ -128,15 +133,37 @@ def local_spacing(points: np.ndarray, simplices: np.ndarray | None = None) -> np
     n = len(points)
     if n < 2:
         return np.ones(n)
+    if simplices is not None and len(simplices):
+        cover = enclosing_cover(points, simplices)
+        bare = np.flatnonzero(cover <= 0)
+        if len(bare) == 0:  # every sample covered: no nearest-neighbour distance is needed
+            return cover
+        dist = cKDTree(points).query(points[bare], k=2)[0][:, 1]
+        if (dist <= 0).any():  # a duplicate: its fallback is the median over every sample
+            return np.where(cover > 0, cover, local_spacing(points))
+        cover[bare] = dist
+        return cover
     dist = cKDTree(points).query(points, k=2)[0][:, 1]
-    h = np.where(dist > 0, dist, np.median(dist[dist > 0]) if (dist > 0).any() else 1.0)
-    if simplices is None or len(simplices) == 0:
-        return h
-    simplices = np.asarray(simplices, dtype=np.int64)
+    return np.where(dist > 0, dist, np.median(dist[dist > 0]) if (dist > 0).any() else 1.0)
+
+
+def enclosing_cover(points: np.ndarray, simplices: np.ndarray, compiled: bool = True) -> np.ndarray:
+    """The largest :func:`enclosing_radii` of the simplices at each sample, 0 at a sample in none.
+
+    The compiled ``_spacing.cover`` computes it on two threads; its
+    circumradii solve the same Gram system by Cramer's rule instead of
+    LAPACK, so they agree with the numpy code (``compiled=False``, the
+    reference) to rounding, not bit for bit.
+    """
+    points = np.ascontiguousarray(points, dtype=float)
+    simplices = np.ascontiguousarray(simplices, dtype=np.int64)
+    n = len(points)
+    if compiled and _spacing is not None and points.ndim == 2 and simplices.ndim == 2 and simplices.shape[1] >= 2:
+        return np.frombuffer(_spacing.cover(points, points.shape[1], simplices, simplices.shape[1]), dtype=float).copy()
     r = enclosing_radii(points, simplices)
     cover = np.zeros(n)
     np.maximum.at(cover, simplices.ravel(), np.repeat(r, simplices.shape[1]))
-    return np.where(cover > 0, cover, h)
+    return cover
 
 
 def enclosing_radii(points: np.ndarray, simplices: np.ndarray) -> np.ndarray:
