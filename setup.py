@@ -14,7 +14,8 @@ codimension 1 and 2, ``crustview.core.delaunay._literal`` its literal test on tr
 ``crustview.core.delaunay._centres`` the simplices' circumcentres and
 ``crustview.core.paper._prune`` Algorithm 3's loop, ``crustview.core.analysis._components``
 graph components, ``crustview.core.analysis._spacing`` the local spacing's enclosing radii
-and ``crustview.core.analysis._paths`` the loop basis's shortest-path trees; without them numpy, scipy and Python do the same.
+and ``crustview.core.analysis._paths`` the loop basis's shortest-path trees; without them
+numpy, scipy and Python do the same.
 """
 
 from setuptools import Extension, setup
