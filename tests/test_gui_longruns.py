@@ -112,7 +112,11 @@ def test_playing_one_rule_visits_only_its_steps(qtbot, window):
     player.play()
     qtbot.waitUntil(lambda: len(seen) >= 3, timeout=5000)
     player.pause()
-    assert seen == want[: len(seen)]
+    # a frame that comes late (a loaded machine) applies the steps owed since the last one and draws
+    # only the last of them: every step drawn is one of the rule's, and every step of the rule up to
+    # the last drawn was applied, none of another rule's
+    assert set(seen) <= set(want)
+    assert player.applied == want.index(seen[-1]) + 1
     assert all(rec.extraction.steps[i - 1].rule == rule for i in seen)
     panel.only_rule.setChecked(False)
     assert player.rule is None
