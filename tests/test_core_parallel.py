@@ -40,7 +40,8 @@ def test_chunks_and_threads_give_the_serial_result(monkeypatch, name, n):
 
 
 @pytest.mark.parametrize("native", [True, False])
-@pytest.mark.parametrize("k,d,n", [(3, 2, 3000), (4, 2, 500), (4, 1, 500), (5, 2, 150)])
+# (5, 4, 300): the compiled sort's other vertices need more than 32 bits (300^4), so it sorts pairs
+@pytest.mark.parametrize("k,d,n", [(3, 2, 3000), (4, 2, 500), (4, 1, 500), (5, 2, 150), (5, 4, 300)])
 def test_enumerate_faces_matches_a_plain_stable_sort(k, d, n, native, monkeypatch):
     # by the compiled _faces (int32 simplices) or by numpy: the (d+1)-subsets of
     # every simplex whose vertices are samples, grouped, each face's simplices
@@ -192,12 +193,46 @@ def test_codimension_2_vertex_pass_compiled_equals_numpy_bit_for_bit(monkeypatch
     monkeypatch.setattr(cand, "_native_cellpass", None)
     plain = [cand.cocone_angles(work, normals, c, f, p, cs, simplices=simp, workers=1) for c, f, p in cases]
     assert all(np.array_equal(a, b) for a, b in zip(native, plain))
+    # the cells' edges listed by numpy instead of the compiled cell_edges: the same scores again
+    from crustview.core.paper import dualcells
+
+    monkeypatch.setattr(dualcells, "_native", None)
+    assert all(
+        np.array_equal(a, cand.cocone_angles(work, normals, c, f, p, cs, simplices=simp, workers=1))
+        for a, (c, f, p) in zip(plain, cases)
+    )
     from crustview.core.delaunay import _cellpass
 
     with pytest.raises(ValueError, match="outside"):
         _cellpass.cellpass(
             work, normals, centres, np.full((1, 3), 10**9, dtype=np.int64), np.zeros((1, 4), np.int64), 4, 2, 3, 4
         )
+    sq = np.zeros(faces.shape)
+    with pytest.raises(ValueError, match="outside"):
+        _cellpass.cellpass_rows(work, normals, centres, faces, ptr, cs, np.array([len(faces)]), sq, 4, 2, 3, 4, 0.5)
+
+
+def test_dual_cell_edges_compiled_equal_numpy_on_paper_and_on_the_klein_bottle():
+    from crustview.core.paper.dualcells import cell_structure, native_edges
+
+    # by hand: the triangle (0, 1, 2) in R^4 with three simplices around it; s0 = 01234 and s1 = 01245
+    # share 0124, s1 and s2 = 01235 share 0125, s0 and s2 share 0123.  Listed by the vertex kept (3, 4, 5),
+    # then by the position dropped among the two others, then by cell vertex.
+    face = np.array([[0, 1, 2]])
+    simp = np.array([[0, 1, 2, 3, 4], [4, 0, 1, 2, 5], [0, 1, 2, 5, 3]], dtype=np.int32)
+    cells = np.array([[0, 1, 2]])
+    want = [[0, 0, 2], [0, 0, 1], [0, 1, 2]]
+    assert cell_structure(face, simp[cells], 6, 2)[0].tolist() == want
+    assert native_edges(face, simp, cells).tolist() == want
+    # every cell of a sampled Klein bottle (codimension 2), by cell size
+    work, normals, centres, faces, ptr, cs, simp = _stage_inputs("flat-klein", 400)
+    sizes = np.diff(ptr)
+    for nv in np.unique(sizes):
+        rows = np.flatnonzero(sizes == nv)
+        ids = cs[ptr[rows][:, None] + np.arange(nv)]
+        edges = native_edges(faces[rows], simp, ids)
+        assert np.array_equal(edges, cell_structure(faces[rows], simp[ids], len(work), 2)[0])
+        assert len(edges) == nv * len(rows)  # a polygon of nv vertices has nv edges
 
 
 @pytest.mark.parametrize("name,n", [("torus", 600), ("flat-klein", 400), ("torus-r5", 120)])

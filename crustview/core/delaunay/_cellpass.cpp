@@ -15,6 +15,13 @@
 // einsum over the cell axis do; no fused multiply-add: -ffp-contract=off in
 // setup.py), so the scores are the same bit for bit.  The GIL is released:
 // the thread pool of crustview.core.util.parallel runs two chunks at once.
+//
+// cellpass_rows() does the same for rows of the whole face list, reading the
+// faces and cells itself and writing the chunk's scores (the numpy gathers
+// and the bookkeeping of crustview.core.paper.cocone2 held the GIL: a third
+// of the pass).  cell_edges() lists the edges of two-dimensional dual cells
+// for the exact step, as crustview.core.paper.dualcells.cell_structure does
+// (integers only: the same rows in the same order).
 // No third-party code.
 
 #define PY_SSIZE_T_CLEAN
@@ -196,6 +203,194 @@ PyObject* cellpass(PyObject* /*self*/, PyObject* args) {
     return Py_BuildValue("NN", best, lean);
 }
 
+// cellpass_rows: the same pass for the faces rows[] of the whole face list, gathering their
+// vertices and cells itself (cells[i] = cell_simplices[cell_ptr[row] + c]) and finishing the
+// chunk as crustview.core.paper.cocone2 did in numpy: sq[row, a] = lean^2 where lean >= sin_lim
+// (the certificate holds), else best; the pairs left for the exact step are returned vertex
+// position by vertex position, each in the order of rows[].
+PyObject* cellpass_rows(PyObject* /*self*/, PyObject* args) {
+    Py_buffer work, normals, centres, faces, ptr, owners, rows, sq;
+    int r = 0, m = 0, w = 0, nv = 0;
+    double sin_lim = 0.0;
+    if (!PyArg_ParseTuple(args, "y*y*y*y*y*y*y*w*iiiid", &work, &normals, &centres, &faces, &ptr, &owners, &rows,
+                          &sq, &r, &m, &w, &nv, &sin_lim)) {
+        return nullptr;
+    }
+    Py_buffer* bufs[] = {&work, &normals, &centres, &faces, &ptr, &owners, &rows, &sq};
+    const auto release = [&] {
+        for (Py_buffer* b : bufs) PyBuffer_Release(b);
+    };
+    const Py_ssize_t row = 8 * static_cast<Py_ssize_t>(r);
+    const Py_ssize_t f_all = w > 0 ? faces.len / (8 * static_cast<Py_ssize_t>(w)) : 0;
+    const Py_ssize_t count = rows.len / 8;
+    const bool shapes = r >= 1 && m >= 1 && w >= 1 && nv >= 1 && faces.len == f_all * w * 8 &&
+                        ptr.len == (f_all + 1) * 8 && owners.len % 4 == 0 && rows.len % 8 == 0 &&
+                        sq.len == f_all * w * 8 && work.len % row == 0 && normals.len % (row * m) == 0 &&
+                        centres.len % row == 0;
+    if (!shapes) {
+        release();
+        PyErr_SetString(PyExc_ValueError,
+                        "expected float64 work, normals and centres, int64 faces (f x w) and pointers (f + 1), "
+                        "int32 owners, int64 rows and a writable float64 (f x w) output");
+        return nullptr;
+    }
+    const auto* fa = static_cast<const std::int64_t*>(faces.buf);
+    const auto* pa = static_cast<const std::int64_t*>(ptr.buf);
+    const auto* oa = static_cast<const std::int32_t*>(owners.buf);
+    const auto* ra = static_cast<const std::int64_t*>(rows.buf);
+    const std::int64_t n_owners = owners.len / 4;
+    std::vector<std::int64_t> fc(static_cast<std::size_t>(count) * w), cells(static_cast<std::size_t>(count) * nv);
+    bool bad = false;
+    for (Py_ssize_t i = 0; i < count && !bad; ++i) {
+        const std::int64_t q = ra[i];
+        bad = q < 0 || q >= f_all || pa[q] < 0 || pa[q] + nv > n_owners;
+        if (bad) break;
+        for (int a = 0; a < w; ++a) fc[static_cast<std::size_t>(i) * w + a] = fa[q * w + a];
+        for (int c = 0; c < nv; ++c) cells[static_cast<std::size_t>(i) * nv + c] = oa[pa[q] + c];
+    }
+    const std::int64_t n_rows = normals.len / (row * m), t_rows = centres.len / row, w_rows = work.len / row;
+    for (std::size_t i = 0; i < fc.size() && !bad; ++i) bad = fc[i] < 0 || fc[i] >= std::min(n_rows, w_rows);
+    for (std::size_t i = 0; i < cells.size() && !bad; ++i) bad = cells[i] < 0 || cells[i] >= t_rows;
+    if (bad) {
+        release();
+        PyErr_SetString(PyExc_ValueError, "a row, face or cell names an entry outside its array");
+        return nullptr;
+    }
+    Inputs in{static_cast<const double*>(work.buf),
+              static_cast<const double*>(normals.buf),
+              static_cast<const double*>(centres.buf),
+              fc.data(),
+              cells.data(),
+              static_cast<std::int64_t>(count),
+              r,
+              m,
+              w,
+              nv};
+    std::vector<double> best(static_cast<std::size_t>(count) * w), lean(static_cast<std::size_t>(count) * w);
+    std::vector<std::int64_t> left_rows;
+    std::vector<std::int8_t> left_pos;
+    auto* out = static_cast<double*>(sq.buf);
+    Py_BEGIN_ALLOW_THREADS
+    score_any(in, best.data(), lean.data());
+    for (Py_ssize_t i = 0; i < count; ++i) {
+        for (int a = 0; a < w; ++a) {
+            const std::size_t at = static_cast<std::size_t>(i) * w + a;
+            out[ra[i] * w + a] = lean[at] >= sin_lim ? lean[at] * lean[at] : best[at];
+        }
+    }
+    for (int a = 0; a < w; ++a) {
+        for (Py_ssize_t i = 0; i < count; ++i) {
+            if (!(lean[static_cast<std::size_t>(i) * w + a] >= sin_lim)) {
+                left_rows.push_back(ra[i]);
+                left_pos.push_back(static_cast<std::int8_t>(a));
+            }
+        }
+    }
+    Py_END_ALLOW_THREADS
+    release();
+    const Py_ssize_t n_left = static_cast<Py_ssize_t>(left_rows.size());
+    PyObject* lr = PyByteArray_FromStringAndSize(reinterpret_cast<const char*>(left_rows.data()), n_left * 8);
+    PyObject* lp = PyByteArray_FromStringAndSize(reinterpret_cast<const char*>(left_pos.data()), n_left);
+    if (lr == nullptr || lp == nullptr) {
+        Py_XDECREF(lr);
+        Py_XDECREF(lp);
+        return nullptr;
+    }
+    return Py_BuildValue("NN", lr, lp);
+}
+
+// cell_edges: the edges of two-dimensional dual cells (codimension 2), as
+// crustview.core.paper.dualcells.cell_structure lists them in numpy.  Cell
+// simplices i and j of face f are joined when they share the facet f + u,
+// u one of the two vertices of each outside f.  The numpy code sorts the
+// instances (f, the vertex kept, q, i), q the position dropped among the two
+// sorted others, stably, and pairs neighbours with the same (f, kept vertex);
+// this does the same per face.  Integers only: the same edges in the same order.
+PyObject* cell_edges(PyObject* /*self*/, PyObject* args) {
+    Py_buffer faces, simplices, cells;
+    int w = 0, width = 0, nv = 0;
+    if (!PyArg_ParseTuple(args, "y*y*y*iii", &faces, &simplices, &cells, &w, &width, &nv)) {
+        return nullptr;
+    }
+    const auto release = [&] {
+        PyBuffer_Release(&faces);
+        PyBuffer_Release(&simplices);
+        PyBuffer_Release(&cells);
+    };
+    const Py_ssize_t count = w > 0 ? faces.len / (8 * static_cast<Py_ssize_t>(w)) : 0;
+    if (w < 1 || width != w + 2 || width > 16 || nv < 1 || faces.len != count * w * 8 ||
+        simplices.len % (4 * static_cast<Py_ssize_t>(width)) != 0 || cells.len != count * nv * 8) {
+        release();
+        PyErr_SetString(PyExc_ValueError,
+                        "expected int64 faces (F x w), int32 simplices of w + 2 vertices and int64 cells (F x nv)");
+        return nullptr;
+    }
+    const auto* fa = static_cast<const std::int64_t*>(faces.buf);
+    const auto* sa = static_cast<const std::int32_t*>(simplices.buf);
+    const auto* ca = static_cast<const std::int64_t*>(cells.buf);
+    const std::int64_t t = simplices.len / (4 * width);
+    struct Inst {
+        std::int64_t kept;
+        int q, v;
+    };
+    std::vector<std::int64_t> edges;
+    bool bad = false;
+    Py_BEGIN_ALLOW_THREADS
+    std::vector<Inst> inst(static_cast<std::size_t>(nv) * 2);
+    for (Py_ssize_t f = 0; f < count && !bad; ++f) {
+        const std::int64_t* face = fa + f * w;
+        for (int v = 0; v < nv && !bad; ++v) {
+            const std::int64_t id = ca[f * nv + v];
+            if (id < 0 || id >= t) {
+                bad = true;
+                break;
+            }
+            std::int64_t others[2];
+            int at = 0;
+            for (int c = 0; c < width; ++c) {
+                const std::int64_t u = sa[id * width + c];
+                bool in_face = false;
+                for (int a = 0; a < w; ++a) in_face = in_face || u == face[a];
+                if (!in_face) {
+                    if (at == 2) {
+                        bad = true;
+                        break;
+                    }
+                    others[at++] = u;
+                }
+            }
+            if (bad || at != 2) {
+                bad = true;
+                break;
+            }
+            if (others[1] < others[0]) std::swap(others[0], others[1]);
+            inst[static_cast<std::size_t>(2 * v)] = {others[1], 0, v};  // q = 0 drops others[0]
+            inst[static_cast<std::size_t>(2 * v + 1)] = {others[0], 1, v};
+        }
+        if (bad) break;
+        std::sort(inst.begin(), inst.end(), [](const Inst& a, const Inst& b) {
+            if (a.kept != b.kept) return a.kept < b.kept;
+            if (a.q != b.q) return a.q < b.q;
+            return a.v < b.v;
+        });
+        for (std::size_t i = 0; i + 1 < inst.size(); ++i) {
+            if (inst[i].kept == inst[i + 1].kept) {
+                edges.push_back(f);
+                edges.push_back(inst[i].v);
+                edges.push_back(inst[i + 1].v);
+            }
+        }
+    }
+    Py_END_ALLOW_THREADS
+    release();
+    if (bad) {
+        PyErr_SetString(PyExc_ValueError, "a cell names a simplex outside the table, or one without its face");
+        return nullptr;
+    }
+    return PyByteArray_FromStringAndSize(reinterpret_cast<const char*>(edges.data()),
+                                         static_cast<Py_ssize_t>(edges.size()) * 8);
+}
+
 PyMethodDef methods[] = {
     {"cellpass", cellpass, METH_VARARGS,
      "cellpass(work, normals, centres, faces, cells, r, m, w, nv) -> (best, lean)\n\n"
@@ -204,6 +399,18 @@ PyMethodDef methods[] = {
      "smallest sin^2 of the angle between c - s and AT_s over the cell's\n"
      "vertices, and the one-sided lower bound of sin over the cell (mean\n"
      "direction, no refinement); float64 (f x w) bytearrays."},
+    {"cellpass_rows", cellpass_rows, METH_VARARGS,
+     "cellpass_rows(work, normals, centres, faces, cell_ptr, owners, rows, sq, r, m, w, nv, sin_lim)\n"
+     "-> (left_rows, left_pos)\n\n"
+     "cellpass on the faces rows[] (int64) of the whole list, cells read from the\n"
+     "int32 owners through the int64 pointers; writes sq[row] (lean^2 where\n"
+     "lean >= sin_lim, else the vertex minimum) and returns the pairs left, as\n"
+     "int64 rows and int8 vertex positions, position by position."},
+    {"cell_edges", cell_edges, METH_VARARGS,
+     "cell_edges(faces, simplices, cells, w, width, nv) -> edges\n\n"
+     "Edges (face, i, j) of the two-dimensional dual cells of int64 faces (F x w),\n"
+     "cells[f] (int64 F x nv) naming int32 simplices of width = w + 2 vertices,\n"
+     "in the order of dualcells.cell_structure; an int64 (E x 3) bytearray."},
     {nullptr, nullptr, 0, nullptr},
 };
 

@@ -21,7 +21,8 @@
 // faces(): any codimension, from the simplices alone.  Every (d+1)-subset of
 // every simplex whose vertices are samples is one record (key as above, the
 // simplex), sorted stably by key, so each face's simplices come in
-// increasing order, as numpy's stable argsort of the instances gives them.
+// increasing order, as numpy's stable argsort of the instances gives them
+// (grouped by lowest vertex first, then sorted per group: see instances()).
 //
 // From 2**20 records the instances and the sort run on two threads with the
 // GIL released, in a way that gives the one-thread order exactly.
@@ -33,6 +34,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -197,9 +199,9 @@ PyObject* facets(PyObject* /*self*/, PyObject* args) {
     return Py_BuildValue("NNNn", out[0], out[1], out[2], count);
 }
 
-std::vector<Instance> instances(const std::int32_t* simp, std::int64_t t, int w, int fw, std::int64_t n,
-                                long long threaded) {
-    // the (fw)-subsets of positions 0..w-1 in lexicographic order, as bit masks
+// The face masks of a w-vertex simplex with fw vertices, in lexicographic order of
+// the chosen positions (the order of itertools.combinations).
+std::vector<unsigned> face_masks(int w, int fw) {
     std::vector<unsigned> combos;
     for (unsigned mask = 0; mask < (1u << w); ++mask) {
         if (__builtin_popcount(mask) == fw) combos.push_back(mask);
@@ -211,36 +213,140 @@ std::vector<Instance> instances(const std::int32_t* simp, std::int64_t t, int w,
         }
         return false;
     });
-    // simplices [lo, hi) in order; a large triangulation's second half on another thread, appended after
-    const auto range = [&](std::int64_t lo, std::int64_t hi, std::vector<Instance>& out) {
-        out.reserve(static_cast<std::size_t>(hi - lo) * combos.size());
+    return combos;
+}
+
+// Every face instance of the sample faces, grouped by the face's lowest vertex
+// (a counting sort: bucket v holds its instances in increasing simplex order),
+// then each bucket sorted by (key, simplex), which is the stable order by key.
+// A bucket is a few thousand instances (the simplices around one sample), so
+// its sort stays in cache, where a radix sort of all instances scatters every
+// pass over the whole array.  Two threads: each fills its half of the
+// simplices into its own part of each bucket (the first half's part first),
+// then sorts and writes out the buckets of half of the instances; the arrays
+// are the one-thread arrays.
+struct Grouped {
+    std::unique_ptr<Instance[]> inst;  // sorted
+    std::int64_t total = 0;
+    int parts = 1;
+    std::int64_t first_v[3] = {0, 0, 0};   // each part's buckets [first_v[p], first_v[p + 1])
+    std::int64_t first_i[3] = {0, 0, 0};   // and instances
+    std::int64_t distinct[2] = {0, 0};     // distinct faces in each part
+};
+
+template <typename Body>
+void in_parts(int parts, Body&& body) {  // body(part) on each part, the second on its own thread
+    if (parts == 1) {
+        body(0);
+        return;
+    }
+    std::thread other([&] { body(1); });
+    body(0);
+    other.join();
+}
+
+Grouped group_instances(const std::int32_t* simp, std::int64_t t, int w, int fw, std::int64_t n, long long threaded) {
+    const std::vector<unsigned> combos = face_masks(w, fw);
+    Grouped g;
+    g.parts = t >= 2 && static_cast<long long>(t * combos.size()) >= threaded ? 2 : 1;
+    const int parts = g.parts;
+    const std::int64_t split[3] = {0, parts == 2 ? t / 2 : t, t};
+    std::vector<int> low_pos(combos.size()), high_pos(combos.size());
+    for (std::size_t q = 0; q < combos.size(); ++q) {  // in the sorted row: the face's lowest and highest vertex
+        low_pos[q] = __builtin_ctz(combos[q]);
+        high_pos[q] = 31 - __builtin_clz(combos[q]);
+    }
+    const auto sorted_row = [&](std::int64_t i, std::int64_t* row) {
+        for (int c = 0; c < w; ++c) row[c] = simp[i * w + c];
+        std::sort(row, row + w);
+    };
+    const std::size_t nb = static_cast<std::size_t>(n);
+    std::vector<std::int64_t> count[2] = {std::vector<std::int64_t>(nb, 0), std::vector<std::int64_t>(parts == 2 ? nb : 0, 0)};
+    in_parts(parts, [&](int part) {
+        std::vector<std::int64_t>& c = count[part];
         std::int64_t row[8];
-        for (std::int64_t i = lo; i < hi; ++i) {
-            for (int c = 0; c < w; ++c) row[c] = simp[i * w + c];
-            std::sort(row, row + w);
-            for (unsigned mask : combos) {
-                std::int64_t key = 0, last = 0;
-                for (int c = 0; c < w; ++c) {
-                    if ((mask >> c) & 1u) {
-                        key = key * n + row[c];
-                        last = row[c];
-                    }
-                }
-                if (last < n) out.push_back({key, static_cast<std::int32_t>(i)});
+        for (std::int64_t i = split[part]; i < split[part + 1]; ++i) {
+            sorted_row(i, row);
+            for (std::size_t q = 0; q < combos.size(); ++q) {
+                if (row[high_pos[q]] < n) ++c[static_cast<std::size_t>(row[low_pos[q]])];
             }
         }
-    };
-    std::vector<Instance> out;
-    if (t < 2 || static_cast<long long>(t * combos.size()) < threaded) {
-        range(0, t, out);
-        return out;
+    });
+    std::vector<std::int64_t> bucket(nb + 1);  // bucket v: part 0's instances, then part 1's
+    std::int64_t at = 0;
+    for (std::size_t v = 0; v < nb; ++v) {
+        bucket[v] = at;
+        for (int part = 0; part < parts; ++part) {
+            const std::int64_t here = count[part][v];
+            count[part][v] = at;
+            at += here;
+        }
     }
-    std::vector<Instance> second;
-    std::thread other([&] { range(t / 2, t, second); });
-    range(0, t / 2, out);
-    other.join();
-    out.insert(out.end(), second.begin(), second.end());
-    return out;
+    bucket[nb] = at;
+    g.total = at;
+    g.inst.reset(new Instance[static_cast<std::size_t>(at > 0 ? at : 1)]);  // not zeroed: every slot is written
+    Instance* out = g.inst.get();
+    in_parts(parts, [&](int part) {
+        std::vector<std::int64_t>& c = count[part];
+        std::int64_t row[8];
+        for (std::int64_t i = split[part]; i < split[part + 1]; ++i) {
+            sorted_row(i, row);
+            for (std::size_t q = 0; q < combos.size(); ++q) {
+                if (row[high_pos[q]] >= n) continue;
+                std::int64_t key = 0;
+                for (int k = 0; k < w; ++k) {
+                    if ((combos[q] >> k) & 1u) key = key * n + row[k];
+                }
+                out[c[static_cast<std::size_t>(row[low_pos[q]])]++] = {key, static_cast<std::int32_t>(i)};
+            }
+        }
+    });
+    // the parts' buckets: split where half of the instances are done
+    std::size_t mid = 0;
+    while (mid < nb && bucket[mid] < at / 2) ++mid;
+    g.first_v[1] = parts == 2 ? static_cast<std::int64_t>(mid) : n;
+    g.first_v[2] = n;
+    for (int p = 0; p < 3; ++p) g.first_i[p] = bucket[static_cast<std::size_t>(g.first_v[p])];
+    // within a bucket the key's first digit is the bucket: (rest of the key, simplex) packed in one
+    // word sorts as (key, simplex) when the rest fits 32 bits
+    std::int64_t lead = 1;
+    bool packed = true;
+    for (int c = 1; c < fw && packed; ++c) {
+        packed = lead <= (std::int64_t{1} << 32) / n;
+        lead *= n;
+    }
+    packed = packed && lead <= (std::int64_t{1} << 32);
+    in_parts(parts, [&](int part) {
+        std::vector<std::uint64_t> words;
+        std::int64_t distinct = 0;
+        for (std::int64_t v = g.first_v[part]; v < g.first_v[part + 1]; ++v) {
+            Instance* lo = out + bucket[static_cast<std::size_t>(v)];
+            Instance* hi = out + bucket[static_cast<std::size_t>(v) + 1];
+            const std::size_t size = static_cast<std::size_t>(hi - lo);
+            if (packed) {
+                const std::int64_t base = v * lead;
+                words.resize(size);
+                for (std::size_t i = 0; i < size; ++i) {
+                    words[i] = (static_cast<std::uint64_t>(lo[i].key - base) << 32) |
+                               static_cast<std::uint32_t>(lo[i].simplex);
+                }
+                std::sort(words.begin(), words.end());
+                for (std::size_t i = 0; i < size; ++i) {
+                    lo[i] = {base + static_cast<std::int64_t>(words[i] >> 32),
+                             static_cast<std::int32_t>(words[i] & 0xFFFFFFFFu)};
+                }
+            } else {
+                std::sort(lo, hi, [](const Instance& a, const Instance& b) {
+                    return a.key != b.key ? a.key < b.key : a.simplex < b.simplex;
+                });
+            }
+            for (std::size_t i = 0; i < size; ++i) {
+                if (i == 0 || lo[i].key != lo[i - 1].key) ++distinct;
+            }
+        }
+        g.distinct[part] = distinct;
+    });
+    return g;
 }
 
 PyObject* faces(PyObject* /*self*/, PyObject* args) {
@@ -257,35 +363,34 @@ PyObject* faces(PyObject* /*self*/, PyObject* args) {
         return nullptr;
     }
     const std::int64_t t = simp_buf.len / (static_cast<Py_ssize_t>(w) * 4);
-    std::vector<Instance> recs;
-    Py_ssize_t distinct = 0;
+    Grouped g;
     Py_BEGIN_ALLOW_THREADS
-    recs = instances(static_cast<const std::int32_t*>(simp_buf.buf), t, w, fw, n, threaded);
-    radix_sort(recs, threaded);
-    for (std::size_t i = 0; i < recs.size(); ++i) {
-        if (i == 0 || recs[i].key != recs[i - 1].key) ++distinct;
-    }
+    g = group_instances(static_cast<const std::int32_t*>(simp_buf.buf), t, w, fw, n, threaded);
     Py_END_ALLOW_THREADS
     PyBuffer_Release(&simp_buf);
-    const Py_ssize_t total = static_cast<Py_ssize_t>(recs.size());
+    const Py_ssize_t total = static_cast<Py_ssize_t>(g.total);
+    const Py_ssize_t distinct = static_cast<Py_ssize_t>(g.distinct[0] + g.distinct[1]);
     PyObject* out[3];
     if (!face_outputs(distinct * fw * 8, (distinct + 1) * 8, total * 4, out)) return nullptr;
     auto* f = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out[0]));
     auto* p = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out[1]));
     auto* o = reinterpret_cast<std::int32_t*>(PyByteArray_AS_STRING(out[2]));
+    const Instance* recs = g.inst.get();
     Py_BEGIN_ALLOW_THREADS
-    Py_ssize_t at = 0;
-    for (Py_ssize_t i = 0; i < total; ++i) {
-        const Instance& rec = recs[static_cast<std::size_t>(i)];
-        o[i] = rec.simplex;
-        if (i > 0 && rec.key == recs[static_cast<std::size_t>(i - 1)].key) continue;
-        std::int64_t key = rec.key;
-        for (int c = fw - 1; c >= 0; --c) {
-            f[at * fw + c] = key % n;
-            key /= n;
+    in_parts(g.parts, [&](int part) {  // part 1's faces follow part 0's
+        Py_ssize_t at = part == 0 ? 0 : static_cast<Py_ssize_t>(g.distinct[0]);
+        for (std::int64_t i = g.first_i[part]; i < g.first_i[part + 1]; ++i) {
+            const Instance& rec = recs[i];
+            o[i] = rec.simplex;
+            if (i > g.first_i[part] && rec.key == recs[i - 1].key) continue;
+            std::int64_t key = rec.key;
+            for (int c = fw - 1; c >= 0; --c) {
+                f[at * fw + c] = key % n;
+                key /= n;
+            }
+            p[at++] = i;
         }
-        p[at++] = i;
-    }
+    });
     p[distinct] = total;
     Py_END_ALLOW_THREADS
     return Py_BuildValue("NNNn", out[0], out[1], out[2], distinct);

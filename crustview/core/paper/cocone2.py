@@ -99,8 +99,21 @@ def codim2_scores(
     arrays = tuple(np.ascontiguousarray(a) for a in (work, normals, centres))
     sq = np.zeros((f, w))  # sin^2 of the scores until the end
 
+    # the compiled pass also gathers the chunk's faces and cells and writes its rows of sq (int32 owners)
+    whole = (
+        cell_simplices.dtype == np.int32
+        and faces.dtype == np.int64
+        and cell_ptr.dtype == np.int64
+        and all(a.flags.c_contiguous for a in (faces, cell_ptr, cell_simplices))
+    )
+
     def vertex_pass(task: tuple) -> tuple:
         nv, sel, _ = task
+        if whole:
+            rows = np.arange(sel.start, sel.stop) if isinstance(sel, slice) else np.ascontiguousarray(sel, np.int64)
+            args = (*arrays, faces, cell_ptr, cell_simplices, rows, sq, work.shape[1], m, w, nv, sin_lim)
+            left_rows, left_pos = native.cellpass_rows(*args)
+            return len(rows), [(np.frombuffer(left_rows, np.int64), np.frombuffer(left_pos, np.int8))]
         fc, cell_ids = task_cells(faces, cell_ptr, cell_simplices, nv, sel)
         fc64 = np.ascontiguousarray(fc, dtype=np.int64)
         ids64 = np.ascontiguousarray(cell_ids, dtype=np.int64)

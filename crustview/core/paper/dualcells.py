@@ -14,6 +14,11 @@ from scipy.spatial import cKDTree
 
 from .conemin import dot_rows, segment_min, span_min3
 
+try:  # compiled edge listing of two-dimensional cells (setup.py builds it; numpy does the same without it)
+    from ..delaunay import _cellpass as _native
+except ImportError:  # pragma: no cover - depends on the build
+    _native = None
+
 
 def cell_structure(face: np.ndarray, simp_rows: np.ndarray, n_all: int, m: int) -> tuple[np.ndarray, tuple]:
     """Edges (and, in codimension 3, polygons) of 2- or 3-dimensional dual cells.
@@ -105,6 +110,9 @@ class CellFaces:
 
     def for_batch(self, idx: np.ndarray) -> tuple[np.ndarray, tuple]:
         """Structure with face column renumbered to positions in ``idx`` (sorted)."""
+        if self.m == 2 and _native is not None and self.simplices.dtype == np.int32:
+            # each face's edges depend on that face alone: the batch's are the whole bucket's, renumbered
+            return native_edges(self.face[idx], self.simplices, self.cell_ids[idx]), _NO_POLYGONS
         if self.whole is None and (self.once or 3 * len(idx) < len(self.face)):
             return cell_structure(self.face[idx], self._rows(idx), self.n_all, self.m)
         if self.whole is None:
@@ -115,6 +123,23 @@ class CellFaces:
         e = edges[pos[edges[:, 0]] >= 0]
         pg = polygons[pos[polygons[:, 0]] >= 0]
         return np.c_[pos[e[:, 0]], e[:, 1:]], (np.c_[pos[pg[:, 0]], pg[:, 1:]], members)
+
+
+#: Codimension 2 has no polygons (the cell itself is the one polygon).
+_NO_POLYGONS = (np.empty((0, 6), np.int64), np.empty(0, np.int64))
+
+
+def native_edges(face: np.ndarray, simplices: np.ndarray, cell_ids: np.ndarray) -> np.ndarray:
+    """:func:`cell_structure`'s edges of two-dimensional cells (m = 2), compiled: the same rows in the same order.
+
+    ``simplices`` must be int32 (the backends' tables).
+    """
+    face = np.ascontiguousarray(face, dtype=np.int64)
+    cell_ids = np.ascontiguousarray(cell_ids, dtype=np.int64)
+    raw = _native.cell_edges(
+        face, np.ascontiguousarray(simplices), cell_ids, face.shape[1], simplices.shape[1], cell_ids.shape[1]
+    )
+    return np.frombuffer(raw, dtype=np.int64).reshape(-1, 3)
 
 
 def sorted_group_min(out: np.ndarray, group: np.ndarray, values: np.ndarray) -> None:
