@@ -60,6 +60,28 @@ def test_cell_adjacency_of_two_tetrahedra():
     s = np.array([[0, 1, 2, 3], [1, 2, 3, 4]])
     a, b, faces = cell_adjacency(s)
     assert a.tolist() == [0] and b.tolist() == [1] and faces.tolist() == [[1, 2, 3]]
+    a, b, faces = cell_adjacency(s.astype(np.int32))  # by the compiled face listing
+    assert a.tolist() == [0] and b.tolist() == [1] and faces.tolist() == [[1, 2, 3]]
+
+
+def test_cell_adjacency_compiled_equals_numpy(monkeypatch):
+    """The compiled face listing gives numpy's shared faces, in the same order, with the same two cells
+    (lower-numbered first; numpy's unstable sort puts either first, and the labelling is symmetric)."""
+    from crustview.core.delaunay.triangulation import bounding_points, delaunay
+
+    simp = delaunay(np.random.default_rng(5).normal(size=(3000, 3)), bounding_points(3))
+    assert simp.dtype == np.int32 and labelling._faces_native is not None
+    a, b, faces = cell_adjacency(simp)
+    assert np.all(a < b)
+    monkeypatch.setattr(labelling, "_faces_native", None)
+    a0, b0, faces0 = cell_adjacency(simp)
+    assert np.array_equal(faces, faces0)
+    assert np.array_equal(a, np.minimum(a0, b0)) and np.array_equal(b, np.maximum(a0, b0))
+    # the faces found twice among all cells' four faces, listed directly
+    srt = np.sort(simp, axis=1)
+    every = np.concatenate([np.delete(srt, j, axis=1) for j in range(4)])
+    rows, counts = np.unique(every, axis=0, return_counts=True)
+    assert counts.max() == 2 and np.array_equal(faces, rows[counts == 2])
 
 
 def test_labelled_noisy_torus_is_a_torus_through_every_sample():

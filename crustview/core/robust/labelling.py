@@ -43,6 +43,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..delaunay.faces import _native as _faces_native
+from ..delaunay.faces import _native_arrays
+
 try:  # the compiled kernel; the Python fallback below gives the same labels, slowly
     from . import _labels as _kernel
 except ImportError:  # pragma: no cover - only without the extension
@@ -72,6 +75,13 @@ def cell_adjacency(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nd
         The face, sorted vertex ids.
     """
     m, w = simplices.shape
+    if m and simplices.dtype == np.int32 and _faces_native is not None:
+        # the compiled face listing with every vertex a "sample": each facet with its cells in increasing order
+        n_all = int(simplices.max()) + 1
+        if float(n_all) ** (w - 1) < 2**62:
+            faces, ptr, owners = _native_arrays(_faces_native.faces(simplices, w, w - 1, n_all), w - 1)
+            two = np.flatnonzero(np.diff(ptr) == 2)
+            return owners[ptr[two]].astype(np.int64), owners[ptr[two] + 1].astype(np.int64), faces[two]
     srt = np.sort(simplices, axis=1)
     owner = np.tile(np.arange(m, dtype=np.int64), w)
     base = np.int64(srt.max() + 1)
