@@ -70,7 +70,8 @@ def cell_adjacency(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nd
     Returns
     -------
     a, b : ndarray of shape (p,)
-        The two cells of each shared face.
+        The two cells of each shared face, the lower-numbered first; the
+        faces in increasing order of their sorted vertex ids.
     faces : ndarray of shape (p, k)
         The face, sorted vertex ids.
     """
@@ -94,19 +95,29 @@ def cell_adjacency(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nd
             for c in cols[1:]:
                 k = k * base + srt[:, c]
             key[j * m : (j + 1) * m] = k
-        order = np.argsort(key)  # equal keys come in pairs; their order does not matter
+        order = np.argsort(key)  # equal keys come in pairs, in either order: ordered below
         same = key[order][1:] == key[order][:-1]
         i = np.flatnonzero(same)
         fo = order[i]
         j_of, c_of = fo // m, fo % m
         faces = _face_rows(srt, c_of, j_of)
-        return owner[fo], owner[order[i + 1]], faces
+        return _lower_first(owner[fo], owner[order[i + 1]], faces)
     faces = np.concatenate([np.delete(srt, j, axis=1) for j in range(w)])
     order = np.lexsort(faces.T[::-1])
     sf = faces[order]
     same = (sf[1:] == sf[:-1]).all(axis=1)
     i = np.flatnonzero(same)
-    return owner[order[i]], owner[order[i + 1]], faces[order[i]]
+    return _lower_first(owner[order[i]], owner[order[i + 1]], faces[order[i]])
+
+
+def _lower_first(a: np.ndarray, b: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each pair with its lower-numbered cell first.
+
+    The labelling's later rules visit the pairs' cells in this order, so it
+    must not be left to an unstable sort: numpy's quicksort orders equal keys
+    differently on different CPUs (its SIMD sorts).
+    """
+    return np.minimum(a, b), np.maximum(a, b), faces
 
 
 def _face_rows(srt: np.ndarray, cell: np.ndarray, drop: np.ndarray) -> np.ndarray:
