@@ -76,6 +76,7 @@ def test_cell_adjacency_compiled_equals_numpy(monkeypatch):
     monkeypatch.setattr(labelling, "_faces_native", None)
     a0, b0, faces0 = cell_adjacency(simp)
     assert np.array_equal(faces, faces0) and np.array_equal(a, a0) and np.array_equal(b, b0)
+    assert faces.dtype == faces0.dtype == np.int32 and a.dtype == a0.dtype == np.int64
     # the faces found twice among all cells' four faces, listed directly
     srt = np.sort(simp, axis=1)
     every = np.concatenate([np.delete(srt, j, axis=1) for j in range(4)])

@@ -251,7 +251,7 @@ def test_literal_test_on_triangles_compiled_equals_numpy_bit_for_bit(monkeypatch
         _literal.literal(work, normals, np.full((1, 3), 10**9, dtype=np.int64), work.shape[1], normals.shape[2])
 
 
-@pytest.mark.parametrize("k,d,n", [(3, 2, 2000), (4, 2, 400), (4, 1, 300)])
+@pytest.mark.parametrize("k,d,n", [(3, 2, 2000), (4, 2, 400), (4, 1, 300), (5, 4, 300)])
 def test_face_lists_on_two_threads_equal_one_thread(k, d, n):
     # from 2**20 records the compiled _faces sorts on two threads: the same arrays (here forced from 2 records)
     from crustview.core.delaunay import _faces
@@ -265,3 +265,16 @@ def test_face_lists_on_two_threads_equal_one_thread(k, d, n):
         simp2, nbrs = delaunay(rng.normal(size=(n, k)), bounding_points(k), neighbors=True)
         one = _faces.facets(simp2, nbrs, w, n, 2**62)
         assert one == _faces.facets(simp2, nbrs, w, n, 2) and one == _faces.facets(simp2, nbrs, w, n)
+
+
+def test_compiled_face_lists_and_cell_edges_refuse_bad_input_with_one_line():
+    # a negative vertex id would index the counting sort's buckets: a ValueError, not a crash
+    from crustview.core.delaunay import _cellpass, _faces
+
+    with pytest.raises(ValueError, match="negative"):
+        _faces.faces(np.array([[-1, 0, 1, 2]], np.int32), 4, 3, 3)
+    with pytest.raises(ValueError, match="outside"):  # a cell naming simplex 7 of a table of one
+        _cellpass.cell_edges(np.zeros((1, 3), np.int64), np.zeros((1, 5), np.int32), np.full((1, 1), 7), 3, 5, 1)
+    with pytest.raises(ValueError, match="without its face"):  # a simplex that does not hold the face
+        simp = np.array([[3, 4, 5, 6, 7]], np.int32)
+        _cellpass.cell_edges(np.array([[0, 1, 2]]), simp, np.zeros((1, 1), np.int64), 3, 5, 1)

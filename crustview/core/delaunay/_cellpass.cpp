@@ -240,20 +240,22 @@ PyObject* cellpass_rows(PyObject* /*self*/, PyObject* args) {
     const auto* ra = static_cast<const std::int64_t*>(rows.buf);
     const std::int64_t n_owners = owners.len / 4;
     std::vector<std::int64_t> fc(static_cast<std::size_t>(count) * w), cells(static_cast<std::size_t>(count) * nv);
+    const std::int64_t n_rows = normals.len / (row * m), t_rows = centres.len / row, w_rows = work.len / row;
     bool bad = false;
+    Py_BEGIN_ALLOW_THREADS  // the gather reads no Python object: the other chunk's thread goes on
     for (Py_ssize_t i = 0; i < count && !bad; ++i) {
         const std::int64_t q = ra[i];
-        bad = q < 0 || q >= f_all || pa[q] < 0 || pa[q] + nv > n_owners;
+        bad = q < 0 || q >= f_all || pa[q] < 0 || pa[q + 1] - pa[q] != nv || pa[q] + nv > n_owners;
         if (bad) break;
         for (int a = 0; a < w; ++a) fc[static_cast<std::size_t>(i) * w + a] = fa[q * w + a];
         for (int c = 0; c < nv; ++c) cells[static_cast<std::size_t>(i) * nv + c] = oa[pa[q] + c];
     }
-    const std::int64_t n_rows = normals.len / (row * m), t_rows = centres.len / row, w_rows = work.len / row;
     for (std::size_t i = 0; i < fc.size() && !bad; ++i) bad = fc[i] < 0 || fc[i] >= std::min(n_rows, w_rows);
     for (std::size_t i = 0; i < cells.size() && !bad; ++i) bad = cells[i] < 0 || cells[i] >= t_rows;
+    Py_END_ALLOW_THREADS
     if (bad) {
         release();
-        PyErr_SetString(PyExc_ValueError, "a row, face or cell names an entry outside its array");
+        PyErr_SetString(PyExc_ValueError, "a row, face or cell names an entry outside its array (or a cell of another size)");
         return nullptr;
     }
     Inputs in{static_cast<const double*>(work.buf),

@@ -34,6 +34,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <exception>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -364,10 +365,24 @@ PyObject* faces(PyObject* /*self*/, PyObject* args) {
     }
     const std::int64_t t = simp_buf.len / (static_cast<Py_ssize_t>(w) * 4);
     Grouped g;
+    const auto* simp = static_cast<const std::int32_t*>(simp_buf.buf);
+    bool negative = false, no_memory = false;
     Py_BEGIN_ALLOW_THREADS
-    g = group_instances(static_cast<const std::int32_t*>(simp_buf.buf), t, w, fw, n, threaded);
+    for (std::int64_t i = 0; i < t * w && !negative; ++i) negative = simp[i] < 0;  // a vertex id is a bucket
+    if (!negative) {
+        try {
+            g = group_instances(simp, t, w, fw, n, threaded);
+        } catch (const std::exception&) {  // bad_alloc, or a thread that could not start
+            no_memory = true;
+        }
+    }
     Py_END_ALLOW_THREADS
     PyBuffer_Release(&simp_buf);
+    if (negative) {
+        PyErr_SetString(PyExc_ValueError, "a simplex names a negative vertex");
+        return nullptr;
+    }
+    if (no_memory) return PyErr_NoMemory();
     const Py_ssize_t total = static_cast<Py_ssize_t>(g.total);
     const Py_ssize_t distinct = static_cast<Py_ssize_t>(g.distinct[0] + g.distinct[1]);
     PyObject* out[3];

@@ -110,7 +110,11 @@ def codim2_scores(
     def vertex_pass(task: tuple) -> tuple:
         nv, sel, _ = task
         if whole:
-            rows = np.arange(sel.start, sel.stop) if isinstance(sel, slice) else np.ascontiguousarray(sel, np.int64)
+            rows = (
+                np.arange(sel.start, sel.stop, dtype=np.int64)
+                if isinstance(sel, slice)
+                else np.ascontiguousarray(sel, np.int64)
+            )
             args = (*arrays, faces, cell_ptr, cell_simplices, rows, sq, work.shape[1], m, w, nv, sin_lim)
             left_rows, left_pos = native.cellpass_rows(*args)
             return len(rows), [(np.frombuffer(left_rows, np.int64), np.frombuffer(left_pos, np.int8))]

@@ -76,13 +76,15 @@ def cell_adjacency(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nd
         The face, sorted vertex ids.
     """
     m, w = simplices.shape
-    if m and simplices.dtype == np.int32 and _faces_native is not None:
+    if m and simplices.dtype == np.int32 and _faces_native is not None and 2 <= w <= 8 and m < 2**31:
         # the compiled face listing with every vertex a "sample": each facet with its cells in increasing order
         n_all = int(simplices.max()) + 1
-        if float(n_all) ** (w - 1) < 2**62:
-            faces, ptr, owners = _native_arrays(_faces_native.faces(simplices, w, w - 1, n_all), w - 1)
+        if float(n_all) ** (w - 1) < 2**62 and simplices.min() >= 0:
+            listing = _faces_native.faces(np.ascontiguousarray(simplices), w, w - 1, n_all)
+            faces, ptr, owners = _native_arrays(listing, w - 1)
             two = np.flatnonzero(np.diff(ptr) == 2)
-            return owners[ptr[two]].astype(np.int64), owners[ptr[two] + 1].astype(np.int64), faces[two]
+            a, b = owners[ptr[two]].astype(np.int64), owners[ptr[two] + 1].astype(np.int64)
+            return a, b, faces[two].astype(simplices.dtype)  # the numpy path's dtype (its rows of srt)
     srt = np.sort(simplices, axis=1)
     owner = np.tile(np.arange(m, dtype=np.int64), w)
     base = np.int64(srt.max() + 1)
