@@ -60,6 +60,17 @@ struct Instance {  // 12 bytes: there are (w choose d+1) per simplex
 //: optional argument; the tests lower it to check that two threads give the one-thread order).
 constexpr long long kThreadedRecords = 1 << 20;
 
+template <typename Body>
+void in_parts(int parts, Body&& body) {  // body(part) on each part, the second on its own thread
+    if (parts == 1) {
+        body(0);
+        return;
+    }
+    std::thread other([&] { body(1); });
+    body(0);
+    other.join();
+}
+
 // Stable LSD radix sort on 16-bit digits of the key.  Large inputs use two
 // threads: each counts and scatters its own contiguous half, and a bucket's
 // records from the first half go before those from the second, so the order
@@ -71,17 +82,8 @@ void radix_sort(std::vector<Rec>& records, long long threaded) {
     const std::size_t bounds[3] = {0, parts == 2 ? size / 2 : size, size};
     std::vector<Rec> buffer(size);
     std::vector<std::size_t> count[2] = {std::vector<std::size_t>(1 << 16), std::vector<std::size_t>(1 << 16)};
-    const auto in_parts = [&](auto&& body) {  // body(part) on each half, the second on its own thread
-        if (parts == 1) {
-            body(0);
-            return;
-        }
-        std::thread other([&] { body(1); });
-        body(0);
-        other.join();
-    };
     for (int shift = 0; shift < 64; shift += 16) {
-        in_parts([&](int part) {
+        in_parts(parts, [&](int part) {
             std::vector<std::size_t>& c = count[part];
             std::fill(c.begin(), c.end(), 0);
             for (std::size_t i = bounds[part]; i < bounds[part + 1]; ++i) {
@@ -103,7 +105,7 @@ void radix_sort(std::vector<Rec>& records, long long threaded) {
                 at += here;
             }
         }
-        in_parts([&](int part) {
+        in_parts(parts, [&](int part) {
             std::vector<std::size_t>& c = count[part];
             for (std::size_t i = bounds[part]; i < bounds[part + 1]; ++i) {
                 buffer[c[static_cast<std::size_t>((records[i].key >> shift) & 0xFFFF)]++] = records[i];
@@ -234,17 +236,6 @@ struct Grouped {
     std::int64_t first_i[3] = {0, 0, 0};   // and instances
     std::int64_t distinct[2] = {0, 0};     // distinct faces in each part
 };
-
-template <typename Body>
-void in_parts(int parts, Body&& body) {  // body(part) on each part, the second on its own thread
-    if (parts == 1) {
-        body(0);
-        return;
-    }
-    std::thread other([&] { body(1); });
-    body(0);
-    other.join();
-}
 
 Grouped group_instances(const std::int32_t* simp, std::int64_t t, int w, int fw, std::int64_t n, long long threaded) {
     const std::vector<unsigned> combos = face_masks(w, fw);
