@@ -352,6 +352,16 @@ def reextract(
             reason=f"removed (rule cut-handle): {f.reason}",
         )
         for f in ext.removed_features
+        if f.kind == "handle"
+    ]
+    # a separation join-parts removed is always uncertain: the gap was below what the sample resolves,
+    # and two objects that touch look the same as one thin attachment
+    feats += [
+        replace(
+            f, location=f.location * scale, uncertain=True, removed=True, reason=f"joined (rule join-parts): {f.reason}"
+        )
+        for f in ext.removed_features
+        if f.kind == "component"
     ]
     below = [f for f in feats if f.removed and not f.uncertain]
     if below:

@@ -30,6 +30,7 @@ RULE_REPAIR = "repair-vertex"
 RULE_SCULPT = "sculpt-sample"
 RULE_OPEN = "open-cap"
 RULE_CUT = "cut-handle"
+RULE_JOIN = "join-parts"
 RULES = (
     RULE_PRUNE,
     RULE_RESOLVE,
@@ -37,6 +38,7 @@ RULES = (
     RULE_REPAIR,
     RULE_SCULPT,
     RULE_CUT,
+    RULE_JOIN,
     RULE_OPEN,
     RULE_CORE,
     RULE_SEED,
@@ -53,6 +55,7 @@ ADDING_RULES = (
     RULE_REPAIR,
     RULE_SCULPT,
     RULE_CUT,
+    RULE_JOIN,
     RULE_CORE,
     RULE_SEED,
     RULE_GROW,

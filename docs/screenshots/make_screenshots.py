@@ -275,6 +275,12 @@ def scan_just_opened(app, win) -> None:
     wait(app, win)
 
 
+def elk_joined(app, win) -> None:
+    """The elk opened from a file: its antlers joined back by join-parts, the joins in amber."""
+    win.open_file(SCANS2 / "elk.off", d=2)
+    wait(app, win)
+
+
 def bunny_holes(app, win) -> None:
     """The holes of T_S on the bunny: rims, faint patches, the largest labelled with their size."""
     win.run_panel.set_mode("paper")  # step 0 of the paper's Algorithm 3: M_S = T_S, with its holes
@@ -290,10 +296,11 @@ def bunny_holes(app, win) -> None:
 
 
 #: Window sizes other than :data:`SIZE`.
-SIZES = {"scan-just-opened": (1600, 1000)}
+SIZES = {"scan-just-opened": (1600, 1000), "elk-joined": (1600, 1000)}
 
 CASES = {
     "scan-just-opened": scan_just_opened,
+    "elk-joined": elk_joined,
     "bunny-holes": bunny_holes,
     "fertility-epsilon": lambda app, win: epsilon_and_cascade(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
     "nefertiti-epsilon": lambda app, win: epsilon_and_cascade(app, win, "nefertiti.obj", (0.3, 0.4, 3.0), 1.6),

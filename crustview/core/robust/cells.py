@@ -33,9 +33,10 @@ import numpy as np
 
 from ..analysis.features import LOOP_MIN, enclosing_radii
 from ..analysis.topology import is_closed_manifold
-from ..steps import RULE_CUT, RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
-from .cut_handle import cut_handles
+from ..steps import RULE_CUT, RULE_JOIN, RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
+from .cut_handle import Cut, cut_handles
 from .grow import SIZE_MAX, size_ratio
+from .join_parts import join_parts
 from .label_repair import LabelEditor
 from .labelling import Labelling, oriented
 from .patcher import Patcher
@@ -217,22 +218,20 @@ def extract_by_labels(
     report(0.65)
     handles = cut_handles(ed, points)
     for c in handles.cuts:
+        _log_cut(log, lab, c)
+    joined = join_parts(ed, points)
+    for j in joined.joins:
         log.step(
-            RULE_CUT,
-            tuple(int(v) for v in c.feature.vertices.tolist()),
-            lab.faces[c.added],
-            lab.faces[c.removed],
+            RULE_JOIN,
+            tuple(int(v) for v in j.feature.vertices.tolist()),
+            lab.faces[j.added],
+            lab.faces[j.removed],
             math.nan,
-            f"a handle whose shortest loop is {c.feature.size_spacings:.3g} sampling radii long ("
-            + (
-                "below 2 pi: no sample with eps < 1 resolves it"
-                if c.feature.size_spacings < LOOP_MIN
-                else "below 4 pi: only a sample coarser than eps = 1/2 resolves it"
-            )
-            + f"); {len(c.cells)} cells around the loop ({c.around}) took the other label "
-            f"({'a tunnel filled' if c.how == 'fill' else 'a bridge cut'}, labelling confidence {c.cost:.2f} in all, "
-            "the least of the trials around its loop)",
+            f"{j.feature.reason}; {len(j.cells)} outside cells between the two (all their vertices that close, "
+            f"in units of {j.unit}) took the inside label (labelling confidence {j.cost:.2f} in all)",
         )
+        for c in j.cuts:
+            _log_cut(log, lab, c)
     # the rest edits M_S face by face
     cut = ed.cut
     inner = np.where(lab.inside[lab.a[cut]], lab.a[cut], lab.b[cut])
@@ -284,8 +283,28 @@ def extract_by_labels(
         notes.append(f"{len(left)} samples are farther than the insertion limit from M_S and were left out: {shown}")
     ext = log.extraction(stopped, notes)
     ext.labelling = lab  # type: ignore[attr-defined]
-    ext.removed_features = handles.removed
+    ext.removed_features = handles.removed + [c.feature for j in joined.joins for c in j.cuts] + joined.removed
     ext.openings = len(patches)  # type: ignore[attr-defined]
     ext.opened = opened  # type: ignore[attr-defined]
     ext.patch_start = start  # type: ignore[attr-defined]
     return ext
+
+
+def _log_cut(log: StepLog, lab: Labelling, c: Cut) -> None:
+    """Record one ``cut-handle`` cut (:class:`.cut_handle.Cut`) as a step."""
+    log.step(
+        RULE_CUT,
+        tuple(int(v) for v in c.feature.vertices.tolist()),
+        lab.faces[c.added],
+        lab.faces[c.removed],
+        math.nan,
+        f"a handle whose shortest loop is {c.feature.size_spacings:.3g} sampling radii long ("
+        + (
+            "below 2 pi: no sample with eps < 1 resolves it"
+            if c.feature.size_spacings < LOOP_MIN
+            else "below 4 pi: only a sample coarser than eps = 1/2 resolves it"
+        )
+        + f"); {len(c.cells)} cells around the loop ({c.around}) took the other label "
+        f"({'a tunnel filled' if c.how == 'fill' else 'a bridge cut'}, labelling confidence {c.cost:.2f} in all, "
+        "the least of the trials around its loop)",
+    )

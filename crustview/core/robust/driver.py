@@ -239,7 +239,8 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     sound = top_lab.closed_manifold or (
         getattr(lab, "openings", 0) > 0 and top_lab.nonmanifold_faces == 0 and top_lab.singular_vertices == 0
     )
-    band_cut = any(f.size_spacings >= LOOP_MIN for f in lab.removed_features)
+    # a cut in [LOOP_MIN, LOOP_SUPPORTED) or any join-parts join decided what the sample did not
+    band_cut = any(f.kind == "component" or f.size_spacings >= LOOP_MIN for f in lab.removed_features)
     # above SECOND_OPINION_N a sound result through every sample is kept as it is: its uncertain
     # features already say where it is unsure, and growing again costs up to 36 s (gears at 0.1 h)
     if sound and top_lab.unused_samples == 0 and (n > SECOND_OPINION_N or (not f_lab and not band_cut)):
