@@ -299,23 +299,25 @@ def _components(points: np.ndarray, simplices: np.ndarray, h: np.ndarray) -> lis
     # triangles across rings, whose nearest neighbours lie along the dense direction)
     own = np.maximum(np.where(np.isfinite(own), own, h[verts]), h[verts])
     where = np.where(other, idx, -1)
-    for c in comps:
-        mine = label[verts] == c
-        rel = gap[mine] / own[mine]
-        j = int(np.argmin(rel))
-        size = float(rel[j])
-        v = int(verts[mine][j])
+    # each component's closest approach: its first vertex (in vertex order) of least relative gap
+    lab_v = label[verts]
+    rel_all = gap / own
+    order = np.lexsort((rel_all, lab_v))
+    starts = np.searchsorted(lab_v[order], comps)
+    sizes = np.bincount(np.searchsorted(comps, lab_v), minlength=len(comps))
+    for c, start, n_c in zip(comps.tolist(), starts.tolist(), sizes.tolist(), strict=True):
+        row = int(order[start])
+        size = float(rel_all[row])
+        v = int(verts[row])
         if not np.isfinite(size):
             size = float("inf")
-            loc = points[verts[mine]].mean(axis=0)
+            loc = points[verts[lab_v == c]].mean(axis=0)
             pair = np.array([v])
         else:
-            row = np.nonzero(mine)[0][j]
             u = int(verts[where[row][where[row] >= 0][0]]) if (where[row] >= 0).any() else v
             loc = (points[v] + points[u]) / 2
             pair = np.array([v, u])
         unc = size < GAP_MIN
-        n_c = int(mine.sum())
         reason = (
             f"component of {n_c} samples, {size:.2g} spacings from the next one"
             + (" (closer than the sample can separate)" if unc else "")

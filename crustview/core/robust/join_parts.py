@@ -111,8 +111,9 @@ class _Contacts:
         self.n = len(points)
         self.verts = verts
         self.units = {"the nearest-neighbour distance": gap / nn, "the sampling radius": gap / np.maximum(nn, h[verts])}
-        j = np.where(other, idx, -1)
-        self.partner = np.array([verts[r[r >= 0][0]] if (r >= 0).any() else -1 for r in j], np.int64)
+        # the nearest sample of another component (the first such neighbour), or -1
+        first = np.argmax(other, axis=1)
+        self.partner = np.where(other.any(axis=1), verts[idx[np.arange(len(verts)), first]], -1).astype(np.int64)
 
     def mask(self, unit: str) -> np.ndarray:
         """Samples closer to another component than GAP_MIN of their spacings in this unit."""
@@ -159,7 +160,6 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
         ids, counts = np.unique(comp[comp >= 0], return_counts=True)
         if len(ids) < 2:
             break
-        contacts = _Contacts(points, surf, comp)
         # the pieces to join: every one but the largest, and not a stray (drop-stray removes those later
         # and insert-sample puts their samples on the rest: a bubble in the noise layer, not a part)
         n_faces = np.bincount(comp[surf[:, 0]], minlength=n)
@@ -169,6 +169,9 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
             for c in ids[np.argsort(counts, kind="stable")][:-1]
             if n_faces[c] >= STRAY_MAX or n_faces[c] >= STRAY_SHARE * largest
         ]
+        if not pieces:
+            break
+        contacts = _Contacts(points, surf, comp)
         b1 = _b1(surf, comp, n)
         join = None
         for cid in pieces:
