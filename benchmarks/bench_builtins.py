@@ -15,6 +15,7 @@ from __future__ import annotations
 import sys
 import time
 
+from _cases import case_names
 from scipy.spatial import Delaunay
 
 from crustview.core import CANDIDATE_TESTS, reconstruct, reextract
@@ -60,4 +61,4 @@ def main(names: list[str]) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    main(case_names(__doc__, MANIFOLDS, sys.argv[1:], "manifold"))

@@ -18,6 +18,7 @@ import sys
 import time
 
 import numpy as np
+from _cases import case_names
 from scipy.spatial import Delaunay
 
 from crustview.core import reconstruct
@@ -83,5 +84,5 @@ def run(case: str) -> None:
 
 
 if __name__ == "__main__":
-    for c in sys.argv[1:] or CASES:
+    for c in case_names(__doc__, CASES, sys.argv[1:]):
         run(c)

@@ -16,6 +16,7 @@ import sys
 import time
 
 import numpy as np
+from _cases import case_names
 from scipy.spatial import Delaunay
 
 from crustview.core import reconstruct
@@ -89,4 +90,4 @@ def main(names: list[str]) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:] or NAMES)
+    main(case_names(__doc__, NAMES, sys.argv[1:], "manifold"))

@@ -36,6 +36,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _cases import case_names
 
 #: (manifold, n, sampling method).  The torus samples are i.i.d. by area
 #: (``method="random"``): the default even sampler's farthest-point pass is
@@ -192,4 +193,4 @@ if __name__ == "__main__":
     if len(sys.argv) == 3 and sys.argv[1] == "--one":
         print(json.dumps(run_one(sys.argv[2])))
     else:
-        main(sys.argv[1:] or list(CASES))
+        main(case_names(__doc__, CASES, sys.argv[1:]))
