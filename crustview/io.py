@@ -11,10 +11,11 @@ read_points
     (comma or whitespace separated, ``#`` comments, an optional first line of
     column names; :mod:`crustview.textpoints`),
     ``.off .noff .ply`` (any dimension, :mod:`crustview.meshfiles`),
-    ``.obj .vtk .vtu .stl`` (through meshio).  :func:`read_mesh` also gives
-    the faces of these files (a ground truth).  ``.pcd .las .laz .e57``
-    scanner files (:mod:`crustview.scanfiles`).  PLY and the scanner formats
-    also give colours, intensity and normals (:func:`read_attributes`).
+    ``.obj`` (:mod:`crustview.meshfiles.obj`), ``.vtk .vtu .stl`` (through
+    meshio).  :func:`read_mesh` also gives the faces of these files (a
+    ground truth).  ``.pcd .las .laz .e57`` scanner files
+    (:mod:`crustview.scanfiles`).  PLY, OBJ vertex colours and the scanner
+    formats also give colours, intensity and normals (:func:`read_attributes`).
 write_points
     ``.npy .npz .csv .txt .xyz .ply .vtk`` (``.ply`` in any dimension).
 write_result
@@ -135,7 +136,7 @@ def read_points(path: str | os.PathLike, notes: list[str] | None = None, attribu
 def read_attributes(path: str | os.PathLike) -> dict:
     """The per-point colours, intensity and normals of a point file (empty when it has none)."""
     attributes: dict = {}
-    if Path(path).suffix.lower() in (".ply", *SCAN_SUFFIXES):
+    if Path(path).suffix.lower() in (".ply", ".obj", *SCAN_SUFFIXES):
         read_points(path, None, attributes)
     return attributes
 

@@ -19,6 +19,7 @@ from crustview.io import (
     write_report,
     write_result,
 )
+from crustview.meshfiles import read_mesh as read_any_mesh
 
 
 # ---------------------------------------------------------------- fixtures: real runs
@@ -290,10 +291,9 @@ def test_curve_meshes_read_back(tmp_path, circle_rec, trefoil_rec, suffix):
         path = tmp_path / f"c{suffix}"
         write_result(path, rec)
         expected = _rows(rec.point_input[rec.manifold])
-        if suffix == ".obj":  # meshio's OBJ reader ignores 'l' records: parse them here
-            lines = [ln.split() for ln in path.read_text().splitlines()]
-            verts = np.array([ln[1:] for ln in lines if ln[0] == "v"], dtype=float)
-            segs = np.array([ln[1:] for ln in lines if ln[0] == "l"], dtype=int) - 1
+        if suffix == ".obj":  # crustview's own OBJ reader reads the 'l' records back
+            mesh = read_any_mesh(path)
+            verts, segs = mesh.points, mesh.simplices(1)
         else:
             mesh = _meshio_read(path)
             verts, segs = mesh.points, mesh.get_cells_type("line")

@@ -153,12 +153,6 @@ def test_faces_that_do_not_fit_d_are_one_sentence(tmp_path):
         rep.simplices(2)
 
 
-def test_obj_relative_indices_are_refused(tmp_path):
-    path = _write(tmp_path, "rel.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -3\n")
-    with pytest.raises(InputError, match="negative"):
-        read_mesh(path)
-
-
 # ---------------------------------------------------------------- PLY variants
 def test_ply_ascii_with_w_and_ignored_properties(tmp_path):
     text = (

@@ -1,4 +1,4 @@
-"""Mesh files with faces, in any dimension: Geomview OFF/nOFF, PLY, and the rest via meshio.
+"""Mesh files with faces, in any dimension: Geomview OFF/nOFF, PLY, OBJ, and the rest via meshio.
 
 :func:`read_mesh` returns the vertices and the polygons (or simplices) of a
 mesh file; :func:`.off.write_off` and :func:`.ply.write_ply` write points and
@@ -8,6 +8,7 @@ simplices in any ambient dimension k.  Every failure is one
 * :mod:`.mesh`: :class:`~.mesh.MeshData`, what every reader returns.
 * :mod:`.off`: Geomview OFF and nOFF (all variants, read and write).
 * :mod:`.ply`: PLY, ASCII and binary (read and write).
+* :mod:`.obj`: Wavefront OBJ's polygons and polylines (read; :mod:`crustview.io` writes it).
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ import numpy as np
 from crustview.core.errors import InputError
 
 from .mesh import MeshData, _bad, _check_indices
+from .obj import read_obj
 from .off import read_off
 from .ply import read_ply
 
@@ -36,8 +38,8 @@ _MESHIO_SKIP = ("vertex",)
 def read_mesh(path: str | os.PathLike) -> MeshData:
     """Read the vertices and faces of a mesh file (no faces gives an empty ``cells``).
 
-    ``.off``/``.noff`` and ``.ply`` use this module's readers (any dimension);
-    ``.obj .vtk .vtu .stl`` go through meshio.
+    ``.off``/``.noff`` and ``.ply`` use this module's readers (any dimension),
+    ``.obj`` its own reader too (:mod:`.obj`); ``.vtk .vtu .stl`` go through meshio.
 
     Raises
     ------
@@ -55,6 +57,8 @@ def read_mesh(path: str | os.PathLike) -> MeshData:
                 mesh = read_off(path)
             elif suffix == ".ply":
                 mesh = read_ply(path)
+            elif suffix == ".obj":
+                mesh = read_obj(path)
             else:
                 mesh = _read_meshio(path)
     except InputError:
