@@ -142,3 +142,25 @@ def test_spheres_apart_by_more_than_the_sample_separates_are_left_alone():
     assert rec.topology.closed_manifold and rec.topology.betti == (2, 0, 2)
     assert not any(s.rule == RULE_JOIN for s in rec.extraction.steps)
     assert not rec.uncertain_features
+
+
+def _noisy(points, level, seed):
+    """The benchmark's noise model: isotropic Gaussian of ``level`` times the median spacing."""
+    from scipy.spatial import cKDTree
+
+    h = np.median(cKDTree(points).query(points, k=2)[0][:, 1])
+    return points + np.random.default_rng(seed).normal(size=points.shape) * level * h
+
+
+@pytest.mark.parametrize("seed", [1, 3])
+def test_under_noise_a_chain_across_the_gap_joins_what_the_contact_cells_do_not(elk, seed):
+    """The elk at 0.3 h (two draws): where the noise leaves too few contact samples for the contact cells to
+    join an antler, the least confident chain of cells across the gap does; every sample stays a vertex,
+    the genus stays 1, and each join is still an uncertain removed component."""
+    rec = reconstruct(_noisy(elk, 0.3, seed), 2)
+    assert rec.topology.closed_manifold and rec.topology.betti == (1, 2, 1)
+    assert rec.topology.unused_samples == 0
+    joins = [s for s in rec.extraction.steps if s.rule == RULE_JOIN]
+    assert any("a chain of" in s.reason for s in joins)
+    joined = [f for f in rec.features if f.removed and f.kind == "component"]
+    assert len(joined) == len(joins) and all(f.uncertain and f.size_spacings < GAP_MIN for f in joined)

@@ -227,8 +227,14 @@ def extract_by_labels(
             lab.faces[j.added],
             lab.faces[j.removed],
             math.nan,
-            f"{j.feature.reason}; {len(j.cells)} outside cells between the two (all their vertices that close, "
-            f"in units of {j.unit}) took the inside label (labelling confidence {j.cost:.2f} in all)",
+            f"{j.feature.reason}; "
+            + (
+                f"{len(j.cells)} outside cells between the two (all their vertices that close, in units of {j.unit})"
+                if j.how == "contact"
+                else f"a chain of {len(j.cells)} outside cells across the gap (the least confident from one piece's "
+                "inside to the other's; the contact cells alone did not join them)"
+            )
+            + f" took the inside label (labelling confidence {j.cost:.2f} in all)",
         )
         for c in j.cuts:
             _log_cut(log, lab, c)

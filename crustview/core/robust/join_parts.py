@@ -20,7 +20,10 @@ spacings) and that have vertices on both sides take the inside label;
 (:class:`.cut_handle._Local`).  The contact is taken first in the nearest-
 neighbour unit (the narrowest slab), then in the features' own unit, the
 larger of that and the sampling radius (a slab across long thin triangles).
-A trial is kept when
+Where neither set joins a piece closer than GAP_MIN sampling radii (noise can
+leave a contact of a few samples whose cells touch neither piece's inside), a
+third trial takes the least confident chain of outside cells across the gap
+(:func:`_chain`).  A trial is kept when
 
 * every vertex touched is a manifold vertex, and every sample that was a
   vertex still is one;
@@ -41,7 +44,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
+from scipy.sparse.csgraph import connected_components, dijkstra
 from scipy.spatial import cKDTree
 
 from ..analysis.features import GAP_MIN, Feature, local_spacing
@@ -52,6 +55,8 @@ from .label_repair import LabelEditor
 #: Nearest samples looked at for a sample's closest approach to another component (as the features'
 #: component gaps: a sample's 16 nearest include its own ring and, at a contact, the other side).
 NEIGHBOURS = 16
+#: The two units of a contact (:class:`_Contacts`), and the name of the third trial, the chain.
+NEAREST, SAMPLING_RADIUS, CHAIN = "the nearest-neighbour distance", "the sampling radius", "chain"
 
 
 @dataclass
@@ -65,6 +70,8 @@ class Join:
     cost: float
     unit: str
     cuts: list[Cut] = field(default_factory=list)
+    #: "contact" (the contact cells) or "chain" (the least-confident chain of cells across the gap)
+    how: str = "contact"
 
 
 @dataclass
@@ -110,7 +117,8 @@ class _Contacts:
         nn = np.where(np.isfinite(own), own, h[verts])
         self.n = len(points)
         self.verts = verts
-        self.units = {"the nearest-neighbour distance": gap / nn, "the sampling radius": gap / np.maximum(nn, h[verts])}
+        self.h = h
+        self.units = {NEAREST: gap / nn, SAMPLING_RADIUS: gap / np.maximum(nn, h[verts])}
         # the nearest sample of another component (the first such neighbour), or -1
         first = np.argmax(other, axis=1)
         self.partner = np.where(other.any(axis=1), verts[idx[np.arange(len(verts)), first]], -1).astype(np.int64)
@@ -175,20 +183,36 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
         b1 = _b1(surf, comp, n)
         join = None
         for cid in pieces:
-            for unit in contacts.units:
-                near = contacts.mask(unit)
+            for unit in (*contacts.units, CHAIN):
+                how = "contact"
                 mine = comp[corner] == cid
-                theirs = (comp[corner] >= 0) & ~mine
-                sel = np.flatnonzero(
-                    real & ~lab.inside & ~lab.outside & near[corner].all(axis=1) & mine.any(axis=1) & theirs.any(axis=1)
-                )
+                if unit == CHAIN:
+                    # the contact cells did not join it: the least confident chain of cells across the gap
+                    how, unit = "chain", SAMPLING_RADIUS
+                    gap, v, u = contacts.closest(np.flatnonzero(comp == cid), unit)
+                    sel = (
+                        _chain(ed, comp, cid, v, u, contacts.h, points)
+                        if gap < GAP_MIN and u >= 0
+                        else np.zeros(0, int)
+                    )
+                else:
+                    near = contacts.mask(unit)
+                    theirs = (comp[corner] >= 0) & ~mine
+                    sel = np.flatnonzero(
+                        real
+                        & ~lab.inside
+                        & ~lab.outside
+                        & near[corner].all(axis=1)
+                        & mine.any(axis=1)
+                        & theirs.any(axis=1)
+                    )
                 if len(sel) == 0:
                     continue
                 join = _trial(ed, local, sel, comp, len(ids), b1, points)
                 if join is not None:
                     gap, v, u = contacts.closest(np.flatnonzero(comp == cid), unit)
                     size = int((comp == cid).sum())
-                    join.unit = unit
+                    join.unit, join.how = unit, how
                     join.feature = Feature(
                         "component",
                         (points[v] + points[u]) / 2 if u >= 0 else points[v],
@@ -206,6 +230,70 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
             break
         out.joins.append(join)
     return out
+
+
+def _chain(
+    ed: LabelEditor, comp: np.ndarray, cid: int, v: int, u: int, h: np.ndarray, points: np.ndarray
+) -> np.ndarray:
+    """The least confident chain of outside cells from piece ``cid``'s inside to the other piece's, at a contact.
+
+    The contact is the closest approach, sample ``v`` of the piece and ``u``
+    of the other, less than GAP_MIN sampling radii apart.  The chain runs
+    through the cells of the contact's neighbourhood: the stars of ``v`` and
+    ``u``, and the cells whose vertices all lie within GAP_MIN sampling radii
+    (the larger of the two samples') of ``v`` or of ``u``, two balls that
+    overlap since the gap is shorter than their radius.  It starts at an inside cell with a vertex on the piece,
+    ends at one with a vertex on the other piece, and crosses only outside
+    cells (never a cell with a bounding vertex); each one crossed costs one
+    plus its labelling confidence, so the chain is the shortest one and, of
+    those, the least confident.  Empty when the neighbourhood holds none.
+    """
+    lab = ed.lab
+    n = lab.n
+    simp = lab.simplices
+    radius = GAP_MIN * max(float(h[v]), float(h[u]))
+    close = np.zeros(n, bool)
+    tree = cKDTree(points)
+    for s in (v, u):
+        close[tree.query_ball_point(points[s], radius)] = True
+    real = (simp < n).all(axis=1)
+    star = (simp == v).any(axis=1) | (simp == u).any(axis=1)
+    region = np.flatnonzero(real & (star | close[np.where(simp < n, simp, 0)].all(axis=1)))
+    if len(region) == 0:
+        return np.zeros(0, np.int64)
+    corner = comp[simp[region]]
+    inside = lab.inside[region]
+    source = inside & (corner == cid).any(axis=1)
+    target = inside & ((corner >= 0) & (corner != cid)).any(axis=1) & ~source
+    through = ~inside & ~lab.outside[region]
+    if not source.any() or not target.any():
+        return np.zeros(0, np.int64)
+    local = np.full(lab.m, -1, np.int64)
+    local[region] = np.arange(len(region))
+    a, b = local[lab.a], local[lab.b]
+    keep = (a >= 0) & (b >= 0)
+    a, b = a[keep], b[keep]
+    # entering a cell costs one plus its confidence; the inside ends cost (almost) nothing
+    cost = np.where(through, 1.0 + lab.confidence[region], np.where(source | target, 1e-9, np.inf))
+    usable = np.isfinite(cost)
+    edges = usable[a] & usable[b]
+    a, b = a[edges], b[edges]
+    k = len(region)
+    rows = np.r_[a, b, np.full(int(source.sum()), k)]
+    cols = np.r_[b, a, np.flatnonzero(source)]
+    weights = np.r_[cost[b], cost[a], np.full(int(source.sum()), 1e-9)]
+    graph = coo_matrix((weights, (rows, cols)), shape=(k + 1, k + 1)).tocsr()
+    dist, pred = dijkstra(graph, directed=True, indices=k, return_predecessors=True)
+    ends = np.flatnonzero(target & np.isfinite(dist[:k]))
+    if len(ends) == 0:
+        return np.zeros(0, np.int64)
+    node = int(ends[np.argmin(dist[ends])])
+    path = []
+    while node != k and node >= 0:
+        path.append(node)
+        node = int(pred[node])
+    cells = region[np.array(path, np.int64)]
+    return np.sort(cells[~lab.inside[cells]])
 
 
 def _trial(
