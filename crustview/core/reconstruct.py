@@ -9,6 +9,7 @@ from dataclasses import replace
 import numpy as np
 
 from .analysis.features import LOOP_MIN, features, summary_suffix
+from .analysis.resample import Resampled, resample_check
 from .analysis.topology import analyse
 from .delaunay.triangulation import backend_label, bounding_points, circumcenters, delaunay
 from .errors import Cancelled, InputError
@@ -20,6 +21,7 @@ from .prepare import DEFAULT_JOGGLE, prepare_points, prescale
 from .result import CANDIDATE_TESTS, EXTRACTION_MODES, CandidateAngles, Candidates, Reconstruction
 from .robust.driver import extract_robust
 from .robust.smooth_normals import smoothed_normals
+from .steps import RULE_PRUNE, RULE_RESOLVE
 from .util.memory import gc_paused, release_free_memory
 from .util.parallel import start_in_background
 
@@ -84,6 +86,7 @@ def reconstruct(
     normals: str = "paper",
     progress: ProgressFn | None = None,
     cancel: object | None = None,
+    resample: bool = True,
 ) -> Reconstruction:
     """Reconstruct a closed d-manifold from samples in R^k.
 
@@ -122,6 +125,12 @@ def reconstruct(
         Called between and inside stages.
     cancel : object with ``is_set()``, optional
         When it becomes set, :class:`~crustview.core.errors.Cancelled` is raised.
+    resample : bool
+        Rule ``resample-check`` (:mod:`crustview.core.analysis.resample`):
+        where the robust extension made a closed surface in R^3 with a handle
+        just above the resolution bound, reconstruct 90 % of the samples again
+        and make such a handle uncertain if it is not there.  False skips it
+        (the check's own run does).
 
     Returns
     -------
@@ -241,7 +250,9 @@ def reconstruct(
         normals_method=normals_method,
     )
     del faces, lit, coc, simplices, normals, tangents, candidates, voronoi  # held by rec only
-    return reextract(rec, test, theta, prune_boundary=prune_boundary, mode=mode, progress=progress, cancel=cancel)
+    return reextract(
+        rec, test, theta, prune_boundary=prune_boundary, mode=mode, progress=progress, cancel=cancel, resample=resample
+    )
 
 
 def reextract(
@@ -253,11 +264,13 @@ def reextract(
     mode: str | None = None,
     progress: ProgressFn | None = None,
     cancel: object | None = None,
+    resample: bool = True,
 ) -> Reconstruction:
     """Re-run Algorithm 3 and the topology report for another test or threshold.
 
     Nothing before Algorithm 3 is recomputed: every test's angles are stored.
-    ``prune_boundary=None`` and ``mode=None`` keep the settings of ``rec``.
+    ``prune_boundary=None`` and ``mode=None`` keep the settings of ``rec``;
+    ``resample`` as in :func:`reconstruct`.
 
     Returns
     -------
@@ -363,6 +376,13 @@ def reextract(
         for f in ext.removed_features
         if f.kind == "component"
     ]
+    if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and topo.closed_manifold and _beyond(counts):
+        t1 = time.perf_counter()
+        feats, said = resample_check(
+            rec.points, feats, topo.betti, lambda sub: _resampled(sub, rec, test, theta, cancel, report)
+        )
+        if said:
+            topo.messages.append(f"{said} ({time.perf_counter() - t1:.1f} s)")
     below = [f for f in feats if f.removed and not f.uncertain]
     if below:
         topo.messages.append(
@@ -414,3 +434,35 @@ def _robust_messages(ext, topo) -> None:
         )
     if topo.unused_samples:
         topo.messages.append(f"{topo.unused_samples} samples are not vertices of M_S")
+
+
+def _beyond(counts: dict) -> bool:
+    """Whether the extraction took steps beyond the paper's Algorithm 3 (its result is not the paper's)."""
+    return any(rule not in (RULE_PRUNE, RULE_RESOLVE) for rule in counts)
+
+
+#: The stages of a run in order, for the progress of ``resample-check``'s run (shown as the topology stage).
+_STAGES = ("prepare", "delaunay", "normals", "candidates", "extraction", "topology")
+
+
+def _resampled(
+    sub: np.ndarray, rec: Reconstruction, test: str, theta: float, cancel: object | None, report: Callable
+) -> Resampled:
+    """The reconstruction of some of the samples, the same way (``resample-check``'s run, without the check)."""
+
+    def progress(stage: str, frac: float) -> None:
+        i = _STAGES.index(stage) if stage in _STAGES else len(_STAGES) - 1
+        report("topology", 0.5 + 0.45 * (i + min(max(frac, 0.0), 1.0)) / len(_STAGES))
+
+    r = reconstruct(
+        sub,
+        rec.d,
+        test=test,
+        theta=theta,
+        mode="robust",
+        normals=rec.normals_method,
+        progress=progress,
+        cancel=cancel,
+        resample=False,
+    )
+    return r.topology.betti, r.topology.closed_manifold, r.features, r.points

@@ -281,6 +281,24 @@ def elk_joined(app, win) -> None:
     wait(app, win)
 
 
+def noisy_resampled(app, win) -> None:
+    """nefertiti with scanner noise of 0.3 h (noise draw 13): a noise tunnel above the length bound, flagged
+    by resample-check because the reconstruction of 90 % of the samples does not have it."""
+    import tempfile
+
+    from scipy.spatial import cKDTree
+
+    from crustview.io import read_points
+
+    pts = read_points(DATA / "scans" / "nefertiti.obj")
+    h = float(np.median(cKDTree(pts).query(pts, k=2)[0][:, 1]))
+    noisy = pts + np.random.default_rng(13).normal(scale=0.3 * h, size=pts.shape)
+    path = Path(tempfile.mkdtemp()) / "nefertiti-noise-0.3h-draw13.xyz"
+    np.savetxt(path, noisy)
+    win.open_file(path, d=2)
+    wait(app, win)
+
+
 def bunny_holes(app, win) -> None:
     """The holes of T_S on the bunny: rims, faint patches, the largest labelled with their size."""
     win.run_panel.set_mode("paper")  # step 0 of the paper's Algorithm 3: M_S = T_S, with its holes
@@ -296,11 +314,12 @@ def bunny_holes(app, win) -> None:
 
 
 #: Window sizes other than :data:`SIZE`.
-SIZES = {"scan-just-opened": (1600, 1000), "elk-joined": (1600, 1000)}
+SIZES = {"scan-just-opened": (1600, 1000), "elk-joined": (1600, 1000), "noisy-resampled": (1600, 1000)}
 
 CASES = {
     "scan-just-opened": scan_just_opened,
     "elk-joined": elk_joined,
+    "noisy-resampled": noisy_resampled,
     "bunny-holes": bunny_holes,
     "fertility-epsilon": lambda app, win: epsilon_and_cascade(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
     "nefertiti-epsilon": lambda app, win: epsilon_and_cascade(app, win, "nefertiti.obj", (0.3, 0.4, 3.0), 1.6),

@@ -1,0 +1,107 @@
+"""Rule resample-check: a handle just above the resolution bound must survive losing a tenth of the samples.
+
+Tiny cases checkable on paper drive the decision with a hand-made resample; the real cases run the
+whole pipeline: a real scan's real handles survive, and so the check leaves them sure.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from crustview.core import reconstruct
+from crustview.core.analysis.features import LOOP_SUPPORTED, Feature
+from crustview.core.analysis.resample import LOOP_CHECKED, RESAMPLE_KEEP, checked, resample_check
+from crustview.io import read_mesh
+
+RESOURCES = Path(__file__).resolve().parents[1] / "resources"
+
+
+def _ring(centre, radius, m=12):
+    t = np.linspace(0, 2 * np.pi, m, endpoint=False)
+    return np.c_[radius * np.cos(t), radius * np.sin(t), np.zeros(m)] + np.asarray(centre, float)
+
+
+def _handle(points, rows, size):
+    return Feature("handle", points[rows].mean(axis=0), size, False, np.asarray(rows), f"loop of {size}")
+
+
+@pytest.fixture()
+def two_loops():
+    """Two loops of radius 1 around (0, 0, 0) and (10, 0, 0): one in the checked band, one above it."""
+    pts = np.vstack([_ring((0, 0, 0), 1.0), _ring((10, 0, 0), 1.0)])
+    feats = [_handle(pts, np.arange(12), 13.0), _handle(pts, np.arange(12, 24), 40.0)]
+    return pts, feats
+
+
+def test_only_sure_handles_in_the_band_are_checked(two_loops):
+    pts, feats = two_loops
+    below = Feature("handle", pts[0], 0.9 * LOOP_SUPPORTED, True, np.arange(3), "uncertain already")
+    removed = Feature("handle", pts[0], 5.0, False, np.arange(3), "cut", removed=True)
+    assert LOOP_CHECKED == 2 * LOOP_SUPPORTED == 8 * math.pi
+    assert checked([*feats, below, removed]) == [0]
+
+
+def test_a_handle_the_resample_does_not_show_becomes_uncertain(two_loops):
+    pts, feats = two_loops
+    seen = []
+
+    def run(sub):
+        seen.append(len(sub))
+        # the resample keeps the far loop only: b1 drops from 4 to 2
+        return (1, 2, 1), True, [_handle(pts, np.arange(12, 24), 38.0)], pts
+
+    out, said = resample_check(pts, feats, (1, 4, 1), run)
+    assert 0.7 * len(pts) < seen[0] < len(pts)  # about RESAMPLE_KEEP of them, never all
+    assert out[0].uncertain and "resample-check" in out[0].reason
+    assert out[1] == feats[1] and not feats[0].uncertain  # the other untouched, the input list unchanged
+    assert "1 of them not there" in said
+
+
+def test_a_handle_the_resample_shows_nearby_stays_sure(two_loops):
+    pts, feats = two_loops
+    moved = _ring((0.8, 0.5, 0), 1.1)  # the same tube's meridian, moved along it: centroids 0.94 apart
+
+    def run(sub):
+        return (1, 2, 1), True, [_handle(moved, np.arange(12), 14.0)], moved
+
+    out, said = resample_check(pts, feats, (1, 4, 1), run)
+    assert out == feats and "0 of them not there" in said
+
+
+@pytest.mark.parametrize("answer", [((1, 4, 0), False), ((1, 4, 1), True), ((1, 6, 1), True)])
+def test_a_resample_that_is_open_or_has_as_many_handles_says_nothing(two_loops, answer):
+    pts, feats = two_loops
+    betti, closed = answer
+    out, said = resample_check(pts, feats, (1, 4, 1), lambda sub: (betti, closed, [], pts))
+    assert out == feats and said.endswith("kept")
+
+
+def test_nothing_to_check_runs_nothing(two_loops):
+    pts, feats = two_loops
+
+    def run(sub):
+        raise AssertionError("no handle in the band: the resample must not run")
+
+    out, said = resample_check(pts, feats[1:], (1, 2, 1), run)
+    assert out == feats[1:] and said is None
+
+
+def test_real_handles_survive_the_resample():
+    """fertility (genus 4): two of its handle loops lie in the checked band (12.7 and 16.8 radii); the
+    reconstruction of 90 % of its samples has them too, so the result stays closed genus 4 with no doubt."""
+    rec = reconstruct(read_mesh(RESOURCES / "fertility.off").points, 2)
+    assert rec.topology.closed_manifold and rec.topology.betti == (1, 8, 1)
+    band = [f for f in rec.features if f.kind == "handle" and LOOP_SUPPORTED <= f.size_spacings < LOOP_CHECKED]
+    assert band  # the case this test is about
+    assert not rec.uncertain_features
+    assert any(m.startswith("resample-check") and f"{RESAMPLE_KEEP:.0%}" in m for m in rec.topology.messages)
+
+
+def test_the_check_is_skipped_on_request_and_in_paper_mode():
+    pts = read_mesh(RESOURCES / "fertility.off").points
+    for rec in (reconstruct(pts, 2, resample=False), reconstruct(pts, 2, mode="paper")):
+        assert not any(m.startswith("resample-check") for m in rec.topology.messages)
