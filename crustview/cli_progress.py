@@ -65,13 +65,15 @@ class StageProgress:
         return self
 
     def __call__(self, stage: str, fraction: float) -> None:
-        if not self.stages or self.stages[-1] != stage:
+        new = not self.stages or self.stages[-1] != stage
+        if new:
             self.stages.append(stage)
         if self._bar is None:
             return
         # never 100 %: rich would mark the task finished and freeze its elapsed time for the next stages
         pct = 100.0 * min(max(float(fraction), 0.0), 0.999)
-        self._bar.update(self._task, description=f"{self.label}: {stage}", completed=pct)
+        # a new stage is drawn at once (one frame each), so a stage shorter than a frame still shows
+        self._bar.update(self._task, description=f"{self.label}: {stage}", completed=pct, refresh=new)
 
     def note(self, line: str) -> None:
         """A line on the bar's stream, above the bar (or plainly without one)."""
