@@ -459,6 +459,7 @@ def _resampled(
         rec.d,
         test=test,
         theta=theta,
+        joggle=rec.joggle / rec.spacing if rec.spacing > 0 else DEFAULT_JOGGLE,  # the run's own, relative
         mode="robust",
         normals=rec.normals_method,
         progress=progress,

@@ -160,6 +160,7 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
     simp = lab.simplices
     real = (simp < n).all(axis=1)
     corner = np.where(simp < n, simp, 0)
+    tree = None  # a k-d tree of the samples, made when a chain is first looked for
     while True:
         surf = lab.faces[ed.cut]
         if len(surf) == 0:
@@ -190,11 +191,10 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
                     # the contact cells did not join it: the least confident chain of cells across the gap
                     how, unit = "chain", SAMPLING_RADIUS
                     gap, v, u = contacts.closest(np.flatnonzero(comp == cid), unit)
-                    sel = (
-                        _chain(ed, comp, cid, v, u, contacts.h, points)
-                        if gap < GAP_MIN and u >= 0
-                        else np.zeros(0, int)
-                    )
+                    sel = np.zeros(0, np.int64)
+                    if gap < GAP_MIN and u >= 0:
+                        tree = cKDTree(points) if tree is None else tree
+                        sel = _chain(ed, comp, cid, v, u, contacts.h, points, tree)
                 else:
                     near = contacts.mask(unit)
                     theirs = (comp[corner] >= 0) & ~mine
@@ -233,7 +233,7 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
 
 
 def _chain(
-    ed: LabelEditor, comp: np.ndarray, cid: int, v: int, u: int, h: np.ndarray, points: np.ndarray
+    ed: LabelEditor, comp: np.ndarray, cid: int, v: int, u: int, h: np.ndarray, points: np.ndarray, tree: cKDTree
 ) -> np.ndarray:
     """The least confident chain of outside cells from piece ``cid``'s inside to the other piece's, at a contact.
 
@@ -242,43 +242,49 @@ def _chain(
     through the cells of the contact's neighbourhood: the stars of ``v`` and
     ``u``, and the cells whose vertices all lie within GAP_MIN sampling radii
     (the larger of the two samples') of ``v`` or of ``u``, two balls that
-    overlap since the gap is shorter than their radius.  It starts at an inside cell with a vertex on the piece,
-    ends at one with a vertex on the other piece, and crosses only outside
-    cells (never a cell with a bounding vertex); each one crossed costs one
-    plus its labelling confidence, so the chain is the shortest one and, of
-    those, the least confident.  Empty when the neighbourhood holds none.
+    overlap since the gap is shorter than their radius.  It starts at an
+    inside cell with a vertex on the piece, ends at one with a vertex on the
+    other piece, and crosses only outside cells (never a cell with a bounding
+    vertex); each one crossed costs one plus its labelling confidence, so the
+    chain is the shortest one and, of those, the least confident.  Empty when
+    the neighbourhood holds none.  Only the stars of the samples near the
+    contact are read (``tree`` is a k-d tree of ``points``).
     """
     lab = ed.lab
     n = lab.n
-    simp = lab.simplices
     radius = GAP_MIN * max(float(h[v]), float(h[u]))
+    near = np.unique(np.concatenate([np.asarray(tree.query_ball_point(points[s], radius), np.int64) for s in (v, u)]))
     close = np.zeros(n, bool)
-    tree = cKDTree(points)
-    for s in (v, u):
-        close[tree.query_ball_point(points[s], radius)] = True
+    close[near] = True
+    # every cell of the neighbourhood has a vertex near the contact (v and u are), so it is in their stars
+    cand = np.unique(np.concatenate([ed.star(int(s)) for s in near]))
+    simp = lab.simplices[cand]
     real = (simp < n).all(axis=1)
     star = (simp == v).any(axis=1) | (simp == u).any(axis=1)
-    region = np.flatnonzero(real & (star | close[np.where(simp < n, simp, 0)].all(axis=1)))
+    keep_cell = real & (star | close[np.where(simp < n, simp, 0)].all(axis=1))
+    region = cand[keep_cell]
     if len(region) == 0:
         return np.zeros(0, np.int64)
-    corner = comp[simp[region]]
+    corner = comp[simp[keep_cell]]
     inside = lab.inside[region]
     source = inside & (corner == cid).any(axis=1)
     target = inside & ((corner >= 0) & (corner != cid)).any(axis=1) & ~source
     through = ~inside & ~lab.outside[region]
     if not source.any() or not target.any():
         return np.zeros(0, np.int64)
-    local = np.full(lab.m, -1, np.int64)
-    local[region] = np.arange(len(region))
-    a, b = local[lab.a], local[lab.b]
-    keep = (a >= 0) & (b >= 0)
-    a, b = a[keep], b[keep]
+    # the shared faces between two cells of the region, in face order
+    faces = ed.faces_of(region)
+    a = np.searchsorted(region, lab.a[faces])
+    b = np.searchsorted(region, lab.b[faces])
+    k = len(region)
+    inner = (a < k) & (b < k)
+    inner[inner] = (region[a[inner]] == lab.a[faces[inner]]) & (region[b[inner]] == lab.b[faces[inner]])
+    a, b = a[inner], b[inner]
     # entering a cell costs one plus its confidence; the inside ends cost (almost) nothing
     cost = np.where(through, 1.0 + lab.confidence[region], np.where(source | target, 1e-9, np.inf))
     usable = np.isfinite(cost)
     edges = usable[a] & usable[b]
     a, b = a[edges], b[edges]
-    k = len(region)
     rows = np.r_[a, b, np.full(int(source.sum()), k)]
     cols = np.r_[b, a, np.flatnonzero(source)]
     weights = np.r_[cost[b], cost[a], np.full(int(source.sum()), 1e-9)]
