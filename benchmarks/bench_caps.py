@@ -1,9 +1,10 @@
-"""The caps open-cap removes, true openings or not: the sweep behind CAP_RATIO and CAP_SURE.
+"""The caps open-cap examines, true openings or not: the sweep behind CAP_RATIO and CAP_SURE.
 
 For every mesh of ``../shared/data/scans`` and ``../shared/data/scans2`` and
 its noisy copies (0.1 h and 0.3 h, made by ``../shared/tools/noisy.py`` as in
-``bench_scans.py``), the robust extraction is run and every cap that the rule
-``open-cap`` removed is listed with its ratio (its largest enclosing radius
+``bench_scans.py``), the robust extraction is run and every cap over
+CAP_RATIO that the rule ``open-cap`` examined (removed over CAP_SURE, kept
+closed in the band up to it) is listed with its ratio (its largest enclosing radius
 over the median one of the faces around it,
 :func:`crustview.core.robust.cells.cap_ratios`) and whether it is a true
 opening: at least half of its samples are vertices of the mesh's own
@@ -61,8 +62,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--noisy-dir", type=Path, default=Path(__file__).resolve().parent / ".noisy")
     args = ap.parse_args(argv)
     true_q, false_q = [], []
-    print("| file | cap samples | ratio | true opening |")
-    print("|---|---|---|---|")
+    print("| file | cap samples | ratio | true opening | open-cap |")
+    print("|---|---|---|---|---|")
     todo = cases(not args.clean_only, set(args.only) if args.only else None, args.noisy_dir)
     for seed in [int(x) for x in args.seeds.split(",") if x]:
         for case in [c for c in todo if c.noise == 0]:
@@ -72,11 +73,14 @@ def main(argv: list[str] | None = None) -> int:
     for case in todo:
         rec = reconstruct(case.points, 2)
         bnd = boundary_vertices(case.name)
-        for verts, ratio in getattr(rec.extraction, "opened", []):
+        ext = rec.extraction
+        examined = [(v, q, "removed") for v, q in getattr(ext, "opened", [])]
+        examined += [(v, q, "kept closed") for v, q in getattr(ext, "undecided", [])]
+        for verts, ratio, done in examined:
             rows = rec.point_input[verts]
             real = bool(np.isin(rows, bnd).mean() >= 0.5) if len(bnd) else False
             (true_q if real else false_q).append(ratio)
-            print(f"| {case.name} | {len(verts)} | {ratio:.2f} | {'yes' if real else 'no'} |", flush=True)
+            print(f"| {case.name} | {len(verts)} | {ratio:.2f} | {'yes' if real else 'no'} | {done} |", flush=True)
     print()
     print(f"CAP_RATIO = {CAP_RATIO:g}, CAP_SURE = {CAP_SURE:g}")
     for kind, q in (("true openings", true_q), ("false caps", false_q)):

@@ -291,36 +291,62 @@ def test_extraction_progress_moves_between_the_rules():
     assert len(set(fr)) >= 4 and fr == sorted(fr) and 0 < max(fr) <= 1
 
 
-def test_cap_ratios_on_paper_and_weak_openings():
+def test_cap_ratios_on_paper_and_kept_caps():
     """The fan of radius R in a ring of unit triangles: its ratio is R's enclosing radius over the
-    ring's, the same number that decides caps().  A hole whose samples meet a cap under CAP_SURE
-    becomes uncertain and says why; one that meets only a sure cap, or none, stays as it was."""
-    from crustview.core.analysis.features import Feature, enclosing_radii
-    from crustview.core.robust.cells import CAP_SURE, cap_ratios, weak_openings
+    ring's, the same number that decides caps().  A cap kept closed becomes an uncertain, removed hole
+    at its samples' centre, as wide as their span in their nearest-neighbour distances."""
+    from crustview.core.analysis.features import enclosing_radii
+    from crustview.core.robust.cells import CAP_SURE, cap_ratios, kept_caps
 
     pts, faces = _fan_with_ring(10.0, 1.0)
     r = enclosing_radii(pts, faces)
     (q,) = cap_ratios(faces, [np.arange(8)], pts)
     assert q == pytest.approx(r[:8].max() / np.median(r[8:]))
     assert CAP_SURE == 2 * CAP_RATIO
-
-    def hole(verts):
-        return Feature("hole", np.zeros(3), 9.0, False, np.array(verts), "hole with 8 rim edges, 9 spacings across")
-
-    feats = [hole([1, 2, 3]), hole([20, 21, 22]), hole([40, 41])]
-    openings = [(np.array([0, 1, 2, 3]), 0.9 * CAP_SURE), (np.array([20, 21, 22]), 1.1 * CAP_SURE)]
-    out = weak_openings(feats, openings)
-    assert [f.uncertain for f in out] == [True, False, False]
-    assert "open-cap" in out[0].reason and f"{0.9 * CAP_SURE:.2g}" in out[0].reason
-    assert out[1] is feats[1] and out[2] is feats[2]
-    assert weak_openings(feats, [(np.array([1, 2]), 1.1 * CAP_SURE)]) == feats
+    assert kept_caps(pts, []) == []
+    # the fan's centre and rim: span 20 (the rim's diameter); nearest neighbours: the centre's is 10
+    # away, each rim vertex's is the small triangle's corner, 1.118 away (sqrt(1 + 1/4))
+    (hole,) = kept_caps(pts, [(np.arange(9), 4.0)])
+    assert hole.kind == "hole" and hole.uncertain and hole.removed
+    np.testing.assert_allclose(hole.location, pts[:9].mean(axis=0))
+    assert hole.size_spacings == pytest.approx(20.0 / np.sqrt(1.25))
+    assert "kept closed (rule open-cap)" in hole.reason and "4 times" in hole.reason
 
 
-def test_noise_caps_become_uncertain_holes_and_the_real_opening_stays_sure():
+@pytest.mark.parametrize("top, kept", [(0.9, False), (0.97, True)])
+def test_a_cap_the_sample_does_not_decide_stays_closed_and_is_an_uncertain_hole(top, kept):
+    """A sphere without its cap z > top.  Over 125 missing samples (z > 0.9) the labelling's cap is
+    8.3 times its ring, over CAP_SURE: open-cap removes it.  Over 36 (z > 0.97) it is 4.5 times, between
+    CAP_RATIO and CAP_SURE: it stays, M_S is the closed sphere, and the possible opening is an uncertain
+    removed hole at the cut.  (``reconstruct`` keeps the paper's result here: its Algorithm 3 closes
+    this sphere through every sample.)"""
+    from crustview.core.robust.cells import CAP_SURE
+
+    m = get_manifold("sphere")
+    p = m.sample(2500, seed=0).points
+    p = p[p[:, 2] < top]
+    rec = reconstruct(p, 2, mode="paper")
+    ts = np.sort(rec.candidates.select("cocone"), axis=1)
+    ext = extract_by_labels(rec.points, *_cells(rec), rec.candidates.faces, ts, rec.spacing)
+    top_ = analyse(ext.complex_at(ext.n_steps), rec.n, 2)
+    holes = [f for f in ext.removed_features if f.kind == "hole"]
+    if not kept:
+        assert [q > CAP_SURE for _, q in ext.opened] == [True] and not holes
+        assert top_.betti == (1, 0, 0)
+        return
+    assert ext.opened == [] and not [st for st in ext.steps if st.rule == RULE_OPEN]
+    assert top_.closed_manifold and top_.betti == (1, 0, 1) and top_.unused_samples == 0
+    (hole,) = holes
+    assert hole.uncertain and hole.removed and hole.location[2] > top - 0.05
+    assert any("kept 1 cap closed" in n for n in ext.notes)
+
+
+def test_noise_caps_stay_closed_as_uncertain_holes_and_the_real_opening_stays_open():
     """The camel head (an open scan, one opening at the neck) with noise of 0.3 h
-    (``resources/camelhead-n30.xyz``, written by ``../shared/tools/noisy.py``): open-cap removes the
-    neck's cap (ratio about 9) and two caps that noise made (about 4 and 5), so the result has three
-    holes.  The neck is sure; the two others are uncertain, and the result is flagged."""
+    (``resources/camelhead-n30.xyz``, written by ``../shared/tools/noisy.py``): the labelling caps the
+    neck (ratio about 9, over CAP_SURE), and noise makes two more caps (about 4 and 5, between
+    CAP_RATIO and CAP_SURE).  open-cap removes the neck's cap only: the result's one hole is the neck,
+    sure; the two others stay closed and are reported as uncertain removed holes."""
     from pathlib import Path
 
     from crustview.core.robust.cells import CAP_SURE
@@ -328,11 +354,11 @@ def test_noise_caps_become_uncertain_holes_and_the_real_opening_stays_sure():
 
     pts = read_points(Path(__file__).resolve().parents[1] / "resources" / "camelhead-n30.xyz")
     rec = reconstruct(pts, 2)
-    opened = rec.extraction.opened
-    assert len(opened) >= 2 and max(q for _, q in opened) > CAP_SURE  # the case this test is about
-    holes = sorted((f for f in rec.features if f.kind == "hole"), key=lambda f: -f.size_spacings)
-    assert len(holes) >= 2
-    assert not holes[0].uncertain  # the neck
-    weak = [f for f in holes if f.uncertain and "open-cap" in f.reason]
-    assert len(weak) == sum(q < CAP_SURE for _, q in opened)
-    assert rec.uncertain_features
+    assert [q > CAP_SURE for _, q in rec.extraction.opened] == [True]
+    holes = [f for f in rec.features if f.kind == "hole" and not f.removed]
+    assert len(holes) == 1 and not holes[0].uncertain and holes[0].size_spacings > 15  # the neck
+    kept = [f for f in rec.uncertain_features if f.kind == "hole"]
+    assert len(kept) == 2 and all(f.removed and "kept closed (rule open-cap)" in f.reason for f in kept)
+    ratios = sorted(float(f.reason.split(" times the faces")[0].rsplit(" ", 1)[1]) for f in kept)
+    assert CAP_RATIO < ratios[0] and ratios[1] <= CAP_SURE
+    assert rec.topology.betti[0] == 1 and rec.topology.betti[2] == 0  # open, at the neck only

@@ -376,6 +376,8 @@ def reextract(
         for f in ext.removed_features
         if f.kind == "component"
     ]
+    # a cap open-cap kept closed is a possible opening the sample did not decide: always uncertain
+    feats += [replace(f, location=f.location * scale) for f in ext.removed_features if f.kind == "hole"]
     if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and topo.closed_manifold and _beyond(counts):
         t1 = time.perf_counter()
         feats, said = resample_check(

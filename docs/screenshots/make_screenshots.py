@@ -299,6 +299,13 @@ def noisy_resampled(app, win) -> None:
     wait(app, win)
 
 
+def noisy_cap_kept(app, win) -> None:
+    """The camel head with scanner noise of 0.3 h (``resources/camelhead-n30.xyz``): the neck's cap is removed
+    (a sure opening), the two caps noise made stay closed and are listed as uncertain holes."""
+    win.open_file(HERE.parents[1] / "resources" / "camelhead-n30.xyz", d=2)
+    wait(app, win)
+
+
 def bunny_holes(app, win) -> None:
     """The holes of T_S on the bunny: rims, faint patches, the largest labelled with their size."""
     win.run_panel.set_mode("paper")  # step 0 of the paper's Algorithm 3: M_S = T_S, with its holes
@@ -314,12 +321,13 @@ def bunny_holes(app, win) -> None:
 
 
 #: Window sizes other than :data:`SIZE`.
-SIZES = {"scan-just-opened": (1600, 1000), "elk-joined": (1600, 1000), "noisy-resampled": (1600, 1000)}
+SIZES = {"scan-just-opened": (1600, 1000), "elk-joined": (1600, 1000), "noisy-resampled": (1600, 1000), "noisy-cap-kept": (1600, 1000)}
 
 CASES = {
     "scan-just-opened": scan_just_opened,
     "elk-joined": elk_joined,
     "noisy-resampled": noisy_resampled,
+    "noisy-cap-kept": noisy_cap_kept,
     "bunny-holes": bunny_holes,
     "fertility-epsilon": lambda app, win: epsilon_and_cascade(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
     "nefertiti-epsilon": lambda app, win: epsilon_and_cascade(app, win, "nefertiti.obj", (0.3, 0.4, 3.0), 1.6),

@@ -109,32 +109,54 @@ def caps(faces: np.ndarray, patches: list[np.ndarray], points: np.ndarray) -> li
     return [p for p, q in zip(patches, cap_ratios(faces, patches, points), strict=True) if q > CAP_RATIO]
 
 
-def weak_openings(feats: list, openings: list[tuple[np.ndarray, float]]) -> list:
-    """The features, with every hole whose cap was less than :data:`CAP_SURE` times its ring made uncertain.
+def kept_caps(points: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> list:
+    """The caps ``open-cap`` kept closed, as uncertain holes (removed features: not holes of M_S).
+
+    A cap more than :data:`CAP_RATIO` but at most :data:`CAP_SURE` times its ring is one the sample does
+    not decide: such caps are mostly what noise makes over closed parts, and some real openings measure
+    the same.  The closed answer is the theory's (Algorithm 3 reconstructs closed manifolds; openings are
+    this extension's), so the cap stays, and the possible opening is named.
 
     Parameters
     ----------
-    feats : list of Feature
-        The features of M_S (:func:`~crustview.core.analysis.features.features`).
-    openings : list of (ndarray of int, float)
-        Each cap ``open-cap`` removed: its samples and its ratio (:func:`cap_ratios`).
-    """
-    from dataclasses import replace
+    points : ndarray of shape (n, k)
+        The samples.
+    caps_kept : list of (ndarray of int, float)
+        Each cap kept: its samples and its ratio (:func:`cap_ratios`).
 
-    weak = [set(v.tolist()) for v, q in openings if q < CAP_SURE]
-    if not weak:
-        return feats
+    Returns
+    -------
+    list of Feature
+        ``kind = "hole"``, ``uncertain``, ``removed``; ``size_spacings`` is the span of the cap's samples
+        in their local spacings (nearest-neighbour distances), as for a hole's rim.
+    """
+    from scipy.spatial import cKDTree
+
+    from ..analysis.features import Feature
+
+    if not caps_kept:
+        return []
+    tree = cKDTree(points)
     out = []
-    for f in feats:
-        if f.kind == "hole" and not f.uncertain and any(w.intersection(f.vertices.tolist()) for w in weak):
-            q = min(q for v, q in openings if q < CAP_SURE and set(v.tolist()).intersection(f.vertices.tolist()))
-            f = replace(
-                f,
-                uncertain=True,
-                reason=f"{f.reason} (opened by open-cap: its cap was {q:.2g} times the faces around it, "
-                f"under {CAP_SURE:g}: noise or sparse sampling may have made it)",
+    for vs, q in caps_kept:
+        p = points[vs]
+        span = float(np.max(np.linalg.norm(p - p.mean(axis=0), axis=1)) * 2)
+        h = float(np.median(tree.query(p, k=2)[0][:, 1]))
+        size = span / h if h > 0 else math.inf
+        out.append(
+            Feature(
+                "hole",
+                p.mean(axis=0),
+                size,
+                True,
+                np.asarray(vs, np.int64),
+                f"a possible opening kept closed (rule open-cap): a cap of {len(vs)} samples, {size:.3g} "
+                f"spacings across, {q:.2g} times the faces around it, between CAP_RATIO ({CAP_RATIO:g}) and "
+                f"CAP_SURE ({CAP_SURE:g}): noise over a closed part makes such caps, and so may a small real "
+                "opening",
+                removed=True,
             )
-        out.append(f)
+        )
     return out
 
 
@@ -246,8 +268,11 @@ def extract_by_labels(
     pt = Patcher(points, list(map(tuple, now.tolist())), faces, spacing, orient=orient.tolist(), orientable=True)
     examined = cap_patches(now, size_ratio(points, now) > SIZE_MAX, n)
     ratios = cap_ratios(now, examined, points)
-    patches = [p for p, q in zip(examined, ratios, strict=True) if q > CAP_RATIO]
-    opened = [(np.unique(now[p]), q) for p, q in zip(examined, ratios, strict=True) if q > CAP_RATIO]
+    # a cap over CAP_SURE times its ring is an opening; one between CAP_RATIO and CAP_SURE is not
+    # decided by the sample and stays closed, reported as an uncertain hole (kept_caps)
+    patches = [p for p, q in zip(examined, ratios, strict=True) if q > CAP_SURE]
+    opened = [(np.unique(now[p]), q) for p, q in zip(examined, ratios, strict=True) if q > CAP_SURE]
+    undecided = [(np.unique(now[p]), q) for p, q in zip(examined, ratios, strict=True) if CAP_RATIO < q <= CAP_SURE]
     for patch, (_, ratio) in zip(patches, opened, strict=True):
         for i in patch.tolist():
             pt._delete(i)
@@ -289,9 +314,22 @@ def extract_by_labels(
         notes.append(f"{len(left)} samples are farther than the insertion limit from M_S and were left out: {shown}")
     ext = log.extraction(stopped, notes)
     ext.labelling = lab  # type: ignore[attr-defined]
-    ext.removed_features = handles.removed + [c.feature for j in joined.joins for c in j.cuts] + joined.removed
+    closed_caps = kept_caps(points, undecided)
+    if closed_caps:
+        ext.notes.append(
+            f"open-cap kept {len(closed_caps)} "
+            + ("caps" if len(closed_caps) > 1 else "cap")
+            + f" closed whose faces are {CAP_RATIO:g}-{CAP_SURE:g} times the faces around them (ratios "
+            + ", ".join(f"{q:.2g}" for _, q in undecided[:5])
+            + (" ..." if len(undecided) > 5 else "")
+            + "): the sample does not tell noise from a small opening there; each is an uncertain hole"
+        )
+    ext.removed_features = (
+        handles.removed + [c.feature for j in joined.joins for c in j.cuts] + joined.removed + closed_caps
+    )
     ext.openings = len(patches)  # type: ignore[attr-defined]
     ext.opened = opened  # type: ignore[attr-defined]
+    ext.undecided = undecided  # type: ignore[attr-defined]
     ext.patch_start = start  # type: ignore[attr-defined]
     return ext
 

@@ -86,7 +86,7 @@ from ..analysis.topology import analyse
 from ..errors import Cancelled
 from ..paper.extraction import extract
 from ..steps import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
-from .cells import extract_by_labels, weak_openings
+from .cells import extract_by_labels
 from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 from .patcher import Patcher
 from .seed_core import manifold_core
@@ -232,15 +232,15 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
         raise Cancelled("reconstruction cancelled")
     m_lab = lab.complex_at(lab.n_steps)
     top_lab = analyse(m_lab, n, d)
-    # a hole open-cap made from a cap under CAP_SURE times its ring is uncertain (noise makes such caps)
-    lab.features = weak_openings(features(points, m_lab, d), getattr(lab, "opened", []))
+    lab.features = features(points, m_lab, d)
     f_lab = uncertain(lab.features)
     # sound: a closed manifold, or one whose only boundary is the openings open-cap kept open
     sound = top_lab.closed_manifold or (
         getattr(lab, "openings", 0) > 0 and top_lab.nonmanifold_faces == 0 and top_lab.singular_vertices == 0
     )
     # a cut in [LOOP_MIN, LOOP_SUPPORTED) or any join-parts join decided what the sample did not
-    band_cut = any(f.kind == "component" or f.size_spacings >= LOOP_MIN for f in lab.removed_features)
+    # (and a cap open-cap kept closed undecided: the sample did not decide that either)
+    band_cut = any(f.kind in ("component", "hole") or f.size_spacings >= LOOP_MIN for f in lab.removed_features)
     # above SECOND_OPINION_N a sound result through every sample is kept as it is: its uncertain
     # features already say where it is unsure, and growing again costs up to 36 s (gears at 0.1 h)
     if sound and top_lab.unused_samples == 0 and (n > SECOND_OPINION_N or (not f_lab and not band_cut)):
@@ -265,6 +265,12 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
         keep = _tie(lab, grown, top_lab, top_gro)
         why = "labelled" if keep is lab else "grown"
     m_keep, m_other = (m_lab, m_gro) if keep is lab else (m_gro, m_lab)
+    if keep is grown:
+        # a possible opening open-cap kept closed stays undecided where the grown M_S closes it too
+        rim = _boundary_vertices(m_gro)
+        grown.removed_features = list(grown.removed_features) + [
+            f for f in lab.removed_features if f.kind == "hole" and not rim.intersection(f.vertices.tolist())
+        ]
     t_keep, t_other = (top_lab, top_gro) if keep is lab else (top_gro, top_lab)
     keep.notes.insert(
         0,
@@ -276,6 +282,14 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     if _disputed(t_keep, t_other, keep.features or [], n, labelled=keep is lab):
         keep.disputed = disagreement(points, m_keep, m_other, t_keep.betti, t_other.betti)
     return keep
+
+
+def _boundary_vertices(faces: np.ndarray) -> set[int]:
+    """The vertices of the boundary ridges of a pure complex (ridges in one face)."""
+    d = faces.shape[1]
+    ridges = np.sort(np.concatenate([np.delete(faces, j, axis=1) for j in range(d)]), axis=1)
+    u, c = np.unique(ridges, axis=0, return_counts=True)
+    return set(np.unique(u[c == 1]).tolist())
 
 
 def _disputed(t_keep, t_other, keep_features: list, n: int, *, labelled: bool = True) -> bool:
