@@ -109,13 +109,45 @@ def caps(faces: np.ndarray, patches: list[np.ndarray], points: np.ndarray) -> li
     return [p for p, q in zip(patches, cap_ratios(faces, patches, points), strict=True) if q > CAP_RATIO]
 
 
+def weak_openings(feats: list, openings: list[tuple[np.ndarray, float]]) -> list:
+    """The features, with every hole whose cap was less than :data:`CAP_SURE` times its ring made uncertain.
+
+    Parameters
+    ----------
+    feats : list of Feature
+        The features of M_S (:func:`~crustview.core.analysis.features.features`).
+    openings : list of (ndarray of int, float)
+        Each cap ``open-cap`` removed: its samples and its ratio (:func:`cap_ratios`).
+    """
+    from dataclasses import replace
+
+    weak = [set(v.tolist()) for v, q in openings if q < CAP_SURE]
+    if not weak:
+        return feats
+    out = []
+    for f in feats:
+        if f.kind == "hole" and not f.uncertain and any(w.intersection(f.vertices.tolist()) for w in weak):
+            q = min(q for v, q in openings if q < CAP_SURE and set(v.tolist()).intersection(f.vertices.tolist()))
+            f = replace(
+                f,
+                uncertain=True,
+                reason=f"{f.reason} (opened by open-cap: its cap was {q:.2g} times the faces around it, "
+                f"under {CAP_SURE:g}: noise or sparse sampling may have made it)",
+            )
+        out.append(f)
+    return out
+
+
 def kept_caps(points: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> list:
     """The caps ``open-cap`` kept closed, as uncertain holes (removed features: not holes of M_S).
 
     A cap more than :data:`CAP_RATIO` but at most :data:`CAP_SURE` times its ring is one the sample does
     not decide: such caps are mostly what noise makes over closed parts, and some real openings measure
-    the same.  The closed answer is the theory's (Algorithm 3 reconstructs closed manifolds; openings are
-    this extension's), so the cap stays, and the possible opening is named.
+    the same.  Where no cap of the sample is over CAP_SURE (nothing shows it is an open scan), the closed
+    answer is the theory's (Algorithm 3 reconstructs closed manifolds; openings are this extension's), so
+    the cap stays, and the possible opening is named.  Beside a sure opening such caps are removed
+    (:func:`weak_openings` flags their holes): the scan is open, and its real openings may measure as
+    little (two ends of a cut tube: 6.0 and 5.9), which a kept cap would span with a ribbon.
 
     Parameters
     ----------
@@ -268,11 +300,15 @@ def extract_by_labels(
     pt = Patcher(points, list(map(tuple, now.tolist())), faces, spacing, orient=orient.tolist(), orientable=True)
     examined = cap_patches(now, size_ratio(points, now) > SIZE_MAX, n)
     ratios = cap_ratios(now, examined, points)
-    # a cap over CAP_SURE times its ring is an opening; one between CAP_RATIO and CAP_SURE is not
-    # decided by the sample and stays closed, reported as an uncertain hole (kept_caps)
-    patches = [p for p, q in zip(examined, ratios, strict=True) if q > CAP_SURE]
-    opened = [(np.unique(now[p]), q) for p, q in zip(examined, ratios, strict=True) if q > CAP_SURE]
-    undecided = [(np.unique(now[p]), q) for p, q in zip(examined, ratios, strict=True) if CAP_RATIO < q <= CAP_SURE]
+    # a cap over CAP_SURE times its ring is an opening: the sample is an open scan's, and every cap over
+    # CAP_RATIO is removed (those under CAP_SURE become uncertain holes, weak_openings).  Where no cap is
+    # over CAP_SURE the sample shows no opening beyond doubt: a cap between CAP_RATIO and CAP_SURE stays
+    # closed, the theory's answer, and is reported as an uncertain hole (kept_caps)
+    open_scan = any(q > CAP_SURE for q in ratios)
+    band = [(p, q) for p, q in zip(examined, ratios, strict=True) if q > CAP_RATIO]
+    patches = [p for p, q in band if open_scan]
+    opened = [(np.unique(now[p]), q) for p, q in band if open_scan]
+    undecided = [(np.unique(now[p]), q) for p, q in band if not open_scan]
     for patch, (_, ratio) in zip(patches, opened, strict=True):
         for i in patch.tolist():
             pt._delete(i)

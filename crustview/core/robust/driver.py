@@ -86,7 +86,7 @@ from ..analysis.topology import analyse
 from ..errors import Cancelled
 from ..paper.extraction import extract
 from ..steps import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
-from .cells import extract_by_labels
+from .cells import extract_by_labels, weak_openings
 from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 from .patcher import Patcher
 from .seed_core import manifold_core
@@ -232,7 +232,8 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
         raise Cancelled("reconstruction cancelled")
     m_lab = lab.complex_at(lab.n_steps)
     top_lab = analyse(m_lab, n, d)
-    lab.features = features(points, m_lab, d)
+    # a hole open-cap made beside a sure opening from a cap under CAP_SURE times its ring is uncertain
+    lab.features = weak_openings(features(points, m_lab, d), getattr(lab, "opened", []))
     f_lab = uncertain(lab.features)
     # sound: a closed manifold, or one whose only boundary is the openings open-cap kept open
     sound = top_lab.closed_manifold or (
