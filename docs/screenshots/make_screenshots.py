@@ -300,9 +300,20 @@ def noisy_resampled(app, win) -> None:
 
 
 def noisy_cap_kept(app, win) -> None:
-    """The camel head with scanner noise of 0.3 h (``resources/camelhead-n30.xyz``): the neck's cap is removed
-    (a sure opening), the two caps noise made stay closed and are listed as uncertain holes."""
-    win.open_file(HERE.parents[1] / "resources" / "camelhead-n30.xyz", d=2)
+    """The elk with scanner noise of 0.1 h (noise draw 13): a cap 3.7 times the faces around it, no cap of the
+    sample over CAP_SURE, so open-cap keeps it closed and lists it as an uncertain hole (with the joins)."""
+    import tempfile
+
+    from scipy.spatial import cKDTree
+
+    from crustview.io import read_points
+
+    pts = read_points(DATA / "scans2" / "elk.off")
+    h = float(np.median(cKDTree(pts).query(pts, k=2)[0][:, 1]))
+    noisy = pts + np.random.default_rng(13).normal(scale=0.1 * h, size=pts.shape)
+    path = Path(tempfile.mkdtemp()) / "elk-noise-0.1h-draw13.xyz"
+    np.savetxt(path, noisy)
+    win.open_file(path, d=2)
     wait(app, win)
 
 
