@@ -164,10 +164,10 @@ def test_toggling_each_layer_changes_pixels(qtbot, window):
     maybe = ("holes", "cascade", "compare", "uncertain", "orientation")
     empty = {n for n in maybe if m.layers[n].count == 0}
     assert empty <= set(maybe)
-    for name in set(m.layers) - empty:
+    on = shot(window)  # every layer shown; each check below restores exactly this picture
+    for name in sorted(set(m.layers) - empty):
         box = rows[name].visible
         assert box.isChecked()
-        on = shot(window)
         box.click()  # the layer panel's own check box, as a user does
         assert not m.layers[name].visible
         off = shot(window)
