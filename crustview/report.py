@@ -139,7 +139,8 @@ def report_dict(
             "topology": rec.topology.as_dict(),
             "left_out_samples": left_out_samples(rec),
             "uncertain_features": [f.as_dict() for f in rec.uncertain_features],
-            # every handle the rule cut-handle removed, the ones below any eps < 1 sample's resolution too
+            # every handle the rule cut-handle removed (the ones below any eps < 1 sample's resolution too),
+            # every separation join-parts joined, every cap open-cap kept closed
             "removed_features": [f.as_dict() for f in rec.features if f.removed],
             "features": {
                 kind: sum(f.kind == kind and not f.removed for f in rec.features)

@@ -109,7 +109,7 @@ def test_the_step_log_replays_each_cut(knight):
     )
     rules = [s.rule for s in ext.steps]
     assert rules.count(RULE_CUT) >= 2
-    assert len(ext.removed_features) == rules.count(RULE_CUT)
+    assert len([f for f in ext.removed_features if f.kind != "hole"]) == rules.count(RULE_CUT)  # not kept caps
 
     def rows(a):
         return {tuple(r) for r in np.sort(np.asarray(a).reshape(-1, 3), axis=1).tolist()}

@@ -359,6 +359,7 @@ def test_a_cap_the_sample_does_not_decide_stays_closed_and_is_an_uncertain_hole(
         assert [q > CAP_SURE for _, q in ext.opened] == [True] and not holes
         assert top_.betti == (1, 0, 0)
         return
+    assert [CAP_RATIO < q <= CAP_SURE for _, q in ext.undecided] == [True]  # the band, and no sure cap
     assert ext.opened == [] and not [st for st in ext.steps if st.rule == RULE_OPEN]
     assert top_.closed_manifold and top_.betti == (1, 0, 1) and top_.unused_samples == 0
     (hole,) = holes
@@ -378,7 +379,7 @@ def test_noise_caps_beside_a_sure_opening_become_uncertain_holes_and_the_real_op
 
     pts = read_points(Path(__file__).resolve().parents[1] / "resources" / "camelhead-n30.xyz")
     rec = reconstruct(pts, 2)
-    assert rec.extraction.undecided == []  # beside a sure opening no cap is kept closed
+    assert getattr(rec.extraction, "undecided", []) == []  # beside a sure opening no cap is kept closed
     opened = rec.extraction.opened
     assert len(opened) >= 2 and max(q for _, q in opened) > CAP_SURE  # the case this test is about
     holes = sorted((f for f in rec.features if f.kind == "hole"), key=lambda f: -f.size_spacings)
@@ -401,10 +402,54 @@ def test_beside_a_sure_opening_a_cap_in_the_band_is_removed_too():
     ts = np.sort(rec.candidates.select("cocone"), axis=1)
     ext = extract_by_labels(rec.points, *_cells(rec), rec.candidates.faces, ts, rec.spacing)
     ratios = sorted(q for _, q in ext.opened)
-    assert len(ratios) == 2 and CAP_RATIO < ratios[0] <= CAP_SURE < ratios[1]
+    # the case this test is about (the ratios measure 5.88 and 6.04: a change of the labelling could move
+    # them, which would change the case, not the rule)
+    assert len(ratios) == 2 and CAP_RATIO < ratios[0] <= CAP_SURE < ratios[1], ratios
     assert ext.undecided == [] and not [f for f in ext.removed_features if f.kind == "hole"]
     m_s = ext.complex_at(ext.n_steps)
     top = analyse(m_s, rec.n, 2)
     assert top.betti == (1, 1, 0) and top.unused_samples == 0  # the cut tube: two rims
     holes = [f for f in weak_openings(features(rec.points, m_s, 2), ext.opened) if f.kind == "hole"]
     assert len(holes) == 2 and sum(f.uncertain for f in holes) == 1
+
+
+def test_a_kept_cap_reaches_the_result_and_the_report_in_input_coordinates(tmp_path):
+    """The elk (``resources/elk.off``) with noise of 0.1 h, numpy's draw 13 (``../shared/tools/noisy.py``'s
+    model): the labelled M_S has one cap 3.7 times its ring and none over CAP_SURE, so open-cap keeps it
+    closed.  The result is the closed genus-1 elk through every sample; the cap is an uncertain removed
+    hole of ``rec.features``, at its samples in the input's coordinates, in the JSON report's
+    ``uncertain_features`` and ``removed_features``, and counted in the summary's uncertain holes."""
+    from pathlib import Path
+
+    from scipy.spatial import cKDTree
+
+    from crustview.cli_reconstruct import result_summary
+    from crustview.io import read_points
+    from crustview.report import report_dict
+
+    pts = read_points(Path(__file__).resolve().parents[1] / "resources" / "elk.off")
+    h = float(np.median(cKDTree(pts).query(pts, k=2)[0][:, 1]))
+    noisy = pts + np.random.default_rng(13).normal(scale=0.1 * h, size=pts.shape)
+    rec = reconstruct(noisy, 2, resample=False)
+    top = rec.topology
+    assert top.closed_manifold and top.betti == (1, 2, 1) and top.unused_samples == 0
+    kept = [f for f in rec.features if f.kind == "hole"]
+    assert len(kept) == 1 and kept[0].removed and kept[0].uncertain and "kept closed" in kept[0].reason
+    # input coordinates: the location is the mean of the cap's samples, as given
+    np.testing.assert_allclose(kept[0].location, rec.input_points[rec.point_input[kept[0].vertices]].mean(axis=0))
+    rep = report_dict(rec)
+    assert [u["kind"] for u in rep["uncertain_features"]].count("hole") == 1
+    assert [u["kind"] for u in rep["removed_features"]].count("hole") == 1
+    assert rep["features"]["hole"] == 0  # M_S itself has no hole
+    assert "1 hole" in result_summary(rec, 1.0, tmp_path / "out.npz").split("(uncertain:")[1]
+
+
+def test_boundary_vertices_of_a_complex():
+    """The driver's rim test: vertices of ridges in one face (none on a closed tetrahedron's surface)."""
+    from crustview.core.robust.driver import _boundary_vertices
+
+    assert _boundary_vertices(np.zeros((0, 3), np.int64)) == set()
+    assert _boundary_vertices(np.array([[0, 1, 2]])) == {0, 1, 2}
+    assert _boundary_vertices(np.array([[0, 1, 2], [1, 2, 3]])) == {0, 1, 2, 3}
+    assert _boundary_vertices(np.array([[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]])) == set()
+    assert _boundary_vertices(np.array([[0, 1, 2], [0, 1, 3], [0, 2, 3]])) == {1, 2, 3}

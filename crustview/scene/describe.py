@@ -257,7 +257,7 @@ def kept_open(rec: Reconstruction) -> bool:
 
 def boundary_words(rec: Reconstruction) -> str:
     """The boundary in words: "1 hole", "3 holes" (the hole features), or the boundary face count."""
-    holes = sum(f.kind == "hole" for f in (rec.features or []))
+    holes = sum(f.kind == "hole" and not f.removed for f in (rec.features or []))  # not caps kept closed
     if holes:
         return f"{holes} hole{'s' if holes != 1 else ''}"
     return f"{rec.topology.boundary_faces} boundary faces"

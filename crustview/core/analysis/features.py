@@ -104,9 +104,10 @@ class Feature:
         One sentence.
     removed : bool
         The extraction removed this feature as below the sample's resolution
-        (rule ``cut-handle``; ``join-parts``; ``open-cap``'s caps kept closed,
-        always uncertain): it was in M_S before and is not in the
-        result.  A removed handle stays *uncertain* when its loop was at least
+        (rule ``cut-handle``; ``join-parts``): it was in M_S before and is
+        not in the result; or a possible opening ``open-cap`` kept closed
+        (always uncertain: a hole that is not in M_S, at the cap's samples).
+        A removed handle stays *uncertain* when its loop was at least
         :data:`LOOP_MIN` (a sample coarser than eps = 1/2 resolves it: the
         sample did not decide it); below LOOP_MIN no eps < 1 sample resolves it.
     """

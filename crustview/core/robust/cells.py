@@ -13,8 +13,11 @@ by construction, in one step.  Then, each a step of the log:
    at least :data:`OPEN_MIN_FACES` adjacent ones, more than :data:`CAP_RATIO`
    times larger than the faces around it, is the cap the labelling
    puts over the opening of an open scan: it is removed, and the opening is
-   never closed again by ``fill-hole``.  Smaller patches (where noise or one
-   missing sample leaves a few large faces on a closed object) stay;
+   never closed again by ``fill-hole``, if the sample is an open scan's
+   (some cap over :data:`CAP_SURE`); where none is, caps up to CAP_SURE stay
+   closed as uncertain holes (:func:`kept_caps`).  Smaller patches (where
+   noise or one missing sample leaves a few large faces on a closed object)
+   stay;
 3. the last phase shared with the growing path (:meth:`.patcher.Patcher.settle`):
    holes that are undersampling gaps are closed again (``fill-hole``), real
    openings stay open, left-out samples are inserted (``insert-sample``),
@@ -55,8 +58,10 @@ OPEN_MIN_FACES = 8
 #: opening.  On the public open scans the openings' patches are 3.9-58 times their ring, the sparse parts'
 #: 1.07-2.3 (``benchmarks/bench_scans.py`` reruns the files).
 CAP_RATIO = 3.0
-#: An opening whose cap is less than this many times larger than its ring is *uncertain* (reported, not
-#: decided otherwise): twice CAP_RATIO, as the handles' LOOP_SUPPORTED is twice LOOP_MIN.  Scanner noise
+#: A cap at most this many times larger than its ring is not decided by the sample: twice CAP_RATIO, as
+#: the handles' LOOP_SUPPORTED is twice LOOP_MIN.  Beside a cap over it (an open scan) such a cap is
+#: removed and its hole uncertain (:func:`weak_openings`); where no cap is over it, it stays closed as an
+#: uncertain hole (:func:`kept_caps`).  Scanner noise
 #: makes caps the bound lets through.  Over the public scans, their noisy copies and three more draws at
 #: 0.3 h (``benchmarks/bench_caps.py --seeds 11,12,13``), the caps over closed parts of single objects
 #: measure 3.0-5.4 (one more, 14.7, on the elk, whose result is open and flagged anyway; the CAD gears
@@ -109,7 +114,7 @@ def caps(faces: np.ndarray, patches: list[np.ndarray], points: np.ndarray) -> li
     return [p for p, q in zip(patches, cap_ratios(faces, patches, points), strict=True) if q > CAP_RATIO]
 
 
-def weak_openings(feats: list, openings: list[tuple[np.ndarray, float]]) -> list:
+def weak_openings(feats: list, openings: list[tuple[np.ndarray, float]], how: str = "opened by open-cap") -> list:
     """The features, with every hole whose cap was less than :data:`CAP_SURE` times its ring made uncertain.
 
     Parameters
@@ -117,7 +122,10 @@ def weak_openings(feats: list, openings: list[tuple[np.ndarray, float]]) -> list
     feats : list of Feature
         The features of M_S (:func:`~crustview.core.analysis.features.features`).
     openings : list of (ndarray of int, float)
-        Each cap ``open-cap`` removed: its samples and its ratio (:func:`cap_ratios`).
+        Each cap ``open-cap`` removed (or kept closed, for a grown M_S open there): its samples and its
+        ratio (:func:`cap_ratios`).
+    how : str
+        How the hole relates to the cap, for the reason.
     """
     from dataclasses import replace
 
@@ -131,7 +139,7 @@ def weak_openings(feats: list, openings: list[tuple[np.ndarray, float]]) -> list
             f = replace(
                 f,
                 uncertain=True,
-                reason=f"{f.reason} (opened by open-cap: its cap was {q:.2g} times the faces around it, "
+                reason=f"{f.reason} ({how}: its cap was {q:.2g} times the faces around it, "
                 f"under {CAP_SURE:g}: noise or sparse sampling may have made it)",
             )
         out.append(f)
@@ -160,7 +168,8 @@ def kept_caps(points: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> 
     -------
     list of Feature
         ``kind = "hole"``, ``uncertain``, ``removed``; ``size_spacings`` is the span of the cap's samples
-        in their local spacings (nearest-neighbour distances), as for a hole's rim.
+        (as for a hole's rim) over their median nearest-neighbour distance: a rim's local spacing, the
+        enclosing cover of M_S, would be inflated here by the cap's own large faces.
     """
     from scipy.spatial import cKDTree
 

@@ -256,6 +256,7 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     grown.features = features(points, m_gro, d)
     f_gro = uncertain(grown.features)
 
+    # (the caps open-cap kept closed are removed features, in neither f_lab nor f_gro: they weigh on neither)
     def problems(top, unc) -> tuple:
         return (not top.closed_manifold, top.unused_samples, len(unc), top.boundary_faces)
 
@@ -272,6 +273,10 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
         grown.removed_features = list(grown.removed_features) + [
             f for f in lab.removed_features if f.kind == "hole" and not rim.intersection(f.vertices.tolist())
         ]
+        # and where the grown M_S is open there, its hole is no surer than the cap was
+        grown.features = weak_openings(
+            grown.features or [], getattr(lab, "undecided", []), how="where the labelled M_S had a cap open-cap kept"
+        )
     t_keep, t_other = (top_lab, top_gro) if keep is lab else (top_gro, top_lab)
     keep.notes.insert(
         0,
