@@ -1,0 +1,161 @@
+"""The handles cut-handle removes, real or not on the true mesh: the sweep behind its band [LOOP_MIN, CUT_BELOW).
+
+For every closed mesh of ``../shared/data/scans`` and ``../shared/data/scans2`` (or those named with
+``--only``) and, with ``--noise``, its noisy copies (0.1 h and 0.3 h, as ``bench_scans.py`` makes them), the
+robust extraction is run and every cut of the rule ``cut-handle`` is listed: its loop in sampling radii,
+whether that is in the band where the cut stays uncertain, how it was cut (``fill``: outside cells made
+inside; ``cut``: inside cells made outside), its cells, their labelling confidence, and whether the handle
+was *real*: whether the removed loop (its samples are the mesh's own vertices) is non-trivial in the Z/2
+homology of the mesh's own faces.  The last lines give, per kind, the range of the loops in the band.
+
+The test of a loop: a spanning tree of the mesh's edges and a spanning tree of the dual graph through the
+other edges (tree-cotree) leave 2g edges; each, with the dual tree's path between its two faces, is a
+cycle of the dual graph, and the mesh edges it crosses are a cocycle.  A loop is non-trivial exactly when it
+crosses some such cocycle an odd number of times (consecutive loop samples that are not a mesh edge are
+joined by a shortest path of the mesh).
+
+Run: ``python benchmarks/bench_cuts.py [--only NAME ...] [--noise]``; about a minute per closed mesh.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import breadth_first_order, minimum_spanning_tree, shortest_path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from bench_scans import FOLDERS, cases  # noqa: E402
+
+import crustview.core.robust.cells as cells  # noqa: E402
+from crustview.core import reconstruct  # noqa: E402
+from crustview.core.analysis.features import LOOP_MIN  # noqa: E402
+from crustview.core.robust.cut_handle import CUT_BELOW  # noqa: E402
+from crustview.io import read_mesh  # noqa: E402
+
+
+class Cocycles:
+    """Z/2 cocycles of a closed triangle mesh that detect every non-trivial loop (tree-cotree)."""
+
+    def __init__(self, n: int, faces: np.ndarray) -> None:
+        self.n = n
+        e = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [0, 2]]]), axis=1).astype(np.int64)
+        keys, inverse = np.unique(e[:, 0] * n + e[:, 1], return_inverse=True)
+        self.index = {int(k): i for i, k in enumerate(keys)}
+        edges = np.c_[keys // n, keys % n]
+        nf = len(faces)
+        face_edges = inverse.reshape(3, nf).T
+        graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
+        self.graph = graph + graph.T
+        tree = minimum_spanning_tree(self.graph).tocoo()
+        in_tree = {self._edge(a, b) for a, b in zip(tree.row.tolist(), tree.col.tolist(), strict=True)}
+        owners: list[list[int]] = [[] for _ in range(len(edges))]
+        for f in range(nf):
+            for i in face_edges[f].tolist():
+                owners[i].append(f)
+        dual = [(o[0], o[1], i) for i, o in enumerate(owners) if i not in in_tree and len(o) == 2]
+        across = {}
+        for a, b, i in dual:
+            across[(a, b)] = across[(b, a)] = i
+        g = coo_matrix((np.ones(len(dual)), ([a for a, _, _ in dual], [b for _, b, _ in dual])), shape=(nf, nf))
+        cotree = minimum_spanning_tree((g + g.T).tocsr()).tocoo()
+        in_cotree = {across[(a, b)] for a, b in zip(cotree.row.tolist(), cotree.col.tolist(), strict=True)}
+        t = coo_matrix((np.ones(len(cotree.row)), (cotree.row, cotree.col)), shape=(nf, nf)).tocsr()
+        order, parent = breadth_first_order(t + t.T, 0, directed=False, return_predecessors=True)
+        depth = np.zeros(nf, np.int64)
+        for f in order[1:].tolist():
+            depth[f] = depth[parent[f]] + 1
+        self.cocycles: list[set[int]] = []
+        for a, b, i in dual:
+            if i in in_cotree:
+                continue
+            crossed, x, y = {i}, a, b
+            while x != y:
+                if depth[x] < depth[y]:
+                    x, y = y, x
+                crossed ^= {across[(x, int(parent[x]))]}
+                x = int(parent[x])
+            self.cocycles.append(crossed)
+
+    def _edge(self, a: int, b: int) -> int:
+        return self.index[min(a, b) * self.n + max(a, b)]
+
+    def nontrivial(self, loop: list[int]) -> bool:
+        """Whether the closed loop of mesh vertices is non-trivial in H_1(mesh; Z/2)."""
+        edges: dict[int, int] = {}
+        for u, v in zip(loop, loop[1:] + loop[:1], strict=True):
+            key = min(u, v) * self.n + max(u, v)
+            if key in self.index:
+                path = [self.index[key]]
+            else:  # not a mesh edge: the mesh's shortest path
+                _, pred = shortest_path(self.graph, indices=[u], unweighted=True, return_predecessors=True)
+                path, x = [], v
+                while x != u:
+                    path.append(self._edge(int(pred[0][x]), x))
+                    x = int(pred[0][x])
+            for i in path:
+                edges[i] = edges.get(i, 0) ^ 1
+        odd = {i for i, bit in edges.items() if bit}
+        return any(len(odd & c) % 2 for c in self.cocycles)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--only", nargs="*", help="file stems")
+    ap.add_argument("--noise", action="store_true", help="also the noisy copies at 0.1 h and 0.3 h")
+    ap.add_argument("--noisy-dir", type=Path, default=Path(__file__).resolve().parent / ".noisy")
+    args = ap.parse_args(argv)
+    seen: list = []
+    run_cuts = cells.cut_handles
+
+    def spy(ed, points):
+        out = run_cuts(ed, points)
+        seen.append((ed.lab, out))
+        return out
+
+    cells.cut_handles = spy
+    real_band, false_band = [], []
+    print("| file | loop (radii) | band | how | cells | mean confidence | real on the mesh |")
+    print("|---|---|---|---|---|---|---|")
+    todo = [c for c in cases(args.noise, set(args.only) if args.only else None, args.noisy_dir) if c.truth["closed"]]
+    meshes: dict[str, Cocycles] = {}
+    for case in todo:
+        stem = case.name.split("-n")[0]
+        if stem not in meshes:
+            path = next(
+                f for folder in FOLDERS for f in folder.glob(stem + ".*") if f.suffix in (".off", ".obj", ".ply")
+            )
+            mesh = read_mesh(path)
+            meshes[stem] = Cocycles(len(mesh.points), np.asarray(mesh.simplices(2), np.int64))
+        seen.clear()
+        rec = reconstruct(case.points, 2, resample=False)
+        for lab, result in seen:
+            for cut in result.cuts:
+                loop = [int(v) for v in rec.point_input[cut.feature.vertices]]
+                real = meshes[stem].nontrivial(loop)
+                size = cut.feature.size_spacings
+                band = LOOP_MIN <= size < CUT_BELOW
+                if band:
+                    (real_band if real else false_band).append(size)
+                conf = float(lab.confidence[cut.cells].mean())
+                print(
+                    f"| {case.name} | {size:.2f} | {'yes' if band else 'no'} | {cut.how} | {len(cut.cells)} | "
+                    f"{conf:.2f} | {'yes' if real else 'no'} |",
+                    flush=True,
+                )
+    cells.cut_handles = run_cuts
+    print()
+    for kind, sizes in (("real handles cut in the band", real_band), ("false handles cut in the band", false_band)):
+        if sizes:
+            print(f"{kind}: {len(sizes)}, loops {min(sizes):.2f}-{max(sizes):.2f} radii")
+        else:
+            print(f"{kind}: none")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
