@@ -332,7 +332,12 @@ def bunny_holes(app, win) -> None:
 
 
 #: Window sizes other than :data:`SIZE`.
-SIZES = {"scan-just-opened": (1600, 1000), "elk-joined": (1600, 1000), "noisy-resampled": (1600, 1000), "noisy-cap-kept": (1600, 1000)}
+SIZES = {
+    "scan-just-opened": (1600, 1000),
+    "elk-joined": (1600, 1000),
+    "noisy-resampled": (1600, 1000),
+    "noisy-cap-kept": (1600, 1000),
+}
 
 CASES = {
     "scan-just-opened": scan_just_opened,
