@@ -281,40 +281,34 @@ def elk_joined(app, win) -> None:
     wait(app, win)
 
 
-def noisy_resampled(app, win) -> None:
-    """nefertiti with scanner noise of 0.3 h (noise draw 13): a noise tunnel above the length bound, flagged
-    by resample-check because the reconstruction of 90 % of the samples does not have it."""
+def _open_noisy(app, win, mesh: str, level: float, seed: int) -> None:
+    """Open ``mesh`` (under ``../shared/data``) with Gaussian noise of ``level`` times its median spacing,
+    numpy's draw ``seed`` (the noise model of ``../shared/tools/noisy.py``), written to a temporary file."""
     import tempfile
 
     from scipy.spatial import cKDTree
 
     from crustview.io import read_points
 
-    pts = read_points(DATA / "scans" / "nefertiti.obj")
+    pts = read_points(DATA / mesh)
     h = float(np.median(cKDTree(pts).query(pts, k=2)[0][:, 1]))
-    noisy = pts + np.random.default_rng(13).normal(scale=0.3 * h, size=pts.shape)
-    path = Path(tempfile.mkdtemp()) / "nefertiti-noise-0.3h-draw13.xyz"
+    noisy = pts + np.random.default_rng(seed).normal(scale=level * h, size=pts.shape)
+    path = Path(tempfile.mkdtemp()) / f"{Path(mesh).stem}-noise-{level:g}h-draw{seed}.xyz"
     np.savetxt(path, noisy)
     win.open_file(path, d=2)
     wait(app, win)
+
+
+def noisy_resampled(app, win) -> None:
+    """nefertiti with scanner noise of 0.3 h (noise draw 13): a noise tunnel above the length bound, flagged
+    by resample-check because the reconstruction of 90 % of the samples does not have it."""
+    _open_noisy(app, win, "scans/nefertiti.obj", 0.3, 13)
 
 
 def noisy_cap_kept(app, win) -> None:
     """The elk with scanner noise of 0.1 h (noise draw 13): a cap 3.7 times the faces around it, no cap of the
     sample over CAP_SURE, so open-cap keeps it closed and lists it as an uncertain hole (with the joins)."""
-    import tempfile
-
-    from scipy.spatial import cKDTree
-
-    from crustview.io import read_points
-
-    pts = read_points(DATA / "scans2" / "elk.off")
-    h = float(np.median(cKDTree(pts).query(pts, k=2)[0][:, 1]))
-    noisy = pts + np.random.default_rng(13).normal(scale=0.1 * h, size=pts.shape)
-    path = Path(tempfile.mkdtemp()) / "elk-noise-0.1h-draw13.xyz"
-    np.savetxt(path, noisy)
-    win.open_file(path, d=2)
-    wait(app, win)
+    _open_noisy(app, win, "scans2/elk.off", 0.1, 13)
 
 
 def bunny_holes(app, win) -> None:
