@@ -84,8 +84,9 @@ class Cocycles:
     def _edge(self, a: int, b: int) -> int:
         return self.index[min(a, b) * self.n + max(a, b)]
 
-    def nontrivial(self, loop: list[int]) -> bool:
-        """Whether the closed loop of mesh vertices is non-trivial in H_1(mesh; Z/2)."""
+    def nontrivial(self, loop: list[int]) -> bool | None:
+        """Whether the closed loop of mesh vertices is non-trivial in H_1(mesh; Z/2); None when two of its
+        consecutive samples lie on different parts of the mesh (the loop is no cycle of it)."""
         edges: dict[int, int] = {}
         for u, v in zip(loop, loop[1:] + loop[:1], strict=True):
             key = min(u, v) * self.n + max(u, v)
@@ -93,6 +94,8 @@ class Cocycles:
                 path = [self.index[key]]
             else:  # not a mesh edge: the mesh's shortest path
                 _, pred = shortest_path(self.graph, indices=[u], unweighted=True, return_predecessors=True)
+                if pred[0][v] < 0:
+                    return None
                 path, x = [], v
                 while x != u:
                     path.append(self._edge(int(pred[0][x]), x))
@@ -137,6 +140,8 @@ def main(argv: list[str] | None = None) -> int:
             for cut in result.cuts:
                 loop = [int(v) for v in rec.point_input[cut.feature.vertices]]
                 real = meshes[stem].nontrivial(loop)
+                said = {True: "yes", False: "no", None: "no (the loop joins parts of the mesh)"}[real]
+                real = bool(real)
                 size = cut.feature.size_spacings
                 band = LOOP_MIN <= size < CUT_BELOW
                 if band:
@@ -144,7 +149,7 @@ def main(argv: list[str] | None = None) -> int:
                 conf = float(lab.confidence[cut.cells].mean())
                 print(
                     f"| {case.name} | {size:.2f} | {'yes' if band else 'no'} | {cut.how} | {len(cut.cells)} | "
-                    f"{conf:.2f} | {'yes' if real else 'no'} |",
+                    f"{conf:.2f} | {said} |",
                     flush=True,
                 )
     cells.cut_handles = run_cuts
