@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import breadth_first_order, minimum_spanning_tree, shortest_path
+from scipy.sparse.csgraph import breadth_first_order, connected_components, minimum_spanning_tree, shortest_path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
@@ -65,10 +65,15 @@ class Cocycles:
         cotree = minimum_spanning_tree((g + g.T).tocsr()).tocoo()
         in_cotree = {across[(a, b)] for a, b in zip(cotree.row.tolist(), cotree.col.tolist(), strict=True)}
         t = coo_matrix((np.ones(len(cotree.row)), (cotree.row, cotree.col)), shape=(nf, nf)).tocsr()
-        order, parent = breadth_first_order(t + t.T, 0, directed=False, return_predecessors=True)
+        # one search per part of the mesh (each part's faces are one tree of the dual forest)
+        _, part = connected_components(t, directed=False)
+        parent = np.full(nf, -1, np.int64)
         depth = np.zeros(nf, np.int64)
-        for f in order[1:].tolist():
-            depth[f] = depth[parent[f]] + 1
+        for root in np.unique(part, return_index=True)[1].tolist():
+            order, pred = breadth_first_order(t + t.T, root, directed=False, return_predecessors=True)
+            parent[order[1:]] = pred[order[1:]]
+            for f in order[1:].tolist():
+                depth[f] = depth[parent[f]] + 1
         self.cocycles: list[set[int]] = []
         for a, b, i in dual:
             if i in in_cotree:
@@ -89,6 +94,8 @@ class Cocycles:
         consecutive samples lie on different parts of the mesh (the loop is no cycle of it)."""
         edges: dict[int, int] = {}
         for u, v in zip(loop, loop[1:] + loop[:1], strict=True):
+            if u == v:  # a loop listed with its first sample again at the end
+                continue
             key = min(u, v) * self.n + max(u, v)
             if key in self.index:
                 path = [self.index[key]]
