@@ -46,9 +46,10 @@ def feature_lines(rec, feats: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]
 
     ``points`` (m, k) are the drawn vertices, ``lines`` (e, 2) index them:
     a handle's loop (closed), a hole's rim (the boundary edges of M_S on its
-    samples) and a component's closest pair.  ``markers`` (c,) index the
-    points drawn as big dots: each component's closest approach, each
-    feature's location when it has no vertices.
+    samples; for a cap ``open-cap`` kept closed, which has none, the outline
+    of the faces of M_S on its samples) and a component's closest pair.
+    ``markers`` (c,) index the points drawn as big dots: each component's
+    closest approach, each feature's location when it has no vertices.
     """
     k = rec.points.shape[1]
     pts: list[np.ndarray] = []
@@ -64,6 +65,8 @@ def feature_lines(rec, feats: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]
                 faces, inc = geo.facets(np.asarray(rec.manifold, dtype=np.int64).reshape(-1, rec.d + 1))
                 rim = faces[np.bincount(inc.ravel(), minlength=len(faces)) == 1]
             mine = rim[np.isin(rim, vs).all(axis=1)] if rim.shape[1] == 2 else np.zeros((0, 2), np.int64)
+            if not len(mine) and getattr(f, "removed", False) and rim.shape[1] == 2:
+                mine = _cap_outline(np.asarray(rec.manifold, dtype=np.int64), vs)
             if len(mine):
                 order, local = np.unique(mine, return_inverse=True)
                 pts.append(rec.points[order])
@@ -92,6 +95,16 @@ def feature_lines(rec, feats: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]
         np.vstack(lines) if lines else np.zeros((0, 2), np.int64),
         np.asarray(markers, dtype=np.int64),
     )
+
+
+def _cap_outline(triangles: np.ndarray, vs: np.ndarray) -> np.ndarray:
+    """The edges in one triangle among the triangles with every vertex in ``vs`` (a kept cap's outline)."""
+    cap = triangles[np.isin(triangles, vs).all(axis=1)]
+    if not len(cap):
+        return np.zeros((0, 2), np.int64)
+    edges = np.sort(np.concatenate([cap[:, [0, 1]], cap[:, [1, 2]], cap[:, [0, 2]]]), axis=1)
+    u, count = np.unique(edges, axis=0, return_counts=True)
+    return u[count == 1]
 
 
 def feature_samples(rec, f) -> np.ndarray:

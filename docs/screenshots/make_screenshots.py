@@ -307,8 +307,11 @@ def noisy_resampled(app, win) -> None:
 
 def noisy_cap_kept(app, win) -> None:
     """The elk with scanner noise of 0.1 h (noise draw 13): a cap 3.7 times the faces around it, no cap of the
-    sample over CAP_SURE, so open-cap keeps it closed and lists it as an uncertain hole (with the joins)."""
+    sample over CAP_SURE, so open-cap keeps it closed and lists it as an uncertain hole (with the joins);
+    framed as a click on it in the list frames it, its outline drawn by the uncertain-features layer."""
     _open_noisy(app, win, "scans2/elk.off", 0.1, 13)
+    win.view.frame_feature(next(f for f in win.model.rec.uncertain_features if f.kind == "hole"))
+    wait(app, win)
 
 
 def bunny_holes(app, win) -> None:

@@ -1,0 +1,37 @@
+"""What the uncertain-features layer draws, on an octahedron checkable by hand."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+
+from crustview.core.analysis.features import Feature
+from crustview.scene.features import feature_lines
+
+OCTA = np.array([[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]])
+POINTS = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=float)
+
+
+def _rec():
+    # the three arrays feature_lines reads, of a closed octahedron (no boundary edges)
+    return SimpleNamespace(points=POINTS, manifold=OCTA, d=2)
+
+
+def _edges(pts, lines):
+    return {tuple(sorted(map(tuple, pts[e].round(6).tolist()))) for e in lines}
+
+
+def test_a_kept_cap_is_drawn_as_the_outline_of_its_faces():
+    # a cap kept closed on samples 0, 1, 2, 4: its faces (0 2 4) and (2 1 4) share edge 2-4
+    cap = Feature("hole", POINTS[[0, 1, 2, 4]].mean(axis=0), 3.0, True, np.array([0, 1, 2, 4]), "kept", removed=True)
+    pts, lines, markers = feature_lines(_rec(), [cap])
+    want = {tuple(sorted(map(tuple, POINTS[[a, b]].tolist()))) for a, b in [(0, 2), (0, 4), (1, 2), (1, 4)]}
+    assert _edges(pts, lines) == want and len(markers) == 0
+
+
+def test_a_hole_with_no_rim_and_not_kept_is_a_marker_at_its_location():
+    hole = Feature("hole", np.array([0.5, 0.5, 0.5]), 3.0, True, np.array([0, 2, 4]), "no rim")
+    pts, lines, markers = feature_lines(_rec(), [hole])
+    assert len(lines) == 0 and len(markers) == 1
+    np.testing.assert_allclose(pts[markers[0]], [0.5, 0.5, 0.5])
