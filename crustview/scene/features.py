@@ -102,9 +102,8 @@ def _cap_outline(triangles: np.ndarray, vs: np.ndarray) -> np.ndarray:
     cap = triangles[np.isin(triangles, vs).all(axis=1)]
     if not len(cap):
         return np.zeros((0, 2), np.int64)
-    edges = np.sort(np.concatenate([cap[:, [0, 1]], cap[:, [1, 2]], cap[:, [0, 2]]]), axis=1)
-    u, count = np.unique(edges, axis=0, return_counts=True)
-    return u[count == 1]
+    faces, inc = geo.facets(cap)  # as the rims are found above
+    return faces[np.bincount(inc.ravel(), minlength=len(faces)) == 1]
 
 
 def feature_samples(rec, f) -> np.ndarray:

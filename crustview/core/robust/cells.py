@@ -314,10 +314,10 @@ def extract_by_labels(
     # over CAP_SURE the sample shows no opening beyond doubt: a cap between CAP_RATIO and CAP_SURE stays
     # closed, the theory's answer, and is reported as an uncertain hole (kept_caps)
     open_scan = any(q > CAP_SURE for q in ratios)
-    band = [(p, q) for p, q in zip(examined, ratios, strict=True) if q > CAP_RATIO]
-    patches = [p for p, q in band if open_scan]
-    opened = [(np.unique(now[p]), q) for p, q in band if open_scan]
-    undecided = [(np.unique(now[p]), q) for p, q in band if not open_scan]
+    band = [(p, np.unique(now[p]), q) for p, q in zip(examined, ratios, strict=True) if q > CAP_RATIO]
+    patches = [p for p, _, _ in band] if open_scan else []
+    opened = [(vs, q) for _, vs, q in band] if open_scan else []
+    undecided = [] if open_scan else [(vs, q) for _, vs, q in band]
     for patch, (_, ratio) in zip(patches, opened, strict=True):
         for i in patch.tolist():
             pt._delete(i)

@@ -86,6 +86,7 @@ from ..analysis.topology import analyse
 from ..errors import Cancelled
 from ..paper.extraction import extract
 from ..steps import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
+from ..util.rows import unique_rows
 from .cells import extract_by_labels, weak_openings
 from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 from .patcher import Patcher
@@ -293,9 +294,10 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
 def _boundary_vertices(faces: np.ndarray) -> set[int]:
     """The vertices of the boundary ridges of a pure complex (ridges in one face)."""
     d = faces.shape[1]
-    ridges = np.sort(np.concatenate([np.delete(faces, j, axis=1) for j in range(d)]), axis=1)
-    u, c = np.unique(ridges, axis=0, return_counts=True)
-    return set(np.unique(u[c == 1]).tolist())
+    if len(faces) == 0:
+        return set()
+    ridges, inverse = unique_rows(np.sort(np.concatenate([np.delete(faces, j, axis=1) for j in range(d)]), axis=1))
+    return set(np.unique(ridges[np.bincount(inverse) == 1]).tolist())
 
 
 def _disputed(t_keep, t_other, keep_features: list, n: int, *, labelled: bool = True) -> bool:
