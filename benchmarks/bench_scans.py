@@ -30,7 +30,8 @@ Reconstruction (``pip install cgal``) on the same points, judged the same
 way; Open3D's screened Poisson (``pip install open3d``, depth 8), judged on
 its topology only since it does not interpolate the samples.
 
-Run: ``python benchmarks/bench_scans.py [--only NAME] [--clean-only] [--peers] [--modes robust,paper]``.
+Run: ``python benchmarks/bench_scans.py [--only NAME] [--clean-only] [--peers] [--modes robust,paper]``;
+``--noisy-only --seed 21`` runs noise draws held out of the public ones (another seed of ``noisy.py``).
 All 72 files in both modes take about 10 minutes on two cores.
 """
 
@@ -100,8 +101,11 @@ class Row:
         return sum(self.uncertain.values()) > 0 or (self.case.truth["closed"] and not self.closed)
 
 
-def cases(noise: bool, only: set[str] | None, noisy_dir: Path) -> list[Case]:
-    """The clean meshes and, with ``noise``, their noisy copies (made once into ``noisy_dir``)."""
+def cases(noise: bool, only: set[str] | None, noisy_dir: Path, seed: int = 0, clean: bool = True) -> list[Case]:
+    """The clean meshes (unless not ``clean``) and, with ``noise``, their noisy copies (made once into ``noisy_dir``).
+
+    ``seed`` is ``noisy.py``'s: 0 gives the public draws, any other a draw held out of them.
+    """
     out = []
     for folder in FOLDERS:
         if not folder.is_dir():
@@ -115,23 +119,24 @@ def cases(noise: bool, only: set[str] | None, noisy_dir: Path) -> list[Case]:
             mesh = read_mesh(folder / fname)
             pts = np.asarray(mesh.points, dtype=float)
             betti = tuple(int(b) for b in analyse(np.asarray(mesh.simplices(2)), len(pts), 2).betti)
-            out.append(Case(stem, pts, truth[fname], 0.0, betti))
+            if clean:
+                out.append(Case(stem, pts, truth[fname], 0.0, betti))
             if noise:
                 for level in (0.1, 0.3):
-                    noisy = _noisy(pts, stem, level, noisy_dir)
+                    noisy = _noisy(pts, stem, level, noisy_dir, seed)
                     out.append(Case(f"{stem}-n{round(100 * level):02d}", noisy, truth[fname], level, betti))
     return out
 
 
-def _noisy(points: np.ndarray, stem: str, level: float, folder: Path) -> np.ndarray:
-    """The noisy copy that ``noisy.py`` writes (made on first use)."""
+def _noisy(points: np.ndarray, stem: str, level: float, folder: Path, seed: int = 0) -> np.ndarray:
+    """The noisy copy that ``noisy.py`` writes with ``seed`` (made on first use)."""
     folder.mkdir(parents=True, exist_ok=True)
     out = folder / f"{stem}-n{round(100 * level):02d}.xyz"
     if not out.exists():
         src = folder / f"{stem}.npy"
         np.save(src, points)
         subprocess.run(
-            [sys.executable, str(NOISY), str(src), "-o", str(folder), "--levels", str(level)],
+            [sys.executable, str(NOISY), str(src), "-o", str(folder), "--levels", str(level), "--seed", str(seed)],
             check=True,
             stdout=subprocess.DEVNULL,
         )
@@ -262,13 +267,19 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--clean-only", action="store_true", help="no noisy copies")
     ap.add_argument("--modes", default="robust,paper", help="comma-separated: robust, paper")
     ap.add_argument("--peers", action="store_true", help="also CGAL's advancing front and Open3D's Poisson")
-    ap.add_argument("--noisy-dir", type=Path, default=Path(__file__).resolve().parent / ".noisy")
+    ap.add_argument("--noisy-only", action="store_true", help="only the noisy copies")
+    ap.add_argument("--seed", type=int, default=0, help="noisy.py's seed: 0 the public draws, others held-out draws")
+    ap.add_argument("--noisy-dir", type=Path, help="cache of noisy copies (default benchmarks/.noisy[-sSEED])")
     ap.add_argument("--json", type=Path, help="also write the rows as JSON")
     a = ap.parse_args(argv)
     modes = a.modes.split(",")
+    if a.clean_only and a.noisy_only:
+        ap.error("--clean-only and --noisy-only leave nothing to run")
+    here = Path(__file__).resolve().parent
+    noisy_dir = a.noisy_dir or (here / (".noisy" if a.seed == 0 else f".noisy-s{a.seed}"))
     print(HEADER, flush=True)
     rows: list[Row] = []
-    for case in cases(not a.clean_only, set(a.only) if a.only else None, a.noisy_dir):
+    for case in cases(not a.clean_only, set(a.only) if a.only else None, noisy_dir, a.seed, not a.noisy_only):
         new = run_crustview(case, modes)
         if a.peers:
             new += [r for r in (run_cgal(case), run_poisson(case)) if r is not None]

@@ -8,6 +8,7 @@ import numpy as np
 from crustview.core import reconstruct
 from crustview.core.analysis.features import (
     GAP_MIN,
+    HOLE_SUPPORTED,
     LOOP_MIN,
     disagreement,
     enclosing_cover,
@@ -279,3 +280,51 @@ def test_a_handle_between_the_two_bounds_is_uncertain_for_its_own_reason():
             assert LOOP_MIN <= short.size_spacings < LOOP_SUPPORTED and "eps = 1/2" in short.reason
         else:
             assert short.size_spacings >= LOOP_SUPPORTED
+
+
+def test_handles_of_an_open_surface_are_found_whatever_its_holes():
+    """A grid torus with square holes cut in it (genus 1, k holes: b1 = 2 + k - 1) has exactly its two
+    handle loops, the tube's and the ring's, however many holes there are and wherever they lie; the
+    annulus (genus 0, two holes) has none.  The loops are on the surface, not through the holes' caps."""
+    pts, tris = _torus_mesh(40, 12)
+    cen_u = np.repeat(np.arange(40), 12 * 2)  # each triangle's grid cell (u, v), from _torus_mesh's order
+    cen_v = np.tile(np.repeat(np.arange(12), 2), 40)
+    for cells in ([(5, 3)], [(5, 3), (20, 8)], [(2, 2), (12, 5), (25, 9), (33, 0)]):
+        cut = np.zeros(len(tris), bool)
+        for u0, v0 in cells:
+            cut |= (np.abs(cen_u - u0) <= 1) & (np.abs(cen_v - v0) <= 1)
+        t = tris[~cut]
+        assert analyse(t, len(pts), 2).betti == (1, 2 + len(cells) - 1, 0)
+        f = features(pts, t, 2)
+        handles = [x for x in f if x.kind == "handle"]
+        assert len([x for x in f if x.kind == "hole"]) == len(cells)
+        assert len(handles) == 2, cells
+        assert all(len(x.vertices) and x.vertices.max() < len(pts) for x in handles)
+        tube = 12 * 2 * 0.4 * math.sin(math.pi / 12)
+        assert min(x.size_spacings for x in handles) * np.median(local_spacing(pts, t)) <= 1.2 * tube
+    keep = ~np.isin(tris, np.arange(12)).any(axis=1)  # the annulus: the torus cut open across its tube
+    assert not [x for x in features(pts, tris[keep], 2) if x.kind == "handle"]
+
+
+def test_a_hole_between_the_two_bounds_is_uncertain_for_its_own_reason():
+    """A hole's rim is a loop: below LOOP_MIN / pi spacings across no eps < 1 sample shows it, below
+    HOLE_SUPPORTED = LOOP_SUPPORTED / pi only a sample coarser than eps = 1/2 does (uncertain), above
+    it the hole is sure.  Holes of 1 x 2 cells (span sqrt(5) over the sampling radius sqrt(2) / 2:
+    3.16) and 3 x 3 cells (6) in a unit grid sheet."""
+    pts, tris = _sheet(24, 24, 1.0, 1.0, 0.0)
+    cen = pts[tris].mean(axis=1)
+    sizes = {}
+    for w, h in ((1, 2), (3, 3)):
+        cut = (cen[:, 0] > 8) & (cen[:, 0] < 8 + w) & (cen[:, 1] > 8) & (cen[:, 1] < 8 + h)
+        hole = [f for f in features(pts, tris[~cut], 2) if f.kind == "hole" and f.size_spacings < 20]
+        assert len(hole) == 1
+        f = hole[0]
+        sizes[w, h] = f.size_spacings
+        assert f.uncertain == (f.size_spacings < HOLE_SUPPORTED)
+    assert HOLE_SUPPORTED == 4.0 == 2 * LOOP_MIN / math.pi
+    assert sizes[1, 2] == pytest_approx(math.sqrt(5) / (math.sqrt(2) / 2))
+    assert sizes[3, 3] == pytest_approx(6.0)
+    band = [
+        f for f in features(pts, tris[~((cen[:, 0] > 8) & (cen[:, 0] < 9) & (cen[:, 1] > 8) & (cen[:, 1] < 10))], 2)
+    ]
+    assert any(f.kind == "hole" and f.uncertain and "coarser than eps = 1/2" in f.reason for f in band)
