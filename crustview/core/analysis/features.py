@@ -56,8 +56,10 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from .loops import short_basis
+from .loops import capped, short_basis, triangle_edges
 from .radii import circumradii, enclosing_cover, enclosing_radii, local_spacing
+
+_edges = triangle_edges  # (the name this module and its tests use)
 
 __all__ = [
     "GAP_MIN",
@@ -142,16 +144,6 @@ class Feature:
             "removed": bool(self.removed),
             "reason": self.reason,
         }
-
-
-def _edges(tris: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unique edges of the triangles (sorted rows, in key order), and each triangle's three edge ids."""
-    e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [0, 2]]])
-    e = np.sort(e, axis=1).astype(np.int64)
-    base = np.int64(e.max() + 1) if len(e) else np.int64(1)
-    key = e[:, 0] * base + e[:, 1]
-    uniq, first, inv = np.unique(key, return_index=True, return_inverse=True)
-    return e[first], inv.reshape(3, -1).T
 
 
 def features(points: np.ndarray, simplices: np.ndarray, d: int, spacing: np.ndarray | None = None) -> list[Feature]:
@@ -356,7 +348,7 @@ def _handles(
     leaves out more than one rim edge per hole: a noisy plastic vase came out with b1 = 3 and two holes,
     a handle, and no loop listed.
     """
-    pts, tris, edges, tri_edges, count, m = _capped(points, tris, edges, tri_edges, count)
+    pts, tris, edges, tri_edges, count, m = capped(points, tris, edges, tri_edges, count)
     local = np.r_[LOOP_MIN * h, np.zeros(m - n)]
     # local searches reach as far as a loop below the bound can go from its root
     basis = short_basis(pts, tris, edges, tri_edges, count, m, local=local)
@@ -388,34 +380,6 @@ def _handles(
         )
         result.append(Feature("handle", points[loop].mean(axis=0), size, unc, loop, reason))
     return result
-
-
-def _capped(
-    points: np.ndarray, tris: np.ndarray, edges: np.ndarray, tri_edges: np.ndarray, count: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
-    """The surface with a cone over every hole's rim (:func:`_handles`); the surface itself when it has none.
-
-    Returns the points (each hole's apex appended, far beyond the surface's extent, so that every path
-    through it is longer than any path on the surface), triangles, edges, triangle edges, triangles per
-    edge and the number of points.
-    """
-    n = len(points)
-    rim = edges[count == 1]
-    if len(rim) == 0:
-        return points, tris, edges, tri_edges, count, n
-    g = coo_matrix((np.ones(len(rim), np.int8), (rim[:, 0], rim[:, 1])), shape=(n, n))
-    _, label = connected_components(g, directed=False)
-    holes, which = np.unique(label[rim[:, 0]], return_inverse=True)
-    used = np.unique(tris)
-    lo, hi = points[used].min(axis=0), points[used].max(axis=0)
-    far = 1e3 * float(np.linalg.norm(hi - lo) + 1.0)
-    apex = np.zeros((len(holes), points.shape[1]))
-    apex[:, 0] = hi[0] + far * (1.0 + np.arange(len(holes)))
-    pts = np.vstack([points, apex])
-    cone = np.c_[rim, n + which]
-    all_tris = np.vstack([tris, cone]).astype(np.int64)
-    e, te = _edges(all_tris)
-    return pts, all_tris, e, te, np.bincount(te.ravel(), minlength=len(e)), n + len(holes)
 
 
 def uncertain(feats: list[Feature]) -> list[Feature]:
