@@ -314,6 +314,14 @@ def noisy_cap_kept(app, win) -> None:
     wait(app, win)
 
 
+def noisy_small_hole(app, win) -> None:
+    """The lion with scanner noise of 0.1 h (noise draw 21): a hole 3.7 spacings across over a closed part,
+    under HOLE_SUPPORTED, listed as an uncertain hole beside the real opening; framed as a click frames it."""
+    _open_noisy(app, win, "scans/lion.off", 0.1, 21)
+    win.view.frame_feature(next(f for f in win.model.rec.uncertain_features if f.kind == "hole"))
+    wait(app, win)
+
+
 def bunny_holes(app, win) -> None:
     """The holes of T_S on the bunny: rims, faint patches, the largest labelled with their size."""
     win.run_panel.set_mode("paper")  # step 0 of the paper's Algorithm 3: M_S = T_S, with its holes
@@ -334,6 +342,7 @@ SIZES = {
     "elk-joined": (1600, 1000),
     "noisy-resampled": (1600, 1000),
     "noisy-cap-kept": (1600, 1000),
+    "noisy-small-hole": (1600, 1000),
 }
 
 CASES = {
@@ -341,6 +350,7 @@ CASES = {
     "elk-joined": elk_joined,
     "noisy-resampled": noisy_resampled,
     "noisy-cap-kept": noisy_cap_kept,
+    "noisy-small-hole": noisy_small_hole,
     "bunny-holes": bunny_holes,
     "fertility-epsilon": lambda app, win: epsilon_and_cascade(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
     "nefertiti-epsilon": lambda app, win: epsilon_and_cascade(app, win, "nefertiti.obj", (0.3, 0.4, 3.0), 1.6),
