@@ -153,6 +153,28 @@ def _near(points: np.ndarray, f: Feature, loops: list[tuple[np.ndarray, float]])
     return any(np.linalg.norm(c - c2) <= MATCH * (r + r2) for c2, r2 in loops)
 
 
+def _mark_unmatched(
+    points: np.ndarray,
+    features: list[Feature],
+    which: list[int],
+    loops: list[tuple[np.ndarray, float]],
+    uncertain: bool,
+    why: str,
+) -> tuple[list[Feature], int]:
+    """The features with each of ``which`` that no loop of ``loops`` matches set to ``uncertain``, and a count.
+
+    The changed features get ``why`` added to their reason; the count is how many changed.
+    """
+    out = list(features)
+    changed = 0
+    for i in which:
+        if _near(points, features[i], loops):
+            continue
+        changed += 1
+        out[i] = replace(features[i], uncertain=uncertain, reason=f"{features[i].reason} (rule resample-check: {why})")
+    return out, changed
+
+
 def _corroborate(
     points: np.ndarray, features: list[Feature], betti: tuple[int, ...], closed: bool, cut: list[int], sub: Resampled
 ) -> tuple[list[Feature], str]:
@@ -165,19 +187,15 @@ def _corroborate(
             f"b0 = {sub_betti[0]}: not comparable, they stay uncertain"
         )
     loops = [_loop(sub_points, f) for f in sub_features if f.kind == "handle"]
-    out = list(features)
-    sure = 0
-    for i in cut:
-        if _near(points, features[i], loops):
-            continue
-        sure += 1
-        out[i] = replace(
-            features[i],
-            uncertain=False,
-            reason=f"{features[i].reason} (rule resample-check: the reconstruction of {RESAMPLE_KEEP:.0%} of the "
-            "samples never forms this handle, so particular samples, noise perhaps, made it, and its removal "
-            "stands)",
-        )
+    out, sure = _mark_unmatched(
+        points,
+        features,
+        cut,
+        loops,
+        False,
+        f"the reconstruction of {RESAMPLE_KEEP:.0%} of the samples never forms this handle, so particular "
+        "samples, noise perhaps, made it, and its removal stands",
+    )
     return out, (
         f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples forms {len(cut) - sure} of them: "
         f"{sure} removal(s) corroborated, no longer uncertain"
@@ -196,18 +214,15 @@ def _check_sure(
         what = "not a closed manifold" if not sub_closed else f"b1 = {sub_handles}"
         return features, f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples gives {what}: kept"
     loops = [_loop(sub_points, f) for f in sub_features if f.kind == "handle" and not f.removed]
-    out = list(features)
-    gone = 0
-    for i in todo:
-        if _near(points, features[i], loops):
-            continue
-        gone += 1
-        out[i] = replace(
-            features[i],
-            uncertain=True,
-            reason=f"{features[i].reason} (rule resample-check: not there when {1 - RESAMPLE_KEEP:.0%} of the "
-            "samples are left out, so particular samples, noise perhaps, make it)",
-        )
+    out, gone = _mark_unmatched(
+        points,
+        features,
+        todo,
+        loops,
+        True,
+        f"not there when {1 - RESAMPLE_KEEP:.0%} of the samples are left out, so particular samples, noise "
+        "perhaps, make it",
+    )
     return out, (
         f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples has b1 = {sub_handles} for "
         f"{handles}: {gone} of them not there, made uncertain"
