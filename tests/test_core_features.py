@@ -328,3 +328,15 @@ def test_a_hole_between_the_two_bounds_is_uncertain_for_its_own_reason():
         f for f in features(pts, tris[~((cen[:, 0] > 8) & (cen[:, 0] < 9) & (cen[:, 1] > 8) & (cen[:, 1] < 10))], 2)
     ]
     assert any(f.kind == "hole" and f.uncertain and "coarser than eps = 1/2" in f.reason for f in band)
+
+
+def test_an_open_surface_with_too_many_loops_is_reported_not_indexed_past_its_points(monkeypatch):
+    """Past MAX_LOOPS the basis is not searched: an open surface (its caps' apexes appended) gets the one
+    placeholder handle, located among its own samples."""
+    from crustview.core.analysis import loops
+
+    monkeypatch.setattr(loops, "MAX_LOOPS", 1)
+    pts, tris = _torus_mesh(40, 12)
+    f = [x for x in features(pts, tris[6:], 2) if x.kind == "handle"]
+    assert len(f) == 1 and f[0].uncertain and "too many handles" in f[0].reason
+    assert np.all(f[0].location >= pts.min(axis=0)) and np.all(f[0].location <= pts.max(axis=0))

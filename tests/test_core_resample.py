@@ -129,14 +129,30 @@ def test_a_removal_the_resample_forms_again_stays_uncertain(two_loops, kept):
     assert out == [band] and "0 removal(s) corroborated" in said
 
 
-@pytest.mark.parametrize("answer", [((2, 0, 2), True), ((1, 0, 0), False)])
+@pytest.mark.parametrize("answer", [((2, 0, 2), True), ((1, 0, 0), False), ((1, 300, 1), True)])
 def test_a_resample_that_is_not_comparable_corroborates_nothing(two_loops, answer):
-    """Another number of components, or open where the result is closed: its silence does not count."""
+    """Another number of components, open where the result is closed, or too many handles to list (a
+    feature with no loop): its silence does not count."""
     pts, _ = two_loops
     band = _removed(pts, np.arange(12), 7.0)
     betti, closed = answer
-    out, said = resample_check(pts, [band], (1, 0, 1), lambda sub: (betti, closed, [], pts))
+    listed = [] if betti[1] < 256 else [Feature("handle", pts[0], 0.0, True, np.array([], np.int64), "too many")]
+    out, said = resample_check(pts, [band], (1, 0, 1), lambda sub: (betti, closed, listed, pts))
     assert out == [band] and "not comparable" in said
+
+
+def test_a_removal_where_the_resample_opened_a_hole_stays_uncertain(two_loops):
+    """An open result: the resample has no handle at the removed tunnel but a hole there (it opened the
+    tunnel instead of closing it): no corroboration; a hole far away does not count."""
+    pts, _ = two_loops
+    band = _removed(pts, np.arange(12), 7.0)
+    for centre, corroborated in (((0.3, 0.2, 0.0), False), ((10.0, 0.0, 0.0), True)):
+        rim = _ring(centre, 0.8)
+        hole = Feature("hole", rim.mean(axis=0), 3.0, True, np.arange(12), "a hole")
+        out, said = resample_check(
+            pts, [band], (1, 1, 0), lambda sub, h=hole, r=rim: ((1, 1, 0), False, [h], r), closed=False
+        )
+        assert (not out[0].uncertain) == corroborated
 
 
 def test_an_open_result_checks_its_removals_but_not_its_sure_handles(two_loops):

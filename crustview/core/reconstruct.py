@@ -389,7 +389,7 @@ def reextract(
         )
         if said:
             topo.messages.append(f"{said} ({time.perf_counter() - t1:.1f} s)")
-    below = [f for f in feats if f.removed and not f.uncertain]
+    below = [f for f in feats if f.kind == "handle" and f.removed and f.size_spacings < LOOP_MIN]
     if below:
         topo.messages.append(
             f"cut-handle removed {len(below)} "

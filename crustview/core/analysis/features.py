@@ -351,9 +351,9 @@ def _handles(
     pts, tris, edges, tri_edges, count, m = capped(points, tris, edges, tri_edges, count)
     local = np.r_[LOOP_MIN * h, np.zeros(m - n)]
     # local searches reach as far as a loop below the bound can go from its root
-    basis = short_basis(pts, tris, edges, tri_edges, count, m, local=local)
+    basis = short_basis(pts, tris, edges, tri_edges, count, m, local=local, surface=n)
     if isinstance(basis, int):
-        used = np.unique(edges)
+        used = np.unique(edges[edges < n])
         return [
             Feature(
                 "handle",
@@ -366,9 +366,8 @@ def _handles(
         ]
     result = []
     for loop, length in basis:
-        loop = loop[loop < n]  # (a loop through a cone's apex is never shorter than one around it)
-        if len(loop) == 0:
-            continue
+        # a loop through a cone's apex is longer than any on the surface, and every class has one there
+        assert (loop < n).all(), "a basis loop passes through a hole's cap"
         size = length / float(np.median(h[loop]))
         unc = size < LOOP_SUPPORTED
         reason = f"loop of {len(loop)} samples, {size:.3g} sampling radii long" + (

@@ -35,6 +35,7 @@ def short_basis(
     count: np.ndarray,
     n: int,
     local: np.ndarray | None = None,
+    surface: int | None = None,
 ) -> list[tuple[np.ndarray, float]] | int:
     """A short Z/2 homology basis of the closed part of a triangulated surface.
 
@@ -56,6 +57,9 @@ def short_basis(
         element, on its handle) is a root, searched only this far: a short
         loop far from the spread roots is found there, at the cost of a
         small search.
+    surface : int, optional
+        Only vertices below this index are spread roots (:func:`capped` appends each hole's apex after the
+        surface's points; an apex root's loops all pass through a cap).
 
     Returns
     -------
@@ -155,6 +159,8 @@ def short_basis(
     cand_info.extend((-1, -1, int(x), int(y)) for x, y in zip(a0, b0))
     for c in np.unique(label[used]):
         vs = np.nonzero(used & (label == c))[0]
+        if surface is not None:
+            vs = vs[vs < surface]
         roots = _spread(points, vs, ROOTS)
         dist, pred = shortest_path_trees(g, roots)
         # each row is its own single-source search: the chosen loops are walked on these trees below

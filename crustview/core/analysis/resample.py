@@ -41,8 +41,9 @@ sample coarser than eps = 1/2 resolves such a loop and the rule, not the
 sample, decided it.  The same resample asks the sample: if its run has *no*
 handle near the removed one, neither kept nor removed by its own
 ``cut-handle`` (loops matched as above), the labelling of the other samples
-never formed it, so the handle was made by particular samples, as a noise
-tunnel is, and its removal is what the sample as a whole supports: it is no
+never formed it (nor opened a hole there instead), so the handle was made
+by particular samples, as a noise tunnel is, and its removal is what the
+sample as a whole supports: it is no
 longer uncertain (it stays in ``removed_features`` with the reason).  A real
 thin handle is a feature of the surface and forms in the resample too (where
 it is then removed again or kept), so it stays uncertain.  The resample must
@@ -153,6 +154,13 @@ def _near(points: np.ndarray, f: Feature, loops: list[tuple[np.ndarray, float]])
     return any(np.linalg.norm(c - c2) <= MATCH * (r + r2) for c2, r2 in loops)
 
 
+def _rim(points: np.ndarray, f: Feature) -> tuple[np.ndarray, float]:
+    """A hole's rim as a loop: the centroid of its samples and their largest distance from it."""
+    q = points[f.vertices]
+    c = q.mean(axis=0)
+    return c, float(np.linalg.norm(q - c, axis=1).max())
+
+
 def _mark_unmatched(
     points: np.ndarray,
     features: list[Feature],
@@ -181,12 +189,16 @@ def _corroborate(
     """The removals in the band that the resample never formed, made sure (see the module text)."""
     sub_betti, sub_closed, sub_features, sub_points = sub
     head = f"resample-check: {len(cut)} handle(s) cut-handle removed in the uncertain band"
-    if sub_closed != closed or sub_betti[0] != betti[0]:
+    unlisted = any(f.kind == "handle" and len(f.vertices) == 0 for f in sub_features)
+    if sub_closed != closed or sub_betti[0] != betti[0] or unlisted:
         what = "a closed manifold" if sub_closed else "not a closed manifold"
         return features, f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples is {what} with " + (
-            f"b0 = {sub_betti[0]}: not comparable, they stay uncertain"
+            f"b0 = {sub_betti[0]}{' and too many loops to list' if unlisted else ''}: not comparable, they stay "
+            "uncertain"
         )
+    # a handle there, kept or removed, or a hole there (a tunnel the resample opened instead)
     loops = [_loop(sub_points, f) for f in sub_features if f.kind == "handle"]
+    loops += [_rim(sub_points, f) for f in sub_features if f.kind == "hole" and not f.removed]
     out, sure = _mark_unmatched(
         points,
         features,
