@@ -154,11 +154,10 @@ def _near(points: np.ndarray, f: Feature, loops: list[tuple[np.ndarray, float]])
     return any(np.linalg.norm(c - c2) <= MATCH * (r + r2) for c2, r2 in loops)
 
 
-def _rim(points: np.ndarray, f: Feature) -> tuple[np.ndarray, float]:
-    """A hole's rim as a loop: the centroid of its samples and their largest distance from it."""
-    q = points[f.vertices]
-    c = q.mean(axis=0)
-    return c, float(np.linalg.norm(q - c, axis=1).max())
+def _at_rim(points: np.ndarray, f: Feature, rims: list[np.ndarray]) -> bool:
+    """Whether a rim sample of some hole lies within :data:`MATCH` loop radii of handle ``f``'s centroid."""
+    c, r = _loop(points, f)
+    return any(np.linalg.norm(q - c, axis=1).min() <= MATCH * r for q in rims if len(q))
 
 
 def _mark_unmatched(
@@ -189,6 +188,7 @@ def _corroborate(
     """The removals in the band that the resample never formed, made sure (see the module text)."""
     sub_betti, sub_closed, sub_features, sub_points = sub
     head = f"resample-check: {len(cut)} handle(s) cut-handle removed in the uncertain band"
+    n_cut = len(cut)
     unlisted = any(f.kind == "handle" and len(f.vertices) == 0 for f in sub_features)
     if sub_closed != closed or sub_betti[0] != betti[0] or unlisted:
         what = "a closed manifold" if sub_closed else "not a closed manifold"
@@ -196,9 +196,10 @@ def _corroborate(
             f"b0 = {sub_betti[0]}{' and too many loops to list' if unlisted else ''}: not comparable, they stay "
             "uncertain"
         )
-    # a handle there, kept or removed, or a hole there (a tunnel the resample opened instead)
+    # a handle there, kept or removed, or a hole's rim there (a tunnel the resample opened instead)
     loops = [_loop(sub_points, f) for f in sub_features if f.kind == "handle"]
-    loops += [_rim(sub_points, f) for f in sub_features if f.kind == "hole" and not f.removed]
+    rims = [sub_points[f.vertices] for f in sub_features if f.kind == "hole" and not f.removed]
+    cut = [i for i in cut if not _at_rim(points, features[i], rims)]
     out, sure = _mark_unmatched(
         points,
         features,
@@ -209,7 +210,7 @@ def _corroborate(
         "samples, noise perhaps, made it, and its removal stands",
     )
     return out, (
-        f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples forms {len(cut) - sure} of them: "
+        f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples forms {n_cut - sure} of them: "
         f"{sure} removal(s) corroborated, no longer uncertain"
     )
 
