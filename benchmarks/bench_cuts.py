@@ -6,9 +6,7 @@ robust extraction is run and every cut of the rule ``cut-handle`` is listed: its
 whether that is in the band where the cut stays uncertain, how it was cut (``fill``: outside cells made
 inside; ``cut``: inside cells made outside), its cells, their labelling confidence, and whether the handle
 was *real*: whether the removed loop (its samples are the mesh's own vertices) is non-trivial in the Z/2
-homology of the mesh's own faces.  The last lines give, per kind, the range of the loops in the band, and
-how many band removals of each kind ``resample-check`` left uncertain or corroborated (made sure): a real
-handle's removal made sure would be a wrong result without a flag.
+homology of the mesh's own faces.  The last lines give, per kind, the range of the loops in the band.
 
 The test of a loop: a spanning tree of the mesh's edges and a spanning tree of the dual graph through the
 other edges (tree-cotree) leave 2g edges; each, with the dual tree's path between its two faces, is a
@@ -127,17 +125,13 @@ def main(argv: list[str] | None = None) -> int:
     seen: list = []
     run_cuts = cells.cut_handles
 
-    full = [0]  # samples of the case's own run: resample-check's run of 90 % of them is not listed
-
     def spy(ed, points):
         out = run_cuts(ed, points)
-        if len(points) > 0.95 * full[0]:
-            seen.append((ed.lab, out))
+        seen.append((ed.lab, out))
         return out
 
     cells.cut_handles = spy
     real_band, false_band = [], []
-    after: dict[tuple[bool, bool], int] = {}
     print("| file | loop (radii) | band | how | cells | mean confidence | real on the mesh |")
     print("|---|---|---|---|---|---|---|")
     todo = [
@@ -153,13 +147,7 @@ def main(argv: list[str] | None = None) -> int:
             mesh = read_mesh(path)
             meshes[stem] = Cocycles(len(mesh.points), np.asarray(mesh.simplices(2), np.int64))
         seen.clear()
-        full[0] = len(case.points)
-        rec = reconstruct(case.points, 2)
-        # after resample-check: each band removal the resample corroborated (no longer uncertain) or not
-        for f in rec.features:
-            if f.kind == "handle" and f.removed and f.size_spacings >= LOOP_MIN:
-                real = bool(meshes[stem].nontrivial([int(v) for v in rec.point_input[f.vertices]]))
-                after[(real, f.uncertain)] = after.get((real, f.uncertain), 0) + 1
+        rec = reconstruct(case.points, 2, resample=False)
         for lab, result in seen:
             for cut in result.cuts:
                 loop = [int(v) for v in rec.point_input[cut.feature.vertices]]
@@ -183,11 +171,6 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{kind}: {len(sizes)}, loops {min(sizes):.2f}-{max(sizes):.2f} radii")
         else:
             print(f"{kind}: none")
-    for real in (True, False):
-        print(
-            f"band removals of {'real' if real else 'false'} handles after resample-check: "
-            f"{after.get((real, True), 0)} uncertain, {after.get((real, False), 0)} corroborated (sure)"
-        )
     return 0
 
 

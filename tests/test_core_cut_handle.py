@@ -132,8 +132,7 @@ def test_a_removed_handle_is_reported_by_its_bound(knight, tmp_path):
     from crustview.cli_reconstruct import result_summary
     from crustview.report import report_dict
 
-    # without resample-check, which may corroborate a removal in the band (tests/test_core_resample.py)
-    rec = reconstruct(knight, 2, resample=False)
+    rec = reconstruct(knight, 2)
     cuts = rec.extraction.counts_by_rule().get(RULE_CUT, {}).get("steps", 0)
     every = [f for f in rec.features if f.removed]
     assert cuts >= 2 and len(every) == cuts

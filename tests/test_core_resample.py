@@ -14,7 +14,7 @@ import pytest
 
 from crustview.core import reconstruct
 from crustview.core.analysis.features import LOOP_SUPPORTED, Feature
-from crustview.core.analysis.resample import LOOP_CHECKED, RESAMPLE_KEEP, checked, removals, resample_check
+from crustview.core.analysis.resample import LOOP_CHECKED, RESAMPLE_KEEP, checked, resample_check
 from crustview.io import read_mesh
 
 RESOURCES = Path(__file__).resolve().parents[1] / "resources"
@@ -88,81 +88,6 @@ def test_nothing_to_check_runs_nothing(two_loops):
 
     out, said = resample_check(pts, feats[1:], (1, 2, 1), run)
     assert out == feats[1:] and said is None
-
-
-def _removed(points, rows, size, uncertain=True):
-    """A handle cut-handle removed (in the band when uncertain)."""
-    return Feature(
-        "handle", points[rows].mean(axis=0), size, uncertain, np.asarray(rows), f"removed: loop of {size}", removed=True
-    )
-
-
-def test_a_removal_the_resample_never_forms_is_corroborated(two_loops):
-    """A band removal at (0, 0, 0): the resample's run forms no handle there (kept or removed), so the
-    removal is no longer uncertain; one below LOOP_MIN (already sure) and the sure far loop are untouched."""
-    pts, feats = two_loops
-    band = _removed(pts, np.arange(12), 7.0)
-    below = _removed(pts, np.arange(12), 5.0, uncertain=False)
-    calls = []
-
-    def run(sub):
-        calls.append(len(sub))
-        return (1, 2, 1), True, [_handle(pts, np.arange(12, 24), 38.0)], pts
-
-    out, said = resample_check(pts, [feats[1], band, below], (1, 2, 1), run)
-    assert removals([feats[1], band, below]) == [1]
-    assert len(calls) == 1  # one run serves both checks
-    assert not out[1].uncertain and out[1].removed and "never forms this handle" in out[1].reason
-    assert out[0] == feats[1] and out[2] == below
-    assert "1 removal(s) corroborated" in said
-
-
-@pytest.mark.parametrize("kept", [True, False])
-def test_a_removal_the_resample_forms_again_stays_uncertain(two_loops, kept):
-    """The resample forms a handle around the same tube (kept, or removed by its own cut-handle):
-    the removal stays uncertain, whichever way the resample's rule went."""
-    pts, feats = two_loops
-    band = _removed(pts, np.arange(12), 7.0)
-    moved = _ring((0.8, 0.5, 0), 1.1)
-    again = _handle(moved, np.arange(12), 7.5) if kept else _removed(moved, np.arange(12), 7.5)
-    out, said = resample_check(pts, [band], (1, 0, 1), lambda sub: ((1, 2 if kept else 0, 1), True, [again], moved))
-    assert out == [band] and "0 removal(s) corroborated" in said
-
-
-@pytest.mark.parametrize("answer", [((2, 0, 2), True), ((1, 0, 0), False), ((1, 300, 1), True)])
-def test_a_resample_that_is_not_comparable_corroborates_nothing(two_loops, answer):
-    """Another number of components, open where the result is closed, or too many handles to list (a
-    feature with no loop): its silence does not count."""
-    pts, _ = two_loops
-    band = _removed(pts, np.arange(12), 7.0)
-    betti, closed = answer
-    listed = [] if betti[1] < 256 else [Feature("handle", pts[0], 0.0, True, np.array([], np.int64), "too many")]
-    out, said = resample_check(pts, [band], (1, 0, 1), lambda sub: (betti, closed, listed, pts))
-    assert out == [band] and "not comparable" in said
-
-
-def test_a_removal_where_the_resample_opened_a_hole_stays_uncertain(two_loops):
-    """An open result: the resample has no handle at the removed tunnel but a hole there (it opened the
-    tunnel instead of closing it): no corroboration; a hole far away does not count."""
-    pts, _ = two_loops
-    band = _removed(pts, np.arange(12), 7.0)
-    for centre, corroborated in (((0.3, 0.2, 0.0), False), ((10.0, 0.0, 0.0), True)):
-        rim = _ring(centre, 0.8)
-        hole = Feature("hole", rim.mean(axis=0), 3.0, True, np.arange(12), "a hole")
-        out, said = resample_check(
-            pts, [band], (1, 1, 0), lambda sub, h=hole, r=rim: ((1, 1, 0), False, [h], r), closed=False
-        )
-        assert (not out[0].uncertain) == corroborated
-
-
-def test_an_open_result_checks_its_removals_but_not_its_sure_handles(two_loops):
-    """On an open result the sure-handle check does not run (it needs a closed resample to compare
-    handle counts), the removals' check does."""
-    pts, feats = two_loops
-    band = _removed(pts, np.arange(12), 7.0)
-    out, said = resample_check(pts, [*feats, band], (1, 4, 0), lambda sub: ((1, 0, 0), False, [], pts), closed=False)
-    assert out[:2] == feats and not out[2].uncertain
-    assert "handle loop(s)" not in said and "corroborated" in said
 
 
 def test_real_handles_survive_the_resample():

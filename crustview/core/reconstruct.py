@@ -378,18 +378,14 @@ def reextract(
     ]
     # a cap open-cap kept closed is a possible opening the sample did not decide: always uncertain
     feats += [replace(f, location=f.location * scale) for f in ext.removed_features if f.kind == "hole"]
-    if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and _beyond(counts):
+    if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and topo.closed_manifold and _beyond(counts):
         t1 = time.perf_counter()
         feats, said = resample_check(
-            rec.points,
-            feats,
-            topo.betti,
-            lambda sub: _resampled(sub, rec, test, theta, cancel, report),
-            closed=topo.closed_manifold,
+            rec.points, feats, topo.betti, lambda sub: _resampled(sub, rec, test, theta, cancel, report)
         )
         if said:
             topo.messages.append(f"{said} ({time.perf_counter() - t1:.1f} s)")
-    below = [f for f in feats if f.kind == "handle" and f.removed and f.size_spacings < LOOP_MIN]
+    below = [f for f in feats if f.removed and not f.uncertain]
     if below:
         topo.messages.append(
             f"cut-handle removed {len(below)} "

@@ -29,27 +29,9 @@ handles, each checked handle with no handle loop of the resample nearby (loop
 centroids within :data:`MATCH` times the sum of the two loops' radii: loops
 around the same tube) is made uncertain, with the reason.  A resample that
 is not a closed manifold, or has as many handles, says nothing against them.
-The check never changes M_S, and a handle it leaves alone stays as it was.
-Its cost is one more reconstruction, paid only by results with a handle in
-the checked band or a removal in the uncertain band (below).
-
-Removals the resample corroborates
-----------------------------------
-``cut-handle`` removes a handle whose loop is below 4 pi radii; one whose
-loop was at least :data:`~.features.LOOP_MIN` = 2 pi stays uncertain, since a
-sample coarser than eps = 1/2 resolves such a loop and the rule, not the
-sample, decided it.  The same resample asks the sample: if its run has *no*
-handle near the removed one, neither kept nor removed by its own
-``cut-handle`` (loops matched as above), the labelling of the other samples
-never formed it (nor opened a hole there instead), so the handle was made
-by particular samples, as a noise tunnel is, and its removal is what the
-sample as a whole supports: it is no
-longer uncertain (it stays in ``removed_features`` with the reason).  A real
-thin handle is a feature of the surface and forms in the resample too (where
-it is then removed again or kept), so it stays uncertain.  The resample must
-be comparable for its silence to count: as many components, and closed
-exactly when the result is.  This only lifts doubt the rule itself put on its
-own removals; it never lifts any other uncertain feature.
+The check only adds doubt: it never changes M_S, and a handle it leaves
+alone stays as it was.  Its cost is one more reconstruction, paid only by
+results with a handle in the checked band.
 """
 
 from __future__ import annotations
@@ -96,17 +78,11 @@ def _loop(points: np.ndarray, f: Feature) -> tuple[np.ndarray, float]:
     return q.mean(axis=0), length / (2 * math.pi)
 
 
-def removals(features: list[Feature]) -> list[int]:
-    """Indices of the handles ``cut-handle`` removed in the uncertain band (the resample may corroborate them)."""
-    return [i for i, f in enumerate(features) if f.kind == "handle" and f.removed and f.uncertain]
-
-
 def resample_check(
     points: np.ndarray,
     features: list[Feature],
     betti: tuple[int, ...],
     run: Callable[[np.ndarray], Resampled],
-    closed: bool = True,
 ) -> tuple[list[Feature], str | None]:
     """The features, with the checked handles a resample does not show made uncertain; and a message.
 
@@ -120,106 +96,20 @@ def resample_check(
         The result's Betti numbers.
     run : callable
         Reconstructs the kept samples the same way (without this check) and returns
-        :data:`Resampled`.  Called at most once.
-    closed : bool
-        Whether the result is a closed manifold.  Sure handles are checked only then; removals
-        (:func:`removals`) in any case.
+        :data:`Resampled`.
 
     Returns
     -------
     features : list of Feature
-        A new list; only checked handles can change, to uncertain, and removals, to sure.
+        A new list; only checked handles can change, and only to uncertain.
     message : str or None
         What the check did, for the topology messages; None when nothing was checked.
     """
-    todo = checked(features) if closed else []
-    cut = removals(features)
-    if not todo and not cut:
+    todo = checked(features)
+    if not todo:
         return features, None
     keep = np.random.default_rng(RESAMPLE_SEED).random(len(points)) < RESAMPLE_KEEP
-    sub = run(points[keep])
-    out, said = list(features), []
-    if todo:
-        out, msg = _check_sure(points, out, betti, todo, sub)
-        said.append(msg)
-    if cut:
-        out, msg = _corroborate(points, out, betti, closed, cut, sub)
-        said.append(msg)
-    return out, "; ".join(said)
-
-
-def _near(points: np.ndarray, f: Feature, loops: list[tuple[np.ndarray, float]]) -> bool:
-    """Whether a loop of ``loops`` goes around the same tube as handle ``f`` (:data:`MATCH`)."""
-    c, r = _loop(points, f)
-    return any(np.linalg.norm(c - c2) <= MATCH * (r + r2) for c2, r2 in loops)
-
-
-def _at_rim(points: np.ndarray, f: Feature, rims: list[np.ndarray]) -> bool:
-    """Whether a rim sample of some hole lies within :data:`MATCH` loop radii of handle ``f``'s centroid."""
-    c, r = _loop(points, f)
-    return any(np.linalg.norm(q - c, axis=1).min() <= MATCH * r for q in rims if len(q))
-
-
-def _mark_unmatched(
-    points: np.ndarray,
-    features: list[Feature],
-    which: list[int],
-    loops: list[tuple[np.ndarray, float]],
-    uncertain: bool,
-    why: str,
-) -> tuple[list[Feature], int]:
-    """The features with each of ``which`` that no loop of ``loops`` matches set to ``uncertain``, and a count.
-
-    The changed features get ``why`` added to their reason; the count is how many changed.
-    """
-    out = list(features)
-    changed = 0
-    for i in which:
-        if _near(points, features[i], loops):
-            continue
-        changed += 1
-        out[i] = replace(features[i], uncertain=uncertain, reason=f"{features[i].reason} (rule resample-check: {why})")
-    return out, changed
-
-
-def _corroborate(
-    points: np.ndarray, features: list[Feature], betti: tuple[int, ...], closed: bool, cut: list[int], sub: Resampled
-) -> tuple[list[Feature], str]:
-    """The removals in the band that the resample never formed, made sure (see the module text)."""
-    sub_betti, sub_closed, sub_features, sub_points = sub
-    head = f"resample-check: {len(cut)} handle(s) cut-handle removed in the uncertain band"
-    n_cut = len(cut)
-    unlisted = any(f.kind == "handle" and len(f.vertices) == 0 for f in sub_features)
-    if sub_closed != closed or sub_betti[0] != betti[0] or unlisted:
-        what = "a closed manifold" if sub_closed else "not a closed manifold"
-        return features, f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples is {what} with " + (
-            f"b0 = {sub_betti[0]}{' and too many loops to list' if unlisted else ''}: not comparable, they stay "
-            "uncertain"
-        )
-    # a handle there, kept or removed, or a hole's rim there (a tunnel the resample opened instead)
-    loops = [_loop(sub_points, f) for f in sub_features if f.kind == "handle"]
-    rims = [sub_points[f.vertices] for f in sub_features if f.kind == "hole" and not f.removed]
-    cut = [i for i in cut if not _at_rim(points, features[i], rims)]
-    out, sure = _mark_unmatched(
-        points,
-        features,
-        cut,
-        loops,
-        False,
-        f"the reconstruction of {RESAMPLE_KEEP:.0%} of the samples never forms this handle, so particular "
-        "samples, noise perhaps, made it, and its removal stands",
-    )
-    return out, (
-        f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples forms {n_cut - sure} of them: "
-        f"{sure} removal(s) corroborated, no longer uncertain"
-    )
-
-
-def _check_sure(
-    points: np.ndarray, features: list[Feature], betti: tuple[int, ...], todo: list[int], sub: Resampled
-) -> tuple[list[Feature], str]:
-    """The sure handles in the checked band that the resample does not show, made uncertain."""
-    sub_betti, sub_closed, sub_features, sub_points = sub
+    sub_betti, sub_closed, sub_features, sub_points = run(points[keep])
     handles, sub_handles = sum(betti[1:-1]), sum(sub_betti[1:-1])
     lengths = ", ".join(f"{features[i].size_spacings:.3g}" for i in todo)
     head = f"resample-check: {len(todo)} handle loop(s) of {lengths} sampling radii (under {LOOP_CHECKED:.3g})"
@@ -227,15 +117,19 @@ def _check_sure(
         what = "not a closed manifold" if not sub_closed else f"b1 = {sub_handles}"
         return features, f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples gives {what}: kept"
     loops = [_loop(sub_points, f) for f in sub_features if f.kind == "handle" and not f.removed]
-    out, gone = _mark_unmatched(
-        points,
-        features,
-        todo,
-        loops,
-        True,
-        f"not there when {1 - RESAMPLE_KEEP:.0%} of the samples are left out, so particular samples, noise "
-        "perhaps, make it",
-    )
+    out = list(features)
+    gone = 0
+    for i in todo:
+        c, r = _loop(points, features[i])
+        if any(np.linalg.norm(c - c2) <= MATCH * (r + r2) for c2, r2 in loops):
+            continue
+        gone += 1
+        out[i] = replace(
+            features[i],
+            uncertain=True,
+            reason=f"{features[i].reason} (rule resample-check: not there when {1 - RESAMPLE_KEEP:.0%} of the "
+            "samples are left out, so particular samples, noise perhaps, make it)",
+        )
     return out, (
         f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples has b1 = {sub_handles} for "
         f"{handles}: {gone} of them not there, made uncertain"
