@@ -31,7 +31,8 @@ way; Open3D's screened Poisson (``pip install open3d``, depth 8), judged on
 its topology only since it does not interpolate the samples.
 
 Run: ``python benchmarks/bench_scans.py [--only NAME] [--clean-only] [--peers] [--modes robust,paper]``;
-``--noisy-only --seed 21`` runs noise draws held out of the public ones (another seed of ``noisy.py``).
+``--noisy-only --seed 21`` runs noise draws held out of the public ones (another seed of ``noisy.py``), and
+``--subsample 0.5 --seed 7`` random halves of every sample (draw 7), sparser samples of the same objects.
 All 72 files in both modes take about 10 minutes on two cores.
 """
 
@@ -101,10 +102,19 @@ class Row:
         return sum(self.uncertain.values()) > 0 or (self.case.truth["closed"] and not self.closed)
 
 
-def cases(noise: bool, only: set[str] | None, noisy_dir: Path, seed: int = 0, clean: bool = True) -> list[Case]:
+def cases(
+    noise: bool,
+    only: set[str] | None,
+    noisy_dir: Path,
+    seed: int = 0,
+    clean: bool = True,
+    subsample: float | None = None,
+) -> list[Case]:
     """The clean meshes (unless not ``clean``) and, with ``noise``, their noisy copies (made once into ``noisy_dir``).
 
-    ``seed`` is ``noisy.py``'s: 0 gives the public draws, any other a draw held out of them.
+    ``seed`` is ``noisy.py``'s: 0 gives the public draws, any other a draw held out of them.  With
+    ``subsample``, each case keeps that share of its samples (numpy's draw ``seed``), a sparser sample of
+    the same object.
     """
     out = []
     for folder in FOLDERS:
@@ -118,13 +128,16 @@ def cases(noise: bool, only: set[str] | None, noisy_dir: Path, seed: int = 0, cl
                 continue
             mesh = read_mesh(folder / fname)
             pts = np.asarray(mesh.points, dtype=float)
+            keep = None if subsample is None else np.random.default_rng(seed).random(len(pts)) < subsample
             betti = tuple(int(b) for b in analyse(np.asarray(mesh.simplices(2)), len(pts), 2).betti)
+            tag = "" if subsample is None else f"-s{round(100 * subsample):02d}"
             if clean:
-                out.append(Case(stem, pts, truth[fname], 0.0, betti))
+                out.append(Case(stem + tag, pts if keep is None else pts[keep], truth[fname], 0.0, betti))
             if noise:
                 for level in (0.1, 0.3):
                     noisy = _noisy(pts, stem, level, noisy_dir, seed)
-                    out.append(Case(f"{stem}-n{round(100 * level):02d}", noisy, truth[fname], level, betti))
+                    noisy = noisy if keep is None else noisy[keep]
+                    out.append(Case(f"{stem}-n{round(100 * level):02d}{tag}", noisy, truth[fname], level, betti))
     return out
 
 
@@ -271,7 +284,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=int, default=0, help="noisy.py's seed: 0 the public draws, others held-out draws")
     ap.add_argument("--noisy-dir", type=Path, help="cache of noisy copies (default benchmarks/.noisy[-sSEED])")
     ap.add_argument("--json", type=Path, help="also write the rows as JSON")
+    ap.add_argument(
+        "--subsample", type=float, metavar="SHARE", help="keep this share of every sample (draw --seed): sparser cases"
+    )
     a = ap.parse_args(argv)
+    if a.subsample is not None and not 0 < a.subsample <= 1:
+        ap.error("--subsample takes a share in (0, 1]")
     modes = a.modes.split(",")
     if a.clean_only and a.noisy_only:
         ap.error("--clean-only and --noisy-only leave nothing to run")
@@ -279,7 +297,8 @@ def main(argv: list[str] | None = None) -> int:
     noisy_dir = a.noisy_dir or (here / (".noisy" if a.seed == 0 else f".noisy-s{a.seed}"))
     print(HEADER, flush=True)
     rows: list[Row] = []
-    for case in cases(not a.clean_only, set(a.only) if a.only else None, noisy_dir, a.seed, not a.noisy_only):
+    only = set(a.only) if a.only else None
+    for case in cases(not a.clean_only, only, noisy_dir, a.seed, not a.noisy_only, a.subsample):
         new = run_crustview(case, modes)
         if a.peers:
             new += [r for r in (run_cgal(case), run_poisson(case)) if r is not None]
