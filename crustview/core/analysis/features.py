@@ -59,8 +59,6 @@ from scipy.spatial import cKDTree
 from .loops import capped, short_basis, triangle_edges
 from .radii import circumradii, enclosing_cover, enclosing_radii, local_spacing
 
-_edges = triangle_edges  # (the name this module and its tests use)
-
 __all__ = [
     "GAP_MIN",
     "HOLE_SUPPORTED",
@@ -176,7 +174,7 @@ def features(points: np.ndarray, simplices: np.ndarray, d: int, spacing: np.ndar
     h = local_spacing(points, simplices) if spacing is None else np.asarray(spacing, dtype=float)
     out = _components(points, simplices, h) + left_out(points, simplices, d)
     if d == 2:
-        edges, tri_edges = _edges(simplices)
+        edges, tri_edges = triangle_edges(simplices)
         count = np.bincount(tri_edges.ravel(), minlength=len(edges))
         out += _holes(points, edges, count, h)
         if not _no_loops(simplices, edges, tri_edges, count, n):
