@@ -170,7 +170,10 @@ def test_a_thinned_count_takes_two_lines_in_the_narrow_column(qtbot, window):
 
 
 # ---------------------------------------------------------------- 3. the camera
-CASTING = Path(__file__).resolve().parents[1] / "resources" / "casting.off"  # a copy of ../shared/data/scans2/
+#: An open scan with an amber result: notes and a long legend over the top of the view (the casting
+#: served here before at 12 s a run, as its second opinion and resample check both run; the camelhead
+#: fails this test as well when the fit ignores the text, at a third of the cost).
+SCAN = Path(__file__).resolve().parents[1] / "resources" / "camelhead.off"
 
 
 def _on_screen(window, pts: np.ndarray) -> np.ndarray:
@@ -185,7 +188,7 @@ def test_reset_shows_all_of_a_scan_clear_of_the_legend(qtbot, window, size):
     from tests.gui_helpers import wait_idle
 
     _settle(qtbot, window, *size)
-    assert window.open_file(CASTING, d=2)
+    assert window.open_file(SCAN, d=2)
     wait_idle(qtbot, window)
     qtbot.wait(100)
     window.plotter.camera.zoom(2.0)  # wherever the user left it
