@@ -283,6 +283,40 @@ def test_a_handle_between_the_two_bounds_is_uncertain_for_its_own_reason():
             assert short.size_spacings >= LOOP_SUPPORTED
 
 
+def test_the_waist_of_a_regular_polygon_is_its_diameter():
+    """Twelve vertices on the unit circle: each one's point half the loop on is the opposite vertex, 2
+    apart: 2 sampling radii of 1, 4 of 0.5; a stadium 0.2 wide is that wide at its middle."""
+    from crustview.core.analysis.necks import waist
+
+    n = 12
+    ring = np.c_[np.cos(2 * np.pi * np.arange(n) / n), np.sin(2 * np.pi * np.arange(n) / n), np.zeros(n)]
+    assert waist(ring, np.arange(n), np.ones(n)) == pytest_approx(2.0)
+    assert waist(ring, np.arange(n), np.full(n, 0.5)) == pytest_approx(4.0)
+    x = np.linspace(0, 1, 11)
+    stadium = np.r_[np.c_[x, np.zeros(11), np.zeros(11)], np.c_[x[::-1], np.full(11, 0.2), np.zeros(11)]]
+    assert waist(stadium, np.arange(22), np.ones(22)) == pytest_approx(0.2)
+
+
+def test_a_handle_around_a_part_thinner_than_two_sheets_resolve_is_uncertain():
+    """A torus whose tube is flattened to a ring 2b thick: its short loop goes round the flat tube, and
+    its top and bottom points, half the loop apart, are 2b apart.  At 4 % of its height that is about
+    1.1 sampling radii, below GAP_MIN, while the loop is 56 radii long (far above 4 pi): uncertain for
+    the neck alone.  At 20 % (4.5 radii) and round (21) it is sure."""
+    from crustview.core.analysis.features import LOOP_SUPPORTED
+
+    for flat, unc in ((0.05, True), (0.2, False), (1.0, False)):
+        pts, tris = _torus_mesh(200, 40)
+        pts[:, 2] *= flat
+        handles = [x for x in features(pts, tris, 2) if x.kind == "handle"]
+        assert len(handles) == 2
+        short = min(handles, key=lambda x: x.size_spacings)
+        assert short.size_spacings >= LOOP_SUPPORTED
+        assert short.uncertain == unc
+        assert ("neck" in short.reason) == unc
+        assert not max(handles, key=lambda x: x.size_spacings).uncertain  # the loop along the ring is wide
+    assert GAP_MIN == 2.0
+
+
 def test_handles_of_an_open_surface_are_found_whatever_its_holes():
     """A grid torus with square holes cut in it (genus 1, k holes: b1 = 2 + k - 1) has exactly its two
     handle loops, the tube's and the ring's, however many holes there are and wherever they lie; the
@@ -338,3 +372,57 @@ def test_an_open_surface_with_too_many_loops_is_reported_not_indexed_past_its_po
     f = [x for x in features(pts, tris[6:], 2) if x.kind == "handle"]
     assert len(f) == 1 and f[0].uncertain and "too many handles" in f[0].reason
     assert np.all(f[0].location >= pts.min(axis=0)) and np.all(f[0].location <= pts.max(axis=0))
+
+
+def test_the_hands_fused_fingers_at_half_density_are_an_uncertain_handle():
+    """resources/hand-half-result.npz: M_S as the robust extraction made it from a random half of the hand's
+    vertices (../shared/data/scans2/hand.off, numpy's draw 7 keeping each with probability 1/2), renumbered
+    to the samples it uses.  The hand (an OK sign) is an open genus 1; this M_S is an open genus 2: two
+    fingers about one spacing apart are joined.  The basis search measured the extra handle's loops at 17.7
+    and 41.3 sampling radii, above both length bounds: a wrong answer without a flag.  Each of them runs out
+    and comes back within two radii of itself; the shortcut there leaves a shorter loop of the same class
+    (8.4 and 6.4 radii), which only a sample coarser than eps = 1/2 resolves: uncertain.  The real handle
+    (the ring of thumb and finger) and its long loop stay sure."""
+    from pathlib import Path
+
+    from crustview.core.analysis.features import LOOP_SUPPORTED
+
+    data = np.load(Path(__file__).resolve().parents[1] / "resources" / "hand-half-result.npz")
+    pts, tris = data["points"], data["triangles"].astype(np.int64)
+    topo = analyse(tris, len(pts), 2)
+    assert tuple(topo.betti) == (1, 4, 0) and not topo.closed_manifold  # the wrong answer
+    handles = [f for f in features(pts, tris, 2) if f.kind == "handle"]
+    assert len(handles) == 4
+    unsure = [f for f in handles if f.uncertain]
+    assert len(unsure) == 2
+    assert all(LOOP_MIN <= f.size_spacings < LOOP_SUPPORTED and "eps = 1/2" in f.reason for f in unsure)
+    assert all(f.size_spacings > 30 for f in handles if not f.uncertain)
+
+
+def test_a_loop_that_comes_back_near_itself_is_shortened_to_its_class():
+    """A grid torus's meridian with a detour: it runs 10 columns along the tube and comes back one row
+    over.  The detour's two sides are a row (far less than two sampling radii) apart, and closing it
+    leaves a null-homologous loop: the excursion is cut off, and what is left is a meridian (the same
+    class) within a few edges of the grid's own."""
+    from crustview.core.analysis.loops import capped, short_basis, triangle_edges
+    from crustview.core.analysis.necks import tighten, walk_class
+
+    nu, nv = 60, 12
+    pts, tris = _torus_mesh(nu, nv)
+    edges, tri_edges = triangle_edges(tris)
+    count = np.bincount(tri_edges.ravel(), minlength=len(edges))
+    p2, t2, e2, te2, c2, m = capped(pts, tris, edges, tri_edges, count)
+    cocycles: dict = {}
+    short_basis(p2, t2, e2, te2, c2, m, cocycles=cocycles)
+    idx = lambda i, j: (i % nu) * nv + (j % nv)  # noqa: E731
+    meridian = [idx(0, j) for j in range(nv)]
+    detour = [idx(0, 0)] + [idx(i, 1) for i in range(0, 11)] + [idx(i, 2) for i in range(10, -1, -1)]
+    detour += [idx(0, j) for j in range(3, nv)]
+    h = local_spacing(pts, tris)
+    loop, neck = tighten(pts, np.array(detour), h, cocycles, GAP_MIN)
+    length = lambda w: float(np.linalg.norm(pts[np.roll(w, -1)] - pts[w], axis=1).sum())  # noqa: E731
+    step = np.linalg.norm(pts[idx(1, 0)] - pts[idx(0, 0)])  # one column along the tube
+    assert neck == math.inf
+    assert length(np.array(detour)) - length(loop) > 15 * step  # the 2 x 10-column excursion is gone
+    assert length(np.array(meridian)) <= length(loop) < length(np.array(meridian)) + 2 * step
+    assert (walk_class(loop, cocycles) == walk_class(meridian, cocycles)).all()

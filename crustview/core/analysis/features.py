@@ -57,6 +57,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from .loops import capped, short_basis, triangle_edges
+from .necks import tighten
 from .radii import circumradii, enclosing_cover, enclosing_radii, local_spacing
 
 __all__ = [
@@ -144,7 +145,9 @@ class Feature:
         }
 
 
-def features(points: np.ndarray, simplices: np.ndarray, d: int, spacing: np.ndarray | None = None) -> list[Feature]:
+def features(
+    points: np.ndarray, simplices: np.ndarray, d: int, spacing: np.ndarray | None = None, *, tighten_loops: bool = True
+) -> list[Feature]:
     """Every handle, hole and component of a complex, with its support.
 
     Parameters
@@ -158,6 +161,10 @@ def features(points: np.ndarray, simplices: np.ndarray, d: int, spacing: np.ndar
         every dimension.
     spacing : ndarray of shape (n,), optional
         Local spacing per sample (default: nearest-neighbour distances).
+    tighten_loops : bool
+        Shorten a handle loop where it comes back near itself, and look for necks
+        (:func:`.loops.tighten`).  ``cut-handle`` measures the loops of the basis search as they come
+        (its cuts are decided as before); the report measures them tightened.
 
     Returns
     -------
@@ -178,7 +185,7 @@ def features(points: np.ndarray, simplices: np.ndarray, d: int, spacing: np.ndar
         count = np.bincount(tri_edges.ravel(), minlength=len(edges))
         out += _holes(points, edges, count, h)
         if not _no_loops(simplices, edges, tri_edges, count, n):
-            out += _handles(points, simplices, edges, tri_edges, count, h, n)
+            out += _handles(points, simplices, edges, tri_edges, count, h, n, tighten_loops)
     return out
 
 
@@ -336,6 +343,7 @@ def _handles(
     count: np.ndarray,
     h: np.ndarray,
     n: int,
+    tighten_loops: bool = True,
 ) -> list[Feature]:
     """One feature per loop of a short homology basis (:func:`.loops.short_basis`).
 
@@ -349,7 +357,8 @@ def _handles(
     pts, tris, edges, tri_edges, count, m = capped(points, tris, edges, tri_edges, count)
     local = np.r_[LOOP_MIN * h, np.zeros(m - n)]
     # local searches reach as far as a loop below the bound can go from its root
-    basis = short_basis(pts, tris, edges, tri_edges, count, m, local=local, surface=n)
+    cocycles: dict = {}
+    basis = short_basis(pts, tris, edges, tri_edges, count, m, local=local, surface=n, cocycles=cocycles)
     if isinstance(basis, int):
         used = np.unique(edges[edges < n])
         return [
@@ -366,12 +375,17 @@ def _handles(
     for loop, length in basis:
         # a loop through a cone's apex is longer than any on the surface, and every class has one there
         assert (loop < n).all(), "a basis loop passes through a hole's cap"
+        loop, neck = tighten(points, loop, h, cocycles, GAP_MIN) if tighten_loops else (loop, math.inf)
+        length = float(np.linalg.norm(points[np.roll(loop, -1)] - points[loop], axis=1).sum())
         size = length / float(np.median(h[loop]))
-        unc = size < LOOP_SUPPORTED
+        unc = size < LOOP_SUPPORTED or neck < GAP_MIN
         reason = f"loop of {len(loop)} samples, {size:.3g} sampling radii long" + (
             " (fewer samples around it than a sample can resolve: may be a bridge across a gap)"
             if size < LOOP_MIN
             else " (only a sample coarser than eps = 1/2 resolves it: may be a tunnel of noise or a bridge)"
+            if size < LOOP_SUPPORTED
+            else f", through a neck {neck:.2g} sampling radii across (two of its points half the loop apart are "
+            "closer than two sheets a sample resolves: may be two parts that touch, joined)"
             if unc
             else ""
         )

@@ -36,6 +36,7 @@ def short_basis(
     n: int,
     local: np.ndarray | None = None,
     surface: int | None = None,
+    cocycles: dict | None = None,
 ) -> list[tuple[np.ndarray, float]] | int:
     """A short Z/2 homology basis of the closed part of a triangulated surface.
 
@@ -60,6 +61,10 @@ def short_basis(
     surface : int, optional
         Only vertices below this index are spread roots (:func:`capped` appends each hole's apex after the
         surface's points; an apex root's loops all pass through a cap).
+    cocycles : dict, optional
+        Filled with what :func:`.necks.walk_class` needs to tell the class of any closed walk: ``mask`` (every
+        edge's cohomology class, a bit per basis element), ``edge_ids`` (vertex pairs to edge ids) and
+        ``graph`` (the edge graph, weighted by length).
 
     Returns
     -------
@@ -150,6 +155,8 @@ def short_basis(
     # the few edges on the leftover edges' dual paths are the only ones with a nonzero mask
     hot = np.flatnonzero(mask.any(axis=1))
     marked, marked_mask = edges[hot], mask[hot]
+    if cocycles is not None:
+        cocycles.update(mask=mask, edge_ids=edge_ids, graph=g)
     cand_len, cand_mask, cand_info = [], [], []
     spread_pred: dict[int, np.ndarray] = {}
     pm0 = _path_masks(pred0, marked, marked_mask)

@@ -254,7 +254,9 @@ def cut_handles(ed: LabelEditor, points: np.ndarray) -> CutHandles:
         if len(surf) == 0 or _euler(surf, n) == 2 * _components(surf, n):
             out.left = []
             break
-        short = [f for f in features(points, surf, 2) if f.kind == "handle" and f.size_spacings < CUT_BELOW]
+        # the basis search's own loops, as the rule was measured with (the report tightens them)
+        found = features(points, surf, 2, tighten_loops=False)
+        short = [f for f in found if f.kind == "handle" and f.size_spacings < CUT_BELOW]
         out.left = short
         if not short or rnd == HANDLE_ROUNDS:
             break
