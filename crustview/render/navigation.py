@@ -9,6 +9,11 @@ from .fitting import fit_clear, text_block
 from .framing import frame_for, front_plane, place_camera
 from .picking import pick_visible
 
+#: Median spacings shown at least on each side of a feature that a click frames: about the smallest loop
+#: the features analysis calls sure (LOOP_SUPPORTED = 4 pi radii), so the parts around a small feature
+#: are in the view with it.
+FEATURE_CONTEXT = 12.0
+
 
 class CameraControl:
     """Mixin of :class:`~crustview.render.view.SceneView` (needs ``model``, ``plotter``, ``adapters``, ``y_up``)."""
@@ -116,14 +121,17 @@ class CameraControl:
         if self.clip_plane is not None:
             self.set_clip(None)
 
-    def frame_points(self, idx) -> None:
-        """Zoom the camera onto samples ``idx`` (keeps the view direction)."""
+    def frame_points(self, idx, around: float = 2.5) -> None:
+        """Zoom the camera onto samples ``idx`` (keeps the view direction).
+
+        At least ``around`` median spacings are shown on each side of their centre.
+        """
         rec = self.model.rec
         if rec is None or len(idx) == 0:
             return
         p = self.model.projection.project(rec.points[np.asarray(idx)])
         lo, hi = p.min(axis=0), p.max(axis=0)
-        pad = max(float(np.max(hi - lo)), 2.5 * float(np.median(self.model.spacing)))
+        pad = max(float(np.max(hi - lo)), around * float(np.median(self.model.spacing)))
         c = (lo + hi) / 2
         bounds = np.ravel(np.stack([c - pad, c + pad], axis=1))
         self.plotter.renderer.GetActiveCamera().SetWindowCenter(0.0, 0.0)
@@ -172,7 +180,9 @@ class CameraControl:
         if rec is None or feature is None:
             return
         self.clear_clip()
-        self.frame_points(feature_samples(rec, feature))
+        # with what lies around it: a loop of a few samples framed alone fills the view with its own
+        # triangles (a bridge between two fingers showed neither finger)
+        self.frame_points(feature_samples(rec, feature), around=FEATURE_CONTEXT)
 
     def frame_face(self, face) -> None:
         """Frame a (d-1)-face with its incident simplices at the current step."""
