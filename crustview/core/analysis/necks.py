@@ -98,8 +98,8 @@ def tighten(
             back = [a]  # the shortcut, from a to b
             while back[-1] != b and pred[0][back[-1]] >= 0:
                 back.append(int(pred[0][back[-1]]))
-            if back[-1] != b:
-                continue
+            if back[-1] != b or max(back) >= len(h):
+                continue  # no path, or one through a hole's cap (its apex is no sample)
             arc1 = list(loop[i : j + 1]) if i <= j else list(loop[i:]) + list(loop[: j + 1])
             arc2 = list(loop[j:]) + list(loop[: i + 1]) if i <= j else list(loop[j : i + 1])
             half1 = arc1 + back[::-1][1:-1]  # a .. b along the loop, back to a by the shortcut
