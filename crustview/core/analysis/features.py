@@ -163,8 +163,9 @@ def features(
         Local spacing per sample (default: nearest-neighbour distances).
     tighten_loops : bool
         Shorten a handle loop where it comes back near itself, and look for necks
-        (:func:`.loops.tighten`).  ``cut-handle`` measures the loops of the basis search as they come
-        (its cuts are decided as before); the report measures them tightened.
+        (:func:`.necks.tighten`).  ``cut-handle`` measures the loops of the basis search as they come
+        (its cuts are decided as before); the report, and the robust driver's choice between the
+        labelled and the grown result (below 5,000 samples), measure them tightened.
 
     Returns
     -------

@@ -73,10 +73,11 @@ def tighten(
     the shortest path on the surface between the two sides cuts the loop into two loops:
 
     * one of them null-homologous: the other has the loop's class and is shorter, and replaces it (the
-      place was a detour; the search goes on on the new loop, at most ``rounds`` times);
+      place was a detour; the search goes on on the new loop, at most ``rounds`` times, after which a
+      place still narrower than ``bound`` counts as a neck);
     * both round a handle: the loop is two loops meeting at a place narrower than ``bound``: a neck;
-    * the path as long as the loop's arc: the two sides are far apart on the surface and close in space,
-      two sheets closer than ``bound``: a neck.
+    * the path as long as the loop's arc, or longer than the whole loop: the two sides are far apart on
+      the surface and close in space, two sheets closer than ``bound``: a neck.
 
     Returns
     -------
@@ -94,12 +95,15 @@ def tighten(
         length = _walk_length(points, loop)
         for width, i, j in pairs:
             a, b = int(loop[i]), int(loop[j])
-            _, pred = dijkstra(g, indices=[b], return_predecessors=True)
+            # a shortcut longer than the loop shortens nothing: the search stops there
+            _, pred = dijkstra(g, indices=[b], return_predecessors=True, limit=length)
             back = [a]  # the shortcut, from a to b
             while back[-1] != b and pred[0][back[-1]] >= 0:
                 back.append(int(pred[0][back[-1]]))
-            if back[-1] != b or max(back) >= len(h):
-                continue  # no path, or one through a hole's cap (its apex is no sample)
+            if back[-1] != b:
+                return loop, width  # farther apart on M_S than the loop is long: two sheets
+            if max(back) >= len(h):
+                continue  # a path through a hole's cap (its apex is no sample)
             arc1 = list(loop[i : j + 1]) if i <= j else list(loop[i:]) + list(loop[: j + 1])
             arc2 = list(loop[j:]) + list(loop[: i + 1]) if i <= j else list(loop[j : i + 1])
             half1 = arc1 + back[::-1][1:-1]  # a .. b along the loop, back to a by the shortcut
@@ -115,7 +119,10 @@ def tighten(
             return loop, width
         else:
             return loop, math.inf
-    return loop, math.inf
+    # the rounds ran out with the loop still shortening: a place left narrower than the bound is not
+    # known to be a detour, and counts as a neck
+    pairs = neck_pairs(points, loop, h)
+    return loop, (pairs[0][0] if pairs and pairs[0][0] < bound else math.inf)
 
 
 def _walk_length(points: np.ndarray, walk: np.ndarray) -> float:
