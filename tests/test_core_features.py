@@ -428,3 +428,26 @@ def test_a_loop_that_comes_back_near_itself_is_shortened_to_its_class():
     assert length(np.array(detour)) - length(loop) > 15 * step  # the 2 x 10-column excursion is gone
     assert length(np.array(meridian)) <= length(loop) < length(np.array(meridian)) + 2 * step
     assert (walk_class(loop, cocycles) == walk_class(meridian, cocycles)).all()
+
+
+def test_a_loop_that_is_two_handle_loops_meeting_at_a_point_has_a_neck():
+    """A figure eight on a grid torus whose inner equator is as long as its meridians (R = 2 r, as many
+    columns as rows): the meridian through a vertex of the inner equator, then the inner equator.  Half the
+    loop on from that vertex is the vertex itself, and both halves go round the torus: a neck of width 0."""
+    from crustview.core.analysis.loops import capped, short_basis, triangle_edges
+    from crustview.core.analysis.necks import tighten, walk_class
+
+    n = 40
+    pts, tris = _torus_mesh(n, n, 1.0, 0.5)
+    edges, tri_edges = triangle_edges(tris)
+    count = np.bincount(tri_edges.ravel(), minlength=len(edges))
+    p2, t2, e2, te2, c2, m = capped(pts, tris, edges, tri_edges, count)
+    cocycles: dict = {}
+    short_basis(p2, t2, e2, te2, c2, m, cocycles=cocycles)
+    idx = lambda i, j: (i % n) * n + (j % n)  # noqa: E731
+    meridian = [idx(0, n // 2 + k) for k in range(n)]
+    equator = [idx(k, n // 2) for k in range(n)]
+    eight = np.array(meridian + equator)
+    assert walk_class(meridian, cocycles).any() and walk_class(equator, cocycles).any()
+    loop, neck = tighten(pts, eight, local_spacing(pts, tris), cocycles, GAP_MIN)
+    assert neck < 1e-9 and len(loop) == 2 * n  # (rounding of the interpolation)
