@@ -38,6 +38,18 @@ def _torus_mesh(nu: int, nv: int, r_big: float = 1.0, r_small: float = 0.4):
     return pts, np.array(tris)
 
 
+def _torus_cocycles(nu: int, nv: int, r_big: float = 1.0, r_small: float = 0.4):
+    """A grid torus (:func:`_torus_mesh`) and the cocycles of its short basis (every edge's class)."""
+    from crustview.core.analysis.loops import capped, short_basis, triangle_edges
+
+    pts, tris = _torus_mesh(nu, nv, r_big, r_small)
+    edges, tri_edges = triangle_edges(tris)
+    count = np.bincount(tri_edges.ravel(), minlength=len(edges))
+    cocycles: dict = {}
+    short_basis(*capped(pts, tris, edges, tri_edges, count), cocycles=cocycles)
+    return pts, tris, cocycles
+
+
 def test_enclosing_radius_on_paper():
     """Equilateral triangle of side 1: circumradius 1/sqrt(3); an obtuse one: half its longest edge."""
     p = np.array([[0, 0, 0], [1, 0, 0], [0.5, math.sqrt(3) / 2, 0], [0.5, 0.05, 0]], float)
@@ -404,16 +416,10 @@ def test_a_loop_that_comes_back_near_itself_is_shortened_to_its_class():
     over.  The detour's two sides are a row (far less than two sampling radii) apart, and closing it
     leaves a null-homologous loop: the excursion is cut off, and what is left is a meridian (the same
     class) within a few edges of the grid's own."""
-    from crustview.core.analysis.loops import capped, short_basis, triangle_edges
     from crustview.core.analysis.necks import tighten, walk_class
 
     nu, nv = 60, 12
-    pts, tris = _torus_mesh(nu, nv)
-    edges, tri_edges = triangle_edges(tris)
-    count = np.bincount(tri_edges.ravel(), minlength=len(edges))
-    p2, t2, e2, te2, c2, m = capped(pts, tris, edges, tri_edges, count)
-    cocycles: dict = {}
-    short_basis(p2, t2, e2, te2, c2, m, cocycles=cocycles)
+    pts, tris, cocycles = _torus_cocycles(nu, nv)
     idx = lambda i, j: (i % nu) * nv + (j % nv)  # noqa: E731
     meridian = [idx(0, j) for j in range(nv)]
     detour = [idx(0, 0)] + [idx(i, 1) for i in range(0, 11)] + [idx(i, 2) for i in range(10, -1, -1)]
@@ -434,16 +440,10 @@ def test_a_loop_that_is_two_handle_loops_meeting_at_a_point_has_a_neck():
     """A figure eight on a grid torus whose inner equator is as long as its meridians (R = 2 r, as many
     columns as rows): the meridian through a vertex of the inner equator, then the inner equator.  Half the
     loop on from that vertex is the vertex itself, and both halves go round the torus: a neck of width 0."""
-    from crustview.core.analysis.loops import capped, short_basis, triangle_edges
     from crustview.core.analysis.necks import tighten, walk_class
 
     n = 40
-    pts, tris = _torus_mesh(n, n, 1.0, 0.5)
-    edges, tri_edges = triangle_edges(tris)
-    count = np.bincount(tri_edges.ravel(), minlength=len(edges))
-    p2, t2, e2, te2, c2, m = capped(pts, tris, edges, tri_edges, count)
-    cocycles: dict = {}
-    short_basis(p2, t2, e2, te2, c2, m, cocycles=cocycles)
+    pts, tris, cocycles = _torus_cocycles(n, n, 1.0, 0.5)
     idx = lambda i, j: (i % n) * n + (j % n)  # noqa: E731
     meridian = [idx(0, n // 2 + k) for k in range(n)]
     equator = [idx(k, n // 2) for k in range(n)]
