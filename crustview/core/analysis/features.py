@@ -385,7 +385,7 @@ def _handles(
             if size < LOOP_MIN
             else " (only a sample coarser than eps = 1/2 resolves it: may be a tunnel of noise or a bridge)"
             if size < LOOP_SUPPORTED
-            else f", through a neck {neck:.2g} sampling radii across (two of its points half the loop apart are "
+            else f", through a neck {neck:.3g} sampling radii across (two of its points half the loop apart are "
             "closer than two sheets a sample resolves: may be two parts that touch, joined)"
             if unc
             else ""
