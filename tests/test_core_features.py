@@ -298,7 +298,10 @@ def test_a_handle_between_the_two_bounds_is_uncertain_for_its_own_reason():
 def test_the_waist_of_a_regular_polygon_is_its_diameter():
     """Twelve vertices on the unit circle: each one's point half the loop on is the opposite vertex, 2
     apart: 2 sampling radii of 1, 4 of 0.5; a stadium 0.2 wide is that wide at its middle."""
-    from crustview.core.analysis.necks import waist
+    from crustview.core.analysis.necks import neck_pairs
+
+    def waist(points, loop, h):
+        return neck_pairs(points, loop, h)[0][0]
 
     n = 12
     ring = np.c_[np.cos(2 * np.pi * np.arange(n) / n), np.sin(2 * np.pi * np.arange(n) / n), np.zeros(n)]
@@ -416,7 +419,7 @@ def test_a_loop_that_comes_back_near_itself_is_shortened_to_its_class():
     over.  The detour's two sides are a row (far less than two sampling radii) apart, and closing it
     leaves a null-homologous loop: the excursion is cut off, and what is left is a meridian (the same
     class) within a few edges of the grid's own."""
-    from crustview.core.analysis.necks import tighten, walk_class
+    from crustview.core.analysis.necks import tighten, walk_class, walk_length
 
     nu, nv = 60, 12
     pts, tris, cocycles = _torus_cocycles(nu, nv)
@@ -426,7 +429,7 @@ def test_a_loop_that_comes_back_near_itself_is_shortened_to_its_class():
     detour += [idx(0, j) for j in range(3, nv)]
     h = local_spacing(pts, tris)
     loop, neck = tighten(pts, np.array(detour), h, cocycles, GAP_MIN)
-    length = lambda w: float(np.linalg.norm(pts[np.roll(w, -1)] - pts[w], axis=1).sum())  # noqa: E731
+    length = lambda w: walk_length(pts, w)  # noqa: E731
     step = np.linalg.norm(pts[idx(1, 0)] - pts[idx(0, 0)])  # one column along the tube
     # with no round to spare, the detour is not known to be one: its narrow place counts as a neck
     assert tighten(pts, np.array(detour), h, cocycles, GAP_MIN, rounds=0)[1] < GAP_MIN

@@ -57,7 +57,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from .loops import capped, short_basis, triangle_edges
-from .necks import tighten
+from .necks import tighten, walk_length
 from .radii import circumradii, enclosing_cover, enclosing_radii, local_spacing
 
 __all__ = [
@@ -376,8 +376,10 @@ def _handles(
     for loop, length in basis:
         # a loop through a cone's apex is longer than any on the surface, and every class has one there
         assert (loop < n).all(), "a basis loop passes through a hole's cap"
-        loop, neck = tighten(points, loop, h, cocycles, GAP_MIN) if tighten_loops else (loop, math.inf)
-        length = float(np.linalg.norm(points[np.roll(loop, -1)] - points[loop], axis=1).sum())
+        neck = math.inf
+        if tighten_loops:
+            loop, neck = tighten(points, loop, h, cocycles, GAP_MIN)
+            length = walk_length(points, loop)
         size = length / float(np.median(h[loop]))
         unc = size < LOOP_SUPPORTED or neck < GAP_MIN
         reason = f"loop of {len(loop)} samples, {size:.3g} sampling radii long" + (

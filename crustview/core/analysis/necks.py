@@ -45,12 +45,6 @@ def neck_pairs(points: np.ndarray, loop: np.ndarray, h: np.ndarray) -> list[tupl
     return [(float(width[i]), int(i), int(nearest[i])) for i in order]
 
 
-def waist(points: np.ndarray, loop: np.ndarray, h: np.ndarray) -> float:
-    """The narrowest place of a closed loop (:func:`neck_pairs`), in sampling radii (inf: no pair)."""
-    pairs = neck_pairs(points, loop, h)
-    return pairs[0][0] if pairs else math.inf
-
-
 def walk_class(walk: list[int] | np.ndarray, cocycles: dict) -> np.ndarray:
     """The homology class (bit mask over the basis, from :func:`short_basis`'s ``cocycles``) of a closed walk."""
     w = np.asarray(walk, np.int64)
@@ -92,7 +86,7 @@ def tighten(
         pairs = [p for p in neck_pairs(points, loop, h) if p[0] < bound][:4]
         if not pairs:
             return loop, math.inf
-        length = _walk_length(points, loop)
+        length = walk_length(points, loop)
         for width, i, j in pairs:
             a, b = int(loop[i]), int(loop[j])
             # a shortcut longer than the loop shortens nothing: the search stops there
@@ -113,7 +107,7 @@ def tighten(
             half2 = arc2 + back[1:-1]  # b .. a along the loop, back to b by the shortcut
             new = np.asarray(half1 if c1.any() else half2, np.int64)
             new = new[np.r_[True, new[1:] != new[:-1]]]
-            if len(new) >= 3 and _walk_length(points, new) < length * (1 - 1e-9):
+            if len(new) >= 3 and walk_length(points, new) < length * (1 - 1e-9):
                 loop = new
                 break
             return loop, width
@@ -125,7 +119,7 @@ def tighten(
     return loop, (pairs[0][0] if pairs and pairs[0][0] < bound else math.inf)
 
 
-def _walk_length(points: np.ndarray, walk: np.ndarray) -> float:
-    """The length of a closed walk."""
+def walk_length(points: np.ndarray, walk: np.ndarray) -> float:
+    """The length of a closed walk (its last vertex joined to its first)."""
     q = points[np.asarray(walk, np.int64)]
     return float(np.linalg.norm(np.roll(q, -1, axis=0) - q, axis=1).sum())
