@@ -57,7 +57,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from .loops import capped, short_basis, triangle_edges
-from .necks import tighten, walk_length
+from .necks import tighten, walk_class, walk_length
 from .radii import circumradii, enclosing_cover, enclosing_radii, local_spacing
 
 __all__ = [
@@ -373,12 +373,15 @@ def _handles(
             )
         ]
     result = []
-    for loop, length in basis:
+    classes = [walk_class(loop, cocycles) for loop, _ in basis] if tighten_loops else []
+    for k, (loop, length) in enumerate(basis):
         # a loop through a cone's apex is longer than any on the surface, and every class has one there
         assert (loop < n).all(), "a basis loop passes through a hole's cap"
         neck = math.inf
         if tighten_loops:
-            loop, neck = tighten(points, loop, h, cocycles, GAP_MIN)
+            others = classes[:k] + classes[k + 1 :]
+            loop, neck = tighten(points, loop, h, cocycles, GAP_MIN, others=others)
+            classes[k] = walk_class(loop, cocycles)  # still a basis: the new loop is outside the others' span
             length = walk_length(points, loop)
         size = length / float(np.median(h[loop]))
         unc = size < LOOP_SUPPORTED or neck < GAP_MIN
@@ -387,7 +390,7 @@ def _handles(
             if size < LOOP_MIN
             else " (only a sample coarser than eps = 1/2 resolves it: may be a tunnel of noise or a bridge)"
             if size < LOOP_SUPPORTED
-            else f", through a neck {neck:.3g} sampling radii across (two of its points half the loop apart are "
+            else f", through a neck {neck:.3g} sampling radii across (two of its points far apart along it are "
             "closer than two sheets a sample resolves: may be two parts that touch, joined)"
             if unc
             else ""
