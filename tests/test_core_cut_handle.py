@@ -41,7 +41,8 @@ def _top(ed, n):
 
 
 def _handles(rec, ed):
-    return [f for f in features(rec.points, ed.lab.faces[ed.cut], 2) if f.kind == "handle"]
+    """The handles as cut-handle measures them: the basis search's own loops, not tightened."""
+    return [f for f in features(rec.points, ed.lab.faces[ed.cut], 2, tighten_loops=False) if f.kind == "handle"]
 
 
 @pytest.fixture(scope="module")
