@@ -375,8 +375,22 @@ def _handles(
     result = []
     classes = [walk_class(loop, cocycles) for loop, _ in basis] if tighten_loops else []
     for k, (loop, length) in enumerate(basis):
-        # a loop through a cone's apex is longer than any on the surface, and every class has one there
-        assert (loop < n).all(), "a basis loop passes through a hole's cap"
+        # a loop through a cone's apex is longer than any on the surface, and every class has one there;
+        # the search is approximate, and where it found none the handle is not measured on the surface
+        if not (loop < n).all():
+            on = loop[loop < n]
+            result.append(
+                Feature(
+                    "handle",
+                    points[on].mean(axis=0) if len(on) else points[:n].mean(axis=0),
+                    float(walk_length(points, on) / float(np.median(h[on]))) if len(on) > 1 else 0.0,
+                    True,
+                    on,
+                    "the loop basis found this handle only through a hole (its cap, not the surface): not "
+                    "measured on M_S, so not supported (the size is that of the loop's part on M_S)",
+                )
+            )
+            continue
         neck = math.inf
         if tighten_loops:
             others = classes[:k] + classes[k + 1 :]

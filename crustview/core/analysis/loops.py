@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.sparse import coo_matrix, csr_matrix
-from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra
+from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra, minimum_spanning_tree
 
 try:
     from . import _paths
@@ -110,6 +110,14 @@ def short_basis(
     de = np.nonzero(dual_ok)[0]
     dg = coo_matrix((np.ones(len(de)), (e_tris[de, 0], e_tris[de, 1])), shape=(tcount, tcount)).tocsr()
     dg = dg + dg.T
+    if surface is not None and (edges >= surface).any():
+        # the caps' edges into the cotree first: a cap is a fan, so all its edges but the tree's one join
+        # its triangles without a cycle, and then no cap edge is left over, and no leftover edge's loop
+        # (root, tree path, the edge, tree path) passes an apex, a leaf of the shortest-path tree (a
+        # noisy plastic vase had a handle whose only loop found ran through a cap)
+        weight = np.where((edges[de] >= surface).any(axis=1), 1.0, 2.0)
+        dg = minimum_spanning_tree(coo_matrix((weight, (e_tris[de, 0], e_tris[de, 1])), shape=(tcount, tcount)).tocsr())
+        dg = dg + dg.T
     _, tlabel = connected_components(dg, directed=False)
     tparent = np.full(tcount, -1, np.int64)
     cotree = np.zeros(len(edges), bool)
