@@ -10,7 +10,9 @@ non-manifold edge.
 * ``repair-vertex``: at such a vertex, the most confident piece of each label
   stays, and every other piece takes the other label.  Confidence is the
   labelling's (the weakest tie on a cell's path to the outside), summed over
-  the piece.  Repeated until no vertex pinches.
+  the piece.  Repeated until no vertex pinches; a cell flipped there and back
+  twice (:data:`PING_PONG`) keeps its label, so two neighbours cannot undo
+  each other's repair for ever.
 * ``sculpt-sample``: a sample whose whole star has one label is no vertex of
   M_S.  If one of its star cells has its face opposite the sample on the
   surface, that cell takes the other label: the surface then runs through
@@ -39,6 +41,10 @@ except ImportError:  # pragma: no cover - only without the extension
 #: Rounds of repair (each flips the extra pieces at every pinched vertex found; flips can move a
 #: pinch to a neighbour, real scans settle in 2-6 rounds).
 REPAIR_ROUNDS = 30
+#: Flips of one cell by ``repair-vertex`` after which it counts as a ping-pong (two neighbours undoing
+#: each other's repair, flipped there and back twice) and its piece is kept from then on.  One flip
+#: back is a later repair correcting an earlier one and is allowed; a second round trip is a cycle.
+PING_PONG = 4
 #: Rounds of sculpting (a sample two cells deep comes to the surface in the second round).
 SCULPT_ROUNDS = 3
 
@@ -186,6 +192,10 @@ class LabelEditor:
         self.cut = lab.cut()
         steps = []
         todo = np.flatnonzero(self.piece_counts() > 2).tolist()
+        # cells this rule has flipped there and back twice (PING_PONG): two neighbours undo each other's
+        # repair (the turbine blade at 0.3 h: four cells, 30 rounds).  From then on their piece is kept
+        # and the rule flips the star's other pieces instead
+        flips = np.zeros(lab.m, np.int8)
         for _ in range(REPAIR_ROUNDS):
             if not todo:
                 break
@@ -202,15 +212,19 @@ class LabelEditor:
                 is_in = np.zeros(n_p, bool)
                 is_in[piece] = lab.inside[cells]
                 weight = np.bincount(piece, weights=lab.confidence[cells], minlength=n_p)
+                pinned = flips[cells] >= PING_PONG
+                if pinned.any():
+                    weight += np.bincount(piece, weights=pinned * (1.0 + weight.sum()), minlength=n_p)
                 keep = []
                 for side in (True, False):
                     cand = np.flatnonzero(is_in == side)
                     if len(cand):
                         keep.append(int(cand[np.argmax(weight[cand])]))
                 flipped = cells[~np.isin(piece, keep)]
-                flipped = flipped[~lab.outside[flipped]]
+                flipped = flipped[~lab.outside[flipped] & (flips[flipped] < PING_PONG)]
                 if len(flipped) == 0:
                     continue
+                flips[flipped] += 1
                 touched[cells] = True
                 steps.append((v, flipped, *self.flip(flipped)))
                 near = np.unique(lab.simplices[flipped])
