@@ -453,7 +453,7 @@ def test_the_hands_fused_fingers_at_half_density_are_an_uncertain_handle():
 def test_the_camel_heads_false_handle_under_noise_is_uncertain():
     """resources/camelhead-n30-s23-result.npz: M_S as the robust extraction made it from the camel head
     with noise 0.3 h (../shared/tools/noisy.py, draw 23), renumbered to the samples it uses.  The camel head
-    is an open disk; this M_S has a handle (b1 = 2, one hole), a bridge at the mouth.  Until session 18
+    is an open disk; this M_S has a handle (b1 = 2, one hole), a false bridge.  Until session 18
     the basis search measured its loops at 22.8 and 82 sampling radii, above both bounds, and neither comes
     back near the point half of it on: a wrong answer without a flag.  Two things now see the bridge's
     short loop, each on its own: tightening where the loop comes back near itself anywhere along it

@@ -332,6 +332,15 @@ def hand_fused(app, win) -> None:
     wait(app, win)
 
 
+def camel_bridge(app, win) -> None:
+    """The camel head (an open disk) with scanner noise of 0.3 h (noise draw 23): a false bridge makes
+    a handle whose basis loop comes back near itself a sixth of the way on; cut short there it is below what
+    an eps = 1/2 sample resolves, and the result is amber, the handle framed as a click frames it."""
+    _open_noisy(app, win, "scans/camelhead.off", 0.3, 23)
+    win.view.frame_feature(next(f for f in win.model.rec.uncertain_features if f.kind == "handle"))
+    wait(app, win)
+
+
 def bunny_holes(app, win) -> None:
     """The holes of T_S on the bunny: rims, faint patches, the largest labelled with their size."""
     win.run_panel.set_mode("paper")  # step 0 of the paper's Algorithm 3: M_S = T_S, with its holes
@@ -354,6 +363,7 @@ SIZES = {
     "noisy-cap-kept": (1600, 1000),
     "noisy-small-hole": (1600, 1000),
     "hand-fused": (1600, 1000),
+    "camel-bridge": (1600, 1000),
 }
 
 CASES = {
@@ -363,6 +373,7 @@ CASES = {
     "noisy-cap-kept": noisy_cap_kept,
     "noisy-small-hole": noisy_small_hole,
     "hand-fused": hand_fused,
+    "camel-bridge": camel_bridge,
     "bunny-holes": bunny_holes,
     "fertility-epsilon": lambda app, win: epsilon_and_cascade(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
     "nefertiti-epsilon": lambda app, win: epsilon_and_cascade(app, win, "nefertiti.obj", (0.3, 0.4, 3.0), 1.6),
