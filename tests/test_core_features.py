@@ -517,6 +517,14 @@ def test_a_loop_that_comes_back_near_itself_is_shortened_to_its_class():
     assert (walk_class(loop, cocycles) == walk_class(meridian, cocycles)).all()
 
 
+def _figure_eight(n: int):
+    """A grid torus with R = 2 r and n x n vertices (its inner equator as long as a meridian), its cocycles,
+    and the meridian and the inner equator through one vertex (vertex lists)."""
+    pts, tris, cocycles = _torus_cocycles(n, n, 1.0, 0.5)
+    idx = lambda i, j: (i % n) * n + (j % n)  # noqa: E731
+    return pts, tris, cocycles, [idx(0, n // 2 + k) for k in range(n)], [idx(k, n // 2) for k in range(n)]
+
+
 def test_a_loop_that_is_two_handle_loops_meeting_at_a_point_has_a_neck():
     """A figure eight on a grid torus whose inner equator is as long as its meridians (R = 2 r, as many
     columns as rows): the meridian through a vertex of the inner equator, then the inner equator.  Half the
@@ -524,10 +532,7 @@ def test_a_loop_that_is_two_handle_loops_meeting_at_a_point_has_a_neck():
     from crustview.core.analysis.necks import tighten, walk_class
 
     n = 40
-    pts, tris, cocycles = _torus_cocycles(n, n, 1.0, 0.5)
-    idx = lambda i, j: (i % n) * n + (j % n)  # noqa: E731
-    meridian = [idx(0, n // 2 + k) for k in range(n)]
-    equator = [idx(k, n // 2) for k in range(n)]
+    pts, tris, cocycles, meridian, equator = _figure_eight(n)
     eight = np.array(meridian + equator)
     assert walk_class(meridian, cocycles).any() and walk_class(equator, cocycles).any()
     loop, neck = tighten(pts, eight, local_spacing(pts, tris), cocycles, GAP_MIN)
@@ -541,11 +546,7 @@ def test_a_basis_loop_round_two_handles_is_replaced_by_the_part_the_others_do_no
     equator as the other loop, the meridian is kept instead."""
     from crustview.core.analysis.necks import tighten, walk_class, walk_length
 
-    n = 40
-    pts, tris, cocycles = _torus_cocycles(n, n, 1.0, 0.5)
-    idx = lambda i, j: (i % n) * n + (j % n)  # noqa: E731
-    meridian = [idx(0, n // 2 + k) for k in range(n)]
-    equator = [idx(k, n // 2) for k in range(n)]
+    pts, tris, cocycles, meridian, equator = _figure_eight(40)
     eight = np.array(meridian + equator)
     h = local_spacing(pts, tris)
     for other, kept in ((meridian, equator), (equator, meridian)):
