@@ -346,6 +346,10 @@ def test_a_walk_loses_its_spurs():
     assert reduced(np.array([0, 1, 2, 3, 2, 1, 4, 5])).tolist() == [0, 1, 4, 5]
     assert reduced(np.array([9, 0, 1, 2, 0])).tolist() == [0, 1, 2]
     assert reduced(np.array([0, 0, 1, 1, 2])).tolist() == [0, 1, 2]
+    # the same closed walk from any start reduces to the same cycle
+    walk = [0, 1, 2, 0, 5]
+    for k in range(len(walk)):
+        assert sorted(reduced(np.roll(walk, k)).tolist()) == [0, 1, 2]
 
 
 def test_a_handle_around_a_part_thinner_than_two_sheets_resolve_is_uncertain():

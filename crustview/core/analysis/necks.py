@@ -194,11 +194,15 @@ def reduced(walk: np.ndarray) -> np.ndarray:
             stack.pop()
         else:
             stack.append(v)
-    while len(stack) >= 3 and (stack[0] == stack[-1] or stack[1] == stack[-1]):
-        if stack[0] == stack[-1]:
+    while len(stack) >= 3:
+        if stack[0] == stack[-1]:  # the walk's last step is back to its first vertex: once is enough
+            stack.pop()
+        elif stack[1] == stack[-1]:  # a spur at the first vertex: ... y, x, y ...
+            stack = stack[1:-1]
+        elif stack[-2] == stack[0]:  # a spur at the last vertex: ... x, y, x ...
             stack.pop()
         else:
-            stack = stack[1:-1]
+            break
     return np.asarray(stack, np.int64)
 
 

@@ -12,7 +12,9 @@ non-manifold edge.
   labelling's (the weakest tie on a cell's path to the outside), summed over
   the piece.  Repeated until no vertex pinches; a cell flipped there and back
   twice (:data:`PING_PONG`) keeps its label, so two neighbours cannot undo
-  each other's repair for ever.
+  each other's repair for ever (a vertex whose only flippable pieces are
+  pinned then stays pinched, and the topology report says M_S is not a
+  closed manifold, as it did when the rounds ran out).
 * ``sculpt-sample``: a sample whose whole star has one label is no vertex of
   M_S.  If one of its star cells has its face opposite the sample on the
   surface, that cell takes the other label: the surface then runs through
