@@ -378,18 +378,11 @@ def _handles(
         # a loop through a cone's apex is longer than any on the surface, and every class has one there;
         # the search is approximate, and where it found none the handle is not measured on the surface
         if not (loop < n).all():
-            on = loop[loop < n]
-            result.append(
-                Feature(
-                    "handle",
-                    points[on].mean(axis=0) if len(on) else points[:n].mean(axis=0),
-                    float(walk_length(points, on) / float(np.median(h[on]))) if len(on) > 1 else 0.0,
-                    True,
-                    on,
-                    "the loop basis found this handle only through a hole (its cap, not the surface): not "
-                    "measured on M_S, so not supported (the size is that of the loop's part on M_S)",
-                )
-            )
+            on = loop[loop < n]  # an apex's loop neighbours are rim vertices: two at least
+            size = walk_length(points, on) / float(np.median(h[on]))
+            why = "the loop basis found this handle only through a hole (its cap, not the surface): not measured "
+            why += "on M_S, so not supported (the size is that of the loop's part on M_S)"
+            result.append(Feature("handle", points[on].mean(axis=0), size, True, on, why))
             continue
         neck = math.inf
         if tighten_loops:

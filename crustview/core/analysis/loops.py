@@ -108,16 +108,17 @@ def short_basis(
     e_tris[fe[second], 1] = ft[second]
     dual_ok = inner & ~in_tree
     de = np.nonzero(dual_ok)[0]
-    dg = coo_matrix((np.ones(len(de)), (e_tris[de, 0], e_tris[de, 1])), shape=(tcount, tcount)).tocsr()
-    dg = dg + dg.T
+    pair = (e_tris[de, 0], e_tris[de, 1])
     if surface is not None and (edges >= surface).any():
         # the caps' edges into the cotree first: a cap is a fan, so all its edges but the tree's one join
         # its triangles without a cycle, and then no cap edge is left over, and no leftover edge's loop
         # (root, tree path, the edge, tree path) passes an apex, a leaf of the shortest-path tree (a
         # noisy plastic vase had a handle whose only loop found ran through a cap)
         weight = np.where((edges[de] >= surface).any(axis=1), 1.0, 2.0)
-        dg = minimum_spanning_tree(coo_matrix((weight, (e_tris[de, 0], e_tris[de, 1])), shape=(tcount, tcount)).tocsr())
-        dg = dg + dg.T
+        dg = minimum_spanning_tree(coo_matrix((weight, pair), shape=(tcount, tcount)).tocsr())
+    else:
+        dg = coo_matrix((np.ones(len(de)), pair), shape=(tcount, tcount)).tocsr()
+    dg = dg + dg.T
     _, tlabel = connected_components(dg, directed=False)
     tparent = np.full(tcount, -1, np.int64)
     cotree = np.zeros(len(edges), bool)
