@@ -85,6 +85,7 @@ class Row:
     total: float = 0.0
     ratio: float | None = None
     interpolates: bool = True
+    note: str = ""
 
     @property
     def right(self) -> bool:
@@ -194,6 +195,7 @@ def _row(case: Case, method: str, rec, total: float, ratio: float) -> Row:
         counts(rec),
         total,
         ratio,
+        note=next((m for m in top.messages if "result is kept" in m), ""),
     )
 
 
@@ -333,6 +335,7 @@ def main(argv: list[str] | None = None) -> int:
                         "uncertain": r.uncertain,
                         "total": r.total,
                         "ratio": r.ratio,
+                        "note": r.note,
                     }
                     for r in rows
                 ],

@@ -345,3 +345,21 @@ def test_an_open_scan_labelled_soundly_is_not_grown_again():
     assert [f.kind for f in rec.features] == ["hole"]
     # an open result says that holes below the sample's resolution cannot be told apart
     assert any("does not show in a sample" in m for m in t.messages)
+
+
+def test_choose_puts_topology_doubts_before_samples_left_out():
+    """The camel head at 0.3 h (noise draw 26): the labelled M_S was the right open disk with 2 of 11,381
+    samples left out and no uncertain feature; the grown one used every sample but had 43 handle loops,
+    33 of them uncertain.  Samples left out came first, and the grown answer was kept."""
+    from types import SimpleNamespace as NS
+
+    from crustview.core.robust.driver import problems
+
+    labelled = NS(closed_manifold=False, unused_samples=2, boundary_faces=40)
+    grown = NS(closed_manifold=False, unused_samples=0, boundary_faces=584)
+    assert problems(labelled, []) < problems(grown, [object()] * 33)
+    # with topology equal, fewer samples left out wins, then fewer boundary faces; closed beats all
+    assert problems(grown, []) < problems(labelled, [])
+    assert problems(NS(closed_manifold=True, unused_samples=9, boundary_faces=0), [object()] * 5) < problems(
+        labelled, []
+    )
