@@ -5,7 +5,7 @@ own closed components, and that parts closer than the sample can separate are
 flagged uncertain rather than reported as a confident wrong answer.  The
 multi-part scans of ``../shared/data/scans2`` only have parts that touch;
 this sweep puts two built-in objects side by side at gaps of 1 to 8 median
-nearest-neighbour distances h (measured on the pair before noise), with
+nearest-neighbour distances h (each object's own, before noise), with
 Gaussian noise of 0, 0.1 h and 0.3 h (the issue's noise model), two seeds each:
 
 * two unit spheres (1,000 samples each);
@@ -51,9 +51,9 @@ def pair(kind: str, gap: float, noise: float, seed: int) -> tuple[np.ndarray, tu
     a_m, b_m = {"spheres": (sphere, sphere), "sphere-torus": (sphere, torus), "tori": (torus, torus)}[kind]
     a = a_m.sample(a_m.default_n, seed=seed).points
     b = b_m.sample(b_m.default_n, seed=seed + 50).points
-    both = np.vstack([a, b])
-    h = float(np.median(cKDTree(both).query(both, k=2)[0][:, 1]))
-    # b's nearest point to a along x is its smallest x; a's farthest is its largest x
+    # each object's own spacing (the two are made in the same place: their union would be denser)
+    h = float(np.median(np.concatenate([cKDTree(x).query(x, k=2)[0][:, 1] for x in (a, b)])))
+    # every point of b is gap h or more beyond a's largest x, and the closest two are about that apart
     shift = a[:, 0].max() - b[:, 0].min() + gap * h
     pts = np.vstack([a, b + np.array([shift, 0.0, 0.0])])
     rng = np.random.default_rng(seed + 1000)
