@@ -64,6 +64,7 @@ class LabelEditor:
         cell = np.repeat(np.arange(m), w)
         ok = vert < n
         star = csr_matrix((np.ones(int(ok.sum()), np.int8), (vert[ok], cell[ok])), shape=(n, m))
+        star.sort_indices()  # each star's cells in order: the compiled piece_counts finds them by bisection
         self.star_ptr, self.star_cells = star.indptr, star.indices
         nf = len(lab.faces)
         cf = csr_matrix(
