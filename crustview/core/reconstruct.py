@@ -8,6 +8,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from .analysis.contacts import hidden_parts
 from .analysis.features import LOOP_MIN, features, summary_suffix
 from .analysis.resample import Resampled, resample_check
 from .analysis.topology import analyse
@@ -378,6 +379,12 @@ def reextract(
     ]
     # a cap open-cap kept closed is a possible opening the sample did not decide: always uncertain
     feats += [replace(f, location=f.location * scale) for f in ext.removed_features if f.kind == "hole"]
+    if mode == "robust" and (rec.k, rec.d) == (3, 2) and _beyond(counts):
+        # parts held together only by faces that stand across the normals: a contact no rule decided
+        feats += [
+            replace(f, location=f.location * scale)
+            for f in hidden_parts(rec.points / scale, manifold, rec.normals[:, :, 0], feats)
+        ]
     if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and topo.closed_manifold and _beyond(counts):
         t1 = time.perf_counter()
         feats, said = resample_check(
