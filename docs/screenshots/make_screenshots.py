@@ -341,6 +341,31 @@ def camel_bridge(app, win) -> None:
     wait(app, win)
 
 
+def objects_touching(app, win) -> None:
+    """A sphere and a torus one spacing apart with noise of 0.1 h (``benchmarks/bench_objects.py``, seed 2):
+    the labelling fuses them into one closed genus-1 surface; the contact rule flags the torus as a part held
+    on only by faces standing across the normals, and the result is amber with the contact framed."""
+    import tempfile
+
+    sys.path.insert(0, str(HERE.parents[1] / "benchmarks"))
+    from bench_objects import pair
+
+    pts, _ = pair("sphere-torus", 1.0, 0.1, 2)
+    path = Path(tempfile.mkdtemp()) / "sphere-and-torus-1h-apart.xyz"
+    np.savetxt(path, pts)
+    win.open_file(path, d=2)
+    wait(app, win)
+    contact = next(f for f in win.model.rec.uncertain_features if f.kind == "component")
+    win.view.frame_feature(contact)
+    # as the click framed it, seen from above and a little in front: the neck where the two meet
+    cam = win.plotter.camera
+    dist = float(np.linalg.norm(np.subtract(cam.position, cam.focal_point)))
+    look = np.array([0.0, -0.45, 1.0]) / np.linalg.norm([0.0, -0.45, 1.0])
+    cam.position = tuple(np.asarray(cam.focal_point) + 1.6 * dist * look)
+    cam.up = (0.0, 1.0, 0.0)
+    wait(app, win)
+
+
 def bunny_holes(app, win) -> None:
     """The holes of T_S on the bunny: rims, faint patches, the largest labelled with their size."""
     win.run_panel.set_mode("paper")  # step 0 of the paper's Algorithm 3: M_S = T_S, with its holes
@@ -364,6 +389,7 @@ SIZES = {
     "noisy-small-hole": (1600, 1000),
     "hand-fused": (1600, 1000),
     "camel-bridge": (1600, 1000),
+    "objects-touching": (1600, 1000),
 }
 
 CASES = {
@@ -374,6 +400,7 @@ CASES = {
     "noisy-small-hole": noisy_small_hole,
     "hand-fused": hand_fused,
     "camel-bridge": camel_bridge,
+    "objects-touching": objects_touching,
     "bunny-holes": bunny_holes,
     "fertility-epsilon": lambda app, win: epsilon_and_cascade(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
     "nefertiti-epsilon": lambda app, win: epsilon_and_cascade(app, win, "nefertiti.obj", (0.3, 0.4, 3.0), 1.6),
