@@ -112,6 +112,7 @@ setup(
             sources=["crustview/core/robust/_labels.cpp"],
             language="c++",
             extra_compile_args=FLAGS,
+            extra_link_args=["-pthread"],
             optional=True,
         ),
         Extension(

@@ -155,7 +155,11 @@ def test_repair_ends_a_ping_pong_between_two_neighbours(name, seed):
 def test_compiled_star_pieces_are_the_python_ones():
     """The compiled star_pieces gives the Python reference's pieces, ids and all, at every sample of a
     noisy torus, before and after 300 cells take the other label (pinches and all); the compiled
-    piece counts are the numpy pass's."""
+    piece counts are the numpy pass's.  The kernel is part of the install: without it this would
+    compare the numpy pass with itself."""
+    from crustview.core.robust import label_repair
+
+    assert label_repair._kernel is not None
     m = get_manifold("torus")
     s = m.sample(1500, seed=2)
     rng = np.random.default_rng(1)
@@ -174,6 +178,23 @@ def test_compiled_star_pieces_are_the_python_ones():
             assert comp.dtype == ref.dtype and np.array_equal(comp, ref), v
             several += comp.max() > 1
     assert several > 10  # pinched stars (three pieces or more) were compared too
+
+
+def test_piece_counts_refuse_unsorted_stars():
+    """The compiled piece counts find a star's cells by bisection: a star out of order is one clear
+    error, not a wrong count."""
+    from crustview.core.robust import label_repair
+
+    m = get_manifold("sphere")
+    rec = reconstruct(m.sample(200, seed=0).points, 2, mode="paper")
+    ed = LabelEditor(Labelling(rec.points, *_cells(rec)))
+    k = list(ed._k_arrays)
+    cells = k[1].copy()
+    lo, hi = k[0][0], k[0][1]
+    cells[lo:hi] = cells[lo:hi][::-1]
+    k[1] = cells
+    with pytest.raises(ValueError, match="sorted"):
+        label_repair._kernel.piece_counts(ed.lab.faces.shape[1], *k, ed.lab.inside)
 
 
 @pytest.mark.skipif(labelling._kernel is None, reason="the compiled kernel is not built")

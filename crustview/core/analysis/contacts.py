@@ -76,10 +76,13 @@ def standing_faces(points: np.ndarray, triangles: np.ndarray, normals: np.ndarra
     fn = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
     fl = np.linalg.norm(fn, axis=1)
     nl = np.linalg.norm(normals, axis=1)
-    unit = normals / np.where(nl > 0, nl, 1.0)[:, None]
+    has = np.isfinite(nl) & (nl > 0)
+    unit = np.where(has[:, None], normals / np.where(has, nl, 1.0)[:, None], 0.0)
     cos = np.abs(np.einsum("fj,fvj->fv", fn, unit[triangles])) / np.where(fl > 0, fl, 1.0)[:, None]
-    # a degenerate face or a sample without a normal says nothing: never standing
-    return (cos.max(axis=1) < math.cos(STAND_ANGLE)) & (fl > 0) & (nl[triangles] > 0).all(axis=1)
+    # judged on the vertices that have a normal (at least one); a degenerate face is never standing
+    valid = has[triangles]
+    near = (cos >= math.cos(STAND_ANGLE)) & valid
+    return ~near.any(axis=1) & valid.any(axis=1) & (fl > 0)
 
 
 def _face_parts(triangles: np.ndarray, n: int) -> np.ndarray:
@@ -96,6 +99,24 @@ def _face_parts(triangles: np.ndarray, n: int) -> np.ndarray:
     return connected_components(g, directed=False)[1]
 
 
+def _already_flagged(known: list[Feature] | None, vp: np.ndarray, comp_of: np.ndarray, big: np.ndarray) -> set:
+    """The large parts an uncertain component feature already names.
+
+    Its samples touch that part and another large part of the same component: a join or a dispute at
+    this contact.
+    """
+    done: set = set()
+    bigset = set(big.tolist())
+    for f in known or []:
+        if f.kind != "component" or not f.uncertain:
+            continue
+        touched = {int(q) for q in vp[np.isin(vp[:, 0], np.asarray(f.vertices, np.int64)), 1] if int(q) in bigset}
+        for q in touched:
+            if any(r != q and comp_of[r] == comp_of[q] for r in touched):
+                done.add(q)
+    return done
+
+
 def hidden_parts(
     points: np.ndarray, triangles: np.ndarray, normals: np.ndarray, known: list[Feature] | None = None
 ) -> list[Feature]:
@@ -110,8 +131,9 @@ def hidden_parts(
     normals : ndarray of shape (n, 3)
         Algorithm 1's normal line at each sample.
     known : list of Feature, optional
-        Features already reported; a part where an uncertain component feature already has a sample
-        (a join, a dispute) is not reported again.
+        Features already reported; a part that an uncertain component feature already names (its
+        samples touch this part and another large part of the same component: a join, a dispute at
+        this contact) is not reported again.
 
     Returns
     -------
@@ -132,32 +154,41 @@ def hidden_parts(
     if len(big) < 2:
         return []
     whole = _face_parts(tri, n)
-    flagged = np.unique(
-        np.concatenate(
-            [np.asarray(f.vertices, np.int64) for f in known or [] if f.kind == "component" and f.uncertain]
-            + [np.zeros(0, np.int64)]
-        )
-    )
-    h = local_spacing(points, tri)
+    kt = tri[kept]
+    first = np.unique(part, return_index=True)[1]
+    comp_of = whole[kept][first]  # a part is face-connected, so it lies in one component
+    # every (vertex, part) incidence of the kept faces; a vertex off the rim is in one part only
+    vp = np.unique(np.stack([kt.ravel(), np.repeat(part, 3)], axis=1), axis=0)
     rim = np.zeros(n, bool)
     rim[tri[stand].ravel()] = True
+    inner = vp[~rim[vp[:, 0]] & np.isin(vp[:, 1], big)]
+    h = local_spacing(points, tri)
+    done = _already_flagged(known, vp, comp_of, big)
     out: list[Feature] = []
-    for comp in np.unique(whole[kept][np.isin(part, big)]):
-        mine = [p for p in big if whole[kept][part == p][0] == comp]
+    for comp in np.unique(comp_of[big]):
+        mine = big[comp_of[big] == comp]
         if len(mine) < 2:
             continue
-        mine.sort(key=lambda p: -size[p])
-        full = {p: np.unique(tri[kept][part == p]) for p in mine}
-        verts = {p: np.setdiff1d(full[p], np.flatnonzero(rim)) for p in mine}
+        mine = mine[np.argsort(-size[mine], kind="stable")]
+        here = inner[np.isin(inner[:, 1], mine)]
+        tree = cKDTree(points[here[:, 0]])
+        k = min(32, len(here))
         for p in mine[1:]:
-            others = np.concatenate([verts[q] for q in mine if q != p])
-            if len(verts[p]) == 0 or len(others) == 0 or np.isin(flagged, full[p]).any():
+            if p in done:
                 continue
-            dist, idx = cKDTree(points[others]).query(points[verts[p]])
-            i = int(np.argmin(dist))
-            a, b = int(verts[p][i]), int(others[idx[i]])
-            gap = float(dist[i]) / max(float(min(h[a], h[b])), 1e-300)
-            n_stand = int((stand & np.isin(tri, full[p]).any(axis=1)).sum())
+            own = here[here[:, 1] == p, 0]
+            if len(own) == 0:
+                continue
+            dist, idx = tree.query(points[own], k=k)
+            dist, idx = dist.reshape(len(own), k), idx.reshape(len(own), k)
+            other = here[idx, 1] != p  # the nearest samples of another part among the k nearest
+            if not other.any():
+                continue
+            j = np.argmax(other, axis=1)
+            d = np.where(other.any(axis=1), dist[np.arange(len(own)), j], np.inf)
+            i = int(np.argmin(d))
+            a, b = int(own[i]), int(here[idx[i, j[i]], 0])
+            gap = float(d[i]) / max(float(min(h[a], h[b])), 1e-300)
             out.append(
                 Feature(
                     "component",
@@ -165,10 +196,10 @@ def hidden_parts(
                     gap,
                     True,
                     np.array([a, b]),
-                    f"a part of {len(full[p])} samples held to the rest of its component only by faces that "
-                    f"stand across the samples' normals (more than {math.degrees(STAND_ANGLE):.0f} degrees from "
-                    f"each vertex's, {n_stand} of them at its rim), {gap:.2g} sampling radii from it: two "
-                    "objects that touch, or a contact the sample does not decide",
+                    f"a part of {int((vp[:, 1] == p).sum())} samples held to the rest of its component only by "
+                    f"faces that stand across the samples' normals (more than {math.degrees(STAND_ANGLE):.0f} "
+                    f"degrees from each vertex's), {gap:.2g} sampling radii from it: two objects that touch, or a "
+                    "contact the sample does not decide",
                 )
             )
     return out

@@ -288,18 +288,35 @@ PyObject* piece_counts(PyObject*, PyObject* args) {
     Stars st;
     View views[8];
     if (!get_stars(args, 0, st, views)) return nullptr;
+    // count() finds a star's cells by bisection: each star must be sorted (LabelEditor sorts them)
+    for (std::int64_t v = 0; v < st.n_star; ++v)
+        if (!std::is_sorted(st.sc + st.sp[v], st.sc + st.sp[v + 1])) {
+            PyErr_SetString(PyExc_ValueError, "piece_counts: each star's cells must be sorted");
+            return nullptr;
+        }
     PyObject* out = PyByteArray_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(8 * st.n_star));
     if (out == nullptr) return nullptr;
     auto* count = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out));
     Py_BEGIN_ALLOW_THREADS;
-    // two halves of the vertices on two threads, each with its own scratch (the vertices are independent)
+    // two halves of the vertices on two threads, each with its own scratch (the vertices are independent);
+    // where no thread can be started, one thread does both halves
     const std::int64_t half = st.n_star / 2;
     Stars other = st;
-    std::thread second([&] {
+    auto upper = [&] {
         for (std::int64_t v = half; v < other.n_star; ++v) count[v] = other.count(v);
-    });
+    };
+    std::thread second;
+    bool started = true;
+    try {
+        second = std::thread(upper);
+    } catch (...) {
+        started = false;
+    }
     for (std::int64_t v = 0; v < half; ++v) count[v] = st.count(v);
-    second.join();
+    if (started)
+        second.join();
+    else
+        upper();
     Py_END_ALLOW_THREADS;
     return out;
 }
