@@ -147,6 +147,20 @@ struct Stars {
     std::int64_t width, n_star;
     std::vector<std::int64_t> fs, parent, roots, uniq;
 
+    // the union-find over a star's k cells: every cell its own piece
+    void reset(std::int64_t k) {
+        parent.resize(static_cast<std::size_t>(k));
+        for (std::int64_t i = 0; i < k; ++i) parent[i] = i;
+    }
+
+    std::int64_t root(std::int64_t i) {
+        while (parent[i] != i) {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        return i;
+    }
+
     // writes the piece of each star cell into comp (star order); returns the number of pieces
     std::int64_t pieces(std::int64_t v, std::int64_t* comp) {
         const std::int64_t lo = sp[v], hi = sp[v + 1], k = hi - lo;
@@ -162,15 +176,7 @@ struct Stars {
                 if (sc[lo + i] == c) return i;
             return -1;
         };
-        parent.resize(static_cast<std::size_t>(k));
-        for (std::int64_t i = 0; i < k; ++i) parent[i] = i;
-        auto root = [&](std::int64_t i) {
-            while (parent[i] != i) {
-                parent[i] = parent[parent[i]];
-                i = parent[i];
-            }
-            return i;
-        };
+        reset(k);
         for (const std::int64_t f : fs) {
             bool at_v = false;
             for (std::int64_t c = 0; c < width; ++c) at_v = at_v || faces[f * width + c] == v;
@@ -201,15 +207,7 @@ struct Stars {
             const std::int64_t* it = std::lower_bound(sc + lo, sc + hi, c);
             return it != sc + hi && *it == c ? it - (sc + lo) : -1;
         };
-        parent.resize(static_cast<std::size_t>(k));
-        for (std::int64_t i = 0; i < k; ++i) parent[i] = i;
-        auto root = [&](std::int64_t i) {
-            while (parent[i] != i) {
-                parent[i] = parent[parent[i]];
-                i = parent[i];
-            }
-            return i;
-        };
+        reset(k);
         std::int64_t pieces = k;
         for (std::int64_t i = 0; i < k; ++i) {
             const std::int64_t c = sc[lo + i];
