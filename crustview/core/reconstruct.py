@@ -8,7 +8,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from .analysis.contacts import hidden_parts
+from .analysis.contacts import BRIDGED, bridged_handles, hidden_parts
 from .analysis.features import LOOP_MIN, features, summary_suffix
 from .analysis.resample import Resampled, resample_check
 from .analysis.topology import analyse
@@ -385,6 +385,13 @@ def reextract(
             replace(f, location=f.location * scale)
             for f in hidden_parts(rec.points / scale, manifold, rec.normals[:, :, 0], feats)
         ]
+        # and handles whose loops only such faces carry (two contacts between the same two parts)
+        if topo.closed_manifold and topo.betti[1]:
+            bridged = bridged_handles(rec.points / scale, manifold, rec.normals[:, :, 0], feats)
+            feats = [
+                replace(f, uncertain=True, reason=f"{f.reason} ({BRIDGED})") if i in bridged else f
+                for i, f in enumerate(feats)
+            ]
     if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and topo.closed_manifold and _beyond(counts):
         t1 = time.perf_counter()
         feats, said = resample_check(

@@ -27,7 +27,11 @@ split into face-connected parts.  A component that falls into two or more
 parts of at least :data:`MIN_PART_FACES` faces each is reported with an
 *uncertain* ``component`` feature for every such part but the largest: at its
 closest approach (between its vertices and the other parts', the standing
-faces' vertices aside) and with that gap in sampling radii.  MIN_PART_FACES is
+faces' vertices aside) and with that gap in sampling radii.  Where the two sides
+touch twice and belong to one component already, the contacts make a handle
+instead: on a closed M_S, a handle loop whose Z/2 class the faces that do not
+stand cannot carry (outside the image of their H_1; :func:`bridged_handles`)
+is made uncertain with the reason :data:`BRIDGED`.  MIN_PART_FACES is
 the size of the smallest closed surface an eps = 1/4 sample resolves: a
 sphere of radius R sampled at sampling radius r = R / 4 in an even triangle
 mesh (spacing sqrt(3) r, faces of area 3 sqrt(3) r^2 / 4) has about
@@ -54,6 +58,11 @@ from .radii import local_spacing
 #: A face of M_S stands across the surface when its normal is more than this from the approximate
 #: normal (Algorithm 1) at every one of its vertices: twice the paper's candidate angle theta = pi/8.
 STAND_ANGLE = 2 * (math.pi / 8)
+#: What a handle feature's reason gains when only standing faces carry its loop (:func:`bridged_handles`).
+BRIDGED = (
+    "rule contact: only faces standing across the samples' normals carry this loop, a bridge over a gap "
+    "between two sheets: two contacts the sample does not decide"
+)
 #: Fewest faces of a part that counts as an object: the smallest closed surface an eps = 1/4 sample
 #: resolves, a sphere of radius R at sampling radius R / 4 in an even mesh, 16 pi / (3 sqrt 3) * 16.
 MIN_PART_FACES = math.ceil(16 * math.pi / (3 * math.sqrt(3)) * 4**2)
@@ -203,3 +212,70 @@ def hidden_parts(
                 )
             )
     return out
+
+
+def bridged_handles(points: np.ndarray, triangles: np.ndarray, normals: np.ndarray, handles: list[Feature]) -> set:
+    """Indices (into ``handles``) of the handle loops whose class only standing faces carry.
+
+    On a closed M_S: the classes the rest of M_S carries are the image of H_1(K) in H_1(M_S), K the
+    complex of the faces that do not stand across (every cycle of K's edge graph maps into it, and
+    those cycles span H_1(K)); a handle loop whose class is outside that span passes a bridge of
+    standing faces, where M_S crosses a gap between two sheets (the fused-contact case of
+    :func:`hidden_parts`, when the two sides belong to one object already: a false handle).
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, 3)
+    triangles : ndarray of shape (f, 3)
+        M_S, a closed surface.
+    normals : ndarray of shape (n, 3)
+        Algorithm 1's normal line at each sample.
+    handles : list of Feature
+        The result's handle features (their ``vertices`` a closed walk on M_S's edges).
+
+    Returns
+    -------
+    set of int
+        Empty when no face stands or no loop is carried by standing faces alone.
+    """
+    from scipy.sparse.csgraph import breadth_first_order
+
+    from .loops import _path_masks, short_basis, triangle_edges
+    from .necks import _as_int, _echelon, _reduce, walk_class
+
+    tri = np.asarray(triangles, dtype=np.int64)
+    n = len(points)
+    todo = [i for i, f in enumerate(handles) if f.kind == "handle" and not f.removed and len(f.vertices) > 2]
+    if not todo or len(tri) == 0:
+        return set()
+    stand = standing_faces(points, tri, normals)
+    if not stand.any():
+        return set()
+    edges, tri_edges = triangle_edges(tri)
+    count = np.bincount(tri_edges.ravel(), minlength=len(edges))
+    if (count != 2).any():  # closed surfaces only (an open one's classes live on its capped form)
+        return set()
+    cocycles: dict = {}
+    if isinstance(short_basis(points, tri, edges, tri_edges, count, n, cocycles=cocycles), int):
+        return set()
+    mask = cocycles["mask"]
+    # a spanning forest of K's edge graph, the XOR of the masks up it, and each other edge's cycle
+    k_edges = np.unique(tri_edges[~stand].ravel())
+    ke = edges[k_edges]
+    g = coo_matrix((np.ones(len(ke), np.int8), (ke[:, 0], ke[:, 1])), shape=(n, n)).tocsr()
+    g = g + g.T
+    pred = np.full(n, -9999, np.int32)
+    seen = np.zeros(n, bool)
+    for r in np.unique(ke):
+        if seen[r]:
+            continue
+        order, p = breadth_first_order(g, int(r), directed=False, return_predecessors=True)
+        seen[order] = True
+        pred[order] = p[order]
+    hot = np.flatnonzero(mask[k_edges].any(axis=1))
+    pot = _path_masks(pred, ke[hot], mask[k_edges[hot]])
+    tree = (pred[ke[:, 0]] == ke[:, 1]) | (pred[ke[:, 1]] == ke[:, 0])
+    cyc = pot[ke[~tree, 0]] ^ pot[ke[~tree, 1]] ^ mask[k_edges[~tree]]
+    cyc = np.unique(cyc[cyc.any(axis=1)], axis=0)
+    span = _echelon(list(cyc))
+    return {i for i in todo if _reduce(_as_int(walk_class(handles[i].vertices, cocycles)), span)}
