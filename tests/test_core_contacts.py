@@ -145,6 +145,9 @@ def test_a_handle_carried_only_by_standing_bands_is_found() -> None:
     assert len(through) == 1
     loop = handles[next(iter(through))].vertices
     assert (loop < 300).any() and (loop >= 300).any()
+    # a handle feature whose walk is not on M_S (a dispute marks the other result's loop) is passed over
+    off = replace(handles[0], vertices=np.array([0, 150, 450]))
+    assert bridged_handles(pts, tri, normals, [off, *handles]) == {1 + next(iter(through))}
 
 
 def test_real_handles_are_not_bridges() -> None:
