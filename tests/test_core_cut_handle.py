@@ -167,7 +167,7 @@ def test_a_tie_keeps_the_handles_only_when_every_loop_is_resolved():
     from types import SimpleNamespace as NS
 
     from crustview.core.analysis.features import Feature
-    from crustview.core.robust.driver import LOOP_RESOLVED, _tie
+    from crustview.core.robust.verdict import LOOP_RESOLVED, _tie
 
     def handle(size):
         return Feature("handle", np.zeros(3), size, size < LOOP_MIN, np.array([0, 1, 2]), "")
@@ -210,7 +210,7 @@ def test_a_dispute_is_dropped_only_when_the_kept_handles_are_resolved():
     from types import SimpleNamespace as NS
 
     from crustview.core.analysis.features import LOOP_SUPPORTED, Feature
-    from crustview.core.robust.driver import _disputed
+    from crustview.core.robust.verdict import _disputed
 
     def handle(size):
         return Feature("handle", np.zeros(3), size, size < LOOP_SUPPORTED, np.array([0, 1, 2]), "")

@@ -494,7 +494,7 @@ def test_a_kept_cap_reaches_the_result_and_the_report_in_input_coordinates(tmp_p
 
 def test_boundary_vertices_of_a_complex():
     """The driver's rim test: vertices of ridges in one face (none on a closed tetrahedron's surface)."""
-    from crustview.core.robust.driver import _boundary_vertices
+    from crustview.core.robust.verdict import _boundary_vertices
 
     assert _boundary_vertices(np.zeros((0, 3), np.int64)) == set()
     assert _boundary_vertices(np.array([[0, 1, 2]])) == {0, 1, 2}

@@ -353,7 +353,7 @@ def test_choose_puts_topology_doubts_before_samples_left_out():
     33 of them uncertain.  Samples left out came first, and the grown answer was kept."""
     from types import SimpleNamespace as NS
 
-    from crustview.core.robust.driver import problems
+    from crustview.core.robust.verdict import problems
 
     labelled = NS(closed_manifold=False, unused_samples=2, boundary_faces=40)
     grown = NS(closed_manifold=False, unused_samples=0, boundary_faces=584)

@@ -48,12 +48,12 @@ import math
 
 import numpy as np
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from ..util.rows import unique_rows
 from .features import Feature
+from .loops import triangle_edges
 from .radii import local_spacing
+from .topology import graph_components
 
 #: A face of M_S stands across the surface when its normal is more than this from the approximate
 #: normal (Algorithm 1) at every one of its vertices: twice the paper's candidate angle theta = pi/8.
@@ -103,18 +103,16 @@ def standing_faces(
     return ~near.any(axis=1) & valid.any(axis=1) & (fl > 0)
 
 
-def _face_parts(triangles: np.ndarray, n: int) -> np.ndarray:
+def _face_parts(triangles: np.ndarray) -> np.ndarray:
     """Face-connected parts (through shared edges) of a list of triangles: a part id per triangle."""
-    f = len(triangles)
-    if f == 0:
+    if len(triangles) == 0:
         return np.zeros(0, np.int64)
-    edges = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [0, 2]]]), axis=1)
-    _, inv = unique_rows(edges)
-    owner = np.tile(np.arange(f), 3)
-    order = np.argsort(inv, kind="stable")
-    same = np.flatnonzero(inv[order][1:] == inv[order][:-1])
-    g = coo_matrix((np.ones(len(same), np.int8), (owner[order][same], owner[order][same + 1])), shape=(f, f))
-    return connected_components(g, directed=False)[1]
+    _, tri_edges = triangle_edges(triangles)
+    e = tri_edges.ravel()
+    order = np.argsort(e, kind="stable")
+    owner = np.repeat(np.arange(len(triangles)), 3)[order]
+    same = np.flatnonzero(e[order][1:] == e[order][:-1])  # consecutive triangles of one edge
+    return graph_components(len(triangles), np.stack([owner[same], owner[same + 1]], axis=1))[1]
 
 
 def _already_flagged(known: list[Feature] | None, vp: np.ndarray, comp_of: np.ndarray, big: np.ndarray) -> set:
@@ -166,12 +164,12 @@ def hidden_parts(
     if not stand.any():
         return []
     kept = np.flatnonzero(~stand)
-    part = _face_parts(tri[kept], n)
+    part = _face_parts(tri[kept])
     size = np.bincount(part)
     big = np.flatnonzero(size >= MIN_PART_FACES)
     if len(big) < 2:
         return []
-    whole = _face_parts(tri, n)
+    whole = _face_parts(tri)
     kt = tri[kept]
     first = np.unique(part, return_index=True)[1]
     comp_of = whole[kept][first]  # a part is face-connected, so it lies in one component
@@ -249,7 +247,7 @@ def bridged_handles(points: np.ndarray, triangles: np.ndarray, normals: np.ndarr
     """
     from scipy.sparse.csgraph import breadth_first_order
 
-    from .loops import _path_masks, short_basis, triangle_edges
+    from .loops import _path_masks, short_basis
     from .necks import _as_int, _echelon, _reduce, walk_class
 
     tri = np.asarray(triangles, dtype=np.int64)
@@ -274,12 +272,10 @@ def bridged_handles(points: np.ndarray, triangles: np.ndarray, normals: np.ndarr
     g = coo_matrix((np.ones(len(ke), np.int8), (ke[:, 0], ke[:, 1])), shape=(n, n)).tocsr()
     g = g + g.T
     pred = np.full(n, -9999, np.int32)
-    seen = np.zeros(n, bool)
-    for r in np.unique(ke):
-        if seen[r]:
-            continue
-        order, p = breadth_first_order(g, int(r), directed=False, return_predecessors=True)
-        seen[order] = True
+    _, label = graph_components(n, ke)
+    used = np.unique(ke)
+    for r in used[np.unique(label[used], return_index=True)[1]].tolist():  # one root per component
+        order, p = breadth_first_order(g, r, directed=False, return_predecessors=True)
         pred[order] = p[order]
     hot = np.flatnonzero(mask[k_edges].any(axis=1))
     pot = _path_masks(pred, ke[hot], mask[k_edges[hot]])

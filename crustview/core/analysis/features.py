@@ -426,7 +426,7 @@ def handles_decided(kept: list[Feature], b1_kept: int, b1_other: int) -> bool:
     The kept result is decided when it has the larger b_1 and every loop of its
     short basis is at least :data:`LOOP_SUPPORTED` long: an eps = 1/2 sample
     resolves each of its handles, so the other result has spanned tunnels the
-    sample shows (the choice :func:`~crustview.core.robust.driver._tie` makes
+    sample shows (the choice :func:`~crustview.core.robust.verdict._tie` makes
     on a tie).  The converse is not claimed: when the kept result has fewer
     handles, the other's extra handles would all have to be below the
     resolution of any eps < 1 sample (loops under :data:`LOOP_MIN`), a bound

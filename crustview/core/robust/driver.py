@@ -81,16 +81,16 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..analysis.features import LOOP_MIN, LOOP_SUPPORTED
+from ..analysis.features import LOOP_MIN
 from ..analysis.topology import analyse
 from ..errors import Cancelled
 from ..paper.extraction import extract
 from ..steps import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
-from ..util.rows import unique_rows
 from .cells import extract_by_labels, weak_openings
 from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 from .patcher import Patcher
 from .seed_core import manifold_core
+from .verdict import _boundary_vertices, _disputed, _state, _tie, problems
 
 
 def extract_robust(
@@ -208,7 +208,7 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     wrong genus).  Of two answers
     the sample supports equally, the one claiming fewer handles, unless every
     handle loop of the other is long enough for an eps = 1/2 sample to
-    resolve (:func:`_tie`).
+    resolve (:func:`.verdict._tie`).
     When
     both are closed manifolds through (nearly) every sample and their Betti
     numbers differ, the sample does not decide between them: the difference
@@ -288,87 +288,6 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     if _disputed(t_keep, t_other, keep.features or [], n, labelled=keep is lab):
         keep.disputed = disagreement(points, m_keep, m_other, t_keep.betti, t_other.betti)
     return keep
-
-
-def problems(top, unc: list) -> tuple:
-    """What :func:`choose` compares, fewer first: not closed, uncertain features, samples left out, boundary faces.
-
-    Topology first: an uncertain feature is a place where the result may
-    have the wrong genus or the wrong number of holes or parts; a sample left
-    out is only a point the surface misses, and the report names it.
-    Ordered the other way, a grown M_S with 33 uncertain handles beat the
-    right labelled open surface that left 2 of 11,381 samples out (the camel
-    head at 0.3 h, noise draw 26).
-    """
-    return (not top.closed_manifold, len(unc), top.unused_samples, top.boundary_faces)
-
-
-def _state(top) -> str:
-    """A result's closedness in a few words, for the note that compares the two paths."""
-    if top.closed_manifold:
-        return "closed"
-    return f"{top.boundary_faces} boundary faces" if top.boundary_faces else "not a manifold"
-
-
-def _boundary_vertices(faces: np.ndarray) -> set[int]:
-    """The vertices of the boundary ridges of a pure complex (ridges in one face)."""
-    d = faces.shape[1]
-    if len(faces) == 0:
-        return set()
-    ridges, inverse = unique_rows(np.sort(np.concatenate([np.delete(faces, j, axis=1) for j in range(d)]), axis=1))
-    return set(np.unique(ridges[np.bincount(inverse) == 1]).tolist())
-
-
-def _disputed(t_keep, t_other, keep_features: list, n: int, *, labelled: bool = True) -> bool:
-    """Whether two results of the same sample are a dispute (:func:`choose`).
-
-    Both closed manifolds through all but at most 1 % of the samples, with
-    other Betti numbers; not when they differ only in b_1 and the kept one is
-    the labelled result and decided
-    (:func:`~crustview.core.analysis.features.handles_decided`).
-
-    Only a labelled handle can be decided so: its tunnel is a chain of cells
-    the labelling put outside by their balls, evidence from the sample
-    itself.  A grown handle comes from a gluing move, which growing takes
-    only when no other move is left, with no ball behind it; a grown result
-    with more handles than the labelled one stays disputed whatever its
-    loops measure (neptune at 0.1 h, another draw: a grown genus 4 with a
-    13.7-radius loop against the labelled genus 3 that left 2 samples out).
-    """
-    from ..analysis.features import handles_decided
-
-    return bool(
-        t_keep.closed_manifold
-        and t_other.closed_manifold
-        and t_keep.betti != t_other.betti
-        and min(t_keep.unused_samples, t_other.unused_samples) <= 0.01 * n
-        and not (
-            labelled
-            and t_keep.betti[0] == t_other.betti[0]
-            and handles_decided(keep_features, t_keep.betti[1], t_other.betti[1])
-        )
-    )
-
-
-#: Loop length (in sampling radii) that an eps = 1/2 sample resolves: 2 pi / eps
-#: (:data:`~crustview.core.analysis.features.LOOP_SUPPORTED`; eps = 1/2 is open-cap's CAP_RATIO's too).
-LOOP_RESOLVED = LOOP_SUPPORTED
-
-
-def _tie(lab: Extraction, grown: Extraction, top_lab, top_gro) -> Extraction:
-    """Of two results with the same problems, the one to keep.
-
-    The one claiming fewer handles (a handle needs evidence), unless the other
-    one's every handle loop is at least :data:`LOOP_RESOLVED` sampling radii
-    long: then its extra handles are features an eps = 1/2 sample resolves,
-    and the answer without them has spanned a tunnel the sample shows.
-    """
-    h_lab, h_gro = sum(top_lab.betti[1:-1]), sum(top_gro.betti[1:-1])
-    if h_lab == h_gro:
-        return lab
-    more, fewer = (lab, grown) if h_lab > h_gro else (grown, lab)
-    loops = [f.size_spacings for f in (more.features or []) if f.kind == "handle"]
-    return more if loops and min(loops) >= LOOP_RESOLVED else fewer
 
 
 def _row_keys(rows: np.ndarray, base: int) -> np.ndarray:
