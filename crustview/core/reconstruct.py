@@ -454,7 +454,7 @@ def _robust_messages(ext, topo) -> None:
 
 def _beyond(counts: dict) -> bool:
     """Whether the extraction took steps beyond the paper's Algorithm 3 (its result is not the paper's)."""
-    return any(rule not in (RULE_PRUNE, RULE_RESOLVE) for rule in counts)
+    return any(rule not in (RULE_PRUNE, RULE_RESOLVE) and c["steps"] for rule, c in counts.items())
 
 
 #: The stages of a run in order, for the progress of ``resample-check``'s run (shown as the topology stage).
