@@ -29,20 +29,21 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
+from pathlib import Path
 
 import numpy as np
 from scipy.spatial import cKDTree
 
-from crustview.core import reconstruct
-from crustview.core.samples.manifolds import get_manifold
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _judge import judge  # noqa: E402
+
+from crustview.core.samples.manifolds import get_manifold  # noqa: E402
 
 #: Gaps between the two objects, in median nearest-neighbour distances of the pair.
 GAPS = (1.0, 2.0, 3.0, 4.0, 6.0, 8.0)
 #: Noise levels, in the same unit (the issue's model: 0.1 h and 0.3 h).
 NOISE = (0.0, 0.1, 0.3)
-#: Share of the samples that must be vertices at 0.3 h (as ``bench_scans.py``).
-USED_NOISY = 0.99
 
 
 def pair(kind: str, gap: float, noise: float, seed: int) -> tuple[np.ndarray, tuple[int, int, int]]:
@@ -74,24 +75,15 @@ def main(argv: list[str]) -> int:
             for noise in NOISE:
                 for seed in range(1, a.seeds + 1):
                     pts, betti = pair(kind, gap, noise, seed)
-                    t0 = time.perf_counter()
-                    rec = reconstruct(pts, 2)
-                    dt = time.perf_counter() - t0
-                    t = rec.topology
-                    need = USED_NOISY if noise >= 0.3 else 1.0
-                    used = len(pts) - t.unused_samples
-                    ok = t.closed_manifold and tuple(t.betti) == betti and used >= need * len(pts) - 1e-9
-                    u = rec.uncertain_features
-                    unc = [sum(f.kind == k for f in u) for k in ("handle", "hole", "component")]
-                    flagged = bool(u) or not t.closed_manifold
+                    j = judge(pts, betti, noise)
                     row = tally["near" if gap <= 4 else "apart"]
-                    row[0] += ok
+                    row[0] += j.right
                     row[1] += 1
-                    row[2] += (not ok) and not flagged
-                    row[3] += ok and bool(u)
+                    row[2] += j.quiet_wrong
+                    row[3] += j.right_flagged
                     print(
-                        f"| {kind} | {gap:g} | {noise:g} | {seed} | {'yes' if ok else 'no'} | {tuple(t.betti)} | "
-                        f"{'/'.join(map(str, unc))} | {used:,} of {len(pts):,} | {dt:.1f} |",
+                        f"| {kind} | {gap:g} | {noise:g} | {seed} | {'yes' if j.right else 'no'} | {j.betti} | "
+                        f"{'/'.join(map(str, j.uncertain))} | {j.used:,} of {len(pts):,} | {j.seconds:.1f} |",
                         flush=True,
                     )
     print()

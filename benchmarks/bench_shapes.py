@@ -40,18 +40,18 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 from scipy.spatial import cKDTree
 
-from crustview.core import reconstruct
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _judge import judge  # noqa: E402
 
 #: Noise levels in median nearest-neighbour distances (issue 18's model).
 NOISE = (0.0, 0.1, 0.3)
-#: Share of the samples that must be vertices at 0.3 h (as ``bench_scans.py``).
-USED_NOISY = 0.99
 
 
 # ---------------------------------------------------------------------------------------------- lathe
@@ -259,26 +259,17 @@ def main(argv: list[str]) -> int:
             for seed in range(a.first_seed, a.first_seed + (a.seeds if noise > 0 else 1)):
                 rng = np.random.default_rng(seed)
                 pts = verts + rng.normal(scale=noise * h, size=verts.shape) if noise > 0 else verts
-                t0 = time.perf_counter()
-                rec = reconstruct(pts, 2)
-                dt = time.perf_counter() - t0
-                t = rec.topology
-                need = USED_NOISY if noise >= 0.3 else 1.0
-                used = len(pts) - t.unused_samples
-                ok = t.closed_manifold and tuple(t.betti) == truth and used >= need * len(pts) - 1e-9
-                u = rec.uncertain_features
-                unc = [sum(f.kind == k for f in u) for k in ("handle", "hole", "component")]
-                flag = bool(u) or not t.closed_manifold
-                right += ok
+                j = judge(pts, truth, noise)
+                right += j.right
                 total += 1
-                if not ok and not flag:
+                if j.quiet_wrong:
                     quiet += 1
                     quiet_names.append(f"{name}@{noise:g}/{seed}")
-                flagged_right += ok and bool(u)
+                flagged_right += j.right_flagged
                 print(
                     f"| {name} | {noise:g} | {seed if noise else '–'} | {len(pts):,} | {truth} | "
-                    f"{'yes' if ok else 'no'} | {tuple(t.betti)} | {'/'.join(map(str, unc))} | "
-                    f"{used:,} | {dt:.1f} |",
+                    f"{'yes' if j.right else 'no'} | {j.betti} | {'/'.join(map(str, j.uncertain))} | "
+                    f"{j.used:,} | {j.seconds:.1f} |",
                     flush=True,
                 )
     print()
