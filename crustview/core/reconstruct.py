@@ -361,7 +361,8 @@ def reextract(
         replace(
             f,
             location=f.location * scale,
-            uncertain=f.size_spacings >= LOOP_MIN,
+            # the growing path's cuts (robust/cut_loop.py) come marked removed, sure or not already
+            uncertain=f.uncertain if f.removed else f.size_spacings >= LOOP_MIN,
             removed=True,
             reason=f"removed (rule cut-handle): {f.reason}",
         )

@@ -87,6 +87,7 @@ from ..errors import Cancelled
 from ..paper.extraction import extract
 from ..steps import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
 from .cells import extract_by_labels, weak_openings
+from .cut_loop import cut_short_loops
 from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 from .patcher import Patcher
 from .seed_core import manifold_core
@@ -353,6 +354,9 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
     # only gluing moves leave pinched vertices behind in the grown complex
     pt.suspects = set(gr.glued)
     left = pt.settle()
+    loops_cut: list = []
+    if F.shape[1] == 3 and points.shape[1] > 3:  # a surface in codimension 2 or more: no orientation rule
+        pt, left, loops_cut = cut_short_loops(pt, points, left)
     # rows: T_S first (as in paper mode), then every other simplex in the order it first appeared
     outside = grown[grown >= n_ts]
     grown_rows = grown.copy()
@@ -451,6 +455,7 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
     if extra:  # a simplex the patch added may be a face of T_S, re-added under a new row
         in_ts[n_base:] = np.isin(_row_keys(simplices[n_base:], len(points)), _row_keys(F[:n_ts], len(points)))
     ext = Extraction(simplices, steps, removed_at, stopped, added_at=added_at, mode="robust", in_candidates=in_ts)
+    ext.removed_features = list(loops_cut)
     if left:
         shown = ", ".join(str(x) for x in left[:10]) + (" ..." if len(left) > 10 else "")
         ext.notes.append(
