@@ -163,6 +163,19 @@ class EditableComplex:
             ids.remove(i)
             self._mark(f, ids)
 
+    def _revive(self, i: int) -> None:
+        """Undo :meth:`_delete` of simplex ``i`` (same row, same orientation)."""
+        self.alive[i] = True
+        s = self.simp[i]
+        at = [(f, self._ids(f)) for f in _facets(s)]
+        self.index[s] = i
+        for v in s:
+            self._star(v).add(i)
+        self.suspects.update(s)
+        for f, ids in at:
+            ids.append(i)
+            self._mark(f, ids)
+
     def _mark(self, f: Simplex, ids: list[int]) -> None:
         if len(ids) == 1:
             self.bset.add(f)
