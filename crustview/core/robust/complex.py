@@ -140,40 +140,31 @@ class EditableComplex:
         i = len(self.simp)
         self.simp.append(s)
         self.orient.append(orient)
-        self.alive.append(True)
-        at = [(f, self._ids(f)) for f in _facets(s)]  # before i joins the stars
-        self.index[s] = i
-        for v in s:
-            self._star(v).add(i)
-        self.suspects.update(s)
-        for f, ids in at:
-            ids.append(i)
-            self._mark(f, ids)
+        self.alive.append(False)
+        self._revive(i)
         return i
 
     def _delete(self, i: int) -> None:
-        self.alive[i] = False
-        s = self.simp[i]
-        at = [(f, self._ids(f)) for f in _facets(s)]
-        del self.index[s]
-        for v in s:
-            self._star(v).discard(i)
-        self.suspects.update(s)
-        for f, ids in at:
-            ids.remove(i)
-            self._mark(f, ids)
+        self._link(i, False)
 
     def _revive(self, i: int) -> None:
-        """Undo :meth:`_delete` of simplex ``i`` (same row, same orientation)."""
-        self.alive[i] = True
+        """Link simplex ``i`` (a row of :attr:`simp`) into the complex: a new row, or one :meth:`_delete` removed."""
+        self._link(i, True)
+
+    def _link(self, i: int, alive: bool) -> None:
+        """Add simplex ``i`` to (or take it from) the index, its vertices' stars and its facets' lists."""
+        self.alive[i] = alive
         s = self.simp[i]
-        at = [(f, self._ids(f)) for f in _facets(s)]
-        self.index[s] = i
+        at = [(f, self._ids(f)) for f in _facets(s)]  # before i joins or leaves the stars
+        if alive:
+            self.index[s] = i
+        else:
+            del self.index[s]
         for v in s:
-            self._star(v).add(i)
+            (self._star(v).add if alive else self._star(v).discard)(i)
         self.suspects.update(s)
         for f, ids in at:
-            ids.append(i)
+            (ids.append if alive else ids.remove)(i)
             self._mark(f, ids)
 
     def _mark(self, f: Simplex, ids: list[int]) -> None:
