@@ -389,6 +389,28 @@ def turned_vase_caps(app, win) -> None:
     wait(app, win)
 
 
+def klein_loop_cut(app, win) -> None:
+    """The flat Klein bottle in R^4 with noise of 1 % of its size (``bench_variants.py``'s draw): the walk closed
+    three crosscaps or handles around three samples; the step just after the first ``cut-handle``, which
+    removed the simplices at the loop's samples (red, 'removed now'), framed as 'frame each step' frames it."""
+    import tempfile
+
+    from crustview.core.samples.manifolds import get_manifold
+
+    m = get_manifold("flat-klein")
+    base = m.sample(m.default_n, seed=0).points
+    size = float(np.ptp(base, axis=0).max())
+    pts = base + np.random.default_rng(1).normal(scale=0.01 * size, size=base.shape)
+    path = Path(tempfile.mkdtemp()) / "flat-klein-noise-1pc.xyz"
+    np.savetxt(path, pts)
+    win.open_file(path, d=2)
+    wait(app, win)
+    cut = next(s for s in win.model.rec.extraction.steps if s.rule == "cut-handle")
+    win.steps_panel.follow.setChecked(True)
+    win.model.player.set_step(cut.index + 1)
+    wait(app, win)
+
+
 def bunny_holes(app, win) -> None:
     """The holes of T_S on the bunny: rims, faint patches, the largest labelled with their size."""
     win.run_panel.set_mode("paper")  # step 0 of the paper's Algorithm 3: M_S = T_S, with its holes
@@ -414,6 +436,7 @@ SIZES = {
     "camel-bridge": (1600, 1000),
     "objects-touching": (1600, 1000),
     "turned-vase-caps": (1600, 1000),
+    "klein-loop-cut": (1600, 1000),
 }
 
 CASES = {
@@ -426,6 +449,7 @@ CASES = {
     "camel-bridge": camel_bridge,
     "objects-touching": objects_touching,
     "turned-vase-caps": turned_vase_caps,
+    "klein-loop-cut": klein_loop_cut,
     "bunny-holes": bunny_holes,
     "fertility-epsilon": lambda app, win: epsilon_and_cascade(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
     "nefertiti-epsilon": lambda app, win: epsilon_and_cascade(app, win, "nefertiti.obj", (0.3, 0.4, 3.0), 1.6),
