@@ -59,3 +59,57 @@ def test_an_erosion_that_does_not_close_the_hole_is_undone() -> None:
     assert sorted(s for s, a in zip(pt.simp, pt.alive, strict=True) if a) == before
     assert pt.log == [] and sorted(pt.boundary()) == sorted(hole)
     assert sorted(pt.index) == before
+
+
+def test_a_hole_whose_faces_make_a_torus_is_not_coned() -> None:
+    """T^2 x [0, 2] in R^4 (a 4 x 4 torus grid, two layers of three tetrahedra per triangle): its two boundary
+    tori are holes under fill-hole's size limits, but the cone over a torus passes every face count and leaves
+    its apex singular (link a torus).  The faces must make a sphere first: both stay open."""
+    n_grid = 4
+
+    def vid(i: int, j: int) -> int:
+        return (i % n_grid) * n_grid + (j % n_grid)
+
+    tri = []
+    for i, j in itertools.product(range(n_grid), repeat=2):
+        tri += [(vid(i, j), vid(i + 1, j), vid(i + 1, j + 1)), (vid(i, j), vid(i, j + 1), vid(i + 1, j + 1))]
+    nv = n_grid * n_grid
+    tets = []
+    for layer in range(2):
+        for a, b, c in (tuple(sorted(t)) for t in tri):
+            a0, b0, c0 = a + layer * nv, b + layer * nv, c + layer * nv
+            tets += [(a0, b0, c0, c0 + nv), (a0, b0, b0 + nv, c0 + nv), (a0, a0 + nv, b0 + nv, c0 + nv)]
+    tets = [tuple(sorted(t)) for t in tets]
+    ang = 2 * np.pi * np.arange(n_grid) / n_grid
+    pts = np.array(
+        [[r * np.cos(t), r * np.sin(t), np.cos(p), np.sin(p)] for r in (1.0, 1.15, 1.3) for t in ang for p in ang]
+    )
+    pt = Patcher(pts, tets, np.empty((0, 4), np.int64), 1.0)
+    holes = pt.holes()
+    assert sorted(len(h) for h in holes) == [32, 32]
+    assert not any(pt.fill(h) for h in holes)
+    alive = np.array([s for s, a in zip(pt.simp, pt.alive, strict=True) if a])
+    top = analyse(alive, len(pts), 3)
+    assert top.boundary_faces == 64 and top.singular_vertices == 0
+
+
+def test_the_cone_sees_the_open_faces_the_delaunay_faces_left() -> None:
+    """S^3 as the join of two hexagons (36 tetrahedra), two adjacent ones missing and only the first offered
+    as a Delaunay face: after it the hole is the second's four faces, three of them the old hole's; the cone
+    must see all four and put the second back, without eroding sound tetrahedra."""
+    m = 6
+    ring = 2 * np.pi * np.arange(m) / m
+    pts = np.vstack(
+        [
+            np.stack([np.cos(ring), np.sin(ring), 0 * ring, 0 * ring], axis=1),
+            np.stack([0 * ring, 0 * ring, np.cos(ring), np.sin(ring)], axis=1),
+        ]
+    )
+    tets = sorted({tuple(sorted((i, (i + 1) % m, m + j, m + (j + 1) % m))) for i in range(m) for j in range(m)})
+    first = tets[0]
+    second = next(t for t in tets if len(set(t) & set(first)) == 3)
+    pt = Patcher(pts, [t for t in tets if t not in (first, second)], np.array([first], np.int64), 1.0)
+    (hole,) = pt.holes()
+    assert pt.fill(hole)
+    assert first in pt.index and second in pt.index and not pt.boundary()
+    assert not any(entry[3] for entry in pt.log)  # nothing removed: no erosion

@@ -106,10 +106,10 @@ def cut_short_loops(pt: Patcher, points: np.ndarray, left: list[int]) -> tuple[P
                 (),
                 tuple(gone),
                 math.nan,
-                f"a loop of {len(loop)} samples, {f.size_spacings:.3g} sampling radii long (below 2 pi: no eps < 1 "
-                f"sample resolves it), closed by the walk (a handle, or a crosscap: codimension 2 allows a Moebius "
-                f"band); the {len(gone)} simplices at its samples removed, the hole closed and the samples taken "
-                "back by the rules that follow",
+                f"a loop through {len(loop)} samples, {f.size_spacings:.3g} sampling radii long as measured on the "
+                "grown surface (below 2 pi: no eps < 1 sample resolves it), closed by the walk (a handle, or a "
+                f"crosscap: codimension 2 allows a Moebius band); the {len(gone)} simplices at its samples removed, "
+                "the hole closed and the samples taken back by the rules that follow",
             )
         )
         left2 = trial.settle()
@@ -129,10 +129,12 @@ def cut_short_loops(pt: Patcher, points: np.ndarray, left: list[int]) -> tuple[P
                     uncertain=not sure,
                     reason=f.reason
                     + (
-                        "; three samples: one missing triangle's boundary, which no sample tells from a filled one"
+                        "; cut: it runs through three distinct samples, one missing triangle's boundary, which no "
+                        "sample tells from a filled triangle"
                         if sure
-                        else "; more than three samples: noise inflates the sampling radii it is measured in, so "
-                        "the sample may not decide it (a real loop of the object measured under 2 pi under heavy noise)"
+                        else f"; cut: it runs through {len(loop)} distinct samples, and noise inflates the sampling "
+                        "radii it is measured in, so the sample may not decide it (a real loop of the object measured "
+                        "under 2 pi under heavy noise)"
                     ),
                 )
             )

@@ -20,18 +20,14 @@ The methods here are mixed into :class:`~.patcher.Patcher`, whose
 from __future__ import annotations
 
 import itertools
-import math
 
 import numpy as np
 from scipy.spatial.distance import pdist
 
 from .complex import Simplex, _facets
+from .fill_cone import parts_sharing
 from .polygons import is_ear, min_angle, orientation, plane_polygon
 
-#: Erosions of a hole's rim before a cone is given up in d >= 3 (:meth:`FillHole._fill_cone_or_erode`);
-#: each widens the hole by one layer of simplices, and a failed try is undone.  Two, as for surfaces
-#: (whose ear clipping gets an unpinch, an erosion and a second erosion: ``fill``).
-ERODE_ROUNDS = 2
 #: Largest hole, in boundary (d-1)-faces, that ``fill-hole`` closes.
 FILL_MAX_FACES = 50
 #: Largest hole span, in median sample spacings, that ``fill-hole`` closes.
@@ -55,25 +51,7 @@ class FillHole:
         bnd = self.boundary()
         if bnd and len(bnd[0]) == 1:
             return [bnd]
-        parent = list(range(len(bnd)))
-
-        def find(a: int) -> int:
-            while parent[a] != a:
-                parent[a] = parent[parent[a]]
-                a = parent[a]
-            return a
-
-        first: dict[int, int] = {}
-        for i, f in enumerate(bnd):
-            for v in f:
-                if v in first:
-                    parent[find(i)] = find(first[v])
-                else:
-                    first[v] = i
-        groups: dict[int, list[Simplex]] = {}
-        for i, f in enumerate(bnd):
-            groups.setdefault(find(i), []).append(f)
-        return sorted(groups.values(), key=len)
+        return sorted(parts_sharing(bnd, 1), key=len)
 
     #: Boundary faces of real openings that no rule may close (``open-cap`` leaves them).
     keep_open: frozenset = frozenset()
@@ -109,7 +87,9 @@ class FillHole:
         rest = [f for f in hole if len(self.at(f)) == 1]
         dp1 = len(hole[0]) + 1
         if rest and dp1 > 3:
-            rest = self._fill_cone_or_erode(rest, why)
+            # the hole as it is now: the Delaunay faces just added have open faces of their own
+            rest = self._fill_cone_or_erode(self._open_around(rest, set(verts)), why)
+            rest = [f for f in self._open_around(hole, set(verts)) if len(self.at(f)) == 1]
         if rest and dp1 == 3:
             for attempt in range(3):
                 for _ in range(3):
@@ -159,8 +139,8 @@ class FillHole:
                 (),
                 tuple(rim),
                 float("nan"),
-                f"{why}: no ear fits, so the {len(rim)} simplices on its rim were removed "
-                "and the wider hole is closed again",
+                f"{why}: no {'ear' if len(edges[0]) == 2 else 'cone'} fits, so the {len(rim)} simplices on its rim "
+                "were removed and the wider hole is closed again",
             )
         )
         return self.boundary_near(touched)
@@ -195,82 +175,6 @@ class FillHole:
                     )
                 )
         return self.boundary_near(touched)
-
-    def _fill_cone_or_erode(self, hole: list[Simplex], why: str) -> list[Simplex]:
-        """:meth:`_fill_cone`; where no cone fits, erode the rim once and close the wider hole, or undo that.
-
-        A cone fails where a face it needs inside the hole is already a face of two simplices (a membrane
-        through the hole: noise folded the complex there).  As for surfaces (:meth:`_erode`), the
-        simplices on the rim are removed and the wider hole is closed by Delaunay faces and a cone; if it
-        still does not close, the erosion and everything after it are undone (rows and log), so a failed
-        try never leaves a larger hole.  Returns the hole's faces still open.
-        """
-        if self._fill_cone(hole, why):
-            return []
-        mark = len(self.log)
-        wider = hole
-        touched: set[int] = set()
-        for _ in range(ERODE_ROUNDS):
-            rim = sorted({ids[0] for f in wider for ids in [self.at(f)] if len(ids) == 1})
-            touched |= {v for i in rim for v in self.simp[i]}
-            wider = self._erode(wider, why)
-            self._fill_delaunay({v for f in wider for v in f} | touched, why)
-            wider = [f for f in self.boundary_near(touched) if len(self.at(f)) == 1]
-            if (not wider or self._fill_cone(wider, why)) and all(self._star(v) for v in touched):
-                return []  # closed, and no sample of the eroded rim lost its last simplex
-            if not wider:
-                break
-        for entry in reversed(self.log[mark:]):  # undo: the added rows die, the eroded ones come back
-            for i in entry[2]:
-                if self.alive[i]:
-                    self._delete(i)
-            for i in entry[3]:
-                if not self.alive[i]:
-                    self._revive(i)
-        del self.log[mark:]
-        return [f for f in hole if len(self.at(f)) == 1]
-
-    def _fill_cone(self, hole: list[Simplex], why: str) -> bool:
-        """Close a hole of a d-manifold, d >= 3, by coning it from one of its vertices (all or nothing).
-
-        The hole's faces are a (d-1)-sphere S when it is a hole of a manifold.  For a vertex v of S the
-        cone v * (S - star(v)) is a d-ball whose boundary is S, so adding the simplices v + t (t a face of S
-        without v) closes the hole.  The smallest hole, the d + 1 faces of one missing simplex, is closed
-        by that simplex (the cone from any of its vertices).  Surfaces clip ears in the hole's plane
-        instead, and ``fill-hole`` tries the Delaunay faces among the rim first; this runs where those
-        left the hole open, because their fold limit (COS_FILL) refuses every closing simplex: in noisy
-        3-manifolds (S^3 in R^4 with noise of 1 % of its size) whole holes are one missing simplex, folded.
-        A cone is kept only when every new simplex is new, every new interior face lies in exactly the two
-        new simplices that share it and no face gets a third simplex; the vertex whose cone has the fewest
-        simplices is tried first.  A vertex only pinches when S is not a sphere, which the checks refuse.
-        """
-        faces = [tuple(f) for f in hole]
-        verts = sorted({v for f in faces for v in f})
-        for v in sorted(verts, key=lambda x: sum(x in f for f in faces), reverse=True):
-            new = [tuple(sorted((v, *f))) for f in faces if v not in f]
-            if not new or len(set(new)) != len(new) or any(s in self.index for s in new):
-                continue
-            count: dict[Simplex, int] = {}
-            for s in new:
-                for f in _facets(s):
-                    count[f] = count.get(f, 0) + 1
-            hole_set = set(faces)
-            ok = True
-            for f, c in count.items():
-                have = len(self.at(f))
-                if f in hole_set:
-                    ok = c == 1 and have == 1
-                else:  # a new face inside the cone: two new simplices, none before
-                    ok = c == 2 and have == 0
-                if not ok:
-                    break
-            if not ok:
-                continue
-            for s in new:
-                tau = next((f for f in _facets(s) if f in hole_set and len(self.at(f)) == 1), _facets(s)[0])
-                self.add(s, "fill-hole", tau, math.nan, f"closing a {why} by a cone from sample {v}")
-            return True
-        return False
 
     def _fill_delaunay(self, verts: set[int], why: str) -> None:
         cand = set()

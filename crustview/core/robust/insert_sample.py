@@ -22,12 +22,13 @@ Simplex = tuple[int, ...]
 #: sample to the simplex it is inserted in.  The value came with the first robust version without a stated reason;
 #: it is what the paper bounds: Theorem 10 puts M_S within 2.65 eps LFS of M, 2.65 sampling radii, and in an even
 #: sample the sampling radius is the spacing over sqrt(3), so 2.65 / sqrt(3) = 1.53 spacings; the noise model (sigma
-#: <= 0.3 spacings) moves a sample off M by at most 1.5 sigma = 0.45 more in 87 % of draws (the part of isotropic
-#: noise across M is one Gaussian): 1.98.  A sample farther than that is no point of the surface M_S stands for: a
-#: part the result lacks, which the report names (``analysis/missing.py``).  Tried in session 20 and not kept: 2.65
-#: times the largest enclosing radius of the faces near the sample (the local sampling radius) took in the fin tip
-#: of ``bench_shapes.py``'s fish (2 of its 5 wrong runs at 0.1 h right), but turned one closed result open, and on
-#: marching-cubes meshes that limit is 4-5 spacings everywhere.
+#: <= 0.3 spacings) moves a sample off M by at most 1.5 sigma = 0.45 more in 87 % of draws for a hypersurface (the
+#: part of isotropic noise across M is one Gaussian; across a surface in R^4 it is two, 68 %): 1.98.  A sample
+#: farther than that is no point of the surface M_S stands for: a part the result lacks, which the report names
+#: (``analysis/missing.py``).  Tried in session 20 and not kept: 2.65 times the largest enclosing radius of the
+#: faces near the sample (the local sampling radius) took in the fin tip of ``bench_shapes.py``'s fish (2 of its 5
+#: wrong runs at 0.1 h right), but turned one closed result open, and on marching-cubes meshes that limit is 4-5
+#: spacings everywhere.
 INSERT_MAX = 2.0
 
 

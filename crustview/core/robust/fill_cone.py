@@ -1,0 +1,178 @@
+"""``fill-hole`` in d >= 3: a hole of a d-manifold closed by a cone from one of its vertices.
+
+Surfaces clip ears in a hole's plane (:mod:`.fill_hole`); a 3-manifold has no ears.  Where the Delaunay
+faces among a hole's vertices leave it open (their fold limit refuses every closing simplex where noise
+folded the complex: S^3 in R^4 with noise of 1 % of its size), the hole is coned from one of its vertices,
+after checking that its faces make a sphere; where no cone fits, the rim is eroded and the wider hole
+closed again, and a try that does not close is undone, rows and log.  The methods are mixed into
+:class:`crustview.core.robust.patcher.Patcher` beside :class:`.fill_hole.FillHole`, which calls
+:meth:`ConeFill._fill_cone_or_erode`.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+from .complex import Simplex, _facets
+
+#: Erosions of a hole's rim before a cone is given up in d >= 3 (:meth:`ConeFill._fill_cone_or_erode`);
+#: each widens the hole by one layer of simplices, and a failed try is undone.  Two, as for surfaces
+#: (whose ear clipping gets an unpinch, an erosion and a second erosion: ``fill``).
+ERODE_ROUNDS = 2
+
+
+def parts_sharing(faces: list[Simplex], size: int) -> list[list[Simplex]]:
+    """The faces grouped into parts connected through shared sub-faces of ``size`` vertices, in first-face order.
+
+    ``size = 1``: through shared vertices (``fill-hole``'s holes); ``size = d - 1``: through shared
+    (d-2)-faces (two holes meeting at a vertex are two parts).
+    """
+    parent = list(range(len(faces)))
+
+    def find(a: int) -> int:
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    first: dict[Simplex, int] = {}
+    for i, f in enumerate(faces):
+        for r in itertools.combinations(f, size):
+            if r in first:
+                parent[find(i)] = find(first[r])
+            else:
+                first[r] = i
+    parts: dict[int, list[Simplex]] = {}
+    for i, f in enumerate(faces):
+        parts.setdefault(find(i), []).append(f)
+    return list(parts.values())
+
+
+def _is_sphere(faces: list[Simplex]) -> bool:
+    """Whether (d-1)-simplices make a connected closed pseudo-manifold with the Euler characteristic of S^(d-1).
+
+    Every (d-2)-face in exactly two of them, one component through shared (d-2)-faces, and
+    V - E + F - ... = 1 + (-1)^(d-1) (2 for the triangles round a hole of a 3-manifold).  Not a proof of a
+    sphere in every dimension, but it refuses the torus, two holes at once and pinched rims.
+    """
+    if not faces:
+        return False
+    k = len(faces[0])
+    ridges: dict[Simplex, list[int]] = {}
+    for i, f in enumerate(faces):
+        for r in itertools.combinations(f, k - 1):
+            ridges.setdefault(r, []).append(i)
+    if any(len(ids) != 2 for ids in ridges.values()):
+        return False
+    if len(parts_sharing(faces, k - 1)) != 1:
+        return False
+    chi = sum((-1) ** j * len({c for f in faces for c in itertools.combinations(f, j + 1)}) for j in range(k))
+    return chi == 1 + (-1) ** (k - 1)
+
+
+class ConeFill:
+    """The cone of ``fill-hole`` for :class:`~crustview.core.robust.patcher.Patcher` (see the module docstring)."""
+
+    def _open_around(self, seed: list[Simplex], verts: set[int]) -> list[Simplex]:
+        """The open faces at ``verts`` joined (through shared vertices) to the faces of ``seed`` still open."""
+        near = [f for f in self.boundary_near(verts) if len(self.at(f)) == 1]
+        keep = {v for f in seed if len(self.at(f)) == 1 for v in f}
+        grown = True
+        out: list[Simplex] = []
+        while grown:
+            grown = False
+            out = [f for f in near if keep.intersection(f)]
+            more = {v for f in out for v in f} - keep
+            if more:
+                keep |= more
+                grown = True
+        return out
+
+    def _fill_cone_or_erode(self, hole: list[Simplex], why: str) -> list[Simplex]:
+        """:meth:`_fill_cone`; where no cone fits, erode the rim (up to ERODE_ROUNDS times), or undo that.
+
+        A cone fails where a face it needs inside the hole is already a face of two simplices (a membrane
+        through the hole: noise folded the complex there).  As for surfaces (:meth:`_erode`), the
+        simplices on the rim are removed and the wider hole is closed by Delaunay faces and a cone; if it
+        still does not close, the erosion and everything after it are undone (rows and log), so a failed
+        try never leaves a larger hole.  Returns the hole's faces still open.
+        """
+        if self._fill_cone(hole, why):
+            return []
+        mark = len(self.log)
+        wider = hole
+        touched: set[int] = set()
+        for _ in range(ERODE_ROUNDS):
+            rim = sorted({ids[0] for f in wider for ids in [self.at(f)] if len(ids) == 1})
+            touched |= {v for i in rim for v in self.simp[i]}
+            wider = self._erode(wider, why)
+            self._fill_delaunay({v for f in wider for v in f} | touched, why)
+            wider = [f for f in self.boundary_near(touched) if len(self.at(f)) == 1]
+            if (not wider or self._fill_cone(wider, why)) and all(self._star(v) for v in touched):
+                return []  # closed, and no sample of the eroded rim lost its last simplex
+            if not wider:
+                break
+        for entry in reversed(self.log[mark:]):  # undo: the added rows die, the eroded ones come back
+            for i in entry[2]:
+                if self.alive[i]:
+                    self._delete(i)
+            for i in entry[3]:
+                if not self.alive[i]:
+                    self._revive(i)
+        del self.log[mark:]
+        return [f for f in hole if len(self.at(f)) == 1]
+
+    def _fill_cone(self, hole: list[Simplex], why: str) -> bool:
+        """Close a hole of a d-manifold, d >= 3, by coning it from one of its vertices (all or nothing).
+
+        The hole's faces are a (d-1)-sphere S when it is a hole of a manifold.  For a vertex v of S the
+        cone v * (S - star(v)) is a d-ball whose boundary is S, so adding the simplices v + t (t a face of S
+        without v) closes the hole.  The smallest hole, the d + 1 faces of one missing simplex, is closed
+        by that simplex (the cone from any of its vertices).  Surfaces clip ears in the hole's plane
+        instead, and ``fill-hole`` tries the Delaunay faces among the rim first; this runs where those
+        left the hole open, because their fold limit (COS_FILL) refuses every closing simplex: in noisy
+        3-manifolds (S^3 in R^4 with noise of 1 % of its size) whole holes are one missing simplex, folded.
+        A cone is kept only when every new simplex is new, every new interior face lies in exactly the two
+        new simplices that share it and no face gets a third simplex; the vertex whose cone has the fewest
+        simplices is tried first.  The cone from a vertex of a closed surface that is not a sphere (a
+        torus) passes those counts but leaves that vertex singular (its link the torus): the hole's faces
+        must first be a connected closed pseudo-manifold with a sphere's Euler characteristic
+        (:func:`_is_sphere`), and in codimension 1 every new simplex orientable with its neighbours.
+        """
+        closed = True
+        faces = [tuple(f) for f in hole]
+        for part in parts_sharing(faces, len(faces[0]) - 1):
+            closed = _is_sphere(part) and self._cone(part, why) and closed
+        return closed
+
+    def _cone(self, faces: list[Simplex], why: str) -> bool:
+        """The cone of :meth:`_fill_cone` over one sphere of faces; False (nothing added) if none fits."""
+        verts = sorted({v for f in faces for v in f})
+        for v in sorted(verts, key=lambda x: sum(x in f for f in faces), reverse=True):
+            new = [tuple(sorted((v, *f))) for f in faces if v not in f]
+            if not new or len(set(new)) != len(new) or any(s in self.index for s in new):
+                continue
+            if not all(self.consistent(s) for s in new):
+                continue
+            count: dict[Simplex, int] = {}
+            for s in new:
+                for f in _facets(s):
+                    count[f] = count.get(f, 0) + 1
+            hole_set = set(faces)
+            ok = True
+            for f, c in count.items():
+                have = len(self.at(f))
+                if f in hole_set:
+                    ok = c == 1 and have == 1
+                else:  # a new face inside the cone: two new simplices, none before
+                    ok = c == 2 and have == 0
+                if not ok:
+                    break
+            if not ok:
+                continue
+            for s in new:
+                tau = next((f for f in _facets(s) if f in hole_set and len(self.at(f)) == 1), _facets(s)[0])
+                self.add(s, "fill-hole", tau, math.nan, f"closing a {why} by a cone from sample {v}")
+            return True
+        return False
