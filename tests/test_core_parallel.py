@@ -278,3 +278,25 @@ def test_compiled_face_lists_and_cell_edges_refuse_bad_input_with_one_line():
     with pytest.raises(ValueError, match="without its face"):  # a simplex that does not hold the face
         simp = np.array([[3, 4, 5, 6, 7]], np.int32)
         _cellpass.cell_edges(np.array([[0, 1, 2]]), simp, np.zeros((1, 1), np.int64), 3, 5, 1)
+
+
+def test_faces_grouped_by_cell_size_compiled_equal_numpy_and_a_hand_case(monkeypatch):
+    # by hand: cell sizes 3, 2, 3, 5, 2 -> sizes 2 (faces 1, 4), 3 (faces 0, 2), 5 (face 3)
+    ptr = np.array([0, 3, 5, 8, 13, 15], np.int64)
+    want = [(2, [1, 4]), (3, [0, 2]), (5, [3])]
+    rng = np.random.default_rng(4)
+    cases = [ptr, np.concatenate([[0], np.cumsum(rng.integers(3, 60, 20_000))]).astype(np.int64)]
+    got = [cand.size_groups(p) for p in cases]
+    assert [(v, r.tolist()) for v, r in got[0]] == want
+    monkeypatch.setattr(cand, "_native_cellpass", None)
+    for p, compiled in zip(cases, got, strict=True):
+        plain = cand.size_groups(p)
+        assert [v for v, _ in plain] == [v for v, _ in compiled]
+        assert all(np.array_equal(a, b) for (_, a), (_, b) in zip(plain, compiled, strict=True))
+
+
+def test_compiled_size_groups_refuse_decreasing_pointers_with_one_line():
+    from crustview.core.delaunay import _cellpass
+
+    with pytest.raises(ValueError, match="must not decrease"):
+        _cellpass.size_groups(np.array([0, 3, 2], np.int64))

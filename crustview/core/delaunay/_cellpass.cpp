@@ -301,6 +301,56 @@ PyObject* cellpass_rows(PyObject* /*self*/, PyObject* args) {
     return Py_BuildValue("NN", lr, lp);
 }
 
+// size_groups: the faces ordered by the size of their dual cell (cell_ptr[i + 1] - cell_ptr[i]),
+// each size's faces in increasing order (a counting sort: what numpy's stable argsort gives), and
+// the sizes with their counts.  Returns (order int64 bytes, sizes int64 bytes, counts int64 bytes).
+PyObject* size_groups(PyObject* /*self*/, PyObject* args) {
+    Py_buffer ptr;
+    if (!PyArg_ParseTuple(args, "y*", &ptr)) {
+        return nullptr;
+    }
+    if (ptr.len % 8 != 0 || ptr.len < 8) {
+        PyBuffer_Release(&ptr);
+        PyErr_SetString(PyExc_ValueError, "expected int64 pointers (f + 1)");
+        return nullptr;
+    }
+    const auto* pa = static_cast<const std::int64_t*>(ptr.buf);
+    const std::int64_t f = ptr.len / 8 - 1;
+    std::vector<std::int64_t> order(static_cast<std::size_t>(f)), sizes, counts;
+    bool bad = false;
+    Py_BEGIN_ALLOW_THREADS
+    std::int64_t top = 0;
+    for (std::int64_t i = 0; i < f && !bad; ++i) {
+        const std::int64_t nv = pa[i + 1] - pa[i];
+        bad = nv < 0 || nv > (std::int64_t{1} << 24);
+        top = std::max(top, nv);
+    }
+    if (!bad) {
+        std::vector<std::int64_t> start(static_cast<std::size_t>(top) + 2, 0);
+        for (std::int64_t i = 0; i < f; ++i) ++start[static_cast<std::size_t>(pa[i + 1] - pa[i]) + 1];
+        for (std::int64_t v = 0; v <= top; ++v) {
+            const std::int64_t k = start[static_cast<std::size_t>(v) + 1];
+            if (k > 0) {
+                sizes.push_back(v);
+                counts.push_back(k);
+            }
+            start[static_cast<std::size_t>(v) + 1] += start[static_cast<std::size_t>(v)];
+        }
+        for (std::int64_t i = 0; i < f; ++i) order[static_cast<std::size_t>(start[static_cast<std::size_t>(pa[i + 1] - pa[i])]++)] = i;
+    }
+    Py_END_ALLOW_THREADS
+    PyBuffer_Release(&ptr);
+    if (bad) {
+        PyErr_SetString(PyExc_ValueError, "cell pointers must not decrease (and sizes stay under 2^24)");
+        return nullptr;
+    }
+    const auto bytes = [](const std::vector<std::int64_t>& v) {
+        return PyByteArray_FromStringAndSize(reinterpret_cast<const char*>(v.data()),
+                                             static_cast<Py_ssize_t>(v.size()) * 8);
+    };
+    return Py_BuildValue("NNN", bytes(order), bytes(sizes), bytes(counts));
+}
+
 // cell_edges: the edges of two-dimensional dual cells (codimension 2), as
 // crustview.core.paper.dualcells.cell_structure lists them in numpy.  Cell
 // simplices i and j of face f are joined when they share the facet f + u,
@@ -408,6 +458,10 @@ PyMethodDef methods[] = {
      "int32 owners through the int64 pointers; writes sq[row] (lean^2 where\n"
      "lean >= sin_lim, else the vertex minimum) and returns the pairs left, as\n"
      "int64 rows and int8 vertex positions, position by position."},
+    {"size_groups", size_groups, METH_VARARGS,
+     "size_groups(cell_ptr) -> (order, sizes, counts)\n\n"
+     "The faces in a stable counting sort by dual cell size, and each size's count\n"
+     "(int64 bytearrays)."},
     {"cell_edges", cell_edges, METH_VARARGS,
      "cell_edges(faces, simplices, cells, w, width, nv) -> edges\n\n"
      "Edges (face, i, j) of the two-dimensional dual cells of int64 faces (F x w),\n"

@@ -152,24 +152,19 @@ def cocone_angles(
     """
     f, dp1 = faces.shape
     m = normals.shape[2]
-    nv_all = np.diff(cell_ptr)
-    out = np.zeros((f, dp1))
     tree = cKDTree(work)
     # contiguous: gathers from a strided view of the Q factor take 20x longer
     tangents = np.ascontiguousarray(np.linalg.qr(normals, mode="complete")[0][:, :, m:])  # (n, r, d)
     tasks = []
     # the cells' own edges/polygons replace subset enumeration where known (see _score_chunk)
     own_faces = simplices is not None and m in (2, 3)
-    sizes = np.unique(nv_all[:: max(1, f // 4096)]) if f else nv_all
+    compiled = m == 2 and _native_cellpass is not None and work.dtype == normals.dtype == centres.dtype == np.float64
+    nv_all = None if compiled else np.diff(cell_ptr)  # (the compiled grouping reads the pointers)
+    sizes = np.unique(nv_all[:: max(1, f // 4096)]) if nv_all is not None and f else []
     if len(sizes) == 1 and (nv_all == sizes[0]).all():  # every cell a segment (codimension 1): plain slices
         groups = [(int(sizes[0]), None)]
     elif f:
-        # each size's faces in increasing order: a stable sort (numpy's radix sort on 16-bit sizes), one pass
-        # instead of one scan per size
-        order = np.argsort(nv_all.astype(np.int16) if nv_all.max() < 2**15 else nv_all, kind="stable")
-        ordered = nv_all[order]
-        starts = np.flatnonzero(ordered[1:] != ordered[:-1]) + 1
-        groups = [(int(part[0]), sel) for part, sel in zip(np.split(ordered, starts), np.split(order, starts))]
+        groups = size_groups(cell_ptr, nv_all)
     else:
         groups = []
     for nv, sel in groups:
@@ -182,10 +177,12 @@ def cocone_angles(
     if workers is None and len(cell_simplices) < CHUNK_CELL_VERTICES:  # one chunk's worth: threads only add overhead
         workers = 1
 
-    if m == 2 and _native_cellpass is not None and work.dtype == normals.dtype == centres.dtype == np.float64:
+    if compiled:
         # the compiled vertex pass per chunk, then the exact step in large batches (same values)
         args = (work, normals, tangents, centres, faces, cell_ptr, cell_simplices, simplices, tasks, tree)
         return codim2_scores(_native_cellpass, *args, np.sin(limit), workers, progress)
+
+    out = np.zeros((f, dp1))
 
     def score(task: tuple) -> tuple[np.ndarray | slice, np.ndarray]:
         nv, sel, subsets = task
@@ -199,6 +196,29 @@ def cocone_angles(
         if progress is not None:
             progress(done / max(f, 1))
     return out
+
+
+def size_groups(cell_ptr: np.ndarray, nv_all: np.ndarray | None = None) -> list[tuple[int, np.ndarray]]:
+    """The faces grouped by the size of their dual cell: ``(size, rows)``, sizes and rows increasing.
+
+    A stable sort by size: the compiled counting sort where it is built (one pass to count, one to
+    place: 0.2 s less than numpy's radix sort and gather on the 5.2 million faces of the 10,000-point
+    Klein bottle), else numpy's stable argsort of ``nv_all`` (``np.diff(cell_ptr)``, computed if not
+    given); the same groups either way.
+    """
+    if _native_cellpass is not None and hasattr(_native_cellpass, "size_groups") and cell_ptr.dtype == np.int64:
+        order_b, sizes_b, counts_b = _native_cellpass.size_groups(np.ascontiguousarray(cell_ptr))
+        order = np.frombuffer(order_b, np.int64)
+        ends = np.cumsum(np.frombuffer(counts_b, np.int64))
+        sizes = np.frombuffer(sizes_b, np.int64)
+        return [(int(v), order[e - c : e]) for v, c, e in zip(sizes, np.diff(ends, prepend=0), ends, strict=True)]
+    if nv_all is None:
+        nv_all = np.diff(cell_ptr)
+    # numpy's radix sort on 16-bit sizes, one pass instead of one scan per size
+    order = np.argsort(nv_all.astype(np.int16) if nv_all.max() < 2**15 else nv_all, kind="stable")
+    ordered = nv_all[order]
+    starts = np.flatnonzero(ordered[1:] != ordered[:-1]) + 1
+    return [(int(part[0]), sel) for part, sel in zip(np.split(ordered, starts), np.split(order, starts), strict=True)]
 
 
 def _score_chunk(
