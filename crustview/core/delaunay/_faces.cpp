@@ -309,7 +309,7 @@ Grouped group_instances(const std::int32_t* simp, std::int64_t t, int w, int fw,
     }
     packed = packed && lead <= (std::int64_t{1} << 32);
     in_parts(parts, [&](int part) {
-        std::vector<std::uint64_t> words;
+        std::vector<std::uint64_t> words, spare;
         std::int64_t distinct = 0;
         for (std::int64_t v = g.first_v[part]; v < g.first_v[part + 1]; ++v) {
             Instance* lo = out + bucket[static_cast<std::size_t>(v)];
@@ -322,7 +322,19 @@ Grouped group_instances(const std::int32_t* simp, std::int64_t t, int w, int fw,
                     words[i] = (static_cast<std::uint64_t>(lo[i].key - base) << 32) |
                                static_cast<std::uint32_t>(lo[i].simplex);
                 }
-                std::sort(words.begin(), words.end());
+                // the bucket holds its instances in increasing simplex order, so a stable sort by the key's
+                // rest (the word's upper half) is the sort of the words: LSD radix, 8 bits a pass, as
+                // many passes as the bucket's largest rest needs (std::sort took most of the listing)
+                std::uint64_t top = 0;
+                for (std::size_t i = 0; i < size; ++i) top = std::max(top, words[i] >> 32);
+                spare.resize(size);
+                for (int shift = 32; shift < 64 && (top >> (shift - 32)) != 0; shift += 8) {
+                    std::size_t start[257] = {0};
+                    for (std::size_t i = 0; i < size; ++i) ++start[((words[i] >> shift) & 255u) + 1];
+                    for (int b = 0; b < 256; ++b) start[b + 1] += start[b];
+                    for (std::size_t i = 0; i < size; ++i) spare[start[(words[i] >> shift) & 255u]++] = words[i];
+                    words.swap(spare);
+                }
                 for (std::size_t i = 0; i < size; ++i) {
                     lo[i] = {base + static_cast<std::int64_t>(words[i] >> 32),
                              static_cast<std::int32_t>(words[i] & 0xFFFFFFFFu)};
