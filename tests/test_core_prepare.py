@@ -162,3 +162,16 @@ def test_samples_are_numbered_along_space_and_joggled_by_input_order():
     stream = np.random.default_rng(0).uniform(-1.0, 1.0, size=jog.shape)
     ratio = jog / stream
     assert np.allclose(ratio, ratio[0, 0], rtol=1e-6) and ratio[0, 0] > 0
+
+
+@pytest.mark.parametrize("k,d", [(3, 2), (4, 2), (5, 3), (3, 1)])
+def test_lift_of_stacked_parts_equals_lift_of_their_stack_bit_for_bit(k, d):
+    rng = np.random.default_rng(k * 10 + d)
+    # a sample in a d + 1 dimensional affine subspace of R^k when d + 1 < k: the basis is not square there
+    r = min(k, d + 1)
+    pts = rng.normal(size=(500, r)) @ np.linalg.qr(rng.normal(size=(k, k)))[0][:r] * 3.7 + rng.normal(size=k)
+    prep = prepare_points(pts, d)
+    parts = [rng.normal(size=(m, prep.r)) for m in (1_001, 0, 7, 333)]
+    stacked = prep.lift_stacked(*parts)
+    assert stacked.shape == (1_341, k)
+    assert stacked.tobytes() == prep.lift(np.vstack(parts)).tobytes()

@@ -94,6 +94,21 @@ class PreparedPoints:
         out += self.center
         return out
 
+    def lift_stacked(self, *parts: np.ndarray) -> np.ndarray:
+        """``lift(np.vstack(parts))`` for ``(m_i, r)`` parts, without the stacked copy.
+
+        Each part's rows are mapped by the same product into its rows of one output: every row is the
+        same dot products of the same numbers (``tests/test_core_prepare.py`` compares the two).
+        """
+        out = np.empty((sum(len(p) for p in parts), len(self.center)))
+        at = 0
+        for p in parts:
+            np.matmul(p, self.basis.T, out=out[at : at + len(p)])
+            at += len(p)
+        out *= self.scale
+        out += self.center
+        return out
+
     def lift_vectors(self, vectors: np.ndarray) -> np.ndarray:
         """Map direction vectors ``(..., r)`` to input space (no scaling)."""
         return vectors @ self.basis.T

@@ -219,9 +219,8 @@ def reconstruct(
     timings["candidates"] = time.perf_counter() - t0
     _next_stage(cancel)
 
-    voronoi = np.vstack([centres, infinite])
+    voronoi = prep.lift_stacked(centres, infinite)
     del centres, work_all  # the lifted Voronoi vertices replace them
-    voronoi = prep.lift(voronoi)
     rec = Reconstruction(
         d=d,
         k=k,
