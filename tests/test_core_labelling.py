@@ -501,3 +501,20 @@ def test_boundary_vertices_of_a_complex():
     assert _boundary_vertices(np.array([[0, 1, 2], [1, 2, 3]])) == {0, 1, 2, 3}
     assert _boundary_vertices(np.array([[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]])) == set()
     assert _boundary_vertices(np.array([[0, 1, 2], [0, 1, 3], [0, 2, 3]])) == {1, 2, 3}
+
+
+def test_descending_order_is_numpys_stable_argsort_of_the_negated_values(monkeypatch):
+    # by hand: 0.5 twice (in index order), then 0.0 and -0.0 as equals (index order), then -1
+    v = np.array([0.0, 0.5, -1.0, -0.0, 0.5])
+    assert labelling.descending_order(v).tolist() == [1, 4, 0, 3, 2]
+    rng = np.random.default_rng(11)
+    w = rng.random(200_000)
+    w[rng.integers(0, len(w), 50_000)] = 0.25  # many ties
+    w[:4] = [np.inf, -np.inf, 5e-324, -0.0]
+    for values in (v, w, w[:1], w[:0]):
+        assert np.array_equal(labelling.descending_order(values), np.argsort(-values, kind="stable"))
+    # NaN: numpy's order (the kernel refuses it)
+    nan = np.array([0.1, np.nan, 0.3])
+    assert np.array_equal(labelling.descending_order(nan), np.argsort(-nan, kind="stable"))
+    monkeypatch.setattr(labelling, "_kernel", None)
+    assert np.array_equal(labelling.descending_order(w), np.argsort(-w, kind="stable"))

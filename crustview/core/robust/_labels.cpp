@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -387,6 +388,62 @@ PyObject* pole_cells(PyObject*, PyObject* args) {
     return res;
 }
 
+// descending_order(values): the stable order of float64 values from largest to smallest, what
+// numpy's argsort(-values, kind="stable") gives for values without NaN (the caller checks): an LSD
+// radix sort, 11 bits a pass, of keys whose unsigned order is the order of -value (-0.0 taken as 0.0,
+// since numpy's comparison sees them equal), passes whose digit is the same for every key skipped.
+PyObject* descending_order(PyObject*, PyObject* args) {
+    PyObject* o = nullptr;
+    if (!PyArg_ParseTuple(args, "O", &o)) return nullptr;
+    View v;
+    if (!get(o, v, 8, "values")) return nullptr;
+    const auto* x = static_cast<const double*>(v.b.buf);
+    const std::size_t n = static_cast<std::size_t>(v.b.len / 8);
+    PyObject* out = PyByteArray_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(n * 8));
+    if (out == nullptr) return nullptr;
+    auto* order = reinterpret_cast<std::int64_t*>(PyByteArray_AS_STRING(out));
+    bool nan = false;
+    Py_BEGIN_ALLOW_THREADS;
+    std::vector<std::uint64_t> key(n), key2(n);
+    std::vector<std::int64_t> idx(n), idx2(n);
+    std::uint64_t all_or = 0, all_and = ~std::uint64_t{0};
+    for (std::size_t i = 0; i < n && !nan; ++i) {
+        double y = -x[i];
+        nan = std::isnan(y);
+        if (y == 0.0) y = 0.0;  // -0.0 and 0.0 compare equal
+        std::uint64_t u = 0;
+        std::memcpy(&u, &y, 8);
+        key[i] = (u >> 63) ? ~u : (u | (std::uint64_t{1} << 63));
+        idx[i] = static_cast<std::int64_t>(i);
+        all_or |= key[i];
+        all_and &= key[i];
+    }
+    if (!nan) {
+        std::vector<std::size_t> start(2049);
+        for (int shift = 0; shift < 64; shift += 11) {
+            if ((((all_or ^ all_and) >> shift) & 0x7FFu) == 0) continue;  // one digit for every key
+            std::fill(start.begin(), start.end(), 0);
+            for (std::size_t i = 0; i < n; ++i) ++start[((key[i] >> shift) & 0x7FFu) + 1];
+            for (std::size_t b = 0; b < 2048; ++b) start[b + 1] += start[b];
+            for (std::size_t i = 0; i < n; ++i) {
+                const std::size_t at = start[(key[i] >> shift) & 0x7FFu]++;
+                key2[at] = key[i];
+                idx2[at] = idx[i];
+            }
+            key.swap(key2);
+            idx.swap(idx2);
+        }
+        std::copy(idx.begin(), idx.end(), order);
+    }
+    Py_END_ALLOW_THREADS;
+    if (nan) {
+        Py_DECREF(out);
+        PyErr_SetString(PyExc_ValueError, "values must not be NaN");
+        return nullptr;
+    }
+    return out;
+}
+
 PyMethodDef methods[] = {
     {"label", label, METH_VARARGS,
      "label(n, a, b, sign, root) -> (label, when, violated)\n\n"
@@ -403,6 +460,10 @@ PyMethodDef methods[] = {
      "piece_counts(width, star_ptr, star_cells, cell_ptr, cell_faces, faces, a, b, inside) -> bytearray\n\n"
      "The number of pieces of every vertex's star (int64; 0 for a vertex in no cell); each star's cells\n"
      "sorted (bisection), on two threads."},
+    {"descending_order", descending_order, METH_VARARGS,
+     "descending_order(values) -> bytearray\n\n"
+     "The stable order of float64 values (no NaN) from largest to smallest, as int64:\n"
+     "numpy's argsort(-values, kind='stable')."},
     {"pole_cells", pole_cells, METH_VARARGS,
      "pole_cells(n, width, k, simplices, radius, centres, points) -> (plus, minus)\n\n"
      "Per sample, the cell of largest radius among its incidences and the same among those whose\n"
