@@ -98,7 +98,7 @@ class ConeFill:
         still does not close, the erosion and everything after it are undone (rows and log), so a failed
         try never leaves a larger hole.  Returns the hole's faces still open.
         """
-        if self._fill_cone(hole, why):
+        if self._fill_cone(hole, why) or self._unfold(hole, why):
             return []
         mark = len(self.log)
         wider = hole
@@ -113,7 +113,12 @@ class ConeFill:
                 return []  # closed, and no sample of the eroded rim lost its last simplex
             if not wider:
                 break
-        for entry in reversed(self.log[mark:]):  # undo: the added rows die, the eroded ones come back
+        self._undo_to(mark)
+        return [f for f in hole if len(self.at(f)) == 1]
+
+    def _undo_to(self, mark: int) -> None:
+        """Undo the log after entry ``mark``: the rows it added die, the ones it removed come back."""
+        for entry in reversed(self.log[mark:]):
             for i in entry[2]:
                 if self.alive[i]:
                     self._delete(i)
@@ -121,7 +126,41 @@ class ConeFill:
                 if not self.alive[i]:
                     self._revive(i)
         del self.log[mark:]
-        return [f for f in hole if len(self.at(f)) == 1]
+
+    def _unfold(self, hole: list[Simplex], why: str) -> bool:
+        """Remove the flaps folded into a hole, then cone it; undone (rows and log) unless it closes.
+
+        A flap is a simplex with a face on the hole whose vertices all lie on the hole's rim: no sample
+        but the rim's supports it, and where noise folded the complex such simplices fill part of the
+        hole from the wrong side, so that every cone meets one of their faces (S^3 in R^4 at 1 % noise: a
+        hole of 8 triangles on 6 samples, four of whose simplices held half of it).  Without them the hole
+        is again a sphere on the same samples, and no sample loses its last simplex (each rim sample has
+        simplices outside the hole).  Erosion (:meth:`_fill_cone_or_erode`) removes every simplex on the
+        rim instead, which pulls in the samples beyond it.
+        """
+        verts = {v for f in hole for v in f}
+        flaps = sorted({i for f in hole for i in self.at(f) if verts.issuperset(self.simp[i])})
+        if not flaps:
+            return False
+        mark = len(self.log)
+        for i in flaps:
+            self._delete(i)
+        self.log.append(
+            (
+                "fill-hole",
+                tuple(hole[0]),
+                (),
+                tuple(flaps),
+                math.nan,
+                f"{why}: no cone fits, and {len(flaps)} simplices spanned by the hole's own samples were folded "
+                "into it: removed, and the hole closed again",
+            )
+        )
+        wider = [f for f in self.boundary_near(verts) if len(self.at(f)) == 1]
+        if wider and self._fill_cone(wider, why) and all(self._star(v) for v in verts):
+            return True
+        self._undo_to(mark)
+        return False
 
     def _fill_cone(self, hole: list[Simplex], why: str) -> bool:
         """Close a hole of a d-manifold, d >= 3, by coning it from one of its vertices (all or nothing).
@@ -134,8 +173,9 @@ class ConeFill:
         left the hole open, because their fold limit (COS_FILL) refuses every closing simplex: in noisy
         3-manifolds (S^3 in R^4 with noise of 1 % of its size) whole holes are one missing simplex, folded.
         A cone is kept only when every new simplex is new, every new interior face lies in exactly the two
-        new simplices that share it and no face gets a third simplex; the vertex whose cone has the fewest
-        simplices is tried first.  The cone from a vertex of a closed surface that is not a sphere (a
+        new simplices that share it, no face gets a third simplex and no new interior edge (from the apex to
+        a hole sample not next to it on the hole) is an edge the complex already has; the vertex whose cone
+        has the fewest simplices is tried first.  The cone from a vertex of a closed surface that is not a sphere (a
         torus) passes those counts but leaves that vertex singular (its link the torus): the hole's faces
         must first be a connected closed pseudo-manifold with a sphere's Euler characteristic
         (:func:`_is_sphere`), and in codimension 1 every new simplex orientable with its neighbours.
@@ -171,8 +211,37 @@ class ConeFill:
                     break
             if not ok:
                 continue
+            # a new edge inside the cone (from v to a sample of the hole not next to v on it) must be new too:
+            # an edge the complex already has elsewhere would get a second ring of simplices, pinching v
+            rim_next = {u for f in faces if v in f for u in f}
+            linked = {u for i in self._star(v) for u in self.simp[i]}
+            if any(u in linked for u in verts if u not in rim_next):
+                continue
+            mark = len(self.log)
             for s in new:
                 tau = next((f for f in _facets(s) if f in hole_set and len(self.at(f)) == 1), _facets(s)[0])
                 self.add(s, "fill-hole", tau, math.nan, f"closing a {why} by a cone from sample {v}")
-            return True
+            if all(self._link_unpinched(u) for u in verts):
+                return True
+            self._undo_to(mark)  # the counts held, but some sample's link is pinched: the next apex
         return False
+
+    def _link_unpinched(self, u: int) -> bool:
+        """Whether sample ``u``'s link is one piece, no ridge of it in three faces, and a sphere where it is closed.
+
+        The face counts of :meth:`_cone` see the hole's own faces; a cone over a hole whose neighbourhood
+        noise folded can still give a sample of the rim a link that is closed but not a sphere (S^3 in R^4
+        at 1 %: a link with Euler characteristic 1), pinching M_S there.  A link with a boundary (another
+        hole at ``u``, not closed yet) passes when it is one piece.
+        """
+        link = [tuple(w for w in self.simp[i] if w != u) for i in self._star(u)]
+        if not link:
+            return False
+        k = len(link[0])
+        ridges: dict[Simplex, int] = {}
+        for f in link:
+            for r in itertools.combinations(f, k - 1):
+                ridges[r] = ridges.get(r, 0) + 1
+        if any(c > 2 for c in ridges.values()) or len(parts_sharing(link, k - 1)) != 1:
+            return False
+        return any(c == 1 for c in ridges.values()) or _is_sphere(link)
