@@ -411,6 +411,29 @@ def klein_loop_cut(app, win) -> None:
     wait(app, win)
 
 
+def s3_unfold(app, win) -> None:
+    """S^3 in R^4 with noise of 1 % of its size (``bench_variants.py``'s draw): ``fill-hole`` has just removed
+    the four tetrahedra folded into a hole of 8 triangles on 6 samples (red, 'removed now'), before its cone
+    closes it; framed as 'frame each step' frames it."""
+    import tempfile
+
+    from crustview.core.samples.manifolds import get_manifold
+
+    m = get_manifold("s3")
+    base = m.sample(m.default_n, seed=0).points
+    size = float(np.ptp(base, axis=0).max())
+    pts = base + np.random.default_rng(1).normal(scale=0.01 * size, size=base.shape)
+    path = Path(tempfile.mkdtemp()) / "s3-noise-1pc.xyz"
+    np.savetxt(path, pts)
+    win.open_file(path, d=3)
+    wait(app, win)
+    unfolds = [s for s in win.model.rec.extraction.steps if "folded into it" in s.reason]
+    unfold = max(unfolds, key=lambda s: len(s.removed))  # the hole of 8 triangles and its 4 flaps
+    win.steps_panel.follow.setChecked(True)
+    win.model.player.set_step(unfold.index + 1)
+    wait(app, win)
+
+
 def bunny_holes(app, win) -> None:
     """The holes of T_S on the bunny: rims, faint patches, the largest labelled with their size."""
     win.run_panel.set_mode("paper")  # step 0 of the paper's Algorithm 3: M_S = T_S, with its holes
@@ -437,6 +460,7 @@ SIZES = {
     "objects-touching": (1600, 1000),
     "turned-vase-caps": (1600, 1000),
     "klein-loop-cut": (1600, 1000),
+    "s3-unfold": (1600, 1000),
 }
 
 CASES = {
@@ -450,6 +474,7 @@ CASES = {
     "objects-touching": objects_touching,
     "turned-vase-caps": turned_vase_caps,
     "klein-loop-cut": klein_loop_cut,
+    "s3-unfold": s3_unfold,
     "bunny-holes": bunny_holes,
     "fertility-epsilon": lambda app, win: epsilon_and_cascade(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
     "nefertiti-epsilon": lambda app, win: epsilon_and_cascade(app, win, "nefertiti.obj", (0.3, 0.4, 3.0), 1.6),

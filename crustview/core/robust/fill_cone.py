@@ -152,8 +152,13 @@ class ConeFill:
                 (),
                 tuple(flaps),
                 math.nan,
-                f"{why}: no cone fits, and {len(flaps)} simplices spanned by the hole's own samples were folded "
-                "into it: removed, and the hole closed again",
+                f"{why}: no cone fits, and {len(flaps)} "
+                + (
+                    "simplex spanned by the hole's own samples was"
+                    if len(flaps) == 1
+                    else "simplices spanned by the hole's own samples were"
+                )
+                + " folded into it: removed, and the hole closed again",
             )
         )
         wider = [f for f in self.boundary_near(verts) if len(self.at(f)) == 1]
