@@ -175,3 +175,22 @@ def test_lift_of_stacked_parts_equals_lift_of_their_stack_bit_for_bit(k, d):
     stacked = prep.lift_stacked(*parts)
     assert stacked.shape == (1_341, k)
     assert stacked.tobytes() == prep.lift(np.vstack(parts)).tobytes()
+
+
+@pytest.mark.parametrize("k,d", [(3, 2), (4, 2), (3, 1)])
+def test_lift_appended_in_place_equals_the_lift_of_the_stack_and_refuses_viewed_rows(k, d):
+    rng = np.random.default_rng(k + d)
+    pts = rng.normal(size=(400, k)) * 2.5 + 1.0
+    prep = prepare_points(pts, d)
+    assert prep.r == k
+    rows, more = rng.normal(size=(70_001, k)), rng.normal(size=(9, k))
+    want = prep.lift(np.vstack([rows, more])).tobytes()
+    got = prep.lift_appended(rows, more, block=4_096)  # several blocks, the last one short
+    assert got is rows and got.shape == (70_010, k) and got.tobytes() == want
+    # a view of the rows would dangle if they moved: the stacked copy instead, the rows untouched
+    rows2 = rng.normal(size=(1_000, k))
+    view = rows2[10:20]
+    before = rows2.tobytes()
+    out = prep.lift_appended(rows2, more)
+    assert out is not rows2 and rows2.tobytes() == before and view.base is rows2
+    assert out.tobytes() == prep.lift(np.vstack([rows2, more])).tobytes()

@@ -219,8 +219,9 @@ def reconstruct(
     timings["candidates"] = time.perf_counter() - t0
     _next_stage(cancel)
 
-    voronoi = prep.lift_stacked(centres, infinite)
-    del centres, work_all  # the lifted Voronoi vertices replace them
+    del work_all
+    voronoi = prep.lift_appended(centres, infinite)  # in the circumcentres' memory: they are not used again
+    del centres
     rec = Reconstruction(
         d=d,
         k=k,
