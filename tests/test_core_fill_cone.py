@@ -115,6 +115,36 @@ def test_the_cone_sees_the_open_faces_the_delaunay_faces_left() -> None:
     assert not any(entry[3] for entry in pt.log)  # nothing removed: no erosion
 
 
+def _hexagon_join() -> tuple[np.ndarray, list[tuple[int, ...]]]:
+    """S^3 as the join of two hexagons: 12 points of R^4 and 36 tetrahedra (i, i+1, 6+j, 6+j+1)."""
+    m = 6
+    ring = 2 * np.pi * np.arange(m) / m
+    pts = np.vstack(
+        [
+            np.stack([np.cos(ring), np.sin(ring), 0 * ring, 0 * ring], axis=1),
+            np.stack([0 * ring, 0 * ring, np.cos(ring), np.sin(ring)], axis=1),
+        ]
+    )
+    return pts, sorted({tuple(sorted((i, (i + 1) % m, m + j, m + (j + 1) % m))) for i in range(m) for j in range(m)})
+
+
+def test_flaps_are_sought_only_where_a_partial_cone_left_the_hole_open() -> None:
+    """Three tetrahedra of the hexagons' join missing, (0,1,6,7) apart from two at samples 1 and 2: one hole
+    (its parts meet at sample 1) whose first part takes a cone and whose second does not.  The flaps must
+    come from the faces still open, not from the cone just added (found in review: it was removed again)."""
+    pts, tets = _hexagon_join()
+    gone = [(0, 1, 6, 7), (1, 2, 8, 9), (1, 2, 10, 11)]
+    pt = Patcher(pts, [t for t in tets if t not in gone], np.empty((0, 4), np.int64), 1.0)
+    (hole,) = pt.holes()
+    assert pt.fill(hole)
+    alive = [s for s, a in zip(pt.simp, pt.alive, strict=True) if a]
+    assert not pt.boundary() and len(alive) == 36
+    added = {i for entry in pt.log for i in entry[2]}
+    first = next(i for entry in pt.log for i in entry[2])
+    assert pt.simp[first] == (0, 1, 6, 7) and pt.alive[first]
+    assert not any(i in added for entry in pt.log for i in entry[3])  # no step removes a row a step added
+
+
 def test_a_link_that_is_two_spheres_is_pinched_and_a_disc_or_a_sphere_is_not() -> None:
     pts, tets = _boundary_of_4_simplex()
     # two copies of the boundary of a 4-simplex sharing vertex 0: the link of 0 is two spheres

@@ -98,7 +98,8 @@ class ConeFill:
         still does not close, the erosion and everything after it are undone (rows and log), so a failed
         try never leaves a larger hole.  Returns the hole's faces still open.
         """
-        if self._fill_cone(hole, why) or self._unfold(hole, why):
+        # a hole of several parts may be coned in part: the flaps are sought round the faces still open
+        if self._fill_cone(hole, why) or self._unfold([f for f in hole if len(self.at(f)) == 1], why):
             return []
         mark = len(self.log)
         wider = hole
@@ -136,8 +137,12 @@ class ConeFill:
         hole of 8 triangles on 6 samples, four of whose simplices held half of it).  Without them the hole
         is again a sphere on the same samples, and no sample loses its last simplex (each rim sample has
         simplices outside the hole).  Erosion (:meth:`_fill_cone_or_erode`) removes every simplex on the
-        rim instead, which pulls in the samples beyond it.
+        rim instead, which pulls in the samples beyond it.  The test is combinatorial: a sound simplex
+        spanned by rim samples goes too, and the cone puts it back or replaces it (the result is kept only
+        when the hole closes).  ``hole`` is the faces still open (a cone may have closed part of it).
         """
+        if not hole:
+            return False
         verts = {v for f in hole for v in f}
         flaps = sorted({i for f in hole for i in self.at(f) if verts.issuperset(self.simp[i])})
         if not flaps:
@@ -168,7 +173,7 @@ class ConeFill:
         return False
 
     def _fill_cone(self, hole: list[Simplex], why: str) -> bool:
-        """Close a hole of a d-manifold, d >= 3, by coning it from one of its vertices (all or nothing).
+        """Close a hole of a d-manifold, d >= 3, by coning it from one of its vertices (each part all or nothing).
 
         The hole's faces are a (d-1)-sphere S when it is a hole of a manifold.  For a vertex v of S the
         cone v * (S - star(v)) is a d-ball whose boundary is S, so adding the simplices v + t (t a face of S

@@ -308,7 +308,7 @@ def descending_order(values: np.ndarray) -> np.ndarray:
     stable sort for nefertiti's 650,000 ties, under 0.01 s by radix).
     """
     v = np.ascontiguousarray(values, dtype=np.float64)
-    if _kernel is not None and hasattr(_kernel, "descending_order") and not np.isnan(v).any():
+    if _kernel is not None and hasattr(_kernel, "descending_order") and v.ndim == 1 and not np.isnan(v).any():
         return np.frombuffer(_kernel.descending_order(v), np.int64)
     return np.argsort(-v, kind="stable")
 
