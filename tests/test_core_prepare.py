@@ -178,19 +178,33 @@ def test_lift_of_stacked_parts_equals_lift_of_their_stack_bit_for_bit(k, d):
 
 
 @pytest.mark.parametrize("k,d", [(3, 2), (4, 2), (3, 1)])
-def test_lift_appended_in_place_equals_the_lift_of_the_stack_and_refuses_viewed_rows(k, d):
+def test_lift_appended_fills_the_room_after_the_rows_and_equals_the_lift_of_the_stack(k, d):
     rng = np.random.default_rng(k + d)
     pts = rng.normal(size=(400, k)) * 2.5 + 1.0
     prep = prepare_points(pts, d)
     assert prep.r == k
-    rows, more = rng.normal(size=(70_001, k)), rng.normal(size=(9, k))
+    room = np.empty((70_020, k))
+    rows, more = room[:70_001], rng.normal(size=(9, k))
+    rows[...] = rng.normal(size=rows.shape)
     want = prep.lift(np.vstack([rows, more])).tobytes()
     got = prep.lift_appended(rows, more, block=4_096)  # several blocks, the last one short
-    assert got is rows and got.shape == (70_010, k) and got.tobytes() == want
-    # a view of the rows would dangle if they moved: the stacked copy instead, the rows untouched
-    rows2 = rng.normal(size=(1_000, k))
-    view = rows2[10:20]
-    before = rows2.tobytes()
-    out = prep.lift_appended(rows2, more)
-    assert out is not rows2 and rows2.tobytes() == before and view.base is rows2
-    assert out.tobytes() == prep.lift(np.vstack([rows2, more])).tobytes()
+    assert got.base is room and got.shape == (70_010, k) and got.tobytes() == want
+    # no room after the rows (a plain array, or too little): the stacked copy, the rows untouched
+    for plain in (rng.normal(size=(1_000, k)), np.empty((1_005, k))[:1_000]):  # 5 rows of room for 9
+        plain[...] = rng.normal(size=plain.shape)
+        before = plain.tobytes()
+        out = prep.lift_appended(plain, more)
+        assert not np.shares_memory(out, plain) and plain.tobytes() == before
+        assert out.tobytes() == prep.lift(np.vstack([plain, more])).tobytes()
+
+
+def test_circumcentres_with_room_after_them_are_the_same_centres():
+    from crustview.core.delaunay.triangulation import bounding_points, circumcenters, delaunay
+
+    rng = np.random.default_rng(5)
+    pts = rng.normal(size=(300, 3))
+    work = np.vstack([pts, bounding_points(3)])
+    simp = delaunay(pts, bounding_points(3))
+    plain = circumcenters(work, simp)
+    roomy = circumcenters(work, simp, spare=300)
+    assert roomy.tobytes() == plain.tobytes() and roomy.base.shape == (len(simp) + 300, 3)

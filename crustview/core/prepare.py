@@ -28,7 +28,6 @@ Everything Qhull sees goes through :func:`prepare_points`.  It
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -111,35 +110,46 @@ class PreparedPoints:
         return out
 
     def lift_appended(self, rows: np.ndarray, more: np.ndarray, block: int = 1 << 16) -> np.ndarray:
-        """``lift_stacked(rows, more)`` in the memory of ``rows``, which it consumes (``rows`` is garbage after).
+        """``lift_stacked(rows, more)`` in the room after ``rows``, whose values it overwrites.
 
-        Where the working space is the whole space (r = k) and ``rows`` owns its data and nothing else
-        refers to it, ``rows`` is grown in place (``ndarray.resize``: a realloc, which keeps the pages
-        already written) and lifted block by block, each block by the same product as
-        :meth:`lift_stacked`: the Voronoi vertices of the 300,000 point torus are 118 MB, and a fresh
-        array that size cost 0.1-0.2 s of page faults here.  Otherwise :meth:`lift_stacked`.
+        Where the working space is the whole space (r = k) and ``rows`` is the leading block of a float64
+        C-contiguous array with room for ``more`` after it (``circumcenters(..., spare=...)``), ``more``
+        is written into that room and the whole is lifted in place, block by block, each block by the
+        same product as :meth:`lift_stacked`: the Voronoi vertices of the 300,000 point torus are 118 MB,
+        and a fresh array that size cost 0.1-0.2 s of page faults here.  ``rows`` (and every view of its
+        array) then holds lifted values: the caller passes rows it does not use again.  Otherwise
+        :meth:`lift_stacked`.
         """
         k, r = self.basis.shape
-        if r != k or not (rows.flags.owndata and rows.flags.c_contiguous and rows.dtype == np.float64):
+        base = rows.base
+        t, h = len(rows), len(more)
+        fits = (
+            r == k
+            and isinstance(base, np.ndarray)
+            and base.dtype == rows.dtype == np.float64
+            and base.flags.c_contiguous
+            and base.flags.writeable
+            and base.ndim == 2
+            and base.shape[1] == k
+            and len(base) >= t + h
+            and rows.shape == (t, k)
+            and rows.__array_interface__["data"][0] == base.__array_interface__["data"][0]
+            and rows.strides == base.strides
+        )
+        if not fits:
             return self.lift_stacked(rows, more)
-        # numpy's own check counts the method call's reference too and refuses in any function: here the
-        # caller's name, this parameter and getrefcount's argument are the only references allowed (a view
-        # of the rows, whose memory a move would free, holds one more)
-        if sys.getrefcount(rows) > 3:
-            return self.lift_stacked(rows, more)
-        t = len(rows)
-        rows.resize((t + len(more), k), refcheck=False)
-        rows[t:] = more
+        out = base[: t + h]
+        out[t:] = more
         bt = self.basis.T
-        tmp = np.empty((min(block, len(rows)), k))
-        for lo in range(0, len(rows), block):
-            part = rows[lo : lo + block]
-            out = tmp[: len(part)]
-            np.matmul(part, bt, out=out)
-            part[...] = out
-        rows *= self.scale
-        rows += self.center
-        return rows
+        tmp = np.empty((min(block, len(out)), k))
+        for lo in range(0, len(out), block):
+            part = out[lo : lo + block]
+            got = tmp[: len(part)]
+            np.matmul(part, bt, out=got)
+            part[...] = got
+        out *= self.scale
+        out += self.center
+        return out
 
     def lift_vectors(self, vectors: np.ndarray) -> np.ndarray:
         """Map direction vectors ``(..., r)`` to input space (no scaling)."""

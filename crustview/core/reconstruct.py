@@ -168,7 +168,8 @@ def reconstruct(
     else:
         simplices, neighbors = delaunay(prep.work, bounds), None
     work_all = np.vstack([prep.work, bounds])
-    centres = circumcenters(work_all, simplices)
+    # room for the Voronoi vertices at infinity (at most one per sample), filled in place at the lift
+    centres = circumcenters(work_all, simplices, spare=n if r == k else 0)
     timings["delaunay"] = time.perf_counter() - t0
     _next_stage(cancel)
 
@@ -220,7 +221,7 @@ def reconstruct(
     _next_stage(cancel)
 
     del work_all
-    voronoi = prep.lift_appended(centres, infinite)  # in the circumcentres' memory: they are not used again
+    voronoi = prep.lift_appended(centres, infinite)  # in the circumcentres' array: they are not used again
     del centres
     rec = Reconstruction(
         d=d,

@@ -154,7 +154,7 @@ def delaunay(
 CIRCUM_BLOCK = 1 << 17
 
 
-def circumcenters(pts: np.ndarray, simplices: np.ndarray) -> np.ndarray:
+def circumcenters(pts: np.ndarray, simplices: np.ndarray, spare: int = 0) -> np.ndarray:
     """Circumcentres of full-dimensional simplices.
 
     Computed by the extension :mod:`._centres` (on two threads, about 12x
@@ -167,6 +167,10 @@ def circumcenters(pts: np.ndarray, simplices: np.ndarray) -> np.ndarray:
     ----------
     pts : ndarray of shape (n, r)
     simplices : ndarray of shape (t, r + 1)
+    spare : int
+        Rows of room after the centres: the result is then the first t rows of a (t + spare, r) array,
+        its ``base``, which :meth:`~crustview.core.prepare.PreparedPoints.lift_appended` fills in place
+        (the Voronoi vertices at infinity follow the centres) instead of copying.
 
     Returns
     -------
@@ -174,18 +178,23 @@ def circumcenters(pts: np.ndarray, simplices: np.ndarray) -> np.ndarray:
     """
     r = pts.shape[1]
     if not 2 <= r <= 5 or len(simplices) == 0 or not native_centres_ok():
-        return circumcenters_numpy(pts, simplices)
-    return _circumcenters_native(pts, simplices)
+        centres = circumcenters_numpy(pts, simplices)
+        if spare <= 0:
+            return centres
+        room = np.empty((len(centres) + spare, r))
+        room[: len(centres)] = centres
+        return room[: len(centres)]
+    return _circumcenters_native(pts, simplices, spare)
 
 
-def _circumcenters_native(pts: np.ndarray, simplices: np.ndarray) -> np.ndarray:
+def _circumcenters_native(pts: np.ndarray, simplices: np.ndarray, spare: int = 0) -> np.ndarray:
     from ..util.parallel import WORKERS
 
     pts = np.ascontiguousarray(pts, dtype=np.float64)
     simp = np.ascontiguousarray(simplices)
     if simp.dtype not in (np.int32, np.int64):
         simp = simp.astype(np.int64)
-    out = np.empty((len(simp), pts.shape[1]))
+    out = np.empty((len(simp) + max(spare, 0), pts.shape[1]))[: len(simp)]  # untouched room: no page faults
     bad = np.zeros(len(simp), dtype=np.uint8)
     _native_centres.circumcentres(pts, simp, pts.shape[1], simp.itemsize, out, bad, min(WORKERS, 2))
     fix = np.flatnonzero(bad)
