@@ -389,49 +389,42 @@ def turned_vase_caps(app, win) -> None:
     wait(app, win)
 
 
-def klein_loop_cut(app, win) -> None:
-    """The flat Klein bottle in R^4 with noise of 1 % of its size (``bench_variants.py``'s draw): the walk closed
-    three crosscaps or handles around three samples; the step just after the first ``cut-handle``, which
-    removed the simplices at the loop's samples (red, 'removed now'), framed as 'frame each step' frames it."""
+def _noisy_builtin_at_step(app, win, name: str, pick) -> None:  # noqa: ANN001
+    """Open a built-in with noise of 1 % of its size (``bench_variants.py``'s draw) and go to the step after
+    the one ``pick(steps)`` returns, framed as 'frame each step' frames it."""
     import tempfile
 
     from crustview.core.samples.manifolds import get_manifold
 
-    m = get_manifold("flat-klein")
+    m = get_manifold(name)
     base = m.sample(m.default_n, seed=0).points
     size = float(np.ptp(base, axis=0).max())
     pts = base + np.random.default_rng(1).normal(scale=0.01 * size, size=base.shape)
-    path = Path(tempfile.mkdtemp()) / "flat-klein-noise-1pc.xyz"
+    path = Path(tempfile.mkdtemp()) / f"{name}-noise-1pc.xyz"
     np.savetxt(path, pts)
-    win.open_file(path, d=2)
+    win.open_file(path, d=m.d)
     wait(app, win)
-    cut = next(s for s in win.model.rec.extraction.steps if s.rule == "cut-handle")
+    step = pick(win.model.rec.extraction.steps)
     win.steps_panel.follow.setChecked(True)
-    win.model.player.set_step(cut.index + 1)
+    win.model.player.set_step(step.index + 1)
     wait(app, win)
+
+
+def klein_loop_cut(app, win) -> None:
+    """The flat Klein bottle in R^4 with noise of 1 % of its size: the walk closed three crosscaps or handles
+    around three samples; the step just after the first ``cut-handle``, which removed the simplices at the
+    loop's samples (red, 'removed now')."""
+    _noisy_builtin_at_step(app, win, "flat-klein", lambda steps: next(s for s in steps if s.rule == "cut-handle"))
 
 
 def s3_unfold(app, win) -> None:
-    """S^3 in R^4 with noise of 1 % of its size (``bench_variants.py``'s draw): ``fill-hole`` has just removed
-    the four tetrahedra folded into a hole of 8 triangles on 6 samples (red, 'removed now'), before its cone
-    closes it; framed as 'frame each step' frames it."""
-    import tempfile
+    """S^3 in R^4 with noise of 1 % of its size: ``fill-hole`` has just removed the four tetrahedra folded into
+    a hole of 8 triangles on 6 samples (red, 'removed now'), before its cone closes it."""
 
-    from crustview.core.samples.manifolds import get_manifold
+    def largest_unfold(steps):  # noqa: ANN001, ANN202 - the hole of 8 triangles and its 4 flaps
+        return max((s for s in steps if "folded into it" in s.reason), key=lambda s: len(s.removed))
 
-    m = get_manifold("s3")
-    base = m.sample(m.default_n, seed=0).points
-    size = float(np.ptp(base, axis=0).max())
-    pts = base + np.random.default_rng(1).normal(scale=0.01 * size, size=base.shape)
-    path = Path(tempfile.mkdtemp()) / "s3-noise-1pc.xyz"
-    np.savetxt(path, pts)
-    win.open_file(path, d=3)
-    wait(app, win)
-    unfolds = [s for s in win.model.rec.extraction.steps if "folded into it" in s.reason]
-    unfold = max(unfolds, key=lambda s: len(s.removed))  # the hole of 8 triangles and its 4 flaps
-    win.steps_panel.follow.setChecked(True)
-    win.model.player.set_step(unfold.index + 1)
-    wait(app, win)
+    _noisy_builtin_at_step(app, win, "s3", largest_unfold)
 
 
 def bunny_holes(app, win) -> None:
