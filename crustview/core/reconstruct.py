@@ -286,7 +286,7 @@ def reextract(
     timings = dict(rec.timings)
     t0 = time.perf_counter()
     report("extraction", 0.0)
-    tset = rec.candidates.select(test, theta)
+    tset = None  # T_S's rows, gathered only for the paper's loop (the robust driver selects by the angles)
     if prune_boundary is None:
         prune_boundary = rec.prune_boundary
     # the exact power-of-two rescaling keeps squares finite at any input scale
@@ -308,6 +308,7 @@ def reextract(
                 progress=lambda f: report("extraction", f),
             )
         else:
+            tset = rec.candidates.select(test, theta)
             ext = extract(
                 rec.points / scale,
                 tset,
@@ -326,7 +327,7 @@ def reextract(
     elif ext.stopped == "empty":
         topo.messages.insert(
             0,
-            f"extraction removed every simplex of T_S ({len(tset)} candidates; "
+            f"extraction removed every simplex of T_S ({0 if tset is None else len(tset)} candidates; "
             + ", ".join(f"{r}: {c['steps']} steps removed {c['removed']}" for r, c in counts.items())
             + "): the sample is probably too sparse (undersampled) for this test and angle, or it "
             "has holes (an open scan), which the paper's pruning of boundary faces eats away; "
