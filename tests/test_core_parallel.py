@@ -300,3 +300,22 @@ def test_compiled_size_groups_refuse_decreasing_pointers_with_one_line():
 
     with pytest.raises(ValueError, match="must not decrease"):
         _cellpass.size_groups(np.array([0, 3, 2], np.int64))
+
+
+@pytest.mark.parametrize("native", [True, False])
+@pytest.mark.parametrize("name,n", [("torus", 600), ("flat-klein", 400), ("circle-r4", 60)])
+def test_the_scoring_threads_minimum_is_the_cocone_tests_verdict(monkeypatch, name, n, native):
+    # codimension 1 (chunks), 2 (the compiled pass) and 3; the minimum made beside the angles, in many
+    # small chunks on two threads, equals the column-by-column reduction of the finished angles
+    from crustview.core.result import CandidateAngles
+
+    work, normals, centres, faces, ptr, cs, simp = _stage_inputs(name, n)
+    if not native:
+        monkeypatch.setattr(cand, "_native_cellpass", None)
+        monkeypatch.setattr(cand, "_native_segments", None)
+    monkeypatch.setattr(cand, "CHUNK_CELL_VERTICES", 200)
+    low = np.full(len(faces), np.nan)
+    coc = cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp, workers=2, minimum=low)
+    want = CandidateAngles(np.zeros(len(faces)), coc)["cocone"]
+    assert low.tobytes() == want.tobytes() and np.all(low <= coc.max(axis=1))
+    assert CandidateAngles(np.zeros(len(faces)), coc, cocone=low)["cocone"] is low

@@ -200,6 +200,7 @@ def reconstruct(
     _next_stage(cancel)
     lit = cand.literal_angles(prep.work, normals_w, faces)
     _next_stage(cancel)
+    low = np.empty(len(faces))  # the cocone test's verdict, made by the scoring threads
     coc = cand.cocone_angles(
         work_all,
         normals_w,
@@ -209,11 +210,12 @@ def reconstruct(
         csimp,
         simplices=simplices,
         progress=lambda f: (report("candidates", f), _check(cancel)),
+        minimum=low,
     )
     del cptr, csimp  # the dual cells' incidences: the largest temporaries of the run
     candidates = Candidates(
         faces=faces,
-        angles=CandidateAngles(lit, coc),
+        angles=CandidateAngles(lit, coc, cocone=low),
         theta=theta,
         vertex_angles=coc,
     )
@@ -251,7 +253,7 @@ def reconstruct(
         delaunay_backend=backend_label(r),
         normals_method=normals_method,
     )
-    del faces, lit, coc, simplices, normals, tangents, candidates, voronoi  # held by rec only
+    del faces, lit, coc, low, simplices, normals, tangents, candidates, voronoi  # held by rec only
     return reextract(
         rec, test, theta, prune_boundary=prune_boundary, mode=mode, progress=progress, cancel=cancel, resample=resample
     )

@@ -49,8 +49,10 @@ class CandidateAngles(Mapping):
     #: several times faster than an axis-1 reduction over a narrow (f, d+1) array.
     _DERIVED = {"cocone": np.minimum, "cocone-all": np.maximum}
 
-    def __init__(self, literal: np.ndarray, vertex_angles: np.ndarray) -> None:
+    def __init__(self, literal: np.ndarray, vertex_angles: np.ndarray, cocone: np.ndarray | None = None) -> None:
         self._values: dict[str, np.ndarray] = {"literal": literal}
+        if cocone is not None:  # made beside the vertex angles (cocone_angles(..., minimum=)): the same values
+            self._values["cocone"] = cocone
         self._vertex = vertex_angles
 
     def __getitem__(self, test: str) -> np.ndarray:

@@ -80,7 +80,7 @@ from scipy.spatial import cKDTree
 
 from ..delaunay.faces import enumerate_faces, sort_rows  # noqa: F401 - part of this module's API
 from ..util.parallel import chunks, run_in_order
-from .cocone2 import codim2_scores, task_cells
+from .cocone2 import codim2_scores, face_minimum, task_cells
 from .conemin import lean_bound, over_cell
 from .dualcells import CellFaces
 from .exactmin import exact_min as _exact_min
@@ -115,6 +115,7 @@ def cocone_angles(
     simplices: np.ndarray | None = None,
     progress: Callable[[float], None] | None = None,
     workers: int | None = None,
+    minimum: np.ndarray | None = None,
 ) -> np.ndarray:
     """Cocone angle of every (face, vertex) pair (see module docstring).
 
@@ -141,6 +142,9 @@ def cocone_angles(
     workers : int, optional
         Threads scoring chunks of faces (default :data:`crustview.core.util.parallel.WORKERS`).
         The result does not depend on it.
+    minimum : ndarray of shape (f,), optional
+        Filled with each face's smallest angle (the ``cocone`` test's verdict) by the threads that
+        score the faces, while their rows are in cache; the same values as the reduction afterwards.
 
     Returns
     -------
@@ -180,14 +184,22 @@ def cocone_angles(
     if compiled:
         # the compiled vertex pass per chunk, then the exact step in large batches (same values)
         args = (work, normals, tangents, centres, faces, cell_ptr, cell_simplices, simplices, tasks, tree)
-        return codim2_scores(_native_cellpass, *args, np.sin(limit), workers, progress)
+        return codim2_scores(_native_cellpass, *args, np.sin(limit), workers, progress, minimum)
 
     out = np.zeros((f, dp1))
 
     def score(task: tuple) -> tuple[np.ndarray | slice, np.ndarray]:
         nv, sel, subsets = task
         fc, cell_ids = task_cells(faces, cell_ptr, cell_simplices, nv, sel)
-        return sel, _score_chunk(work, normals, tangents, centres, fc, cell_ids, simplices, subsets, tree, limit)
+        values = _score_chunk(work, normals, tangents, centres, fc, cell_ids, simplices, subsets, tree, limit)
+        if minimum is not None:  # rows of this chunk only: no other thread writes them
+            if isinstance(sel, slice):
+                face_minimum(values, minimum[sel])
+            else:
+                low = np.empty(len(values))
+                face_minimum(values, low)
+                minimum[sel] = low
+        return sel, values
 
     done = 0
     for sel, values in run_in_order(score, tasks, workers):

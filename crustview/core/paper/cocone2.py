@@ -35,6 +35,17 @@ EXACT_BATCH = 1 << 14
 PASS_SHARE = 0.9
 
 
+def face_minimum(angles: np.ndarray, out: np.ndarray) -> None:
+    """Each row's smallest angle into ``out``, column by column.
+
+    As :class:`~crustview.core.result.CandidateAngles` folds them; the minimum is exact, so any order gives
+    the same values.
+    """
+    np.copyto(out, angles[:, 0])
+    for c in range(1, angles.shape[1]):
+        np.minimum(out, angles[:, c], out=out)
+
+
 def task_cells(
     faces: np.ndarray, cell_ptr: np.ndarray, cell_simplices: np.ndarray, nv: int, sel: np.ndarray | slice
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -64,6 +75,7 @@ def codim2_scores(
     sin_lim: float,
     workers: int | None,
     progress: Callable[[float], None] | None,
+    minimum: np.ndarray | None = None,
 ) -> np.ndarray:
     """Cocone angles ``(f, d + 1)`` of every face, codimension 2 (see :func:`.candidates.cocone_angles`).
 
@@ -89,6 +101,9 @@ def codim2_scores(
         Threads (the result does not depend on it).
     progress : callable(fraction), optional
         Called in this thread after each chunk and each exact batch.
+    minimum : ndarray of shape (f,), optional
+        Filled with each face's smallest angle (the ``cocone`` test's), block by block as the angles are
+        made.
 
     Returns
     -------
@@ -190,6 +205,8 @@ def codim2_scores(
         np.clip(block, 0.0, 1.0, out=block)
         np.sqrt(block, out=block)
         np.arcsin(block, out=block)
+        if minimum is not None:
+            face_minimum(block, minimum[part])
 
     for _ in run_in_order(angles, chunks(f, EXACT_BATCH * 16), workers):
         pass
