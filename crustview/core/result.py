@@ -60,10 +60,8 @@ class CandidateAngles(Mapping):
         if got is None:
             if test not in self._DERIVED:
                 raise KeyError(test)
-            fold = self._DERIVED[test]
-            got = self._vertex[:, 0].copy()
-            for c in range(1, self._vertex.shape[1]):
-                fold(got, self._vertex[:, c], out=got)
+            got = np.empty(len(self._vertex))
+            fold_columns(self._DERIVED[test], self._vertex, got)
             self._values[test] = got
         return got
 
@@ -72,6 +70,17 @@ class CandidateAngles(Mapping):
 
     def __len__(self) -> int:
         return 3
+
+
+def fold_columns(fold: np.ufunc, values: np.ndarray, out: np.ndarray) -> None:
+    """``fold`` (``np.minimum``, ``np.maximum``) of each row of ``values`` (f, c) into ``out`` (f,), column by column.
+
+    Several times faster than an axis-1 reduction over a narrow array; the minimum and maximum are exact, so
+    any order of the columns gives the same values (the scoring threads fold their rows with it as they go).
+    """
+    np.copyto(out, values[:, 0])
+    for c in range(1, values.shape[1]):
+        fold(out, values[:, c], out=out)
 
 
 @dataclass

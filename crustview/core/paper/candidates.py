@@ -79,8 +79,9 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..delaunay.faces import enumerate_faces, sort_rows  # noqa: F401 - part of this module's API
+from ..result import fold_columns
 from ..util.parallel import chunks, run_in_order
-from .cocone2 import codim2_scores, face_minimum, task_cells
+from .cocone2 import codim2_scores, task_cells
 from .conemin import lean_bound, over_cell
 from .dualcells import CellFaces
 from .exactmin import exact_min as _exact_min
@@ -194,10 +195,10 @@ def cocone_angles(
         values = _score_chunk(work, normals, tangents, centres, fc, cell_ids, simplices, subsets, tree, limit)
         if minimum is not None:  # rows of this chunk only: no other thread writes them
             if isinstance(sel, slice):
-                face_minimum(values, minimum[sel])
+                fold_columns(np.minimum, values, minimum[sel])
             else:
                 low = np.empty(len(values))
-                face_minimum(values, low)
+                fold_columns(np.minimum, values, low)
                 minimum[sel] = low
         return sel, values
 

@@ -25,6 +25,7 @@ from collections.abc import Callable
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..result import fold_columns
 from ..util.parallel import chunks, run_in_order
 from .dualcells import CellFaces
 from .exactmin import exact_min
@@ -33,17 +34,6 @@ from .exactmin import exact_min
 EXACT_BATCH = 1 << 14
 #: Share of the progress reported by the vertex pass (the exact step reports the rest).
 PASS_SHARE = 0.9
-
-
-def face_minimum(angles: np.ndarray, out: np.ndarray) -> None:
-    """Each row's smallest angle into ``out``, column by column.
-
-    As :class:`~crustview.core.result.CandidateAngles` folds them; the minimum is exact, so any order gives
-    the same values.
-    """
-    np.copyto(out, angles[:, 0])
-    for c in range(1, angles.shape[1]):
-        np.minimum(out, angles[:, c], out=out)
 
 
 def task_cells(
@@ -206,7 +196,7 @@ def codim2_scores(
         np.sqrt(block, out=block)
         np.arcsin(block, out=block)
         if minimum is not None:
-            face_minimum(block, minimum[part])
+            fold_columns(np.minimum, block, minimum[part])
 
     for _ in run_in_order(angles, chunks(f, EXACT_BATCH * 16), workers):
         pass

@@ -88,7 +88,7 @@ class FillHole:
         dp1 = len(hole[0]) + 1
         if rest and dp1 > 3:
             # the hole as it is now: the Delaunay faces just added have open faces of their own
-            rest = self._fill_cone_or_erode(self._open_around(rest, set(verts)), why)
+            self._fill_cone_or_erode(self._open_around(rest, set(verts)), why)
             rest = [f for f in self._open_around(hole, set(verts)) if len(self.at(f)) == 1]
         if rest and dp1 == 3:
             for attempt in range(3):
