@@ -54,3 +54,54 @@ def test_compiled_path_masks_are_the_pointer_doubling_ones(monkeypatch):
         reference = loops._path_masks(pred, marked, mask)
         monkeypatch.undo()
         assert compiled.dtype == reference.dtype and np.array_equal(compiled, reference)
+
+
+def _rank_gf2(rows: list[np.ndarray]) -> int:
+    """Rank over Z/2 of bit rows (uint8 0/1 arrays), by plain row reduction on a dense bit matrix."""
+    if not rows:
+        return 0
+    m = np.array(rows, dtype=np.uint8) % 2
+    rank = 0
+    for col in range(m.shape[1]):
+        hit = np.flatnonzero(m[rank:, col]) + rank
+        if len(hit) == 0:
+            continue
+        m[[rank, hit[0]]] = m[[hit[0], rank]]
+        below = np.flatnonzero(m[:, col])
+        below = below[below != rank]
+        m[below] ^= m[rank]
+        rank += 1
+        if rank == len(m):
+            break
+    return rank
+
+
+def test_the_loop_basis_takes_each_candidate_exactly_when_it_raises_the_rank():
+    # loops._independent (Python integers, pivot at the highest bit) against the definition: a candidate,
+    # in the given order, is taken when the rank over Z/2 of the taken ones and it exceeds the taken
+    # ones' rank; masks of one and three 64-bit words (bits across word boundaries), many dependent
+    # candidates (sums of earlier ones), zero rows, and the stop at the wanted rank
+    from crustview.core.analysis import loops
+
+    rng = np.random.default_rng(3)
+    for words, count, rank in ((1, 40, 64), (3, 200, 30), (3, 200, 192)):
+        bits = 64 * words
+        base = rng.integers(0, 2, size=(12, bits), dtype=np.uint8)
+        rows = [base[i] for i in range(12)]
+        for _ in range(count - 12):
+            pick = rng.random() < 0.7
+            rows.append(
+                base[rng.random(12) < 0.5].sum(axis=0) % 2 if pick else rng.integers(0, 2, bits).astype(np.uint8)
+            )
+        rows.append(np.zeros(bits, np.uint8))
+        packed = np.array([np.packbits(r, bitorder="little").view("<u8") for r in rows])
+        order = rng.permutation(len(rows))
+        got = loops._independent(packed, order, rank)
+        want, taken = [], []
+        for i in order.tolist():
+            if len(want) == rank:
+                break
+            if _rank_gf2(taken + [rows[i]]) > len(taken):
+                taken.append(rows[i])
+                want.append(i)
+        assert got == want

@@ -16,6 +16,8 @@ import numpy as np
 from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra, minimum_spanning_tree
 
+from .necks import _reduce
+
 try:
     from . import _paths
 except ImportError:  # pragma: no cover - the extension is optional
@@ -224,23 +226,7 @@ def short_basis(
     L = np.concatenate(cand_len)
     M = np.concatenate(cand_mask)
     order_c = np.argsort(L, kind="stable")
-    basis: list[np.ndarray] = []
-    pivots: list[tuple[int, int]] = []
-    chosen = []
-    for i in order_c.tolist():
-        v = M[i].copy()
-        for (w, bit), bv in zip(pivots, basis):
-            if v[w] & bit:
-                v ^= bv
-        if not v.any():
-            continue
-        w = int(np.nonzero(v)[0][0])
-        low = int(v[w]) & -int(v[w])
-        pivots.append((w, np.uint64(low)))
-        basis.append(v)
-        chosen.append(i)
-        if len(chosen) == len(left):
-            break
+    chosen = _independent(M, order_c, len(left))
     result = []
     # reconstruct each chosen loop's vertices
     all_pred = {}
@@ -256,6 +242,30 @@ def short_basis(
         loop = _walk(pr, a)[::-1] + _walk(pr, b)
         result.append((np.array(loop, np.int64), float(L[i])))
     return result
+
+
+def _independent(masks: np.ndarray, order: np.ndarray, rank: int) -> list[int]:
+    """The candidates, in ``order``, that are independent of those before them over Z/2, up to ``rank`` of them.
+
+    Gaussian elimination with each class as one Python integer (bit j of word w is bit 64 w + j): a row
+    reduced by the echelon basis (pivot, its highest bit, to row) is zero exactly when it is in the span of
+    the rows taken before it.  Which rows are taken does not depend on how a row is reduced, only on the
+    span, so this is the same choice as a reduction word by word, at a few XORs of machine words per
+    pivot instead of a numpy call per basis row (the gears at 0.3 h: 16,000 candidates against up to 254
+    rows).
+    """
+    le = np.ascontiguousarray(masks, dtype="<u8")
+    echelon: dict[int, int] = {}
+    chosen: list[int] = []
+    for i in order.tolist():
+        x = _reduce(int.from_bytes(le[i].tobytes(), "little"), echelon)
+        if not x:
+            continue
+        echelon[x.bit_length() - 1] = x
+        chosen.append(i)
+        if len(chosen) == rank:
+            break
+    return chosen
 
 
 def shortest_path_trees(g: csr_matrix, roots: list[int]) -> tuple[np.ndarray, np.ndarray]:
