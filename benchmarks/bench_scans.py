@@ -68,6 +68,8 @@ class Case:
     truth: dict
     noise: float = 0.0
     betti: tuple = ()
+    #: Holes of the true mesh narrower than its median vertex spacing: no sample of it can show them
+    small_holes: int = 0
 
 
 @dataclass
@@ -131,15 +133,45 @@ def cases(
             pts = np.asarray(mesh.points, dtype=float)
             keep = None if subsample is None else np.random.default_rng(seed).random(len(pts)) < subsample
             betti = tuple(int(b) for b in analyse(np.asarray(mesh.simplices(2)), len(pts), 2).betti)
+            small = _holes_under_a_spacing(pts, np.asarray(mesh.simplices(2)))
             tag = "" if subsample is None else f"-s{round(100 * subsample):02d}"
             if clean:
-                out.append(Case(stem + tag, pts if keep is None else pts[keep], truth[fname], 0.0, betti))
+                out.append(Case(stem + tag, pts if keep is None else pts[keep], truth[fname], 0.0, betti, small))
             if noise:
                 for level in (0.1, 0.3):
                     noisy = _noisy(pts, stem, level, noisy_dir, seed)
                     noisy = noisy if keep is None else noisy[keep]
-                    out.append(Case(f"{stem}-n{round(100 * level):02d}{tag}", noisy, truth[fname], level, betti))
+                    out.append(Case(f"{stem}-n{round(100 * level):02d}{tag}", noisy, truth[fname], level, betti, small))
     return out
+
+
+def _holes_under_a_spacing(points: np.ndarray, tris: np.ndarray) -> int:
+    """How many boundary loops of a mesh span less than its median nearest-neighbour distance.
+
+    Such a hole (the owl's four, 0.30-0.67 spacings across) is narrower than the gaps between the samples
+    everywhere else: the vertices alone do not show it, and a reconstruction through them closes it.  The
+    table names it next to the truth; the verdict still counts it.
+    """
+    if len(tris) == 0:
+        return 0
+    e = np.sort(np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [0, 2]]]), axis=1)
+    uniq, cnt = np.unique(e, axis=0, return_counts=True)
+    rim = uniq[cnt == 1]
+    if len(rim) == 0:
+        return 0
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    n = len(points)
+    _, label = connected_components(coo_matrix((np.ones(len(rim)), (rim[:, 0], rim[:, 1])), shape=(n, n)))
+    h = float(np.median(cKDTree(points).query(points, k=2)[0][:, 1]))
+    on = np.unique(rim)
+    small = 0
+    for c in np.unique(label[on]):
+        q = points[on[label[on] == c]]
+        small += bool(np.ptp(q, axis=0).max() < h)
+    return small
 
 
 def _noisy(points: np.ndarray, stem: str, level: float, folder: Path, seed: int = 0) -> np.ndarray:
@@ -268,6 +300,8 @@ HEADER = (
 def line(r: Row) -> str:
     t = r.case.truth
     truth = f"c{t['components']} g{t['genus']}" if t["closed"] else f"open {r.case.betti}, {t['boundary_edges']} bnd"
+    if r.case.small_holes:
+        truth += f"; {r.case.small_holes} holes under a spacing"
     unc = "/".join(str(r.uncertain.get(k, 0)) for k in ("handle", "hole", "component")) if r.uncertain else "–"
     ratio = "–" if r.ratio is None else f"{r.ratio:.2f}"
     return (
@@ -320,6 +354,9 @@ def main(argv: list[str] | None = None) -> int:
             f"{' (' + ', '.join(wrong_quiet) + ')' if wrong_quiet else ''}; right with one: {len(right_flagged)}"
             f"{med}"
         )
+        unseen = [r.case.name for r in mine if not r.right and r.case.small_holes]
+        if unseen:
+            print(f"  wrong where the true mesh has holes narrower than its spacing: {', '.join(unseen)}")
     if a.json:
         a.json.write_text(
             json.dumps(
