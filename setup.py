@@ -23,7 +23,7 @@ from setuptools import Extension, setup
 FLAGS = ["-std=c++17", "-O3", "-DNDEBUG", "-DCGAL_NDEBUG"]
 #: crustview's own kernels that give numpy's values bit for bit: no fused multiply-add (-ffp-contract=off),
 #: so the build machine's vector units can be used (-march=native: the install builds where it runs) without
-#: changing a value.  Measured (README, session 22): Algorithm 1's poles 0.63-0.67 -> 0.34-0.44 s on the
+#: changing a value.  Measured (README, issue 21's eleventh round): Algorithm 1's poles 0.63-0.67 -> 0.36-0.46 s on the
 #: flat Klein bottle at 10k points, results identical.  The CGAL modules keep the generic target: CGAL's
 #: filtered predicates rely on its interval arithmetic's rounding, which contraction may break.
 EXACT = [*FLAGS, "-ffp-contract=off", "-march=native"]
