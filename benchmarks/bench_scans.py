@@ -47,9 +47,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from scipy.spatial import cKDTree
+from scipy.spatial.distance import pdist
 
 from crustview.core import reconstruct, reextract
-from crustview.core.analysis.topology import analyse
+from crustview.core.analysis.loops import triangle_edges
+from crustview.core.analysis.topology import analyse, graph_components
 from crustview.io import read_mesh
 
 ROOT = Path(__file__).resolve().parents[2] / "shared"
@@ -157,18 +160,11 @@ def _holes_under_a_spacing(points: np.ndarray, tris: np.ndarray) -> int:
     """
     if len(tris) == 0:
         return 0
-    e = np.sort(np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [0, 2]]]), axis=1)
-    uniq, cnt = np.unique(e, axis=0, return_counts=True)
-    rim = uniq[cnt == 1]
+    edges, tri_edges = triangle_edges(tris)
+    rim = edges[np.bincount(tri_edges.ravel(), minlength=len(edges)) == 1]
     if len(rim) == 0:
         return 0
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-    from scipy.spatial import cKDTree
-    from scipy.spatial.distance import pdist
-
-    n = len(points)
-    _, label = connected_components(coo_matrix((np.ones(len(rim)), (rim[:, 0], rim[:, 1])), shape=(n, n)))
+    _, label = graph_components(len(points), rim)
     h = float(np.median(cKDTree(points).query(points, k=2)[0][:, 1]))
     on = np.unique(rim)
     small = 0
