@@ -24,6 +24,7 @@ RULE_RELAX = "grow-relaxed"
 RULE_FILL = "fill-hole"
 RULE_INSERT = "insert-sample"
 RULE_STRAY = "drop-stray"
+RULE_TOUR = "tour-curve"
 #: Rules of the robust extension's labelling path (``core.robust.cells``).
 RULE_LABEL = "label-cells"
 RULE_REPAIR = "repair-vertex"
@@ -47,6 +48,7 @@ RULES = (
     RULE_FILL,
     RULE_INSERT,
     RULE_STRAY,
+    RULE_TOUR,
 )
 #: Rules that remove simplices (the paper's) and rules that add them (the extension's).
 REMOVING_RULES = (RULE_PRUNE, RULE_RESOLVE)
@@ -62,6 +64,7 @@ ADDING_RULES = (
     RULE_RELAX,
     RULE_FILL,
     RULE_INSERT,
+    RULE_TOUR,
 )
 
 

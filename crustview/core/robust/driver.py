@@ -91,6 +91,7 @@ from .cut_loop import cut_short_loops
 from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 from .patcher import Patcher
 from .seed_core import manifold_core
+from .tour_curve import tour_curve
 from .verdict import _boundary_vertices, _disputed, _state, _tie, problems
 
 
@@ -357,6 +358,9 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
     loops_cut: list = []
     if F.shape[1] == 3 and points.shape[1] > 3:  # a surface in codimension 2 or more: no orientation rule
         pt, left, loops_cut = cut_short_loops(pt, points, left)
+    doubts: list = []
+    if F.shape[1] == 2:  # a curve the growing left broken: its samples' short tours
+        pt, left, doubts = tour_curve(pt, points, F, left)
     # rows: T_S first (as in paper mode), then every other simplex in the order it first appeared
     outside = grown[grown >= n_ts]
     grown_rows = grown.copy()
@@ -456,6 +460,7 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
         in_ts[n_base:] = np.isin(_row_keys(simplices[n_base:], len(points)), _row_keys(F[:n_ts], len(points)))
     ext = Extraction(simplices, steps, removed_at, stopped, added_at=added_at, mode="robust", in_candidates=in_ts)
     ext.removed_features = list(loops_cut)
+    ext.disputed = list(doubts)
     if left:
         shown = ", ".join(str(x) for x in left[:10]) + (" ..." if len(left) > 10 else "")
         ext.notes.append(

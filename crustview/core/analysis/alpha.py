@@ -1,0 +1,208 @@
+"""Betti numbers of the union of balls around the samples, across scales (the alpha filtration).
+
+Why
+---
+The union of balls of radius r around a sample of a manifold has the
+manifold's homology for r between the noise and the reach (Niyogi, Smale and
+Weinberger 2008; Chazal and Lieutier 2008): where r is too small it falls
+apart, where r is too large it fills in.  The alpha complex (Edelsbrunner
+1995) is the nerve of the balls cut by the Voronoi cells: a subcomplex of the
+Delaunay triangulation with the union's homotopy type at every r.  Counting its
+Betti numbers at a ladder of scales and taking the longest run of one answer
+is how persistent homology reads the number of loops a sample stands for
+without a scale chosen in advance (Edelsbrunner, Letscher and Zomorodian 2002).
+
+The curve rule (:mod:`crustview.core.robust.tour_curve`) uses it to count the
+closed curves in a sample before it joins them: each closed curve is one
+1-cycle of its tube.
+
+What is computed
+----------------
+For points in R^2 or R^3 only: there the Betti numbers follow from component
+counts alone.  b0 is the number of components of the edges; b2 in R^3 is the
+number of bounded components of the complement (Alexander duality: the
+tetrahedra not in the complex, joined through triangles not in it); and
+b1 = b0 - chi + b2, with chi the Euler characteristic of the complex.  The
+filtration value of a simplex is GUDHI's and CGAL's alpha value: the radius of
+its smallest circumscribing ball if no other vertex of a Delaunay coface lies
+inside that ball (it is Gabriel), otherwise the smallest value of a coface that
+attaches it.
+"""
+
+from __future__ import annotations
+
+import math
+from itertools import combinations
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import Delaunay
+
+
+def _circumballs(points: np.ndarray, simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centre and squared radius of the smallest ball through each simplex's vertices (in its affine hull)."""
+    p = points[simplices]  # (m, j + 1, k)
+    base = p[:, 0]
+    a = p[:, 1:] - base[:, None, :]  # (m, j, k)
+    gram = np.einsum("mik,mjk->mij", a, a)
+    rhs = 0.5 * np.einsum("mik,mik->mi", a, a)
+    # the centre is base + a^T x with gram x = rhs; degenerate simplices get a huge ball
+    det = np.linalg.det(gram)
+    ok = np.abs(det) > 1e-300
+    x = np.zeros(rhs.shape)
+    if ok.any():
+        x[ok] = np.linalg.solve(gram[ok], rhs[ok][..., None])[..., 0]
+    centre = base + np.einsum("mi,mik->mk", x, a)
+    r2 = np.einsum("mk,mk->m", centre - base, centre - base)
+    r2[~ok] = np.inf
+    return centre, r2
+
+
+def _faces(simplices: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The distinct j-faces of the simplices; per (simplex, face) pair the face id and the opposite vertices.
+
+    Returns ``(faces, owner, face_of)``: faces sorted row-wise, and for every simplex and every one of its
+    j-faces (in ``combinations`` order) the simplex index and the face index.
+    """
+    m, width = simplices.shape
+    combos = list(combinations(range(width), j + 1))
+    all_faces = np.sort(np.concatenate([simplices[:, list(c)] for c in combos]), axis=1)
+    faces, face_of = np.unique(all_faces, axis=0, return_inverse=True)
+    owner = np.tile(np.arange(m), len(combos))
+    return faces, owner, face_of.ravel()
+
+
+class AlphaLadder:
+    """The alpha complex of a point set in R^2 or R^3, ready to give Betti numbers at any scale.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, k), k in (2, 3)
+        Points in general enough position for a Delaunay triangulation.
+    """
+
+    def __init__(self, points: np.ndarray) -> None:
+        self.points = np.asarray(points, dtype=float)
+        n, k = self.points.shape
+        if k not in (2, 3):
+            raise ValueError("the alpha ladder counts Betti numbers in R^2 and R^3 only")
+        self.n, self.k = n, k
+        tri = Delaunay(self.points)
+        top = np.sort(tri.simplices.astype(np.int64), axis=1)
+        self.top = top
+        # alpha^2 of every simplex, top dimension down
+        levels: list[np.ndarray] = [np.zeros(0)] * (k + 1)
+        faces_of: list[np.ndarray] = [np.zeros((0, 1), np.int64)] * (k + 1)
+        faces_of[k] = top
+        _, levels[k] = _circumballs(self.points, top)
+        cofaces = top
+        co_alpha = levels[k]
+        self._incidence: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        for j in range(k - 1, 0, -1):
+            faces, owner, face_of = _faces(cofaces, j)
+            centre, r2 = _circumballs(self.points, faces)
+            # the vertex of the coface opposite the face (the one vertex not in it)
+            co = cofaces[owner]
+            f = faces[face_of]
+            opposite = co[~(co[:, :, None] == f[:, None, :]).any(axis=2)]
+            inside = ((self.points[opposite] - centre[face_of]) ** 2).sum(axis=1) < r2[face_of] * (1 - 1e-12)
+            alpha = np.full(len(faces), np.inf)
+            np.minimum.at(alpha, face_of[inside], co_alpha[owner[inside]])
+            alpha = np.where(np.isfinite(alpha), alpha, r2)
+            levels[j], faces_of[j] = alpha, faces
+            self._incidence[j] = (owner, face_of)
+            cofaces, co_alpha = faces, alpha
+        levels[0] = np.zeros(n)
+        top_alpha = levels[k][np.isfinite(levels[k])]
+        #: Squared radius from which on every simplex is in the complex (the union is one filled blob).
+        self.filled = float(top_alpha.max()) if len(top_alpha) else 0.0
+        self.levels, self.faces = levels, faces_of
+        if k == 3:
+            # which tetrahedra share each triangle (or one tetrahedron and the outside)
+            owner, face_of = self._incidence[2]
+            order = np.argsort(face_of, kind="stable")
+            fo, ow = face_of[order], owner[order]
+            first = np.r_[True, fo[1:] != fo[:-1]]
+            starts = np.flatnonzero(first)
+            counts = np.diff(np.r_[starts, len(fo)])
+            a = ow[starts]
+            b = np.where(counts == 2, ow[np.minimum(starts + 1, len(ow) - 1)], len(top))  # len(top): outside
+            self._tri_tets = (fo[starts], a, b)
+
+    def betti(self, r: float) -> tuple[int, ...]:
+        """Betti numbers (b0, b1) in R^2, (b0, b1, b2) in R^3, of the union of balls of radius ``r``."""
+        r2 = r * r
+        n = self.n
+        edges = self.faces[1][self.levels[1] <= r2]
+        graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
+        b0 = connected_components(graph, directed=False)[0]
+        counts = [n] + [int((lv <= r2).sum()) for lv in self.levels[1:]]
+        chi = sum((-1) ** j * c for j, c in enumerate(counts))
+        if self.k == 2:
+            return (b0, b0 - chi)
+        tri_id, a, b = self._tri_tets
+        out = self.levels[2][tri_id] > r2  # triangles not in the complex join their two sides
+        m = len(self.top)
+        keep = out & (self.levels[3][a] > r2) & ((b == m) | (self.levels[3][np.minimum(b, m - 1)] > r2))
+        links = coo_matrix((np.ones(int(keep.sum())), (a[keep], b[keep])), shape=(m + 1, m + 1))
+        _, lab = connected_components(links, directed=False)
+        absent = np.r_[self.levels[3] > r2, True]
+        b2 = len(np.unique(lab[absent])) - 1
+        return (b0, b0 - chi + b2, b2)
+
+    def components(self, r: float) -> np.ndarray:
+        """Component label of every point in the union of balls of radius ``r``."""
+        edges = self.faces[1][self.levels[1] <= r * r]
+        graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(self.n, self.n))
+        return connected_components(graph, directed=False)[1]
+
+    def loops(self) -> np.ndarray:
+        """The persistence pairs of the 1-cycles, in the plane: rows (birth radius, death radius, u, v, t).
+
+        (u, v) is the edge whose arrival makes the cycle, and t the number of triangles in the region the
+        cycle bounds when it is born.  By duality in the plane a cycle is a bounded
+        region of the complement, so the pairs are the 0-dimensional persistence of the dual graph
+        (triangles, joined across edges, and the outside) with the filtration reversed: taking simplices
+        out from the largest value down, a triangle starts a region, an edge merges the two regions on
+        its sides, and the younger region ends (the elder rule).  Cycles of zero length are left out.
+        """
+        if self.k != 2:
+            raise ValueError("loops() reads the plane's 1-cycles by duality: points in R^2 only")
+        tris, edges = self.faces[2], self.faces[1]
+        owner, face_of = self._incidence[1]
+        m = len(tris)
+        # the two sides of each edge: its triangles, or one triangle and the outside (node m)
+        order = np.argsort(face_of, kind="stable")
+        fo, ow = face_of[order], owner[order]
+        starts = np.flatnonzero(np.r_[True, fo[1:] != fo[:-1]])
+        counts = np.diff(np.r_[starts, len(fo)])
+        side_a = np.full(len(edges), m, np.int64)
+        side_b = np.full(len(edges), m, np.int64)
+        side_a[fo[starts]] = ow[starts]
+        two = counts == 2
+        side_b[fo[starts[two]]] = ow[starts[two] + 1]
+        parent = np.arange(m + 1)
+        born = np.r_[self.levels[2], np.inf]  # a region's value: its first triangle in reverse order
+        size = np.ones(m + 1, np.int64)  # a region's triangles
+
+        def find(x: int) -> int:
+            root = x
+            while parent[root] != root:
+                root = parent[root]
+            while parent[x] != root:
+                parent[x], x = root, parent[x]
+            return root
+
+        pairs = []
+        e_alpha = self.levels[1]
+        for e in np.argsort(-e_alpha, kind="stable").tolist():
+            ra, rb = find(int(side_a[e])), find(int(side_b[e]))
+            if ra == rb:
+                continue
+            young, old = (ra, rb) if born[ra] < born[rb] else (rb, ra)
+            if born[young] > e_alpha[e]:
+                pairs.append((math.sqrt(e_alpha[e]), math.sqrt(born[young]), *edges[e].tolist(), size[young]))
+            parent[young] = old
+            size[old] += size[young]
+        return np.array(pairs, dtype=float).reshape(-1, 5)
