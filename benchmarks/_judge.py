@@ -1,4 +1,5 @@
-"""A generated sample reconstructed and judged against its known Betti numbers (bench_objects, bench_shapes)."""
+"""A generated sample reconstructed and judged against its known Betti numbers (bench_objects, bench_shapes,
+bench_curves)."""
 
 from __future__ import annotations
 
@@ -35,10 +36,11 @@ class Judged:
         return self.right and sum(self.uncertain) > 0
 
 
-def judge(points: np.ndarray, betti: tuple[int, int, int], noise: float) -> Judged:
-    """Reconstruct ``points`` (a surface in R^3) and judge it: closed, ``betti``, every sample (99 % at 0.3 h)."""
+def judge(points: np.ndarray, betti: tuple[int, ...], noise: float, d: int = 2) -> Judged:
+    """Reconstruct ``points`` (a d-manifold, a surface by default) and judge it: closed, ``betti``, every
+    sample (99 % at 0.3 h)."""
     t0 = time.perf_counter()
-    rec = reconstruct(points, 2)
+    rec = reconstruct(points, d)
     seconds = time.perf_counter() - t0
     t = rec.topology
     need = USED_NOISY if noise >= 0.3 else 1.0
