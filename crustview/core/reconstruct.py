@@ -9,6 +9,7 @@ from dataclasses import replace
 import numpy as np
 
 from .analysis.contacts import BRIDGED, bridged_handles, hidden_parts
+from .analysis.enclosures import joined_enclosures
 from .analysis.features import LOOP_MIN, features, summary_suffix
 from .analysis.resample import Resampled, resample_check
 from .analysis.topology import analyse
@@ -397,6 +398,14 @@ def reextract(
                 replace(f, uncertain=True, reason=f"{f.reason} ({BRIDGED})") if i in bridged else f
                 for i, f in enumerate(feats)
             ]
+    if mode == "robust" and (rec.k, rec.d) == (3, 2) and topo.closed_manifold and rec.subspace_dim == rec.k:
+        # one closed component holding two regions the sample encloses: objects joined where they touch
+        m = len(rec.delaunay_simplices)
+        cells = (rec.delaunay_points / scale, rec.delaunay_simplices, rec.voronoi_vertices[:m] / scale)
+        feats += [
+            replace(f, location=f.location * scale)
+            for f in joined_enclosures(rec.points / scale, manifold, cells, feats)
+        ]
     if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and topo.closed_manifold and _beyond(counts):
         t1 = time.perf_counter()
         feats, said = resample_check(

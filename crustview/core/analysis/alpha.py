@@ -102,6 +102,12 @@ class AlphaLadder:
         for j in range(k - 1, 0, -1):
             faces, owner, face_of = _faces(cofaces, j)
             centre, r2 = _circumballs(self.points, faces)
+            flat = ~np.isfinite(co_alpha)
+            if flat.any():  # a flat coface (its vertices on one circle or line) fills with its last face
+                fix = np.zeros(len(co_alpha))
+                np.maximum.at(fix, owner, np.where(np.isfinite(r2), r2, 0.0)[face_of])
+                co_alpha = np.where(flat, fix, co_alpha)
+                levels[j + 1] = co_alpha
             # the vertex of the coface opposite the face (the one vertex not in it)
             co = cofaces[owner]
             f = faces[face_of]
@@ -206,3 +212,39 @@ class AlphaLadder:
             parent[young] = old
             size[old] += size[young]
         return np.array(pairs, dtype=float).reshape(-1, 5)
+
+    def voids(self) -> np.ndarray:
+        """The persistence pairs of the voids, in space: rows (birth radius, death radius, tetrahedra).
+
+        A void is a bounded region of the complement; by the same duality as :meth:`loops`, one dimension
+        up, the pairs are the 0-dimensional persistence of the tetrahedra joined across triangles (and the
+        outside), with the filtration reversed.  ``tetrahedra`` counts the region's cells at its birth.
+        """
+        if self.k != 3:
+            raise ValueError("voids() reads the 2-cycles by duality: points in R^3 only")
+        tri_id, a, b = self._tri_tets
+        m = len(self.top)
+        t_alpha = self.levels[2][tri_id]
+        parent = np.arange(m + 1)
+        born = np.r_[self.levels[3], np.inf]
+        size = np.ones(m + 1, np.int64)
+
+        def find(x: int) -> int:
+            root = x
+            while parent[root] != root:
+                root = parent[root]
+            while parent[x] != root:
+                parent[x], x = root, parent[x]
+            return root
+
+        pairs = []
+        for e in np.argsort(-t_alpha, kind="stable").tolist():
+            ra, rb = find(int(a[e])), find(int(b[e]))
+            if ra == rb:
+                continue
+            young, old = (ra, rb) if born[ra] < born[rb] else (rb, ra)
+            if born[young] > t_alpha[e]:
+                pairs.append((math.sqrt(t_alpha[e]), math.sqrt(born[young]), size[young]))
+            parent[young] = old
+            size[old] += size[young]
+        return np.array(pairs, dtype=float).reshape(-1, 3)

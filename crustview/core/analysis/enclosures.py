@@ -1,0 +1,240 @@
+"""Closed surfaces of M_S that hold two enclosures of the sample: objects joined where they touch.
+
+Why
+---
+Two objects closer than the sample spacing can come out of the robust
+extraction as one closed surface that runs across the gap (two spheres, a
+sphere and a torus, two tori one spacing apart under noise of 0.3 h:
+``benchmarks/bench_objects.py``).  Where the faces across the gap stand across
+the surface, :mod:`.contacts` flags them; under noise the faces of the whole
+surface tilt as much and that test is blind.
+
+The sample itself says how many closed surfaces it holds, without normals and
+without a scale chosen in advance: a closed surface encloses a
+region, and the union of balls of radius r around its samples encloses that
+region as a *void* (a bounded component of the complement) from the radius
+at which the balls cover the surface until the radius at which they fill the
+region.  The voids and their lifetimes are the 2-dimensional persistent
+homology of the alpha complex, which duality in R^3 turns into the
+0-dimensional persistence of the Delaunay tetrahedra joined across triangles,
+read from the largest radius down (the elder rule, ``_components.merges``).
+
+A void's birth says how it was closed.  Covering a surface closes it at the
+sample's own spacing: the last gap of the surface to be covered is a
+triangle of the sample about one spacing across.  A void can also be born by
+the splitting of another, when a narrow passage between two chambers fills
+(a dumbbell's neck): then the birth radius is the passage's radius.  A
+passage of at least GAP_MIN = 2 local spacings in radius has a rim of at
+least 4 pi spacings, a loop the sample resolves (the features'
+LOOP_SUPPORTED), so the chamber behind it is part of the same object.  An
+*enclosure* is a persistent void born below that.  By the Jordan-Brouwer
+theorem a closed surface bounds one region, so a component of M_S that holds
+the samples of two enclosures joined two surfaces, or closed a passage
+narrower than the sample resolves: either way the sample does not decide it.
+(Whether the birth triangle lies in the surface or stands across it was tried
+first: where a tube meets a ball at a right angle, the triangles across the
+tube's mouth lie in the ball's surface.)
+
+The rule
+--------
+Only for closed M_S in R^3 (robust mode).  A void is persistent when it lives
+from radius r to at least :data:`PERSISTENT` r (the curve rule's bound: an
+eps-sample with eps <= 1/2 keeps its enclosure from eps lfs to about lfs),
+and an enclosure when it is born below GAP_MIN times the largest local
+spacing (:func:`~.radii.local_spacing` on M_S) at its birth triangle.  Each
+enclosure is the set of samples around its region at its birth, and belongs
+to the component of M_S that holds most of them.  A component that holds two
+or more enclosures gets an *uncertain* ``component`` feature for each
+enclosure but the largest: at the closest approach of its samples to the
+other enclosures' samples, with that gap in local spacings.  The check never
+changes M_S.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from ..robust.labelling import cell_adjacency
+from . import _components
+from .features import GAP_MIN, Feature
+from .loops import triangle_edges
+from .radii import local_spacing
+from .topology import graph_components
+
+#: A void is one of the sample's enclosures when it lives from radius r to at least this many times r:
+#: an eps-sample keeps the region it encloses from eps * lfs to about lfs, a ratio 1 / eps >= 2 where
+#: eps <= 1/2 (as ``robust.tour_curve.PERSISTENT``).
+PERSISTENT = 2.0
+
+
+def _triangle_balls(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centre and squared radius of each triangle's circumcircle (its smallest circumscribing ball)."""
+    a, b = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    axb = np.cross(a, b)
+    den = 2 * np.einsum("ij,ij->i", axb, axb)
+    num = np.cross(np.einsum("ij,ij->i", a, a)[:, None] * b - np.einsum("ij,ij->i", b, b)[:, None] * a, axb)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        off = num / den[:, None]
+    r2 = np.einsum("ij,ij->i", off, off)
+    r2[~np.isfinite(r2)] = np.inf
+    return p[:, 0] + np.where(np.isfinite(off), off, 0.0), r2
+
+
+def enclosure_voids(
+    dpts: np.ndarray, simplices: np.ndarray, centres: np.ndarray, n: int
+) -> list[tuple[float, float, np.ndarray, np.ndarray]]:
+    """The persistent voids of the samples' alpha filtration.
+
+    Parameters
+    ----------
+    dpts : ndarray of shape (N, 3)
+        The Delaunay vertices: the n samples first, then bounding points (whose cells are outside).
+    simplices : ndarray of shape (m, 4)
+        The Delaunay tetrahedra over ``dpts``.
+    centres : ndarray of shape (m, 3)
+        Their circumcentres.
+    n : int
+        Number of samples.
+
+    Returns
+    -------
+    list of (birth, death, triangle, samples)
+        Per persistent void: its birth and death radii, the birth triangle (three sample ids) and the
+        samples of the tetrahedra of its region at birth.
+    """
+    simplices = np.asarray(simplices)
+    m = len(simplices)
+    if m == 0:
+        return []
+    tet_r2 = ((centres - dpts[simplices[:, 0]]) ** 2).sum(axis=1)
+    outside_tet = (simplices >= n).any(axis=1)
+    a, b, faces = cell_adjacency(simplices)
+    faces = faces.astype(np.int64)
+    real = (faces < n).all(axis=1)
+    centre, r2 = _triangle_balls(dpts[faces[real]])
+    t_r2 = np.full(len(faces), np.inf)
+    t_r2[real] = r2
+    # a flat tetrahedron (its vertices on one circle) fills with its last face
+    flat = ~np.isfinite(tet_r2)
+    if flat.any():
+        fix = np.zeros(m)
+        fin = np.where(np.isfinite(t_r2), t_r2, 0.0)
+        np.maximum.at(fix, a, fin)
+        np.maximum.at(fix, b, fin)
+        tet_r2 = np.where(flat, fix, tet_r2)
+    # a face whose smallest ball holds the opposite vertex of a tetrahedron is attached to it and enters
+    # with it (the first of the two to enter); otherwise with its own ball
+    ids = np.flatnonzero(real)
+    face_sum = faces[real].sum(axis=1)
+    via = np.full(len(faces), np.inf)
+    for side in (a, b):
+        opp = simplices[side[real]].astype(np.int64).sum(axis=1) - face_sum  # the vertex not on the face
+        hit = ids[((dpts[opp] - centre) ** 2).sum(axis=1) < r2 * (1 - 1e-12)]
+        via[hit] = np.minimum(via[hit], tet_r2[side[hit]])
+    alpha = np.where(np.isfinite(via), via, t_r2)
+    node = np.where(outside_tet, m, np.arange(m))
+    born = np.r_[np.where(outside_tet, np.inf, tet_r2), np.inf]
+    order = np.argsort(-alpha, kind="stable")
+    u, v = node[a[order]].astype(np.int64), node[b[order]].astype(np.int64)
+    merged = np.frombuffer(_components.merges(born, u, v), np.int64).reshape(-1, 2)
+    if len(merged) == 0:
+        return []
+    edge, young = order[merged[:, 0]], merged[:, 1]
+    birth2, death2 = alpha[edge], born[young]
+    keep = np.flatnonzero((death2 > birth2) & (death2 >= PERSISTENT**2 * birth2) & real[edge])
+    out = []
+    for i in keep.tolist():
+        level = birth2[i]
+        # the region at birth: the cells above the level, joined across triangles above it
+        open_t = (alpha > level) & (tet_r2[a] > level) & (tet_r2[b] > level)
+        graph = coo_matrix((np.ones(int(open_t.sum())), (node[a[open_t]], node[b[open_t]])), shape=(m + 1, m + 1))
+        lab = connected_components(graph, directed=False)[1]
+        cells = np.flatnonzero((lab[:m] == lab[young[i]]) & ~outside_tet)
+        samples = np.unique(simplices[cells].ravel())
+        out.append((math.sqrt(birth2[i]), math.sqrt(death2[i]), faces[edge[i]], samples[samples < n]))
+    return out
+
+
+def _named(known: list[Feature] | None, mine: np.ndarray, others: np.ndarray) -> bool:
+    """Whether an uncertain component feature already joins these samples to the others'."""
+    for f in known or []:
+        if f.kind == "component" and f.uncertain:
+            v = np.asarray(f.vertices, np.int64)
+            if np.isin(v, mine).any() and np.isin(v, others).any():
+                return True
+    return False
+
+
+def joined_enclosures(
+    points: np.ndarray,
+    triangles: np.ndarray,
+    cells: tuple[np.ndarray, np.ndarray, np.ndarray],
+    known: list[Feature] | None = None,
+) -> list[Feature]:
+    """Uncertain ``component`` features where one closed component of M_S holds two enclosures.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, 3)
+        The samples.
+    triangles : ndarray of shape (f, 3)
+        M_S (a closed surface).
+    cells : (delaunay_points, simplices, centres)
+        The Delaunay tetrahedra of the samples and the bounding points, with their circumcentres.
+    known : list of Feature, optional
+        Features already reported: a contact that an uncertain ``component`` feature already names (one
+        of its samples in this enclosure, one in another) is not reported again.
+    """
+    n = len(points)
+    tri = np.asarray(triangles, np.int64)
+    if len(tri) == 0:
+        return []
+    voids = enclosure_voids(*cells, n)
+    if len(voids) < 2:
+        return []
+    h = local_spacing(points, tri)
+    edges, _ = triangle_edges(tri)
+    _, comp = graph_components(n, edges)
+    used = np.zeros(n, bool)
+    used[tri.ravel()] = True
+    found = []  # (component, samples)
+    for birth, _death, face, samples in voids:
+        if birth >= GAP_MIN * float(h[face].max()):
+            continue  # closed across a passage wider than the sample resolves: a chamber split off
+        mine = samples[used[samples]]
+        if len(mine) == 0:
+            continue
+        found.append((int(np.bincount(comp[mine]).argmax()), mine))
+    out: list[Feature] = []
+    for c in sorted({c for c, _ in found}):
+        here = sorted((s for cc, s in found if cc == c), key=len, reverse=True)
+        if len(here) < 2:
+            continue
+        for j, own in enumerate(here[1:], start=1):
+            others = np.setdiff1d(np.concatenate([s for i, s in enumerate(here) if i != j]), own)
+            mine = np.setdiff1d(own, others)
+            if len(mine) == 0 or len(others) == 0 or _named(known, mine, others):
+                continue
+            dist, idx = cKDTree(points[others]).query(points[mine])
+            k = int(np.argmin(dist))
+            p, q = int(mine[k]), int(others[idx[k]])
+            gap = float(dist[k]) / max(float(min(h[p], h[q])), 1e-300)
+            out.append(
+                Feature(
+                    "component",
+                    (points[p] + points[q]) / 2,
+                    gap,
+                    True,
+                    np.array([p, q], np.int64),
+                    f"enclosures: this closed component of M_S holds the samples of {len(here)} regions the "
+                    f"sample encloses on its own (voids of the union of balls, persistent, closed by a face "
+                    f"lying in the surface), and a closed surface bounds one: two objects joined here, "
+                    f"{gap:.2f} local spacings apart",
+                )
+            )
+    return out
