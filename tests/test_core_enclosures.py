@@ -46,12 +46,13 @@ def test_two_spheres_are_two_persistent_voids_born_at_their_spacing() -> None:
 def test_one_closed_surface_around_both_spheres_is_flagged_and_two_are_not() -> None:
     centres = [(0, 0, 0), (2.3, 0, 0)]
     pts, cells = _cells(np.vstack([_sphere(600, centres[0]), _sphere(600, centres[1], seed=1)]))
+    normals = pts - np.asarray(centres, float)[(pts[:, 0] > 1.15).astype(int)]  # away from each centre
     joined = ConvexHull(pts).simplices  # one closed surface over both: the gap bridged
-    feats = joined_enclosures(pts, joined, cells)
+    feats = joined_enclosures(pts, joined, normals, cells)
     assert len(feats) == 1 and feats[0].kind == "component" and feats[0].uncertain
     assert abs(feats[0].location[0] - 1.15) < 0.3  # between the two spheres
     apart = np.vstack([ConvexHull(pts[:600]).simplices, 600 + ConvexHull(pts[600:]).simplices])
-    assert joined_enclosures(pts, apart, cells) == []
+    assert joined_enclosures(pts, apart, normals, cells) == []
 
 
 def test_a_dumbbell_is_one_enclosure_its_resolved_neck_splits_it() -> None:

@@ -404,7 +404,7 @@ def reextract(
         cells = (rec.delaunay_points / scale, rec.delaunay_simplices, rec.voronoi_vertices[:m] / scale)
         feats += [
             replace(f, location=f.location * scale)
-            for f in joined_enclosures(rec.points / scale, manifold, cells, feats)
+            for f in joined_enclosures(rec.points / scale, manifold, rec.normals[:, :, 0], cells, feats)
         ]
     if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and topo.closed_manifold and _beyond(counts):
         t1 = time.perf_counter()

@@ -9,8 +9,8 @@ sphere and a torus, two tori one spacing apart under noise of 0.3 h:
 the surface, :mod:`.contacts` flags them; under noise the faces of the whole
 surface tilt as much and that test is blind.
 
-The sample itself says how many closed surfaces it holds, without normals and
-without a scale chosen in advance: a closed surface encloses a
+The sample itself says how many closed surfaces it holds, without a scale
+chosen in advance: a closed surface encloses a
 region, and the union of balls of radius r around its samples encloses that
 region as a *void* (a bounded component of the complement) from the radius
 at which the balls cover the surface until the radius at which they fill the
@@ -27,13 +27,17 @@ the splitting of another, when a narrow passage between two chambers fills
 passage of at least GAP_MIN = 2 local spacings in radius has a rim of at
 least 4 pi spacings, a loop the sample resolves (the features'
 LOOP_SUPPORTED), so the chamber behind it is part of the same object.  An
-*enclosure* is a persistent void born below that.  By the Jordan-Brouwer
+*enclosure* is a persistent void born below that, by a face lying in the
+surface: a passage narrower than that fills with faces standing across it,
+at the passage's middle, where a covering face lies in the surface.  By the Jordan-Brouwer
 theorem a closed surface bounds one region, so a component of M_S that holds
 the samples of two enclosures joined two surfaces, or closed a passage
 narrower than the sample resolves: either way the sample does not decide it.
-(Whether the birth triangle lies in the surface or stands across it was tried
-first: where a tube meets a ball at a right angle, the triangles across the
-tube's mouth lie in the ball's surface.)
+Either test alone flags right results: by the lie of the face alone, a tube
+meeting a ball at a right angle (the triangles across its mouth lie in the
+ball's surface, and a straight tube fills everywhere at once); by the
+radius alone, neptune's ankles (1.7 local spacings, its base a chamber of its
+own: uncertain under LOOP_SUPPORTED, but its faces stand across the leg).
 
 The rule
 --------
@@ -41,7 +45,9 @@ Only for closed M_S in R^3 (robust mode).  A void is persistent when it lives
 from radius r to at least :data:`PERSISTENT` r (the curve rule's bound: an
 eps-sample with eps <= 1/2 keeps its enclosure from eps lfs to about lfs),
 and an enclosure when it is born below GAP_MIN times the largest local
-spacing (:func:`~.radii.local_spacing` on M_S) at its birth triangle.  Each
+spacing (:func:`~.radii.local_spacing` on M_S) at its birth triangle and that
+triangle lies in the surface: its normal within :data:`~.contacts.STAND_ANGLE`
+= 2 theta of the approximate normal (Algorithm 1) at one of its vertices.  Each
 enclosure is the set of samples around its region at its birth, and belongs
 to the component of M_S that holds most of them.  A component that holds two
 or more enclosures gets an *uncertain* ``component`` feature for each
@@ -61,6 +67,7 @@ from scipy.spatial import cKDTree
 
 from ..robust.labelling import cell_adjacency
 from . import _components
+from .contacts import STAND_ANGLE
 from .features import GAP_MIN, Feature
 from .loops import triangle_edges
 from .radii import local_spacing
@@ -70,6 +77,9 @@ from .topology import graph_components
 #: an eps-sample keeps the region it encloses from eps * lfs to about lfs, a ratio 1 / eps >= 2 where
 #: eps <= 1/2 (as ``robust.tour_curve.PERSISTENT``).
 PERSISTENT = 2.0
+#: Relative slack of the attachment test (a vertex within it of a face's smallest ball is inside): far
+#: above the rounding of the squared distances (1e-16 relative), far below any real gap.
+ATTACH_TOL = 1e-9
 
 
 def _triangle_balls(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -128,13 +138,16 @@ def enclosure_voids(
         np.maximum.at(fix, b, fin)
         tet_r2 = np.where(flat, fix, tet_r2)
     # a face whose smallest ball holds the opposite vertex of a tetrahedron is attached to it and enters
-    # with it (the first of the two to enter); otherwise with its own ball
+    # with it (the first of the two to enter); otherwise with its own ball.  A vertex on the ball's sphere
+    # counts as inside (ATTACH_TOL): four samples on one circle (a grid's square) make a flat tetrahedron
+    # whose circumcentre is anywhere on an axis, and a face left out of it would wall off a void no union
+    # of balls has (the bumpy sphere's grid: 27 of them)
     ids = np.flatnonzero(real)
     face_sum = faces[real].sum(axis=1)
     via = np.full(len(faces), np.inf)
     for side in (a, b):
         opp = simplices[side[real]].astype(np.int64).sum(axis=1) - face_sum  # the vertex not on the face
-        hit = ids[((dpts[opp] - centre) ** 2).sum(axis=1) < r2 * (1 - 1e-12)]
+        hit = ids[((dpts[opp] - centre) ** 2).sum(axis=1) <= r2 * (1 + ATTACH_TOL)]
         via[hit] = np.minimum(via[hit], tet_r2[side[hit]])
     alpha = np.where(np.isfinite(via), via, t_r2)
     node = np.where(outside_tet, m, np.arange(m))
@@ -173,6 +186,7 @@ def _named(known: list[Feature] | None, mine: np.ndarray, others: np.ndarray) ->
 def joined_enclosures(
     points: np.ndarray,
     triangles: np.ndarray,
+    normals: np.ndarray,
     cells: tuple[np.ndarray, np.ndarray, np.ndarray],
     known: list[Feature] | None = None,
 ) -> list[Feature]:
@@ -184,6 +198,8 @@ def joined_enclosures(
         The samples.
     triangles : ndarray of shape (f, 3)
         M_S (a closed surface).
+    normals : ndarray of shape (n, 3)
+        Algorithm 1's normal line at each sample.
     cells : (delaunay_points, simplices, centres)
         The Delaunay tetrahedra of the samples and the bounding points, with their circumcentres.
     known : list of Feature, optional
@@ -203,9 +219,15 @@ def joined_enclosures(
     used = np.zeros(n, bool)
     used[tri.ravel()] = True
     found = []  # (component, samples)
+    unit = normals / np.maximum(np.linalg.norm(normals, axis=1), 1e-300)[:, None]
     for birth, _death, face, samples in voids:
         if birth >= GAP_MIN * float(h[face].max()):
             continue  # closed across a passage wider than the sample resolves: a chamber split off
+        p = points[face]
+        fn = np.cross(p[1] - p[0], p[2] - p[0])
+        fn = fn / max(float(np.linalg.norm(fn)), 1e-300)
+        if (np.abs(unit[face] @ fn) < math.cos(STAND_ANGLE)).all():
+            continue  # closed by a face standing across the surface: a narrower passage filled
         mine = samples[used[samples]]
         if len(mine) == 0:
             continue
