@@ -112,7 +112,8 @@ class AlphaLadder:
             co = cofaces[owner]
             f = faces[face_of]
             opposite = co[~(co[:, :, None] == f[:, None, :]).any(axis=2)]
-            inside = ((self.points[opposite] - centre[face_of]) ** 2).sum(axis=1) <= r2[face_of] * (1 + 1e-9)  # on the sphere: attached (as enclosures.ATTACH_TOL)
+            # a vertex on the sphere attaches the face too (as enclosures.ATTACH_TOL: co-circular grids)
+            inside = ((self.points[opposite] - centre[face_of]) ** 2).sum(axis=1) <= r2[face_of] * (1 + 1e-9)
             alpha = np.full(len(faces), np.inf)
             np.minimum.at(alpha, face_of[inside], co_alpha[owner[inside]])
             alpha = np.where(np.isfinite(alpha), alpha, r2)
