@@ -75,7 +75,8 @@ PyObject* components(PyObject*, PyObject* args) {
 // 0-dimensional persistence by the elder rule: nodes with birth values, edges taken in the caller's order
 // (a filtration read from its end: crustview.core.analysis.alpha).  An edge between two components makes
 // the younger one (the smaller birth value: born later in that order) part of the elder.  Returns, per
-// merge, the edge's index and the younger component's root, the node whose birth value is its birth.
+// merge, the edge's index, the younger component's root (the node whose birth value is its birth) and the
+// elder's root.
 PyObject* merges(PyObject*, PyObject* args) {
     Py_buffer bo, a, b;
     if (!PyArg_ParseTuple(args, "y*y*y*", &bo, &a, &b)) return nullptr;
@@ -104,6 +105,7 @@ PyObject* merges(PyObject*, PyObject* args) {
                 parent[young] = old;  // a root is its component's eldest node
                 out.push_back(static_cast<i64>(e));
                 out.push_back(young);
+                out.push_back(old);
             }
             Py_END_ALLOW_THREADS;
             result = PyBytes_FromStringAndSize(reinterpret_cast<const char*>(out.data()),
@@ -122,7 +124,7 @@ PyMethodDef methods[] = {
      "(u[i], v[i]) (int64 buffers); labels (int32 bytes) number them in the order of their smallest node."},
     {"merges", merges, METH_VARARGS,
      "merges(born, u, v) -> bytes: the elder rule's merges over the edges (u[i], v[i]) in order, for nodes "
-     "with float64 birth values: int64 pairs (edge index, root of the younger component)."},
+     "with float64 birth values: int64 triples (edge index, root of the younger component, root of the elder)."},
     {nullptr, nullptr, 0, nullptr},
 };
 

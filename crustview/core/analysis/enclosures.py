@@ -61,8 +61,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from ..robust.labelling import cell_adjacency
@@ -154,20 +152,28 @@ def enclosure_voids(
     born = np.r_[np.where(outside_tet, np.inf, tet_r2), np.inf]
     order = np.argsort(-alpha, kind="stable")
     u, v = node[a[order]].astype(np.int64), node[b[order]].astype(np.int64)
-    merged = np.frombuffer(_components.merges(born, u, v), np.int64).reshape(-1, 2)
+    merged = np.frombuffer(_components.merges(born, u, v), np.int64).reshape(-1, 3)
     if len(merged) == 0:
         return []
     edge, young = order[merged[:, 0]], merged[:, 1]
     birth2, death2 = alpha[edge], born[young]
     keep = np.flatnonzero((death2 > birth2) & (death2 >= PERSISTENT**2 * birth2) & real[edge])
+    if len(keep) == 0:
+        return []
+    # a void's region at its birth is every cell merged into it before then: its subtree in the forest of
+    # merges (each younger root under the elder), cut at the other persistent voids' roots
+    parent = np.arange(m + 1)
+    parent[young] = merged[:, 2]
+    parent[young[keep]] = young[keep]
+    while True:
+        up = parent[parent]
+        if np.array_equal(up, parent):
+            break
+        parent = up
+    region = parent[:m]
     out = []
     for i in keep.tolist():
-        level = birth2[i]
-        # the region at birth: the cells above the level, joined across triangles above it
-        open_t = (alpha > level) & (tet_r2[a] > level) & (tet_r2[b] > level)
-        graph = coo_matrix((np.ones(int(open_t.sum())), (node[a[open_t]], node[b[open_t]])), shape=(m + 1, m + 1))
-        lab = connected_components(graph, directed=False)[1]
-        cells = np.flatnonzero((lab[:m] == lab[young[i]]) & ~outside_tet)
+        cells = np.flatnonzero((region == young[i]) & ~outside_tet)
         samples = np.unique(simplices[cells].ravel())
         out.append((math.sqrt(birth2[i]), math.sqrt(death2[i]), faces[edge[i]], samples[samples < n]))
     return out
