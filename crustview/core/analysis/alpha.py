@@ -31,13 +31,14 @@ attaches it.
 
 from __future__ import annotations
 
-import math
 from itertools import combinations
 
 import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import Delaunay
+
+from . import _components
 
 
 def _circumballs(points: np.ndarray, simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -71,6 +72,43 @@ def _faces(simplices: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray, np.nd
     faces, face_of = np.unique(all_faces, axis=0, return_inverse=True)
     owner = np.tile(np.arange(m), len(combos))
     return faces, owner, face_of.ravel()
+
+
+def dual_merges(
+    born: np.ndarray, side_a: np.ndarray, side_b: np.ndarray, face_alpha: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The elder rule's merges of the dual graph read from the largest value down.
+
+    Nodes are top cells (and the outside) with the value at which each enters (``born``); edges join the
+    two sides of each face, taken in decreasing ``face_alpha``.  Returns per merge the face, the younger
+    component's root (whose value is the cycle's death, the face's its birth) and the elder's root.
+    """
+    order = np.argsort(-face_alpha, kind="stable")
+    merged = np.frombuffer(
+        _components.merges(
+            np.ascontiguousarray(born, dtype=np.float64),
+            np.ascontiguousarray(side_a[order], dtype=np.int64),
+            np.ascontiguousarray(side_b[order], dtype=np.int64),
+        ),
+        np.int64,
+    ).reshape(-1, 3)
+    return order[merged[:, 0]], merged[:, 1], merged[:, 2]
+
+
+def merge_regions(n_nodes: int, young: np.ndarray, elder: np.ndarray, cut: np.ndarray) -> np.ndarray:
+    """Per node, the root of ``cut`` it was merged into first (or its last root): the cycles' regions.
+
+    A cycle's region at its birth is every cell merged into its root before then: its subtree in the
+    forest of merges (each younger root under the elder), here cut at the roots in ``cut``.
+    """
+    parent = np.arange(n_nodes)
+    parent[young] = elder
+    parent[cut] = cut
+    while True:
+        up = parent[parent]
+        if np.array_equal(up, parent):
+            return parent
+        parent = up
 
 
 class AlphaLadder:
@@ -168,8 +206,8 @@ class AlphaLadder:
         """The persistence pairs of the 1-cycles, in the plane: rows (birth radius, death radius, u, v, t).
 
         (u, v) is the edge whose arrival makes the cycle, and t the number of triangles in the region the
-        cycle bounds when it is born.  By duality in the plane a cycle is a bounded
-        region of the complement, so the pairs are the 0-dimensional persistence of the dual graph
+        cycle bounds when it is born (their samples: :meth:`loop_samples`).  By duality in the plane a
+        cycle is a bounded region of the complement, so the pairs are the 0-dimensional persistence of the dual graph
         (triangles, joined across edges, and the outside) with the filtration reversed: taking simplices
         out from the largest value down, a triangle starts a region, an edge merges the two regions on
         its sides, and the younger region ends (the elder rule).  Cycles of zero length are left out.
@@ -189,63 +227,18 @@ class AlphaLadder:
         side_a[fo[starts]] = ow[starts]
         two = counts == 2
         side_b[fo[starts[two]]] = ow[starts[two] + 1]
-        parent = np.arange(m + 1)
         born = np.r_[self.levels[2], np.inf]  # a region's value: its first triangle in reverse order
-        size = np.ones(m + 1, np.int64)  # a region's triangles
-
-        def find(x: int) -> int:
-            root = x
-            while parent[root] != root:
-                root = parent[root]
-            while parent[x] != root:
-                parent[x], x = root, parent[x]
-            return root
-
-        pairs = []
         e_alpha = self.levels[1]
-        for e in np.argsort(-e_alpha, kind="stable").tolist():
-            ra, rb = find(int(side_a[e])), find(int(side_b[e]))
-            if ra == rb:
-                continue
-            young, old = (ra, rb) if born[ra] < born[rb] else (rb, ra)
-            if born[young] > e_alpha[e]:
-                pairs.append((math.sqrt(e_alpha[e]), math.sqrt(born[young]), *edges[e].tolist(), size[young]))
-            parent[young] = old
-            size[old] += size[young]
-        return np.array(pairs, dtype=float).reshape(-1, 5)
+        edge, young, elder = dual_merges(born, side_a, side_b, e_alpha)
+        live = born[young] > e_alpha[edge]  # a region born and gone at one value is no cycle
+        region = merge_regions(m + 1, young, elder, young[live])[:m]
+        edge, young = edge[live], young[live]
+        size = np.bincount(region, minlength=m + 1)[young]
+        self._regions = (young, region)
+        pairs = np.c_[np.sqrt(e_alpha[edge]), np.sqrt(born[young]), edges[edge], size]
+        return np.asarray(pairs, dtype=float).reshape(-1, 5)
 
-    def voids(self) -> np.ndarray:
-        """The persistence pairs of the voids, in space: rows (birth radius, death radius, tetrahedra).
-
-        A void is a bounded region of the complement; by the same duality as :meth:`loops`, one dimension
-        up, the pairs are the 0-dimensional persistence of the tetrahedra joined across triangles (and the
-        outside), with the filtration reversed.  ``tetrahedra`` counts the region's cells at its birth.
-        """
-        if self.k != 3:
-            raise ValueError("voids() reads the 2-cycles by duality: points in R^3 only")
-        tri_id, a, b = self._tri_tets
-        m = len(self.top)
-        t_alpha = self.levels[2][tri_id]
-        parent = np.arange(m + 1)
-        born = np.r_[self.levels[3], np.inf]
-        size = np.ones(m + 1, np.int64)
-
-        def find(x: int) -> int:
-            root = x
-            while parent[root] != root:
-                root = parent[root]
-            while parent[x] != root:
-                parent[x], x = root, parent[x]
-            return root
-
-        pairs = []
-        for e in np.argsort(-t_alpha, kind="stable").tolist():
-            ra, rb = find(int(a[e])), find(int(b[e]))
-            if ra == rb:
-                continue
-            young, old = (ra, rb) if born[ra] < born[rb] else (rb, ra)
-            if born[young] > t_alpha[e]:
-                pairs.append((math.sqrt(t_alpha[e]), math.sqrt(born[young]), size[young]))
-            parent[young] = old
-            size[old] += size[young]
-        return np.array(pairs, dtype=float).reshape(-1, 3)
+    def loop_samples(self, i: int) -> np.ndarray:
+        """The samples of the triangles in the region of the ``i``-th cycle of :meth:`loops` at its birth."""
+        young, region = self._regions
+        return np.unique(self.faces[2][region == young[i]].ravel())

@@ -64,7 +64,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..robust.labelling import cell_adjacency
-from . import _components
+from .alpha import dual_merges, merge_regions
 from .contacts import STAND_ANGLE
 from .features import GAP_MIN, Feature
 from .loops import triangle_edges
@@ -150,27 +150,14 @@ def enclosure_voids(
     alpha = np.where(np.isfinite(via), via, t_r2)
     node = np.where(outside_tet, m, np.arange(m))
     born = np.r_[np.where(outside_tet, np.inf, tet_r2), np.inf]
-    order = np.argsort(-alpha, kind="stable")
-    u, v = node[a[order]].astype(np.int64), node[b[order]].astype(np.int64)
-    merged = np.frombuffer(_components.merges(born, u, v), np.int64).reshape(-1, 3)
-    if len(merged) == 0:
+    edge, young, elder = dual_merges(born, node[a], node[b], alpha)
+    if len(edge) == 0:
         return []
-    edge, young = order[merged[:, 0]], merged[:, 1]
     birth2, death2 = alpha[edge], born[young]
     keep = np.flatnonzero((death2 > birth2) & (death2 >= PERSISTENT**2 * birth2) & real[edge])
     if len(keep) == 0:
         return []
-    # a void's region at its birth is every cell merged into it before then: its subtree in the forest of
-    # merges (each younger root under the elder), cut at the other persistent voids' roots
-    parent = np.arange(m + 1)
-    parent[young] = merged[:, 2]
-    parent[young[keep]] = young[keep]
-    while True:
-        up = parent[parent]
-        if np.array_equal(up, parent):
-            break
-        parent = up
-    region = parent[:m]
+    region = merge_regions(m + 1, young, elder, young[keep])[:m]
     out = []
     for i in keep.tolist():
         cells = np.flatnonzero((region == young[i]) & ~outside_tet)
