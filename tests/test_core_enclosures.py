@@ -9,7 +9,7 @@ import numpy as np
 from scipy.spatial import ConvexHull
 
 from crustview.core import reconstruct
-from crustview.core.analysis.enclosures import enclosure_voids, joined_enclosures
+from crustview.core.analysis.enclosures import enclosure_voids, joined_enclosures, joined_loops
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
@@ -79,3 +79,36 @@ def test_the_fused_sphere_and_torus_under_noise_is_no_longer_quiet() -> None:
     right = t.closed_manifold and tuple(t.betti) == betti
     assert right or any(f.reason.startswith("enclosures") for f in rec.uncertain_features)
     assert not right  # it still joins them; what changed is that it says so
+
+
+def _ring(n: int, centre: tuple, radius: float = 1.0) -> np.ndarray:
+    t = 2 * np.pi * (np.arange(n) + 0.5) / n
+    return np.c_[centre[0] + radius * np.cos(t), centre[1] + radius * np.sin(t)]
+
+
+def _cycle(first: int, n: int) -> np.ndarray:
+    return np.c_[first + np.arange(n), first + (np.arange(n) + 1) % n]
+
+
+def test_one_closed_curve_through_two_circles_is_flagged_two_curves_are_not() -> None:
+    n = 100
+    pts = np.vstack([_ring(n, (0, 0)), _ring(n, (2.1, 0))])
+    normals = np.vstack([pts[:n], pts[n:] - [2.1, 0]])  # radial
+    apart = np.vstack([_cycle(0, n), _cycle(n, n)])
+    assert joined_loops(pts, apart, normals) == []
+    # one closed curve: circle A up to its sample facing B, across, all of B, and back
+    b = n + n // 2  # B's sample just past angle pi faces A's samples around angle 0
+    joined = [e for e in _cycle(0, n).tolist() if e != [n - 1, 0]]
+    joined += [e for e in _cycle(n, n).tolist() if e != [b - 1, b]]
+    joined += [[n - 1, b - 1], [0, b]]
+    feats = joined_loops(pts, np.array(joined), normals)
+    assert len(feats) == 1 and feats[0].kind == "component" and feats[0].uncertain
+    assert abs(feats[0].location[0] - 1.05) < 0.1  # where the two circles come closest
+
+
+def test_nested_circles_as_two_curves_are_not_flagged() -> None:
+    # the ring between them is bounded by both curves, so it belongs to neither
+    pts = np.vstack([_ring(100, (0, 0)), _ring(130, (0, 0), 1.3)])
+    normals = pts.copy()
+    curves = np.vstack([_cycle(0, 100), _cycle(100, 130)])
+    assert joined_loops(pts, curves, normals) == []

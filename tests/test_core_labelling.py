@@ -5,6 +5,7 @@ import pytest
 
 from crustview.core import reconstruct
 from crustview.core.analysis.topology import analyse
+from crustview.core.delaunay import adjacency
 from crustview.core.robust import labelling
 from crustview.core.robust.cells import CAP_RATIO, OPEN_MIN_FACES, cap_patches, caps, extract_by_labels
 from crustview.core.robust.label_repair import LabelEditor
@@ -70,10 +71,10 @@ def test_cell_adjacency_compiled_equals_numpy(monkeypatch):
     from crustview.core.delaunay.triangulation import bounding_points, delaunay
 
     simp = delaunay(np.random.default_rng(5).normal(size=(3000, 3)), bounding_points(3))
-    assert simp.dtype == np.int32 and labelling._faces_native is not None
+    assert simp.dtype == np.int32 and adjacency._faces_native is not None
     a, b, faces = cell_adjacency(simp)
     assert np.all(a < b)
-    monkeypatch.setattr(labelling, "_faces_native", None)
+    monkeypatch.setattr(adjacency, "_faces_native", None)
     a0, b0, faces0 = cell_adjacency(simp)
     assert np.array_equal(faces, faces0) and np.array_equal(a, a0) and np.array_equal(b, b0)
     assert faces.dtype == faces0.dtype == np.int32 and a.dtype == a0.dtype == np.int64

@@ -9,7 +9,7 @@ from dataclasses import replace
 import numpy as np
 
 from .analysis.contacts import BRIDGED, bridged_handles, hidden_parts
-from .analysis.enclosures import joined_enclosures
+from .analysis.enclosures import joined_enclosures, joined_loops
 from .analysis.features import LOOP_MIN, features, summary_suffix
 from .analysis.resample import Resampled, resample_check
 from .analysis.topology import analyse
@@ -405,6 +405,11 @@ def reextract(
         feats += [
             replace(f, location=f.location * scale)
             for f in joined_enclosures(rec.points / scale, manifold, rec.normals[:, :, 0], cells, feats)
+        ]
+    if mode == "robust" and (rec.k, rec.d) == (2, 1) and topo.closed_manifold and rec.subspace_dim == rec.k:
+        pts = rec.points / scale
+        feats += [
+            replace(f, location=f.location * scale) for f in joined_loops(pts, manifold, rec.normals[:, :, 0], feats)
         ]
     if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and topo.closed_manifold and _beyond(counts):
         t1 = time.perf_counter()

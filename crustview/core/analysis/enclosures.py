@@ -49,7 +49,9 @@ spacing (:func:`~.radii.local_spacing` on M_S) at its birth triangle and that
 triangle lies in the surface: its normal within :data:`~.contacts.STAND_ANGLE`
 = 2 theta of the approximate normal (Algorithm 1) at one of its vertices.  Each
 enclosure is the set of samples around its region at its birth, and belongs
-to the component of M_S that holds most of them.  A component that holds two
+to a component of M_S when that component holds all of them (a region
+between two nested surfaces, a hollow ball's shell, is bounded by both and
+belongs to neither).  A component that holds two
 or more enclosures gets an *uncertain* ``component`` feature for each
 enclosure but the largest: at the closest approach of its samples to the
 other enclosures' samples, with that gap in local spacings.  The check never
@@ -63,8 +65,8 @@ import math
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..robust.labelling import cell_adjacency
-from .alpha import dual_merges, merge_regions
+from ..delaunay.adjacency import cell_adjacency
+from .alpha import AlphaLadder, dual_merges, merge_regions
 from .contacts import STAND_ANGLE
 from .features import GAP_MIN, Feature
 from .loops import triangle_edges
@@ -199,32 +201,88 @@ def joined_enclosures(
         Features already reported: a contact that an uncertain ``component`` feature already names (one
         of its samples in this enclosure, one in another) is not reported again.
     """
-    n = len(points)
     tri = np.asarray(triangles, np.int64)
     if len(tri) == 0:
         return []
-    voids = enclosure_voids(*cells, n)
+    voids = enclosure_voids(*cells, len(points))
     if len(voids) < 2:
         return []
-    h = local_spacing(points, tri)
-    edges, _ = triangle_edges(tri)
+    return _report(points, tri, normals, [(b, f, s) for b, _d, f, s in voids], known, "surface")
+
+
+def joined_loops(
+    points: np.ndarray, edges: np.ndarray, normals: np.ndarray, known: list[Feature] | None = None
+) -> list[Feature]:
+    """The plane's version of :func:`joined_enclosures`: closed curves of M_S holding two enclosed regions.
+
+    The regions are the persistent 1-cycles of the samples' alpha filtration
+    (:meth:`~.alpha.AlphaLadder.loops`), born below GAP_MIN local spacings by an edge lying along the
+    curve (the edge's normal within STAND_ANGLE of the approximate normal at one of its ends); by the
+    Jordan curve theorem a closed curve bounds one.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, 2)
+    edges : ndarray of shape (e, 2)
+        M_S (closed curves).
+    normals : ndarray of shape (n, 2)
+        Algorithm 1's normal line at each sample.
+    known : list of Feature, optional
+        As for :func:`joined_enclosures`.
+    """
+    edges = np.asarray(edges, np.int64)
+    if len(edges) < 3 or len(points) < 4:
+        return []
+    ladder = AlphaLadder(points)
+    pairs = ladder.loops()
+    keep = np.flatnonzero(pairs[:, 1] >= PERSISTENT * pairs[:, 0])
+    if len(keep) < 2:
+        return []
+    cycles = [(pairs[i, 0], pairs[i, 2:4].astype(np.int64), ladder.loop_samples(int(i))) for i in keep.tolist()]
+    return _report(points, edges, normals, cycles, known, "curve")
+
+
+def _lying(points: np.ndarray, face: np.ndarray, unit: np.ndarray) -> bool:
+    """Whether a face (an edge in the plane, a triangle in space) lies within STAND_ANGLE of a vertex's normal."""
+    p = points[face]
+    if len(face) == 2:
+        d = p[1] - p[0]
+        fn = np.array([-d[1], d[0]])
+    else:
+        fn = np.cross(p[1] - p[0], p[2] - p[0])
+    fn = fn / max(float(np.linalg.norm(fn)), 1e-300)
+    return bool((np.abs(unit[face] @ fn) >= math.cos(STAND_ANGLE)).any())
+
+
+def _report(
+    points: np.ndarray,
+    simplices: np.ndarray,
+    normals: np.ndarray,
+    regions: list[tuple[float, np.ndarray, np.ndarray]],
+    known: list[Feature] | None,
+    what: str,
+) -> list[Feature]:
+    """The features of :func:`joined_enclosures` and :func:`joined_loops` from their regions.
+
+    ``regions`` holds, per persistent region, its birth radius, its birth face and its samples.
+    """
+    n = len(points)
+    h = local_spacing(points, simplices)
+    edges = triangle_edges(simplices)[0] if simplices.shape[1] == 3 else simplices
     _, comp = graph_components(n, edges)
     used = np.zeros(n, bool)
-    used[tri.ravel()] = True
-    found = []  # (component, samples)
+    used[simplices.ravel()] = True
     unit = normals / np.maximum(np.linalg.norm(normals, axis=1), 1e-300)[:, None]
-    for birth, _death, face, samples in voids:
+    found = []  # (component, samples)
+    for birth, face, samples in regions:
         if birth >= GAP_MIN * float(h[face].max()):
             continue  # closed across a passage wider than the sample resolves: a chamber split off
-        p = points[face]
-        fn = np.cross(p[1] - p[0], p[2] - p[0])
-        fn = fn / max(float(np.linalg.norm(fn)), 1e-300)
-        if (np.abs(unit[face] @ fn) < math.cos(STAND_ANGLE)).all():
+        if not _lying(points, face, unit):
             continue  # closed by a face standing across the surface: a narrower passage filled
         mine = samples[used[samples]]
-        if len(mine) == 0:
-            continue
-        found.append((int(np.bincount(comp[mine]).argmax()), mine))
+        if len(mine) == 0 or (comp[mine] != comp[mine[0]]).any():
+            continue  # bounded by two components (between nested ones): no component's own region
+        found.append((int(comp[mine[0]]), mine))
     out: list[Feature] = []
     for c in sorted({c for c, _ in found}):
         here = sorted((s for cc, s in found if cc == c), key=len, reverse=True)
@@ -246,9 +304,9 @@ def joined_enclosures(
                     gap,
                     True,
                     np.array([p, q], np.int64),
-                    f"enclosures: this closed component of M_S holds the samples of {len(here)} regions the "
-                    f"sample encloses on its own (voids of the union of balls, persistent, closed by a face "
-                    f"lying in the surface), and a closed surface bounds one: two objects joined here, "
+                    f"enclosures: this closed {what} of M_S holds the samples of {len(here)} regions the "
+                    f"sample encloses on its own (persistent in the union of balls, closed by a face lying "
+                    f"along the {what}), and a closed {what} bounds one: two objects joined here, "
                     f"{gap:.2f} local spacings apart",
                 )
             )
