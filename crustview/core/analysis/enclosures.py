@@ -242,6 +242,24 @@ def joined_loops(
     return _report(points, edges, normals, cycles, known, "curve")
 
 
+def joined_objects(
+    points: np.ndarray,
+    simplices: np.ndarray,
+    normals: np.ndarray,
+    cells: tuple[np.ndarray, np.ndarray, np.ndarray],
+    known: list[Feature] | None = None,
+) -> list[Feature]:
+    """:func:`joined_enclosures` for a surface in R^3, :func:`joined_loops` for a curve in the plane, else none."""
+    simplices = np.asarray(simplices, np.int64)
+    if simplices.ndim != 2 or simplices.shape[1] != points.shape[1]:
+        return []
+    if points.shape[1] == 3:
+        return joined_enclosures(points, simplices, normals, cells, known)
+    if points.shape[1] == 2:
+        return joined_loops(points, simplices, normals, known)
+    return []
+
+
 def _lying(points: np.ndarray, face: np.ndarray, unit: np.ndarray) -> bool:
     """Whether a face (an edge in the plane, a triangle in space) lies within STAND_ANGLE of a vertex's normal."""
     p = points[face]
