@@ -124,7 +124,8 @@ def enclosure_voids(
     tet_r2 = ((centres - dpts[simplices[:, 0]]) ** 2).sum(axis=1)
     outside_tet = (simplices >= n).any(axis=1)
     a, b, faces = cell_adjacency(simplices)
-    faces = faces.astype(np.int64)
+    both_out = outside_tet[a] & outside_tet[b]  # between two outside cells: never a wall of a void
+    a, b, faces = a[~both_out], b[~both_out], faces[~both_out]
     real = (faces < n).all(axis=1)
     centre, r2 = _triangle_balls(dpts[faces[real]])
     t_r2 = np.full(len(faces), np.inf)
@@ -143,10 +144,10 @@ def enclosure_voids(
     # whose circumcentre is anywhere on an axis, and a face left out of it would wall off a void no union
     # of balls has (the bumpy sphere's grid: 27 of them)
     ids = np.flatnonzero(real)
-    face_sum = faces[real].sum(axis=1)
+    face_sum = faces[real].sum(axis=1, dtype=np.int64)
     via = np.full(len(faces), np.inf)
     for side in (a, b):
-        opp = simplices[side[real]].astype(np.int64).sum(axis=1) - face_sum  # the vertex not on the face
+        opp = simplices[side[real]].sum(axis=1, dtype=np.int64) - face_sum  # the vertex not on the face
         hit = ids[((dpts[opp] - centre) ** 2).sum(axis=1) <= r2 * (1 + ATTACH_TOL)]
         via[hit] = np.minimum(via[hit], tet_r2[side[hit]])
     alpha = np.where(np.isfinite(via), via, t_r2)
