@@ -203,14 +203,14 @@ class AlphaLadder:
         return connected_components(graph, directed=False)[1]
 
     def loops(self) -> np.ndarray:
-        """The persistence pairs of the 1-cycles, in the plane: rows (birth radius, death radius, u, v, t).
+        """The persistence pairs of the 1-cycles, in the plane: rows (birth radius, death radius, u, v).
 
-        (u, v) is the edge whose arrival makes the cycle, and t the number of triangles in the region the
-        cycle bounds when it is born (their samples: :meth:`loop_samples`).  By duality in the plane a
-        cycle is a bounded region of the complement, so the pairs are the 0-dimensional persistence of the dual graph
-        (triangles, joined across edges, and the outside) with the filtration reversed: taking simplices
-        out from the largest value down, a triangle starts a region, an edge merges the two regions on
-        its sides, and the younger region ends (the elder rule).  Cycles of zero length are left out.
+        (u, v) is the edge whose arrival makes the cycle (the samples of its region:
+        :meth:`loop_samples`).  By duality in the plane a cycle is a bounded region of the complement, so
+        the pairs are the 0-dimensional persistence of the dual graph (triangles, joined across edges,
+        and the outside) with the filtration reversed: taking simplices out from the largest value down,
+        a triangle starts a region, an edge merges the two regions on its sides, and the younger region
+        ends (the elder rule).  Cycles of zero length are left out.
         """
         if self.k != 2:
             raise ValueError("loops() reads the plane's 1-cycles by duality: points in R^2 only")
@@ -231,14 +231,16 @@ class AlphaLadder:
         e_alpha = self.levels[1]
         edge, young, elder = dual_merges(born, side_a, side_b, e_alpha)
         live = born[young] > e_alpha[edge]  # a region born and gone at one value is no cycle
-        region = merge_regions(m + 1, young, elder, young[live])[:m]
-        edge, young = edge[live], young[live]
-        size = np.bincount(region, minlength=m + 1)[young]
-        self._regions = (young, region)
-        pairs = np.c_[np.sqrt(e_alpha[edge]), np.sqrt(born[young]), edges[edge], size]
-        return np.asarray(pairs, dtype=float).reshape(-1, 5)
+        self._forest = (m, young, elder, young[live])
+        return np.c_[np.sqrt(e_alpha[edge[live]]), np.sqrt(born[young[live]]), edges[edge[live]]].reshape(-1, 4)
 
-    def loop_samples(self, i: int) -> np.ndarray:
-        """The samples of the triangles in the region of the ``i``-th cycle of :meth:`loops` at its birth."""
-        young, region = self._regions
-        return np.unique(self.faces[2][region == young[i]].ravel())
+    def loop_samples(self, chosen: np.ndarray) -> list[np.ndarray]:
+        """The samples of the region of each chosen cycle of :meth:`loops` (row indices) at its birth.
+
+        A region at its birth is every triangle merged into it before then, less the regions of the other
+        chosen cycles inside it (two nested circles: the inner disc is not part of the ring's region).
+        """
+        m, young, elder, cycles = self._forest
+        roots = cycles[np.asarray(chosen, np.int64)]
+        region = merge_regions(m + 1, young, elder, roots)[:m]
+        return [np.unique(self.faces[2][region == r].ravel()) for r in roots.tolist()]

@@ -41,7 +41,9 @@ own: uncertain under LOOP_SUPPORTED, but its faces stand across the leg).
 
 The rule
 --------
-Only for closed M_S in R^3 (robust mode).  A void is persistent when it lives
+Only for closed M_S that are not the paper's own result (robust mode): surfaces
+in R^3 (:func:`joined_enclosures`) and curves in the plane (:func:`joined_loops`,
+with persistent 1-cycles and edges for voids and triangles).  A void is persistent when it lives
 from radius r to at least :data:`PERSISTENT` r (the curve rule's bound: an
 eps-sample with eps <= 1/2 keeps its enclosure from eps lfs to about lfs),
 and an enclosure when it is born below GAP_MIN times the largest local
@@ -115,7 +117,8 @@ def enclosure_voids(
     -------
     list of (birth, death, triangle, samples)
         Per persistent void: its birth and death radii, the birth triangle (three sample ids) and the
-        samples of the tetrahedra of its region at birth.
+        samples of the tetrahedra of its region at birth, less the regions of the persistent voids inside
+        it (a hollow ball's cavity is not part of its shell's region).
     """
     simplices = np.asarray(simplices)
     m = len(simplices)
@@ -239,7 +242,8 @@ def joined_loops(
     keep = np.flatnonzero(pairs[:, 1] >= PERSISTENT * pairs[:, 0])
     if len(keep) < 2:
         return []
-    cycles = [(pairs[i, 0], pairs[i, 2:4].astype(np.int64), ladder.loop_samples(int(i))) for i in keep.tolist()]
+    regions = ladder.loop_samples(keep)
+    cycles = [(pairs[i, 0], pairs[i, 2:4].astype(np.int64), s) for i, s in zip(keep.tolist(), regions, strict=True)]
     return _report(points, edges, normals, cycles, known, "curve")
 
 

@@ -46,8 +46,9 @@ path's result.
    rule does nothing (the growing path's result stays, open or flagged).
 3. Each curve's samples get a short closed tour: the greedy-edge tour,
    improved by 2-opt and Or-opt moves among each sample's :data:`NEIGHBOURS`
-   nearest until no move shortens it (in the plane a 2-opt-optimal tour does
-   not cross itself).  The tours replace the complex in one step of the log
+   nearest until no such move shortens it (each move shortens it by more than
+   :data:`SHORTER` of the lengths compared, so the moves end; a crossing of
+   two tour edges among near samples is undone by a 2-opt move).  The tours replace the complex in one step of the log
    (the edges removed, and the tours' edges added, oriented along the tour).
 4. The result is always *uncertain*: one ``component`` feature at the tours'
    longest step (its size that step in median spacings).  The rule runs where
@@ -83,6 +84,10 @@ NEIGHBOURS = 8
 #: span is a gap of the noise (on the ellipse at 1 % noise, 12 seeds: noise cycles at most 1.4, the
 #: curve's 8-11).
 PERSISTENT = 2.0
+#: A move is taken only when it shortens the tour by more than this share of the lengths it compares:
+#: well above their rounding (1e-16 relative), so that a move and its undoing cannot both look shorter
+#: (the removal gain of Or-opt can be negative; a tolerance that changed sign with it looped forever).
+SHORTER = 1e-12
 #: Radii tried for the split, from the last persistent cycle's birth on: a quarter octave apart.
 STEP = 2.0**0.25
 
@@ -255,7 +260,7 @@ def short_tour(points: np.ndarray, edges: np.ndarray) -> np.ndarray:
                 d = int(tour[(j + side) % n])
                 if c == b or d == a:
                     continue
-                if dist(a, c) + dist(b, d) < ab + dist(c, d) - 1e-12 * ab:
+                if dist(a, c) + dist(b, d) < ab + dist(c, d) - SHORTER * ab:
                     # a-b and c-d become a-c and b-d: reverse the stretch from b to c
                     if side == 1:
                         reverse((i + 1) % n, j)
@@ -368,7 +373,7 @@ def _or_move(tour: np.ndarray, pos: np.ndarray, a: int, near: np.ndarray, dist) 
                     ahead = dist(c, seg[0]) + dist(seg[-1], e)
                     back = dist(c, seg[-1]) + dist(seg[0], e)
                     cost = min(ahead, back) - dist(c, e)
-                    if cost < gain - 1e-12 * gain:
+                    if cost < gain - SHORTER * (abs(gain) + abs(cost)):
                         rest = [int(x) for x in np.roll(tour, -((i + size) % n))[: n - size]]  # q ... p
                         k = rest.index(c)
                         piece = seg if ahead <= back else seg[::-1]
