@@ -35,6 +35,13 @@ class Judged:
         """A right result that carries an uncertain feature (issue 18: at most one in ten)."""
         return self.right and sum(self.uncertain) > 0
 
+    def add_to(self, row: list[int]) -> None:
+        """Count this run in a tally row [right, total, wrong without a flag, right with one]."""
+        row[0] += self.right
+        row[1] += 1
+        row[2] += self.quiet_wrong
+        row[3] += self.right_flagged
+
 
 def judge(points: np.ndarray, betti: tuple[int, ...], noise: float, d: int = 2) -> Judged:
     """Reconstruct ``points`` (a d-manifold, a surface by default) and judge it: closed, ``betti``, every

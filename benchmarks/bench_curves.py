@@ -81,11 +81,7 @@ def main(argv: list[str]) -> int:
             curve.append(ratio[0])
             other.append(ratio[1] if len(ratio) > 1 else 1.0)
             j = judge(pts, (1, 1), 0.0, d=1)
-            row = tally["ellipses"]
-            row[0] += j.right
-            row[1] += 1
-            row[2] += j.quiet_wrong
-            row[3] += j.right_flagged
+            j.add_to(tally["ellipses"])
             print(
                 f"| {100 * frac:g} % | {seed} | {'yes' if j.right else 'no'} | {j.betti} | "
                 f"{'/'.join(map(str, j.uncertain))} | {curve[-1]:.2f} | {other[-1]:.2f} |",
@@ -101,11 +97,7 @@ def main(argv: list[str]) -> int:
             for noise in NOISE:
                 for seed in range(3):
                     j = judge(circle_pair(kind, gap, noise, seed), (2, 2), noise, d=1)
-                    row = tally["pairs"]
-                    row[0] += j.right
-                    row[1] += 1
-                    row[2] += j.quiet_wrong
-                    row[3] += j.right_flagged
+                    j.add_to(tally["pairs"])
                     print(
                         f"| {kind} | {gap:g} | {noise:g} | {seed} | {'yes' if j.right else 'no'} | {j.betti} | "
                         f"{'/'.join(map(str, j.uncertain))} |",

@@ -76,11 +76,7 @@ def main(argv: list[str]) -> int:
                 for seed in range(1, a.seeds + 1):
                     pts, betti = pair(kind, gap, noise, seed)
                     j = judge(pts, betti, noise)
-                    row = tally["near" if gap <= 4 else "apart"]
-                    row[0] += j.right
-                    row[1] += 1
-                    row[2] += j.quiet_wrong
-                    row[3] += j.right_flagged
+                    j.add_to(tally["near" if gap <= 4 else "apart"])
                     print(
                         f"| {kind} | {gap:g} | {noise:g} | {seed} | {'yes' if j.right else 'no'} | {j.betti} | "
                         f"{'/'.join(map(str, j.uncertain))} | {j.used:,} of {len(pts):,} | {j.seconds:.1f} |",
