@@ -78,3 +78,18 @@ def test_the_tour_ends_where_a_move_and_its_undoing_tie() -> None:
     pts = np.array([[0, 1], [1, 1], [2, 1], [3, 0], [3, 2]], float)
     tour = short_tour(pts, np.zeros((0, 2), np.int64))
     assert sorted(tour.tolist()) == [0, 1, 2, 3, 4]
+
+
+def test_the_tour_stops_when_cancelled() -> None:
+    import threading
+
+    import pytest
+
+    from crustview.core.errors import Cancelled
+
+    t = 2 * np.pi * np.random.default_rng(8).permutation(600) / 600
+    pts = np.c_[np.cos(t), np.sin(t)] + np.random.default_rng(9).normal(scale=0.01, size=(600, 2))
+    stop = threading.Event()
+    stop.set()
+    with pytest.raises(Cancelled):
+        short_tour(pts, np.zeros((0, 2), np.int64), stop)

@@ -360,7 +360,7 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
         pt, left, loops_cut = cut_short_loops(pt, points, left)
     doubts: list = []
     if F.shape[1] == 2:  # a curve the growing left broken: its samples' short tours
-        pt, left, doubts = tour_curve(pt, points, F, left)
+        pt, left, doubts = tour_curve(pt, points, F, left, cancel)
     # rows: T_S first (as in paper mode), then every other simplex in the order it first appeared
     outside = grown[grown >= n_ts]
     grown_rows = grown.copy()
