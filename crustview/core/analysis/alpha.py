@@ -40,6 +40,18 @@ from scipy.spatial import Delaunay
 
 from . import _components
 
+#: A cycle (a loop in the plane, a void in space) is one of the sample's own when it lives from radius r to
+#: at least this many times r: an eps-sample keeps a closed curve's loop, or the region a closed surface
+#: encloses, from about eps * lfs (its balls cover it) to about lfs, a ratio 1 / eps, which is 2 or more
+#: where eps <= 1/2 (the resolution the features' GAP_MIN and LOOP_SUPPORTED call resolved).  Measured
+#: (``benchmarks/bench_curves.py``): a noisy ellipse's loop 7.0-16.3, its noise's at most 1.51.
+PERSISTENT = 2.0
+#: Relative slack of the attachment test (a vertex within it of a face's smallest ball counts as inside):
+#: far above the rounding of the squared distances (1e-16 relative), far below any real gap.  Four samples
+#: on one circle (a grid's square) make a flat simplex whose circumcentre is anywhere on an axis; a face
+#: left out of it would wall off a void no union of balls has (the bumpy sphere's grid: 27 of them).
+ATTACH_TOL = 1e-9
+
 
 def _circumballs(points: np.ndarray, simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Centre and squared radius of the smallest ball through each simplex's vertices (in its affine hull)."""
@@ -150,8 +162,8 @@ class AlphaLadder:
             co = cofaces[owner]
             f = faces[face_of]
             opposite = co[~(co[:, :, None] == f[:, None, :]).any(axis=2)]
-            # a vertex on the sphere attaches the face too (as enclosures.ATTACH_TOL: co-circular grids)
-            inside = ((self.points[opposite] - centre[face_of]) ** 2).sum(axis=1) <= r2[face_of] * (1 + 1e-9)
+            # a vertex on the sphere attaches the face too (ATTACH_TOL: co-circular grids)
+            inside = ((self.points[opposite] - centre[face_of]) ** 2).sum(axis=1) <= r2[face_of] * (1 + ATTACH_TOL)
             alpha = np.full(len(faces), np.inf)
             np.minimum.at(alpha, face_of[inside], co_alpha[owner[inside]])
             alpha = np.where(np.isfinite(alpha), alpha, r2)
@@ -159,9 +171,6 @@ class AlphaLadder:
             self._incidence[j] = (owner, face_of)
             cofaces, co_alpha = faces, alpha
         levels[0] = np.zeros(n)
-        top_alpha = levels[k][np.isfinite(levels[k])]
-        #: Squared radius from which on every simplex is in the complex (the union is one filled blob).
-        self.filled = float(top_alpha.max()) if len(top_alpha) else 0.0
         self.levels, self.faces = levels, faces_of
         if k == 3:
             # which tetrahedra share each triangle (or one tetrahedron and the outside)

@@ -44,7 +44,7 @@ The rule
 Only for closed M_S that are not the paper's own result (robust mode): surfaces
 in R^3 (:func:`joined_enclosures`) and curves in the plane (:func:`joined_loops`,
 with persistent 1-cycles and edges for voids and triangles).  A void is persistent when it lives
-from radius r to at least :data:`PERSISTENT` r (the curve rule's bound: an
+from radius r to at least :data:`~.alpha.PERSISTENT` r (the curve rule's bound: an
 eps-sample with eps <= 1/2 keeps its enclosure from eps lfs to about lfs),
 and an enclosure when it is born below GAP_MIN times the largest local
 spacing (:func:`~.radii.local_spacing` on M_S) at its birth triangle and that
@@ -68,20 +68,12 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..delaunay.adjacency import cell_adjacency
-from .alpha import AlphaLadder, dual_merges, merge_regions
+from .alpha import ATTACH_TOL, PERSISTENT, AlphaLadder, dual_merges, merge_regions
 from .contacts import STAND_ANGLE
 from .features import GAP_MIN, Feature
 from .loops import triangle_edges
 from .radii import local_spacing
 from .topology import graph_components
-
-#: A void is one of the sample's enclosures when it lives from radius r to at least this many times r:
-#: an eps-sample keeps the region it encloses from eps * lfs to about lfs, a ratio 1 / eps >= 2 where
-#: eps <= 1/2 (as ``robust.tour_curve.PERSISTENT``).
-PERSISTENT = 2.0
-#: Relative slack of the attachment test (a vertex within it of a face's smallest ball is inside): far
-#: above the rounding of the squared distances (1e-16 relative), far below any real gap.
-ATTACH_TOL = 1e-9
 
 
 def _triangle_balls(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -142,10 +134,8 @@ def enclosure_voids(
         np.maximum.at(fix, b, fin)
         tet_r2 = np.where(flat, fix, tet_r2)
     # a face whose smallest ball holds the opposite vertex of a tetrahedron is attached to it and enters
-    # with it (the first of the two to enter); otherwise with its own ball.  A vertex on the ball's sphere
-    # counts as inside (ATTACH_TOL): four samples on one circle (a grid's square) make a flat tetrahedron
-    # whose circumcentre is anywhere on an axis, and a face left out of it would wall off a void no union
-    # of balls has (the bumpy sphere's grid: 27 of them)
+    # with it (the first of the two to enter); otherwise with its own ball (a vertex on the sphere: see
+    # alpha.ATTACH_TOL)
     ids = np.flatnonzero(real)
     face_sum = faces[real].sum(axis=1, dtype=np.int64)
     via = np.full(len(faces), np.inf)

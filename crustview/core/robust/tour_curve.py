@@ -36,7 +36,7 @@ path's result.
 
 1. The persistence pairs (birth radius, death radius) of the 1-cycles of the
    alpha filtration are computed (:meth:`AlphaLadder.loops`).  A cycle that
-   lives from r to at least :data:`PERSISTENT` r is one of the sample's curves;
+   lives from r to at least :data:`~crustview.core.analysis.alpha.PERSISTENT` r is one of the sample's curves;
    the others are gaps of the noise.  Their number is c.
 2. From the radius where the last persistent cycle is born, in steps of a
    quarter octave while every persistent cycle is still there, the first
@@ -68,7 +68,7 @@ from collections import deque
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..analysis.alpha import AlphaLadder
+from ..analysis.alpha import PERSISTENT, AlphaLadder
 from ..analysis.features import Feature
 from ..errors import Cancelled
 from ..steps import RULE_TOUR
@@ -78,13 +78,6 @@ from .patcher import Patcher
 #: them).  Along a curve the tour's neighbours of a sample are among its few nearest; eight covers noise
 #: of the order of the spacing, where the two along-curve neighbours can be the fifth or sixth nearest.
 NEIGHBOURS = 8
-#: A cycle of the union of balls is one of the sample's curves when it lives from radius r to at least
-#: this many times r: an eps-sample of a closed curve closes its loop once the balls reach eps * lfs and
-#: keeps it until about the reach (lfs), a ratio 1 / eps, which is 2 or more where eps <= 1/2 (the
-#: resolution the features' GAP_MIN and LOOP_SUPPORTED call resolved).  A cycle that lives a shorter
-#: span is a gap of the noise (on the ellipse at 1 % noise, 12 seeds: noise cycles at most 1.4, the
-#: curve's 8-11).
-PERSISTENT = 2.0
 #: A move is taken only when it shortens the tour by more than this share of the lengths it compares:
 #: well above their rounding (1e-16 relative), so that a move and its undoing cannot both look shorter
 #: (the removal gain of Or-opt can be negative; a tolerance that changed sign with it looped forever).
