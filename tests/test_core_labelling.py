@@ -314,6 +314,55 @@ def test_open_scan_is_kept_open_by_open_cap():
     assert len(rim) > 20 and rec.points[rim, 2].min() > 0.15
 
 
+def test_typical_ratio_on_paper():
+    """A cap's largest enclosing radius over the median one of all faces: for a fan of 8 triangles of
+    radius 1 in a ring of 8 small ones, the median is the mean of the two middle radii (a small and a fan
+    face); with 16 more faces the size of the fan's, the median is the fan's own and the ratio 1."""
+    from crustview.core.analysis.features import enclosing_radii
+    from crustview.core.robust.cells import CAP_TYPICAL, typical_ratios
+
+    assert CAP_TYPICAL == pytest.approx(3**0.5)
+    pts, faces = _fan_with_ring(1.0, 0.1)
+    r = enclosing_radii(pts, faces)
+    (t,) = typical_ratios(faces, [np.arange(8)], r)
+    assert t == pytest.approx(r[:8].max() / ((r[:8].min() + r[8:].max()) / 2))
+    big = np.vstack([faces, faces[:8] + 0, faces[:8] + 0])  # the fan's faces again, as other faces of that size
+    (t,) = typical_ratios(big, [np.arange(8)], enclosing_radii(pts, big))
+    assert t == pytest.approx(1.0)
+
+
+def test_open_cap_passes_over_a_patch_no_larger_than_the_surface_in_general():
+    """A turned vase (``bench_shapes.py``: as many vertices on each ring as on the widest, rings 1.5 times
+    farther apart than the vertices along them) with noise of 0.1 h: the flat base and lid are dense near
+    the axis, and their faces a few rings out stand out only against that.  open-cap passes them over (a
+    note names them), so the result is the closed sphere through every sample with no uncertain hole;
+    with CAP_TYPICAL at 0 (every patch over CAP_RATIO a cap) the same sample keeps caps as uncertain holes."""
+    import sys
+    from pathlib import Path
+
+    from scipy.spatial import cKDTree
+
+    from crustview.core.robust import cells
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from bench_shapes import lathe, profile_vase
+
+    verts, _ = lathe(profile_vase(), 96, 1.5)
+    h = np.median(cKDTree(verts).query(verts, k=2)[0][:, 1])
+    pts = verts + np.random.default_rng(1).normal(scale=0.1 * h, size=verts.shape)
+    rec = reconstruct(pts, 2)
+    assert rec.topology.closed_manifold and rec.topology.betti == (1, 0, 1) and rec.topology.unused_samples == 0
+    assert not [f for f in rec.uncertain_features if f.kind == "hole"]
+    assert any("CAP_TYPICAL" in note for note in rec.extraction.notes)
+    saved = cells.CAP_TYPICAL
+    try:
+        cells.CAP_TYPICAL = 0.0
+        again = reconstruct(pts, 2)
+    finally:
+        cells.CAP_TYPICAL = saved
+    assert [f for f in again.uncertain_features if f.kind == "hole" and "open-cap" in f.reason]
+
+
 def test_steplog_rows_and_replay():
     """A face removed and added again gets a new row; T_S rows are reused once."""
     ts = np.array([[0, 1, 2], [0, 2, 3]])
