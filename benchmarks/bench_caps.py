@@ -1,4 +1,4 @@
-"""The caps open-cap examines, true openings or not: the sweep behind CAP_RATIO and CAP_SURE.
+"""The caps open-cap examines, true openings or not: the sweep behind CAP_RATIO, CAP_SURE and CAP_TYPICAL.
 
 For every mesh of ``../shared/data/scans`` and ``../shared/data/scans2`` and
 its noisy copies (0.1 h and 0.3 h, made by ``../shared/tools/noisy.py`` as in
@@ -6,7 +6,10 @@ its noisy copies (0.1 h and 0.3 h, made by ``../shared/tools/noisy.py`` as in
 CAP_RATIO that the rule ``open-cap`` examined (removed over CAP_SURE, kept
 closed in the band up to it) is listed with its ratio (its largest enclosing radius
 over the median one of the faces around it,
-:func:`crustview.core.robust.cells.cap_ratios`) and whether it is a true
+:func:`crustview.core.robust.cells.cap_ratios`, and over the median one of all
+faces of M_S, :func:`~crustview.core.robust.cells.typical_ratios`), what
+open-cap did with it (removed, kept closed, or passed over as no larger than
+the surface's faces in general) and whether it is a true
 opening: at least half of its samples are vertices of the mesh's own
 boundary edges.  The last lines give, per kind, the range of the ratios: the
 largest false cap and the smallest true opening are what
@@ -28,10 +31,10 @@ from scipy.spatial import cKDTree
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_scans import cases  # noqa: E402
+from bench_scans import Case, cases  # noqa: E402
 
 from crustview.core import reconstruct  # noqa: E402
-from crustview.core.robust.cells import CAP_RATIO, CAP_SURE  # noqa: E402
+from crustview.core.robust.cells import CAP_RATIO, CAP_SURE, CAP_TYPICAL  # noqa: E402
 from crustview.io import read_mesh  # noqa: E402
 
 
@@ -60,33 +63,59 @@ def main(argv: list[str] | None = None) -> int:
         help="extra noise draws at 0.3 h of every clean mesh, e.g. 11,12,13 (numpy's Gaussian, this seed)",
     )
     ap.add_argument("--noisy-dir", type=Path, default=Path(__file__).resolve().parent / ".noisy")
+    ap.add_argument(
+        "--lathes",
+        action="store_true",
+        help="also bench_shapes.py's lathe meshes (closed: every cap there is false) at 0.1 h and 0.3 h, seeds 1-2",
+    )
     args = ap.parse_args(argv)
     true_q, false_q = [], []
-    print("| file | cap samples | ratio | true opening | open-cap |")
-    print("|---|---|---|---|---|")
+    print("| file | cap samples | ratio to its ring | to the median face | true opening | open-cap |")
+    print("|---|---|---|---|---|---|")
     todo = cases(not args.clean_only, set(args.only) if args.only else None, args.noisy_dir)
     for seed in [int(x) for x in args.seeds.split(",") if x]:
         for case in [c for c in todo if c.noise == 0]:
             h = float(np.median(cKDTree(case.points).query(case.points, k=2)[0][:, 1]))
             pts = case.points + np.random.default_rng(seed).normal(scale=0.3 * h, size=case.points.shape)
             todo.append(replace(case, name=f"{case.name}-n30s{seed}", points=pts, noise=0.3))
+    if args.lathes:
+        from bench_shapes import _shapes
+
+        for name, make in _shapes().items():
+            if not name.startswith(("vase", "bottle", "cup", "torus")):
+                continue
+            verts, _ = make()
+            h = float(np.median(cKDTree(verts).query(verts, k=2)[0][:, 1]))
+            for noise in (0.1, 0.3):
+                for seed in (1, 2):
+                    pts = verts + np.random.default_rng(seed).normal(scale=noise * h, size=verts.shape)
+                    todo.append(Case(f"{name}@{noise:g}/{seed}", pts, {}, noise))
     for case in todo:
         rec = reconstruct(case.points, 2)
         bnd = boundary_vertices(case.name)
         ext = rec.extraction
-        examined = [(v, q, "removed") for v, q in getattr(ext, "opened", [])]
-        examined += [(v, q, "kept closed") for v, q in getattr(ext, "undecided", [])]
-        for verts, ratio, done in examined:
+        opened = {v.tobytes() for v, _ in getattr(ext, "opened", [])}
+        kept = {v.tobytes() for v, _ in getattr(ext, "undecided", [])}
+        for verts, ratio, typical in getattr(ext, "examined_caps", []):
+            key = verts.tobytes()
+            done = "removed" if key in opened else "kept closed" if key in kept else "passed over"
             rows = rec.point_input[verts]
             real = bool(np.isin(rows, bnd).mean() >= 0.5) if len(bnd) else False
-            (true_q if real else false_q).append(ratio)
-            print(f"| {case.name} | {len(verts)} | {ratio:.2f} | {'yes' if real else 'no'} | {done} |", flush=True)
+            (true_q if real else false_q).append((ratio, typical))
+            print(
+                f"| {case.name} | {len(verts)} | {ratio:.2f} | {typical:.2f} | {'yes' if real else 'no'} | {done} |",
+                flush=True,
+            )
     print()
-    print(f"CAP_RATIO = {CAP_RATIO:g}, CAP_SURE = {CAP_SURE:g}")
-    for kind, q in (("true openings", true_q), ("false caps", false_q)):
-        if q:
-            below = sum(x < CAP_SURE for x in q)
-            print(f"{kind}: {len(q)}, ratios {min(q):.2f}-{max(q):.2f}, {below} under CAP_SURE")
+    print(f"CAP_RATIO = {CAP_RATIO:g}, CAP_SURE = {CAP_SURE:g}, CAP_TYPICAL = {CAP_TYPICAL:.3g}")
+    for kind, qt in (("true openings", true_q), ("false caps", false_q)):
+        if qt:
+            q, t = [x for x, _ in qt], [y for _, y in qt]
+            print(
+                f"{kind}: {len(q)}, ratios to the ring {min(q):.2f}-{max(q):.2f} ({sum(x < CAP_SURE for x in q)} under "
+                f"CAP_SURE), to the median face {min(t):.2f}-{max(t):.2f} ({sum(y <= CAP_TYPICAL for y in t)} at most "
+                "CAP_TYPICAL)"
+            )
         else:
             print(f"{kind}: none")
     return 0
