@@ -76,9 +76,9 @@ CAP_SURE = 2 * CAP_RATIO
 #: sampled as densely as the surface is in general.  It stands out against its ring only because the ring is
 #: oversampled (a lathe mesh's rings near its axis, all with as many vertices as the widest; a tentacle tip):
 #: CAP_RATIO's Lipschitz argument bounds how fast the sampling radius may grow, not how dense a sample may be.
-#: Such a patch is no cap.  ``benchmarks/bench_caps.py`` lists both ratios: on the public scans and their noisy
-#: copies the true openings measure 2.99-69 here, 30 of the 99 false caps under 2; on ``bench_shapes.py``'s
-#: noisy lathe meshes almost every false cap measures 0.5-1.1.
+#: Such a patch is no cap.  ``benchmarks/bench_caps.py --lathes`` lists both ratios: on the public scans and
+#: their noisy copies the 28 true openings measure 2.99-69.8 here, 14 of the 94 false caps at most sqrt(3); on
+#: ``bench_shapes.py``'s noisy lathe meshes 77 of the 85 false caps (51 of them 0.53-1.1).
 CAP_TYPICAL = math.sqrt(3)
 
 
