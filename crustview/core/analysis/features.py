@@ -146,7 +146,13 @@ class Feature:
 
 
 def features(
-    points: np.ndarray, simplices: np.ndarray, d: int, spacing: np.ndarray | None = None, *, tighten_loops: bool = True
+    points: np.ndarray,
+    simplices: np.ndarray,
+    d: int,
+    spacing: np.ndarray | None = None,
+    *,
+    tighten_loops: bool = True,
+    handles_only: bool = False,
 ) -> list[Feature]:
     """Every handle, hole and component of a complex, with its support.
 
@@ -166,6 +172,9 @@ def features(
         (:func:`.necks.tighten`).  ``cut-handle`` measures the loops of the basis search as they come
         (its cuts are decided as before); the report, and the robust driver's choice between the
         labelled and the grown result (below 5,000 samples), measure them tightened.
+    handles_only : bool
+        Only the handles (what ``cut-handle`` looks at): the components, the samples M_S does not
+        reach and the holes are not measured.  The handles are the same either way.
 
     Returns
     -------
@@ -178,13 +187,14 @@ def features(
     simplices = np.asarray(simplices, dtype=np.int64).reshape(-1, d + 1)
     n = len(points)
     if len(simplices) == 0:
-        return left_out(points, simplices, d)  # an empty M_S reaches no sample
+        return [] if handles_only else left_out(points, simplices, d)  # an empty M_S reaches no sample
     h = local_spacing(points, simplices) if spacing is None else np.asarray(spacing, dtype=float)
-    out = _components(points, simplices, h) + left_out(points, simplices, d)
+    out = [] if handles_only else _components(points, simplices, h) + left_out(points, simplices, d)
     if d == 2:
         edges, tri_edges = triangle_edges(simplices)
         count = np.bincount(tri_edges.ravel(), minlength=len(edges))
-        out += _holes(points, edges, count, h)
+        if not handles_only:
+            out += _holes(points, edges, count, h)
         if not _no_loops(simplices, edges, tri_edges, count, n):
             out += _handles(points, simplices, edges, tri_edges, count, h, n, tighten_loops)
     return out

@@ -255,7 +255,7 @@ def cut_handles(ed: LabelEditor, points: np.ndarray) -> CutHandles:
             out.left = []
             break
         # the basis search's own loops, as the rule was measured with (the report tightens them)
-        found = features(points, surf, 2, tighten_loops=False)
+        found = features(points, surf, 2, tighten_loops=False, handles_only=True)
         short = [f for f in found if f.kind == "handle" and f.size_spacings < CUT_BELOW]
         out.left = short
         if not short or rnd == HANDLE_ROUNDS:

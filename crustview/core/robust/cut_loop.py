@@ -86,7 +86,7 @@ def cut_short_loops(pt: Patcher, points: np.ndarray, left: list[int]) -> tuple[P
             return pt, left, cut
         short = [
             f
-            for f in features(points, tri, 2, tighten_loops=False)
+            for f in features(points, tri, 2, tighten_loops=False, handles_only=True)
             if f.kind == "handle" and f.size_spacings < LOOP_MIN and _loop(f) not in tried
         ]
         if not short:
