@@ -50,6 +50,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.spatial import cKDTree
 
+from ..util.vectors import cross3
 from .features import Feature
 from .loops import triangle_edges
 from .radii import local_spacing
@@ -91,7 +92,7 @@ def standing_faces(
     if len(triangles) == 0:
         return np.zeros(0, bool)
     p = points[triangles]
-    fn = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    fn = cross3(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
     fl = np.linalg.norm(fn, axis=1)
     nl = np.linalg.norm(normals, axis=1)
     has = np.isfinite(nl) & (nl > 0)
@@ -263,7 +264,7 @@ def bridged_handles(points: np.ndarray, triangles: np.ndarray, normals: np.ndarr
     if (count != 2).any():  # closed surfaces only (an open one's classes live on its capped form)
         return set()
     cocycles: dict = {}
-    if isinstance(short_basis(points, tri, edges, tri_edges, count, n, cocycles=cocycles), int):
+    if isinstance(short_basis(points, tri, edges, tri_edges, count, n, cocycles=cocycles, cocycles_only=True), int):
         return set()
     mask = cocycles["mask"]
     # a spanning forest of K's edge graph, the XOR of the masks up it, and each other edge's cycle

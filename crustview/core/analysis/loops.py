@@ -39,6 +39,7 @@ def short_basis(
     local: np.ndarray | None = None,
     surface: int | None = None,
     cocycles: dict | None = None,
+    cocycles_only: bool = False,
 ) -> list[tuple[np.ndarray, float]] | int:
     """A short Z/2 homology basis of the closed part of a triangulated surface.
 
@@ -67,6 +68,9 @@ def short_basis(
         Filled with what :func:`.necks.walk_class` needs to tell the class of any closed walk: ``mask`` (every
         edge's cohomology class, a bit per basis element), ``edge_ids`` (vertex pairs to edge ids) and
         ``graph`` (the edge graph, weighted by length).
+    cocycles_only : bool
+        Fill ``cocycles`` and return an empty list: the loops are not searched (the cocycles come from the
+        tree-cotree split alone, before the search, so they are the same either way).
 
     Returns
     -------
@@ -168,6 +172,8 @@ def short_basis(
     marked, marked_mask = edges[hot], mask[hot]
     if cocycles is not None:
         cocycles.update(mask=mask, edge_ids=edge_ids, graph=g)
+        if cocycles_only:
+            return []
     cand_len, cand_mask, cand_info = [], [], []
     spread_pred: dict[int, np.ndarray] = {}
     pm0 = _path_masks(pred0, marked, marked_mask)
