@@ -68,6 +68,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..delaunay.adjacency import cell_adjacency
+from ..util.vectors import cross3
 from .alpha import ATTACH_TOL, PERSISTENT, AlphaLadder, dual_merges, merge_regions
 from .contacts import STAND_ANGLE
 from .features import GAP_MIN, Feature
@@ -79,9 +80,9 @@ from .topology import graph_components
 def _triangle_balls(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Centre and squared radius of each triangle's circumcircle (its smallest circumscribing ball)."""
     a, b = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
-    axb = np.cross(a, b)
+    axb = cross3(a, b)
     den = 2 * np.einsum("ij,ij->i", axb, axb)
-    num = np.cross(np.einsum("ij,ij->i", a, a)[:, None] * b - np.einsum("ij,ij->i", b, b)[:, None] * a, axb)
+    num = cross3(np.einsum("ij,ij->i", a, a)[:, None] * b - np.einsum("ij,ij->i", b, b)[:, None] * a, axb)
     with np.errstate(divide="ignore", invalid="ignore"):
         off = num / den[:, None]
     r2 = np.einsum("ij,ij->i", off, off)
@@ -90,7 +91,11 @@ def _triangle_balls(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def enclosure_voids(
-    dpts: np.ndarray, simplices: np.ndarray, centres: np.ndarray, n: int
+    dpts: np.ndarray,
+    simplices: np.ndarray,
+    centres: np.ndarray,
+    n: int,
+    adjacency: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> list[tuple[float, float, np.ndarray, np.ndarray]]:
     """The persistent voids of the samples' alpha filtration.
 
@@ -118,7 +123,7 @@ def enclosure_voids(
         return []
     tet_r2 = ((centres - dpts[simplices[:, 0]]) ** 2).sum(axis=1)
     outside_tet = (simplices >= n).any(axis=1)
-    a, b, faces = cell_adjacency(simplices)
+    a, b, faces = cell_adjacency(simplices) if adjacency is None else adjacency
     both_out = outside_tet[a] & outside_tet[b]  # between two outside cells: never a wall of a void
     a, b, faces = a[~both_out], b[~both_out], faces[~both_out]
     real = (faces < n).all(axis=1)
@@ -178,6 +183,7 @@ def joined_enclosures(
     normals: np.ndarray,
     cells: tuple[np.ndarray, np.ndarray, np.ndarray],
     known: list[Feature] | None = None,
+    adjacency: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> list[Feature]:
     """Uncertain ``component`` features where one closed component of M_S holds two enclosures.
 
@@ -194,11 +200,14 @@ def joined_enclosures(
     known : list of Feature, optional
         Features already reported: a contact that an uncertain ``component`` feature already names (one
         of its samples in this enclosure, one in another) is not reported again.
+    adjacency : (a, b, faces), optional
+        The tetrahedra's shared faces (:func:`~crustview.core.delaunay.adjacency.cell_adjacency` of
+        ``cells``'s simplices), if already known (the labelling's).
     """
     tri = np.asarray(triangles, np.int64)
     if len(tri) == 0:
         return []
-    voids = enclosure_voids(*cells, len(points))
+    voids = enclosure_voids(*cells, len(points), adjacency)
     if len(voids) < 2:
         return []
     return _report(points, tri, normals, [(b, f, s) for b, _d, f, s in voids], known, "surface")
@@ -243,13 +252,14 @@ def joined_objects(
     normals: np.ndarray,
     cells: tuple[np.ndarray, np.ndarray, np.ndarray],
     known: list[Feature] | None = None,
+    adjacency: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> list[Feature]:
     """:func:`joined_enclosures` for a surface in R^3, :func:`joined_loops` for a curve in the plane, else none."""
     simplices = np.asarray(simplices, np.int64)
     if simplices.ndim != 2 or simplices.shape[1] != points.shape[1]:
         return []
     if points.shape[1] == 3:
-        return joined_enclosures(points, simplices, normals, cells, known)
+        return joined_enclosures(points, simplices, normals, cells, known, adjacency)
     if points.shape[1] == 2:
         return joined_loops(points, simplices, normals, known)
     return []
