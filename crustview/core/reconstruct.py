@@ -403,7 +403,9 @@ def reextract(
         # (not on the paper's own result: its guarantees hold, and at 300,000 samples the check costs 3 s)
         m = len(rec.delaunay_simplices)
         cells = (rec.delaunay_points / scale, rec.delaunay_simplices, rec.voronoi_vertices[:m] / scale)
-        found = joined_objects(rec.points / scale, manifold, rec.normals[:, :, 0], cells, feats)
+        lab = getattr(ext, "labelling", None)  # its shared faces are those of the same Delaunay cells
+        adjacency = None if lab is None or lab.simplices is not rec.delaunay_simplices else (lab.a, lab.b, lab.faces)
+        found = joined_objects(rec.points / scale, manifold, rec.normals[:, :, 0], cells, feats, adjacency)
         feats += [replace(f, location=f.location * scale) for f in found]
     if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and topo.closed_manifold and _beyond(counts):
         t1 = time.perf_counter()
