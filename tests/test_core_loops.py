@@ -105,3 +105,50 @@ def test_the_loop_basis_takes_each_candidate_exactly_when_it_raises_the_rank():
                 taken.append(rows[i])
                 want.append(i)
         assert got == want
+
+
+def _torus_mesh(a: int = 24, b: int = 12) -> tuple[np.ndarray, np.ndarray]:
+    """A triangulated torus (a x b grid, each square split in two): b1 = 2."""
+    u, v = np.meshgrid(np.arange(a), np.arange(b), indexing="ij")
+    t, p = 2 * np.pi * u.ravel() / a, 2 * np.pi * v.ravel() / b
+    pts = np.c_[(2 + 0.7 * np.cos(p)) * np.cos(t), (2 + 0.7 * np.cos(p)) * np.sin(t), 0.7 * np.sin(p)]
+    idx = np.arange(a * b).reshape(a, b)
+    i0, i1 = idx, np.roll(idx, -1, axis=0)
+    j0, j1 = i0, np.roll(i0, -1, axis=1)
+    k1 = np.roll(i1, -1, axis=1)
+    tris = np.concatenate([np.c_[i0.ravel(), i1.ravel(), k1.ravel()], np.c_[j0.ravel(), k1.ravel(), j1.ravel()]])
+    return pts, tris
+
+
+def test_cocycles_only_gives_the_full_search_s_cocycles():
+    """short_basis(..., cocycles_only=True) fills the same cocycles as the full search (they come from the
+    tree-cotree split before it) and returns no loop; the full search finds the torus's two."""
+    from crustview.core.analysis import loops
+
+    pts, tris = _torus_mesh()
+    edges, tri_edges = loops.triangle_edges(tris)
+    count = np.bincount(tri_edges.ravel(), minlength=len(edges))
+    full: dict = {}
+    basis = loops.short_basis(pts, tris, edges, tri_edges, count, len(pts), cocycles=full)
+    only: dict = {}
+    assert loops.short_basis(pts, tris, edges, tri_edges, count, len(pts), cocycles=only, cocycles_only=True) == []
+    assert len(basis) == 2 and set(only) == set(full) == {"mask", "edge_ids", "graph"}
+    assert np.array_equal(only["mask"], full["mask"]) and only["mask"].any()
+    assert (only["graph"] != full["graph"]).nnz == 0
+    assert np.array_equal(only["edge_ids"](tris[:, 0], tris[:, 1]), full["edge_ids"](tris[:, 0], tris[:, 1]))
+
+
+def test_handles_only_gives_the_same_handles():
+    """features(..., handles_only=True) lists exactly the handle features of the full report, and nothing else,
+    on a torus with a hole cut in it (so the full report also has a hole)."""
+    from crustview.core.analysis.features import features
+
+    pts, tris = _torus_mesh()
+    tris = tris[3:]  # a hole of three triangles
+    full = features(pts, tris, 2, tighten_loops=False)
+    only = features(pts, tris, 2, tighten_loops=False, handles_only=True)
+    assert {f.kind for f in full} >= {"hole", "handle"} and {f.kind for f in only} == {"handle"}
+    want = [f for f in full if f.kind == "handle"]
+    assert len(only) == len(want) == 2
+    for f, g in zip(only, want, strict=True):
+        assert f.size_spacings == g.size_spacings and np.array_equal(f.vertices, g.vertices)
