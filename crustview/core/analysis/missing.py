@@ -24,6 +24,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from ..util.nearest import nearest_distances
 from .features import GAP_MIN, Feature
 
 
@@ -51,7 +52,7 @@ def left_out(points: np.ndarray, simplices: np.ndarray, d: int) -> list[Feature]
         return []
     # the unit: the sample's median nearest-neighbour spacing (a lone outlier's own nearest
     # neighbour is far, and would join it to anything)
-    nn = cKDTree(points).query(points, k=2)[0][:, 1]
+    nn = nearest_distances(points)
     unit = float(np.median(nn[nn > 0])) if (nn > 0).any() else 1.0
     pairs = cKDTree(points[out_ids]).query_pairs(GAP_MIN * unit, output_type="ndarray").reshape(-1, 2)
     m = len(out_ids)

@@ -8,7 +8,8 @@ compare faces by them.
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
+
+from ..util.nearest import nearest_distances
 
 try:
     from . import _spacing
@@ -36,12 +37,12 @@ def local_spacing(points: np.ndarray, simplices: np.ndarray | None = None) -> np
         bare = np.flatnonzero(cover <= 0)
         if len(bare) == 0:  # every sample covered: no nearest-neighbour distance is needed
             return cover
-        dist = cKDTree(points).query(points[bare], k=2)[0][:, 1]
+        dist = nearest_distances(points)[bare]
         if (dist <= 0).any():  # a duplicate: its fallback is the median over every sample
             return np.where(cover > 0, cover, local_spacing(points))
         cover[bare] = dist
         return cover
-    dist = cKDTree(points).query(points, k=2)[0][:, 1]
+    dist = nearest_distances(points)
     return np.where(dist > 0, dist, np.median(dist[dist > 0]) if (dist > 0).any() else 1.0)
 
 

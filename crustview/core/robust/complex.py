@@ -74,9 +74,9 @@ class EditableComplex:
     @cached_property
     def nn(self) -> np.ndarray:
         """Distance from each sample to its nearest other sample."""
-        from scipy.spatial import cKDTree
+        from ..util.nearest import nearest_distances
 
-        return cKDTree(self.points).query(self.points, k=2)[0][:, 1]
+        return nearest_distances(self.points)
 
     @cached_property
     def _vstar(self) -> tuple[np.ndarray, np.ndarray]:

@@ -50,12 +50,11 @@ def size_ratio(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
     -------
     ndarray of shape (f,)
     """
-    from scipy.spatial import cKDTree
+    from ..util.nearest import nearest_distances
 
     if len(faces) == 0:
         return np.zeros(0)
-    dist, _ = cKDTree(points).query(points, k=2)
-    nn = dist[:, 1]
+    nn = nearest_distances(points)
     p = points[faces]
     if faces.shape[1] == 3:  # triangles: R = abc / (4 area), in closed form
         a = np.linalg.norm(p[:, 1] - p[:, 2], axis=1)

@@ -91,12 +91,12 @@ class HandleGuard:
 
     def _closable(self, verts: set[int]) -> bool:
         """Whether a boundary component is a hole that ``fill-hole`` closes (its size limits)."""
-        from scipy.spatial import cKDTree
+        from ..util.nearest import nearest_distances
 
         if len(verts) > FILL_MAX_FACES:
             return False
         if self._nn is None:
-            self._nn = cKDTree(self.points).query(self.points, k=2)[0][:, 1]
+            self._nn = nearest_distances(self.points)
             self._spacing = float(np.median(self._nn))
         ids = np.fromiter(verts, dtype=np.int64)
         p = self.points[ids]

@@ -41,9 +41,9 @@ repair rules (:mod:`.label_repair`) and the uncertainty report use.
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..delaunay.adjacency import cell_adjacency
+from ..util.nearest import nearest_distances
 
 try:  # the compiled kernel; the Python fallback below gives the same labels, slowly
     from . import _labels as _kernel
@@ -100,7 +100,7 @@ class Labelling:
         self.n, self.m = n, m
         self.simplices = simplices
         radius = np.linalg.norm(centres - delaunay_points[simplices[:, 0]], axis=1)
-        h = cKDTree(points).query(points, k=2)[0][:, 1]
+        h = nearest_distances(points)
         h = np.where(h > 0, h, np.median(h))
         self.spacing = h
         self.outside = (simplices >= n).any(axis=1)
