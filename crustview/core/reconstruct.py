@@ -299,7 +299,11 @@ def reextract(
             cells = None
             if rec.k - rec.d == 1 and rec.subspace_dim == rec.k:  # hypersurfaces: the labelling path
                 m = len(rec.delaunay_simplices)
-                cells = (rec.delaunay_points / scale, rec.delaunay_simplices, rec.voronoi_vertices[:m] / scale)
+
+                def _cells() -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # made only if the paper's loop fails
+                    return rec.delaunay_points / scale, rec.delaunay_simplices, rec.voronoi_vertices[:m] / scale
+
+                cells = _cells
             ext = extract_robust(
                 rec.points / scale,
                 rec.candidates.faces,
@@ -309,6 +313,7 @@ def reextract(
                 cells=cells,
                 cancel=cancel,
                 progress=lambda f: report("extraction", f),
+                rows_sorted=True,  # Candidates.faces: sorted rows
             )
         else:
             tset = rec.candidates.select(test, theta)
@@ -323,7 +328,12 @@ def reextract(
     timings["extraction"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     report("topology", 0.0)
-    topo = analyse(manifold, rec.n, rec.d)
+    # the robust driver analysed this very complex to decide on it (the same steps, samples and dimension)
+    known = getattr(ext, "final_topology", None)
+    if known is not None and known[:3] == (ext.n_steps, rec.n, rec.d):
+        topo = known[3]
+    else:
+        topo = analyse(manifold, rec.n, rec.d)
     counts = ext.counts_by_rule()
     if mode == "robust":
         _robust_messages(ext, topo)
