@@ -152,3 +152,31 @@ def test_handles_only_gives_the_same_handles():
     assert len(only) == len(want) == 2
     for f, g in zip(only, want, strict=True):
         assert f.size_spacings == g.size_spacings and np.array_equal(f.vertices, g.vertices)
+
+
+def test_spread_roots_are_the_norm_based_ones():
+    """_spread's in-place distances give numpy's norm bit for bit, so the same roots, at any scale and
+    dimension; on paper: four corners of a square from the first, the opposite corner comes next."""
+    from crustview.core.analysis.loops import _spread
+
+    def reference(points, vs, k):  # the plain farthest-point sampling with np.linalg.norm
+        p = points[vs]
+        chosen, dist = [0], np.linalg.norm(p - p[0], axis=1)
+        for _ in range(min(k, len(vs)) - 1):
+            j = int(np.argmax(dist))
+            if dist[j] == 0:
+                break
+            chosen.append(j)
+            dist = np.minimum(dist, np.linalg.norm(p - p[j], axis=1))
+        return [int(vs[j]) for j in chosen]
+
+    square = np.array([[0.0, 0], [1, 0], [1, 1], [0, 1]])
+    assert _spread(square, np.arange(4), 2) == [0, 2]
+    rng = np.random.default_rng(7)
+    for dim in (2, 3, 4):
+        for scale in (1e-6, 1.0, 1e6):
+            q = rng.normal(size=(4000, dim)) * scale
+            vs = np.sort(rng.choice(4000, 3000, replace=False))
+            assert _spread(q, vs, 12) == reference(q, vs, 12)
+    dup = np.zeros((5, 3))  # every vertex the same: one root
+    assert _spread(dup, np.arange(5), 12) == [0]

@@ -22,3 +22,15 @@ def test_cross3_is_numpy_s_cross_bit_for_bit() -> None:
     # rows taken from larger arrays (strided views), as the callers pass them
     p = rng.normal(size=(500, 3, 3))
     assert np.array_equal(cross3(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]))
+
+
+def test_edge_lengths_are_numpy_s_norms_bit_for_bit() -> None:
+    from crustview.core.util.vectors import edge_lengths
+
+    assert edge_lengths(np.array([[0.0, 0, 0], [3, 4, 0]]), np.array([[0, 1], [1, 0], [1, 1]])).tolist() == [5, 5, 0]
+    rng = np.random.default_rng(8)
+    for dim in (2, 3, 4, 5):
+        for scale in (1e-7, 1.0, 1e7):
+            p = rng.normal(size=(3000, dim)) * scale
+            e = rng.integers(0, 3000, size=(10000, 2))
+            assert np.array_equal(edge_lengths(p, e), np.linalg.norm(p[e[:, 0]] - p[e[:, 1]], axis=1))

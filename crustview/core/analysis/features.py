@@ -57,6 +57,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from ..util.nearest import nearest_distances
+from ..util.vectors import edge_lengths
 from .loops import capped, short_basis, triangle_edges
 from .necks import tighten, walk_class, walk_length
 from .radii import circumradii, enclosing_cover, enclosing_radii, local_spacing
@@ -335,7 +336,7 @@ def _strips(points: np.ndarray, edges: np.ndarray, rim: np.ndarray, lab: np.ndar
     hole_of[rim[:, 1]] = lab
     unit = np.zeros(n)
     unit[verts] = np.maximum(nearest_distances(points)[verts], h[verts])
-    length = np.linalg.norm(points[edges[:, 0]] - points[edges[:, 1]], axis=1)
+    length = edge_lengths(points, edges)
     graph = coo_matrix((length, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
     limit = GAP_MIN * float(unit[verts].max())
     out: dict[int, float] = {}
