@@ -173,10 +173,24 @@ def test_spread_roots_are_the_norm_based_ones():
     square = np.array([[0.0, 0], [1, 0], [1, 1], [0, 1]])
     assert _spread(square, np.arange(4), 2) == [0, 2]
     rng = np.random.default_rng(7)
-    for dim in (2, 3, 4):
+    for dim in (2, 3, 4, 7, 8, 9, 10):
         for scale in (1e-6, 1.0, 1e6):
             q = rng.normal(size=(4000, dim)) * scale
             vs = np.sort(rng.choice(4000, 3000, replace=False))
             assert _spread(q, vs, 12) == reference(q, vs, 12)
     dup = np.zeros((5, 3))  # every vertex the same: one root
     assert _spread(dup, np.arange(5), 12) == [0]
+
+
+def test_spread_distances_are_numpy_s_norms_bit_for_bit():
+    """The distance rows _spread takes its maxima of equal the norm-based ones, value for value, so no near
+    tie can go the other way (below 8 coordinates; from 8 on _spread is the norm-based loop itself)."""
+    from crustview.core.analysis.loops import _distances_to
+
+    rng = np.random.default_rng(11)
+    for dim in (1, 2, 3, 5, 7):
+        for scale in (1e-6, 1.0, 1e6):
+            q = rng.normal(size=(2000, dim)) * scale
+            cols = np.ascontiguousarray(q.T)
+            for j in (0, 17, 1999):
+                assert np.array_equal(_distances_to(cols, j), np.linalg.norm(q - q[j], axis=1))

@@ -26,6 +26,7 @@ def test_a_copy_with_the_same_values_is_served_from_the_cache_read_only() -> Non
     assert again is first
     with pytest.raises(ValueError):
         again[0] = 1.0
+    assert again.base is None or not again.base.flags.writeable  # no writable array behind the shared one
     moved = q.copy()
     moved[7] += 1e-9  # one value changed: another key
     assert nearest_distances(moved) is not first

@@ -22,6 +22,28 @@ def test_cross3_is_numpy_s_cross_bit_for_bit() -> None:
     # rows taken from larger arrays (strided views), as the callers pass them
     p = rng.normal(size=(500, 3, 3))
     assert np.array_equal(cross3(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]))
+    # in numpy's memory layout (C order): an einsum over it sums in the same order as over numpy's
+    out = cross3(a, b)
+    assert out.flags["C_CONTIGUOUS"]
+    assert np.array_equal(np.einsum("ij,ij->i", out, a), np.einsum("ij,ij->i", np.cross(a, b), a))
+    # other dtypes are numpy's own answer
+    f32 = a.astype(np.float32), b.astype(np.float32)
+    assert cross3(*f32).dtype == np.float32 and np.array_equal(cross3(*f32), np.cross(*f32))
+
+
+def test_the_callers_of_cross3_compute_what_np_cross_gave() -> None:
+    """The enclosures' triangle balls, bit for bit, against the same formula with np.cross."""
+    from crustview.core.analysis.enclosures import _triangle_balls
+
+    rng = np.random.default_rng(9)
+    p = rng.normal(size=(3000, 3, 3))
+    a, b = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    axb = np.cross(a, b)
+    den = 2 * np.einsum("ij,ij->i", axb, axb)
+    num = np.cross(np.einsum("ij,ij->i", a, a)[:, None] * b - np.einsum("ij,ij->i", b, b)[:, None] * a, axb)
+    off = num / den[:, None]
+    centre, r2 = _triangle_balls(p)
+    assert np.array_equal(r2, np.einsum("ij,ij->i", off, off)) and np.array_equal(centre, p[:, 0] + off)
 
 
 def test_edge_lengths_are_numpy_s_norms_bit_for_bit() -> None:
@@ -29,7 +51,7 @@ def test_edge_lengths_are_numpy_s_norms_bit_for_bit() -> None:
 
     assert edge_lengths(np.array([[0.0, 0, 0], [3, 4, 0]]), np.array([[0, 1], [1, 0], [1, 1]])).tolist() == [5, 5, 0]
     rng = np.random.default_rng(8)
-    for dim in (2, 3, 4, 5):
+    for dim in (1, 2, 3, 4, 5, 7, 8, 9, 10, 17):  # from 8 on numpy sums in pairs, and so does edge_lengths (by numpy)
         for scale in (1e-7, 1.0, 1e7):
             p = rng.normal(size=(3000, dim)) * scale
             e = rng.integers(0, 3000, size=(10000, 2))

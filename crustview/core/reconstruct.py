@@ -334,6 +334,8 @@ def reextract(
         topo = known[3]
     else:
         topo = analyse(manifold, rec.n, rec.d)
+    if known is not None:
+        del ext.final_topology  # the report edits topo from here on; the extraction keeps no second reference
     counts = ext.counts_by_rule()
     if mode == "robust":
         _robust_messages(ext, topo)

@@ -16,7 +16,7 @@ import numpy as np
 from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra, minimum_spanning_tree
 
-from ..util.vectors import edge_lengths
+from ..util.vectors import SEQUENTIAL_SUM, edge_lengths
 from .necks import _reduce
 
 try:
@@ -312,29 +312,51 @@ def shortest_path_trees(g: csr_matrix, roots: list[int]) -> tuple[np.ndarray, np
 def _spread(points: np.ndarray, vs: np.ndarray, k: int) -> list[int]:
     """Up to k vertices of vs spread by farthest-point sampling.
 
-    Each distance is ``np.linalg.norm(p - p[j], axis=1)``'s, bit for bit: the squares of the coordinate
-    differences added in the same order (numpy reduces a row of three from its first entry on) and the
-    square root, over contiguous coordinate columns in place (0.14 -> 0.02 s for 300,000 vertices).
+    Each distance is ``np.linalg.norm(p - p[j], axis=1)``'s, bit for bit: for float64 points of fewer than
+    :data:`~crustview.core.util.vectors.SEQUENTIAL_SUM` coordinates, the squares of the coordinate
+    differences added in numpy's order (a short row from its first entry on) and the square root, over
+    contiguous coordinate columns in place (0.14 -> 0.02 s for 300,000 vertices); other points by numpy.
     """
-    cols = np.ascontiguousarray(np.asarray(points, dtype=np.float64)[vs].T)
-
-    def dist_to(j: int) -> np.ndarray:
-        out = cols[0] - cols[0, j]
-        out *= out
-        for c in cols[1:]:
-            diff = c - c[j]
-            diff *= diff
-            out += diff
-        return np.sqrt(out, out=out)
-
+    p = np.asarray(points)[vs]
+    if p.dtype != np.float64 or p.ndim != 2 or not 1 <= p.shape[1] < SEQUENTIAL_SUM:
+        return _spread_numpy(p, vs, k)
+    cols = np.ascontiguousarray(p.T)
     chosen = [0]
-    dist = dist_to(0)
+    dist = _distances_to(cols, 0)
     for _ in range(min(k, len(vs)) - 1):
         j = int(np.argmax(dist))
         if dist[j] == 0:
             break
         chosen.append(j)
-        np.minimum(dist, dist_to(j), out=dist)
+        np.minimum(dist, _distances_to(cols, j), out=dist)
+    return [int(vs[j]) for j in chosen]
+
+
+def _distances_to(cols: np.ndarray, j: int) -> np.ndarray:
+    """Distances from point j to every point, given as contiguous coordinate columns (k, n), k < 8.
+
+    ``np.linalg.norm(p - p[j], axis=1)`` bit for bit: the squared differences added from the first
+    coordinate on, then the square root.
+    """
+    out = cols[0] - cols[0, j]
+    out *= out
+    for c in cols[1:]:
+        diff = c - c[j]
+        diff *= diff
+        out += diff
+    return np.sqrt(out, out=out)
+
+
+def _spread_numpy(p: np.ndarray, vs: np.ndarray, k: int) -> list[int]:
+    """:func:`_spread` by ``np.linalg.norm`` (points of other dtypes, or of 8 and more coordinates)."""
+    chosen = [0]
+    dist = np.linalg.norm(p - p[0], axis=1)
+    for _ in range(min(k, len(vs)) - 1):
+        j = int(np.argmax(dist))
+        if dist[j] == 0:
+            break
+        chosen.append(j)
+        dist = np.minimum(dist, np.linalg.norm(p - p[j], axis=1))
     return [int(vs[j]) for j in chosen]
 
 

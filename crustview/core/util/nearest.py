@@ -45,7 +45,8 @@ def nearest_distances(points: np.ndarray) -> np.ndarray:
         if hit is not None:
             _cache.move_to_end(key)
             return hit
-    dist = cKDTree(p).query(p, k=2)[0][:, 1] if len(p) > 1 else np.full(len(p), np.inf)
+    # a copy of the column: the cache keeps n values, and no writable base array is left to reach them through
+    dist = cKDTree(p).query(p, k=2)[0][:, 1].copy() if len(p) > 1 else np.full(len(p), np.inf)
     dist.flags.writeable = False
     with _lock:
         _cache[key] = dist
