@@ -155,20 +155,13 @@ def test_handles_only_gives_the_same_handles():
 
 
 def test_spread_roots_are_the_norm_based_ones():
-    """_spread's in-place distances give numpy's norm bit for bit, so the same roots, at any scale and
-    dimension; on paper: four corners of a square from the first, the opposite corner comes next."""
-    from crustview.core.analysis.loops import _spread
+    """_spread's in-place distances give numpy's norm bit for bit, so the same roots as the plain
+    farthest-point sampling with np.linalg.norm (_spread_numpy, the loop as it was), at any scale and
+    dimension; on paper: of a square's corners, the opposite one comes after the first."""
+    from crustview.core.analysis.loops import _spread, _spread_numpy
 
-    def reference(points, vs, k):  # the plain farthest-point sampling with np.linalg.norm
-        p = points[vs]
-        chosen, dist = [0], np.linalg.norm(p - p[0], axis=1)
-        for _ in range(min(k, len(vs)) - 1):
-            j = int(np.argmax(dist))
-            if dist[j] == 0:
-                break
-            chosen.append(j)
-            dist = np.minimum(dist, np.linalg.norm(p - p[j], axis=1))
-        return [int(vs[j]) for j in chosen]
+    def reference(points, vs, k):
+        return _spread_numpy(points[vs], vs, k)
 
     square = np.array([[0.0, 0], [1, 0], [1, 1], [0, 1]])
     assert _spread(square, np.arange(4), 2) == [0, 2]
