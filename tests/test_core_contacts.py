@@ -174,7 +174,7 @@ def test_a_result_of_the_paper_s_own_algorithm_gets_no_rule_beyond_it() -> None:
     from pathlib import Path
 
     from crustview.core import reconstruct
-    from crustview.core.reconstruct import _beyond
+    from crustview.core.uncertainty import _beyond
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     from bench_shapes import lathe, profile_torus

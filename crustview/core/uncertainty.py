@@ -1,0 +1,182 @@
+"""How sure a run's result is: every feature of M_S with its support, as the report lists them.
+
+The features of M_S (:func:`~crustview.core.analysis.features.features`, or the robust driver's own), the
+features the robust rules removed or decided (cut handles, joined parts, caps kept closed), and, for a robust
+surface in R^3 that is not the paper's own result, the checks that can only add doubt: parts held by faces
+standing across the normals, handles only such faces carry, one component holding two enclosures, and
+``resample-check``.  Split from :mod:`crustview.core.reconstruct`, which runs the stages.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import replace
+
+import numpy as np
+
+from .analysis.contacts import BRIDGED, bridged_handles, hidden_parts
+from .analysis.enclosures import joined_objects
+from .analysis.features import LOOP_MIN, Feature, features, summary_suffix
+from .analysis.resample import Resampled, resample_check
+from .prepare import DEFAULT_JOGGLE
+from .result import Reconstruction, TopologyReport
+from .steps import RULE_PRUNE, RULE_RESOLVE, Extraction
+
+
+def result_features(
+    rec: Reconstruction,
+    ext: Extraction,
+    manifold: np.ndarray,
+    topo: TopologyReport,
+    scale: float,
+    *,
+    mode: str,
+    test: str,
+    theta: float,
+    resample: bool,
+    contacts: bool,
+    cancel: object | None,
+    report: Callable[[str, float], None],
+) -> list[Feature]:
+    """Every feature of ``manifold`` and of the rules' decisions, with whether the sample supports it.
+
+    Parameters
+    ----------
+    rec : Reconstruction
+        The run before Algorithm 3 (its samples, normals, Delaunay cells).
+    ext : Extraction
+        Algorithm 3's run (its features, removed features and step counts).
+    manifold : ndarray of shape (s, d + 1)
+        M_S.
+    topo : TopologyReport
+        Its analysis; the messages about removed and uncertain features are appended.
+    scale : float
+        The exact power-of-two rescaling the run used (sizes are ratios; locations are scaled back).
+    mode, test, theta
+        The extraction's settings (``resample-check`` reruns with them).
+    resample, contacts : bool
+        As in :func:`crustview.core.reconstruct.reconstruct`.
+    cancel, report
+        Cancellation and progress of the run.
+
+    Returns
+    -------
+    list of Feature
+    """
+    counts = ext.counts_by_rule()
+    # on the rescaled samples (sizes are ratios; locations are scaled back)
+    feats = [
+        replace(f, location=f.location * scale)
+        for f in (features(rec.points / scale, manifold, rec.d) if ext.features is None else ext.features)
+        + list(ext.disputed)
+    ]
+    # a handle cut in the band [LOOP_MIN, LOOP_SUPPORTED) stays uncertain: a sample coarser than
+    # eps = 1/2 resolves it, so the sample did not decide it; one below LOOP_MIN is below what any
+    # eps < 1 sample resolves, and its removal is what the sampling condition implies
+    feats += [
+        replace(
+            f,
+            location=f.location * scale,
+            # the growing path's cuts (robust/cut_loop.py) come marked removed, sure or not already
+            uncertain=f.uncertain if f.removed else f.size_spacings >= LOOP_MIN,
+            removed=True,
+            reason=f"removed (rule cut-handle): {f.reason}",
+        )
+        for f in ext.removed_features
+        if f.kind == "handle"
+    ]
+    # a separation join-parts removed is always uncertain: the gap was below what the sample resolves,
+    # and two objects that touch look the same as one thin attachment
+    feats += [
+        replace(
+            f, location=f.location * scale, uncertain=True, removed=True, reason=f"joined (rule join-parts): {f.reason}"
+        )
+        for f in ext.removed_features
+        if f.kind == "component"
+    ]
+    # a cap open-cap kept closed is a possible opening the sample did not decide: always uncertain
+    feats += [replace(f, location=f.location * scale) for f in ext.removed_features if f.kind == "hole"]
+    if contacts and mode == "robust" and (rec.k, rec.d) == (3, 2) and _beyond(counts):
+        # parts held together only by faces that stand across the normals: a contact no rule decided
+        feats += [
+            replace(f, location=f.location * scale)
+            for f in hidden_parts(rec.points / scale, manifold, rec.normals[:, :, 0], feats)
+        ]
+        # and handles whose loops only such faces carry (two contacts between the same two parts)
+        if topo.closed_manifold and topo.betti[1]:
+            bridged = bridged_handles(rec.points / scale, manifold, rec.normals[:, :, 0], feats)
+            feats = [
+                replace(f, uncertain=True, reason=f"{f.reason} ({BRIDGED})") if i in bridged else f
+                for i, f in enumerate(feats)
+            ]
+    if contacts and mode == "robust" and topo.closed_manifold and _beyond(counts) and rec.subspace_dim == rec.k:
+        # one closed component holding two regions the sample encloses: objects joined where they touch
+        # (not on the paper's own result: its guarantees hold, and at 300,000 samples the check costs 3 s)
+        m = len(rec.delaunay_simplices)
+        cells = (rec.delaunay_points / scale, rec.delaunay_simplices, rec.voronoi_vertices[:m] / scale)
+        lab = getattr(ext, "labelling", None)  # its shared faces are those of the same Delaunay cells
+        adjacency = None if lab is None or lab.simplices is not rec.delaunay_simplices else (lab.a, lab.b, lab.faces)
+        found = joined_objects(rec.points / scale, manifold, rec.normals[:, :, 0], cells, feats, adjacency)
+        feats += [replace(f, location=f.location * scale) for f in found]
+    if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and topo.closed_manifold and _beyond(counts):
+        t1 = time.perf_counter()
+        feats, said = resample_check(
+            rec.points, feats, topo.betti, lambda sub: _resampled(sub, rec, test, theta, cancel, report)
+        )
+        if said:
+            topo.messages.append(f"{said} ({time.perf_counter() - t1:.1f} s)")
+    below = [f for f in feats if f.removed and not f.uncertain]
+    if below:
+        topo.messages.append(
+            f"cut-handle removed {len(below)} "
+            + ("handles whose loops (" if len(below) > 1 else "handle whose loop (")
+            + ", ".join(f"{f.size_spacings:.3g}" for f in below[:5])
+            + (" ..." if len(below) > 5 else "")
+            + (" sampling radii) are" if len(below) > 1 else " sampling radii) is")
+            + " shorter than any eps < 1 sample resolves (2 pi): noise or a bridge, "
+            "below the sample's resolution (the JSON report lists them under removed_features)"
+        )
+    if any(f.uncertain for f in feats):
+        topo.messages.append(
+            "the sample does not support every feature of M_S: "
+            + summary_suffix(feats).strip("()")
+            + " (see uncertain_features)"
+        )
+    return feats
+
+
+def _beyond(counts: dict) -> bool:
+    """Whether the extraction took steps beyond the paper's Algorithm 3 (its result is not the paper's)."""
+    return any(rule not in (RULE_PRUNE, RULE_RESOLVE) and c["steps"] for rule, c in counts.items())
+
+
+#: The stages of a run in order, for the progress of ``resample-check``'s run (shown as the topology stage).
+_STAGES = ("prepare", "delaunay", "normals", "candidates", "extraction", "topology")
+
+
+def _resampled(
+    sub: np.ndarray, rec: Reconstruction, test: str, theta: float, cancel: object | None, report: Callable
+) -> Resampled:
+    """The reconstruction of some of the samples, the same way (``resample-check``'s run, without the check)."""
+
+    def progress(stage: str, frac: float) -> None:
+        i = _STAGES.index(stage) if stage in _STAGES else len(_STAGES) - 1
+        report("topology", 0.5 + 0.45 * (i + min(max(frac, 0.0), 1.0)) / len(_STAGES))
+
+    from .reconstruct import reconstruct  # the check's own run (imported here: that module imports this one)
+
+    r = reconstruct(
+        sub,
+        rec.d,
+        test=test,
+        theta=theta,
+        joggle=rec.joggle / rec.spacing if rec.spacing > 0 else DEFAULT_JOGGLE,  # the run's own, relative
+        mode="robust",
+        normals=rec.normals_method,
+        progress=progress,
+        cancel=cancel,
+        resample=False,
+        contacts=False,  # they add flags only; the check reads the Betti numbers and the handles' loops
+    )
+    return r.topology.betti, r.topology.closed_manifold, r.features, r.points
