@@ -50,7 +50,6 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.spatial import cKDTree
 
-from ..util.vectors import cross3
 from .features import Feature
 from .loops import triangle_edges
 from .radii import local_spacing
@@ -92,7 +91,7 @@ def standing_faces(
     if len(triangles) == 0:
         return np.zeros(0, bool)
     p = points[triangles]
-    fn = cross3(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    fn = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
     fl = np.linalg.norm(fn, axis=1)
     nl = np.linalg.norm(normals, axis=1)
     has = np.isfinite(nl) & (nl > 0)

@@ -68,7 +68,6 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..delaunay.adjacency import cell_adjacency
-from ..util.vectors import cross3
 from .alpha import ATTACH_TOL, PERSISTENT, AlphaLadder, dual_merges, merge_regions
 from .contacts import STAND_ANGLE
 from .features import GAP_MIN, Feature
@@ -80,9 +79,9 @@ from .topology import graph_components
 def _triangle_balls(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Centre and squared radius of each triangle's circumcircle (its smallest circumscribing ball)."""
     a, b = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
-    axb = cross3(a, b)
+    axb = np.cross(a, b)
     den = 2 * np.einsum("ij,ij->i", axb, axb)
-    num = cross3(np.einsum("ij,ij->i", a, a)[:, None] * b - np.einsum("ij,ij->i", b, b)[:, None] * a, axb)
+    num = np.cross(np.einsum("ij,ij->i", a, a)[:, None] * b - np.einsum("ij,ij->i", b, b)[:, None] * a, axb)
     with np.errstate(divide="ignore", invalid="ignore"):
         off = num / den[:, None]
     r2 = np.einsum("ij,ij->i", off, off)
