@@ -68,6 +68,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..delaunay.adjacency import cell_adjacency
+from ..util.vectors import squared_distances
 from .alpha import ATTACH_TOL, PERSISTENT, AlphaLadder, dual_merges, merge_regions
 from .contacts import STAND_ANGLE
 from .features import GAP_MIN, Feature
@@ -120,7 +121,7 @@ def enclosure_voids(
     m = len(simplices)
     if m == 0:
         return []
-    tet_r2 = ((centres - dpts[simplices[:, 0]]) ** 2).sum(axis=1)
+    tet_r2 = squared_distances(centres, None, dpts, simplices[:, 0])
     outside_tet = (simplices >= n).any(axis=1)
     a, b, faces = cell_adjacency(simplices) if adjacency is None else adjacency
     both_out = outside_tet[a] & outside_tet[b]  # between two outside cells: never a wall of a void

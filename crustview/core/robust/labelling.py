@@ -44,6 +44,7 @@ import numpy as np
 
 from ..delaunay.adjacency import cell_adjacency
 from ..util.nearest import nearest_distances
+from ..util.vectors import squared_distances
 
 try:  # the compiled kernel; the Python fallback below gives the same labels, slowly
     from . import _labels as _kernel
@@ -99,7 +100,8 @@ class Labelling:
         m = len(simplices)
         self.n, self.m = n, m
         self.simplices = simplices
-        radius = np.linalg.norm(centres - delaunay_points[simplices[:, 0]], axis=1)
+        # numpy's norm of centres - delaunay_points[simplices[:, 0]], bit for bit (util/vectors.py)
+        radius = np.sqrt(squared_distances(centres, None, delaunay_points, simplices[:, 0]))
         h = nearest_distances(points)
         h = np.where(h > 0, h, np.median(h))
         self.spacing = h
@@ -110,7 +112,7 @@ class Labelling:
         self.rho = np.where(cnt > 0, radius / np.where(ht > 0, ht, 1.0), np.inf)
         a, b, faces = cell_adjacency(simplices)
         self.a, self.b, self.faces = a, b, faces
-        d2 = ((centres[a] - centres[b]) ** 2).sum(axis=1)
+        d2 = squared_distances(centres, a, centres, b)
         with np.errstate(invalid="ignore", divide="ignore"):
             cos = (radius[a] ** 2 + radius[b] ** 2 - d2) / (2 * radius[a] * radius[b])
         self.cos_alpha = np.clip(np.nan_to_num(cos, nan=1.0), -1.0, 1.0)
