@@ -223,9 +223,9 @@ def test_two_holes_with_a_strip_narrower_than_two_spacings_between_them_are_unce
 
 
 def test_the_loop_search_is_skipped_exactly_when_b1_is_zero():
-    """_no_loops by Euler-Poincare: an octahedron and two octahedra sharing a vertex (b1 = 0) skip the
+    """no_loops by Euler-Poincare: an octahedron and two octahedra sharing a vertex (b1 = 0) skip the
     loop basis; a torus (b1 = 2) and an open sheet do not, and the torus keeps its two handles."""
-    from crustview.core.analysis.features import _no_loops
+    from crustview.core.analysis import loops
     from crustview.core.analysis.loops import triangle_edges
 
     octa = np.array([[0, 2, 4], [0, 2, 5], [0, 3, 4], [0, 3, 5], [1, 2, 4], [1, 2, 5], [1, 3, 4], [1, 3, 5]])
@@ -233,7 +233,7 @@ def test_the_loop_search_is_skipped_exactly_when_b1_is_zero():
 
     def no_loops(tris, n):
         e, te = triangle_edges(tris)
-        return _no_loops(tris, e, te, np.bincount(te.ravel(), minlength=len(e)), n)
+        return loops.no_loops(tris, e, te, np.bincount(te.ravel(), minlength=len(e)), n)
 
     assert no_loops(octa, 6) and no_loops(wedge, 11)
     assert analyse(wedge, 11, 2).betti[1] == 0

@@ -251,6 +251,32 @@ def short_basis(
     return result
 
 
+def no_loops(tris: np.ndarray, edges: np.ndarray, tri_edges: np.ndarray, count: np.ndarray, n: int) -> bool:
+    """Whether a complex whose every edge has two triangles has b1 = 0 (Z/2): then it has no handle.
+
+    Euler-Poincare over Z/2: V - E + F = b0 - b1 + b2.  With two triangles at
+    every edge, the 2-cycles are the unions of the pieces that triangles form
+    across edges, so b2 is their number, and b1 = b0 + b2 - (V - E + F).  Most
+    scans are spheres: their loop basis, the features' costliest part, is then
+    not searched for.  False for any other complex (it is searched as before).
+    """
+    if len(count) == 0 or not (count == 2).all():
+        return False
+    used = np.flatnonzero(np.bincount(tris.ravel(), minlength=n))
+    chi = len(used) - len(edges) + len(tris)
+    if chi <= 0:  # b1 = b0 + b2 - chi > 0: every genus >= 1 surface, no component count needed
+        return False
+    _, b0_label = connected_components(
+        coo_matrix((np.ones(len(edges), np.int8), (edges[:, 0], edges[:, 1])), shape=(n, n)), directed=False
+    )
+    b0 = len(np.unique(b0_label[used]))
+    # triangles across each edge: the edge's two triangles, paired
+    owner = np.argsort(tri_edges.ravel(), kind="stable") // 3
+    t = len(tris)
+    b2, _ = connected_components(coo_matrix((np.ones(len(edges), np.int8), (owner[0::2], owner[1::2])), shape=(t, t)))
+    return b0 + b2 - chi == 0
+
+
 def _independent(masks: np.ndarray, order: np.ndarray, rank: int) -> list[int]:
     """The candidates, in ``order``, that are independent of those before them over Z/2, up to ``rank`` of them.
 

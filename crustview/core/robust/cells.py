@@ -192,18 +192,17 @@ def kept_caps(points: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> 
         (as for a hole's rim) over their median nearest-neighbour distance: a rim's local spacing, the
         enclosing cover of M_S, would be inflated here by the cap's own large faces.
     """
-    from scipy.spatial import cKDTree
-
     from ..analysis.features import Feature
+    from ..util.nearest import nearest_distances
 
     if not caps_kept:
         return []
-    tree = cKDTree(points)
+    nn = nearest_distances(points)
     out = []
     for vs, q in caps_kept:
         p = points[vs]
         span = float(np.max(np.linalg.norm(p - p.mean(axis=0), axis=1)) * 2)
-        h = float(np.median(tree.query(p, k=2)[0][:, 1]))
+        h = float(np.median(nn[vs]))
         size = span / h if h > 0 else math.inf
         out.append(
             Feature(

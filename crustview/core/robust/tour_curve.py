@@ -72,6 +72,7 @@ from ..analysis.alpha import PERSISTENT, AlphaLadder
 from ..analysis.features import Feature
 from ..errors import Cancelled
 from ..steps import RULE_TOUR
+from ..util.nearest import nearest_distances
 from .patcher import Patcher
 
 #: Candidate partners of a 2-opt move: each sample's nearest samples (the move joins a sample to one of
@@ -197,7 +198,7 @@ def tour_curve(
             f"{NEIGHBOURS} nearest): {len(removed)} edges out, {len(added)} in",
         )
     )
-    h = float(np.median(cKDTree(points).query(points, k=2)[0][:, 1]))
+    h = float(np.median(nearest_distances(points)))
     length, a, b = longest
     size = length / h if h > 0 else math.inf
     doubt = Feature(
