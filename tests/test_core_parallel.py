@@ -156,6 +156,11 @@ def test_codimension_1_segment_ends_compiled_equal_numpy_bit_for_bit(monkeypatch
     plain = cand._segment_ends(work, normals, centres, faces, cells)
     for (b1, l1), (b2, l2) in zip(native, plain):
         assert np.array_equal(b1, b2) and np.array_equal(l1, l2)
+    # and the exact minimum over each segment from them, in the same pass
+    sin_lim = np.sin(cand.SCORE_LIMIT)
+    fused = cand._segment_sin2_native(work, normals, centres, faces, cells, sin_lim)
+    apart = np.stack([cand.segment_sin2(b, lean, sin_lim) for b, lean in plain], axis=1)
+    assert np.array_equal(fused, apart) and (fused == 0).sum() > 100 and (fused > sin_lim**2).sum() > 100
     # a Voronoi vertex on the sample itself: |x| = 0 is guarded the same way
     hit = centres.copy()
     hit[cells[0, 0]] = work[faces[0, 0]]

@@ -285,3 +285,60 @@ def test_segment_minimum_survives_nearly_parallel_generators():
     v, _ = conemin.segment_min(x1, x2, np.einsum("pr,prm->pm", x1, nrm), np.einsum("pr,prm->pm", x2, nrm))
     ref, _, ok = conemin.span_min(np.stack([x1, x2], axis=1), nrm)
     np.testing.assert_allclose(v[ok], ref[ok], atol=1e-6)
+
+
+def test_codimension_1_segment_minimum_by_hand():
+    """Seen from s = 0 with normal e3: a segment crossing the tangent plane scores 0; one on one side
+    scores at its nearer end (sin^2 = 1/2 at (1, 0, 1) against 4/5 at (0, 1, 2)), never inside."""
+    work = np.zeros((1, 3))
+    normals = np.array([[[0.0], [0.0], [1.0]]])
+    faces = np.zeros((2, 1), np.int64)
+    centres = np.array([[1.0, 0, 1], [1.0, 0, -1], [0.0, 1, 2]])
+    cells = np.array([[0, 1], [0, 2]])
+    ((best, lean),) = cand._segment_ends(work, normals, centres, faces, cells)
+    sin2 = cand.segment_sin2(best, lean, np.sin(cand.SCORE_LIMIT))
+    assert sin2[0] == 0.0
+    assert np.isclose(sin2[1], 0.5)
+    # the same segments sampled densely: no point of the one-sided segment beats its ends
+    t = np.linspace(0, 1, 2001)[:, None]
+    y = centres[0] + t * (centres[2] - centres[0])
+    assert ((y[:, 2] ** 2 / (y**2).sum(axis=1)).min()) >= 0.5 - 1e-12
+
+
+def test_codimension_1_scores_are_the_minimum_over_each_dual_segment():
+    """A noisy torus in R^3: an edge that crosses the tangent plane scores exactly 0; every other
+    (face, vertex) score below the limit is the minimum of sin^2 angle(y - s, AT_s) over 400 points of
+    the face's Voronoi edge, its ends included (no point inside beats them); scores at the limit are
+    at least the limit there."""
+    from crustview.core.samples.manifolds import get_manifold
+
+    rng = np.random.default_rng(7)
+    pts = get_manifold("torus").sample(700, seed=3).points
+    pts = pts + rng.normal(scale=0.01, size=pts.shape)
+    b = bounding_points(3)
+    simp = delaunay(pts, b)
+    allp = np.vstack([pts, b])
+    cc = circumcenters(allp, simp)
+    _, nrm, _ = greedy_poles(allp, simp, cc, len(pts), 1)
+    faces, ptr, cs = cand.enumerate_faces(simp, len(pts), 2)
+    got = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs, simplices=simp)
+    ends = cs.reshape(-1, 2)
+    pick = rng.choice(len(faces), 600, replace=False)
+    t = np.linspace(0.0, 1.0, 400)[None, :, None]
+    crossing = 0
+    for a in range(3):
+        s = allp[faces[pick, a]]
+        n = nrm[faces[pick, a], :, 0]
+        x = cc[ends[pick, 0]][:, None, :] + t * (cc[ends[pick, 1]] - cc[ends[pick, 0]])[:, None, :] - s[:, None, :]
+        sin2 = np.einsum("ftr,fr->ft", x, n) ** 2 / (x**2).sum(axis=2)
+        dense = np.arcsin(np.sqrt(sin2.min(axis=1)))
+        sides = np.sign(
+            np.einsum("fr,fr->f", cc[ends[pick, 0]] - s, n) * np.einsum("fr,fr->f", cc[ends[pick, 1]] - s, n)
+        )
+        cross = sides < 0
+        crossing += int(cross.sum())
+        assert (got[pick, a][cross] == 0.0).all()
+        one_side = ~cross & (dense < cand.SCORE_LIMIT - 1e-9)
+        assert np.allclose(got[pick, a][one_side], dense[one_side], rtol=0, atol=1e-9)
+        assert (got[pick, a][~cross & ~one_side] >= cand.SCORE_LIMIT - 1e-9).all()
+    assert crossing > 100  # the case the closed form is about

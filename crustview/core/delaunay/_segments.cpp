@@ -1,5 +1,5 @@
-// Algorithm 2's cocone score in codimension 1, first two steps, as
-// crustview.core.paper.candidates._score_segments does them in numpy.
+// Algorithm 2's cocone score in codimension 1, as
+// crustview.core.paper.candidates._score_segments does it in numpy.
 //
 // In codimension 1 the dual cell of a face is a segment between two Voronoi
 // vertices c0, c1 and every sample has one unit normal n.  For each face and
@@ -8,10 +8,12 @@
 //   best = min(p_0^2 / q_0, p_1^2 / q_1)          (sin^2 at the segment's ends)
 //   u_i = p_i / sqrt(q_i), side = sign(u_0 + u_1)  (u_0 + u_1 over max(|u_0 + u_1|, 1e-300))
 //   lean = min(u_0 side, u_1 side)                 (the one-sided certificate)
-// The caller certifies lean >= sin(limit) and runs the exact minimum on the
-// rest.  The arithmetic is numpy's, operation for operation (dot products
-// summed from the first coordinate, no fused multiply-add: -ffp-contract=off
-// in setup.py), so the scores are the same bit for bit.  No third-party code.
+// segments() returns best and lean; sin2() the exact minimum over the segment
+// from them (candidates.segment_sin2: the segment crosses the tangent plane
+// where lean <= 0, and otherwise its minimum is at an end).  The arithmetic is
+// numpy's, operation for operation (dot products summed from the first
+// coordinate, no fused multiply-add: -ffp-contract=off in setup.py), so the
+// scores are the same bit for bit.  No third-party code.
 
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -32,7 +34,10 @@ struct Inputs {
     int r, w;
 };
 
-void score(const Inputs& in, double* best, double* lean) {
+// With sin2 set, the exact minimum over the segment instead of best and lean (the caller's
+// candidates.segment_sin2, operation for operation): lean^2 where lean >= sin_lim, 0 where lean <= 0
+// (the segment crosses the tangent plane), else best (the nearer end: no point inside beats it).
+void score(const Inputs& in, double* best, double* lean, double* sin2 = nullptr, double sin_lim = 0.0) {
     for (std::int64_t i = 0; i < in.f; ++i) {
         const double* c0 = in.centres + in.cells[2 * i] * in.r;
         const double* c1 = in.centres + in.cells[2 * i + 1] * in.r;
@@ -53,28 +58,37 @@ void score(const Inputs& in, double* best, double* lean) {
             }
             q0 = std::max(q0, 1e-300);
             q1 = std::max(q1, 1e-300);
-            best[i * in.w + a] = std::min(p0 * p0 / q0, p1 * p1 / q1);
+            const double b = std::min(p0 * p0 / q0, p1 * p1 / q1);
             const double u0 = p0 / std::sqrt(q0), u1 = p1 / std::sqrt(q1);
             double side = u0 + u1;
             side /= std::max(std::fabs(side), 1e-300);
-            lean[i * in.w + a] = std::min(u0 * side, u1 * side);
+            const double l = std::min(u0 * side, u1 * side);
+            if (sin2 != nullptr) {
+                sin2[i * in.w + a] = l >= sin_lim ? l * l : (l <= 0.0 ? 0.0 : b);
+            } else {
+                best[i * in.w + a] = b;
+                lean[i * in.w + a] = l;
+            }
         }
     }
 }
 
-PyObject* segments(PyObject* /*self*/, PyObject* args) {
-    Py_buffer work, normals, centres, faces, cells;
+// Parses and checks the arrays of both entry points; false (with a Python error set) if they do not fit.
+bool parse(PyObject* args, Py_buffer (&bufs)[5], Inputs& in, double* sin_lim) {
     int r = 0, w = 0;
-    if (!PyArg_ParseTuple(args, "y*y*y*y*y*ii", &work, &normals, &centres, &faces, &cells, &r, &w)) {
-        return nullptr;
+    const bool ok = sin_lim == nullptr
+                        ? PyArg_ParseTuple(args, "y*y*y*y*y*ii", &bufs[0], &bufs[1], &bufs[2], &bufs[3], &bufs[4], &r, &w)
+                        : PyArg_ParseTuple(args, "y*y*y*y*y*iid", &bufs[0], &bufs[1], &bufs[2], &bufs[3], &bufs[4], &r,
+                                           &w, sin_lim);
+    if (!ok) {
+        return false;
     }
     const auto release = [&] {
-        PyBuffer_Release(&work);
-        PyBuffer_Release(&normals);
-        PyBuffer_Release(&centres);
-        PyBuffer_Release(&faces);
-        PyBuffer_Release(&cells);
+        for (auto& b : bufs) {
+            PyBuffer_Release(&b);
+        }
     };
+    Py_buffer &work = bufs[0], &normals = bufs[1], &centres = bufs[2], &faces = bufs[3], &cells = bufs[4];
     const Py_ssize_t f = w > 0 ? faces.len / (8 * static_cast<Py_ssize_t>(w)) : 0;
     const Py_ssize_t row = 8 * static_cast<Py_ssize_t>(r);
     const bool shapes = r >= 1 && w >= 2 && faces.len == f * w * 8 && cells.len == f * 16 &&
@@ -84,11 +98,11 @@ PyObject* segments(PyObject* /*self*/, PyObject* args) {
         PyErr_SetString(PyExc_ValueError,
                         "expected float64 work, normals and centres of r columns, int64 faces (f x w) "
                         "and int64 cells (f x 2)");
-        return nullptr;
+        return false;
     }
-    Inputs in{static_cast<const double*>(work.buf), static_cast<const double*>(normals.buf),
-              static_cast<const double*>(centres.buf), static_cast<const std::int64_t*>(faces.buf),
-              static_cast<const std::int64_t*>(cells.buf), static_cast<std::int64_t>(f), r, w};
+    in = Inputs{static_cast<const double*>(work.buf), static_cast<const double*>(normals.buf),
+                static_cast<const double*>(centres.buf), static_cast<const std::int64_t*>(faces.buf),
+                static_cast<const std::int64_t*>(cells.buf), static_cast<std::int64_t>(f), r, w};
     const std::int64_t n_rows = normals.len / row, t_rows = centres.len / row, w_rows = work.len / row;
     bool bad = false;
     for (std::int64_t i = 0; i < in.f * in.w && !bad; ++i) {
@@ -100,10 +114,24 @@ PyObject* segments(PyObject* /*self*/, PyObject* args) {
     if (bad) {
         release();
         PyErr_SetString(PyExc_ValueError, "a face or cell names a row outside work, normals or centres");
+        return false;
+    }
+    return true;
+}
+
+PyObject* segments(PyObject* /*self*/, PyObject* args) {
+    Py_buffer bufs[5] = {};
+    Inputs in{};
+    if (!parse(args, bufs, in, nullptr)) {
         return nullptr;
     }
-    PyObject* best = PyByteArray_FromStringAndSize(nullptr, f * w * 8);
-    PyObject* lean = PyByteArray_FromStringAndSize(nullptr, f * w * 8);
+    const auto release = [&] {
+        for (auto& b : bufs) {
+            PyBuffer_Release(&b);
+        }
+    };
+    PyObject* best = PyByteArray_FromStringAndSize(nullptr, in.f * in.w * 8);
+    PyObject* lean = PyByteArray_FromStringAndSize(nullptr, in.f * in.w * 8);
     if (best == nullptr || lean == nullptr) {
         Py_XDECREF(best);
         Py_XDECREF(lean);
@@ -119,6 +147,26 @@ PyObject* segments(PyObject* /*self*/, PyObject* args) {
     return Py_BuildValue("NN", best, lean);
 }
 
+PyObject* sin2(PyObject* /*self*/, PyObject* args) {
+    Py_buffer bufs[5] = {};
+    Inputs in{};
+    double sin_lim = 0.0;
+    if (!parse(args, bufs, in, &sin_lim)) {
+        return nullptr;
+    }
+    PyObject* out = PyByteArray_FromStringAndSize(nullptr, in.f * in.w * 8);
+    if (out != nullptr) {
+        double* v = reinterpret_cast<double*>(PyByteArray_AS_STRING(out));
+        Py_BEGIN_ALLOW_THREADS
+        score(in, nullptr, nullptr, v, sin_lim);
+        Py_END_ALLOW_THREADS
+    }
+    for (auto& b : bufs) {
+        PyBuffer_Release(&b);
+    }
+    return out;
+}
+
 PyMethodDef methods[] = {
     {"segments", segments, METH_VARARGS,
      "segments(work, normals, centres, faces, cells, r, w) -> (best, lean)\n\n"
@@ -127,6 +175,11 @@ PyMethodDef methods[] = {
      "smaller sin^2 of the angle between c - s and AT_s at the two ends, and\n"
      "the one-sided lower bound of sin over the segment; float64 (f x w)\n"
      "bytearrays."},
+    {"sin2", sin2, METH_VARARGS,
+     "sin2(work, normals, centres, faces, cells, r, w, sin_lim) -> sin2\n\n"
+     "The same arrays as segments(); per face and vertex the exact minimum of\n"
+     "sin^2 of the angle over the dual segment (candidates.segment_sin2 of\n"
+     "best and lean, bit for bit); a float64 (f x w) bytearray."},
     {nullptr, nullptr, 0, nullptr},
 };
 

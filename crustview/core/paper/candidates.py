@@ -157,9 +157,6 @@ def cocone_angles(
     """
     f, dp1 = faces.shape
     m = normals.shape[2]
-    tree = cKDTree(work)
-    # contiguous: gathers from a strided view of the Q factor take 20x longer
-    tangents = np.ascontiguousarray(np.linalg.qr(normals, mode="complete")[0][:, :, m:])  # (n, r, d)
     tasks = []
     # the cells' own edges/polygons replace subset enumeration where known (see _score_chunk)
     own_faces = simplices is not None and m in (2, 3)
@@ -179,6 +176,11 @@ def cocone_angles(
             (nv, c if sel is None else sel[c], subsets)
             for c in chunks(f if sel is None else len(sel), CHUNK_CELL_VERTICES // nv)
         ]
+    # the exact steps' k-d tree and tangent bases; codimension 1's segments need neither (segment_sin2)
+    segments_only = m == 1 and all(nv == 2 for nv, _ in groups)
+    tree = None if segments_only else cKDTree(work)
+    # contiguous: gathers from a strided view of the Q factor take 20x longer
+    tangents = None if segments_only else np.ascontiguousarray(np.linalg.qr(normals, mode="complete")[0][:, :, m:])
     if workers is None and len(cell_simplices) < CHUNK_CELL_VERTICES:  # one chunk's worth: threads only add overhead
         workers = 1
 
@@ -190,6 +192,7 @@ def cocone_angles(
     out = np.zeros((f, dp1))
 
     def score(task: tuple) -> tuple[np.ndarray | slice, np.ndarray]:
+        # (each task's rows are its own: no two threads write the same rows of out or minimum)
         nv, sel, subsets = task
         fc, cell_ids = task_cells(faces, cell_ptr, cell_simplices, nv, sel)
         values = _score_chunk(work, normals, tangents, centres, fc, cell_ids, simplices, subsets, tree, limit)
@@ -200,11 +203,14 @@ def cocone_angles(
                 low = np.empty(len(values))
                 fold_columns(np.minimum, values, low)
                 minimum[sel] = low
+        if isinstance(sel, slice):  # its own rows: written on the worker's core, not the caller's
+            out[sel] = values
         return sel, values
 
     done = 0
     for sel, values in run_in_order(score, tasks, workers):
-        out[sel] = values
+        if not isinstance(sel, slice):
+            out[sel] = values
         done += len(values)
         if progress is not None:
             progress(done / max(f, 1))
@@ -251,7 +257,7 @@ def _score_chunk(
     m = normals.shape[2]
     sin_lim = np.sin(limit)
     if m == 1 and nv == 2:
-        return _score_segments(work, normals, tangents, centres, fc, cell_ids, subsets, tree, limit)
+        return _score_segments(work, normals, centres, fc, cell_ids, limit)
     # the cells' own edges/polygons replace subset enumeration where known
     use_cells = simplices is not None and m in (2, 3) and nv > m + 1
     if use_cells:
@@ -312,55 +318,55 @@ def _score_chunk(
 
 
 def _score_segments(
-    work: np.ndarray,
-    normals: np.ndarray,
-    tangents: np.ndarray,
-    centres: np.ndarray,
-    fc: np.ndarray,
-    cell_ids: np.ndarray,
-    subsets: list[np.ndarray],
-    tree: cKDTree,
-    limit: float,
+    work: np.ndarray, normals: np.ndarray, centres: np.ndarray, fc: np.ndarray, cell_ids: np.ndarray, limit: float
 ) -> np.ndarray:
     """:func:`_score_chunk` for codimension 1, where every dual cell is a segment.
 
     The same steps (vertex minimum, one-sided certificate, exact minimum on
     the rest) on one array per coordinate instead of (F, 2, r) blocks: the
-    normal is a single vector, so the certificate's direction is a sign.
+    normal is a single vector, so the certificate's direction is a sign, and
+    the exact minimum over a segment follows from its two ends
+    (:func:`segment_sin2`): no cone minimum, tangent basis or k-d tree query.
     """
     sin_lim = np.sin(limit)
     if _native_segments is not None and work.dtype == normals.dtype == centres.dtype == np.float64:
-        ends = _segment_ends_native(work, normals, centres, fc, cell_ids)
+        out = _segment_sin2_native(work, normals, centres, fc, cell_ids, sin_lim)
     else:
-        ends = _segment_ends(work, normals, centres, fc, cell_ids)
-    out = np.empty(fc.shape)
-    for a, (best, lean) in enumerate(ends):
-        certified = lean >= sin_lim
-        best = np.where(certified, lean**2, best)
-        todo = np.flatnonzero(~certified)
-        if len(todo):
-            va = fc[todo, a]
-            s = np.take(work, va, axis=0)
-            x = np.stack(
-                [np.take(centres, cell_ids[todo, 0], axis=0) - s, np.take(centres, cell_ids[todo, 1], axis=0) - s],
-                axis=1,
-            )
-            best[todo] = _exact_min(
-                x,
-                np.take(normals, va, axis=0),
-                np.take(tangents, va, axis=0),
-                np.take(work, fc[todo], axis=0),
-                s,
-                best[todo],
-                subsets,
-                1,
-                tree,
-                sin_lim**2,
-                None,
-                todo,
-            )
-        out[:, a] = np.arcsin(np.sqrt(np.clip(best, 0.0, 1.0)))
-    return out
+        out = np.empty(fc.shape)
+        for a, (best, lean) in enumerate(_segment_ends(work, normals, centres, fc, cell_ids)):
+            out[:, a] = segment_sin2(best, lean, sin_lim)
+    return np.arcsin(np.sqrt(np.clip(out, 0.0, 1.0, out=out), out=out), out=out)
+
+
+def segment_sin2(best: np.ndarray, lean: np.ndarray, sin_lim: float) -> np.ndarray:
+    """The exact minimum of sin^2 angle(y - s, AT_s) over a dual segment, from its two ends.
+
+    Seen from ``s``, the points of a segment not through ``s`` sweep an arc of
+    a great circle of less than pi, on which ``n . u = A cos(phi - phi0)``.
+    Where the ends lie on one side of the tangent plane (same sign of
+    ``n . x``) the cosine keeps its sign on the arc and is concave there, so
+    its smallest magnitude is at an end: the minimum is ``best``, the ends'
+    smaller value.  Where they lie on opposite sides the segment crosses the
+    plane and the minimum is 0.  ``lean`` (the one-sided bound of
+    :func:`_segment_ends`) tells the cases apart: it is the smaller of the
+    ends' signed sines, signed by their side, so it is positive when both ends
+    are on one side, and 0 or below when the segment crosses (or touches) the
+    plane.  Pairs with ``lean >= sin_lim`` keep ``lean ** 2`` as before (their
+    angle is only reported as at least the limit).
+
+    Parameters
+    ----------
+    best, lean : ndarray of shape (F,)
+        From :func:`_segment_ends` (or its compiled twin) for one face vertex.
+    sin_lim : float
+        ``sin(limit)``.
+
+    Returns
+    -------
+    ndarray of shape (F,)
+        sin^2 of the cocone angle (not clipped).
+    """
+    return np.where(lean >= sin_lim, lean**2, np.where(lean <= 0.0, 0.0, best))
 
 
 def _segment_ends(
@@ -416,6 +422,24 @@ def _segment_ends_native(
     best = np.frombuffer(best, dtype=np.float64).reshape(f, w)
     lean = np.frombuffer(lean, dtype=np.float64).reshape(f, w)
     return [(best[:, a].copy(), lean[:, a].copy()) for a in range(w)]
+
+
+def _segment_sin2_native(
+    work: np.ndarray, normals: np.ndarray, centres: np.ndarray, fc: np.ndarray, cell_ids: np.ndarray, sin_lim: float
+) -> np.ndarray:
+    """:func:`segment_sin2` of :func:`_segment_ends`, (F, w), in one pass of :mod:`._segments` (bit for bit)."""
+    f, w = fc.shape
+    raw = _native_segments.sin2(
+        np.ascontiguousarray(work),
+        np.ascontiguousarray(normals),
+        np.ascontiguousarray(centres),
+        np.ascontiguousarray(fc, dtype=np.int64),
+        np.ascontiguousarray(cell_ids, dtype=np.int64),
+        work.shape[1],
+        w,
+        float(sin_lim),
+    )
+    return np.frombuffer(raw, dtype=np.float64).reshape(f, w)
 
 
 def _boundary_subsets(nv: int, m: int) -> list[np.ndarray]:
