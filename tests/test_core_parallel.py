@@ -161,6 +161,13 @@ def test_codimension_1_segment_ends_compiled_equal_numpy_bit_for_bit(monkeypatch
     fused = cand._segment_sin2_native(work, normals, centres, faces, cells, sin_lim)
     apart = np.stack([cand.segment_sin2(b, lean, sin_lim) for b, lean in plain], axis=1)
     assert np.array_equal(fused, apart) and (fused == 0).sum() > 100 and (fused > sin_lim**2).sum() > 100
+    # a non-finite Voronoi vertex gives NaN in both, as numpy's minimum does (std::min would drop it)
+    bad = centres.copy()
+    bad[cells[:5, 1]] = np.nan
+    fused = cand._segment_sin2_native(work, normals, bad, faces[:5], cells[:5], sin_lim)
+    plain = cand._segment_ends(work, normals, bad, faces[:5], cells[:5])
+    apart = np.stack([cand.segment_sin2(b, lean, sin_lim) for b, lean in plain], axis=1)
+    assert np.isnan(apart).all() and np.array_equal(fused, apart, equal_nan=True)
     # a Voronoi vertex on the sample itself: |x| = 0 is guarded the same way
     hit = centres.copy()
     hit[cells[0, 0]] = work[faces[0, 0]]

@@ -24,6 +24,13 @@
 
 namespace {
 
+// numpy's minimum: a NaN on either side is the result (std::min keeps the first argument then).
+inline double minimum(double a, double b) {
+    if (a != a) return a;
+    if (b != b) return b;
+    return b < a ? b : a;
+}
+
 struct Inputs {
     const double* work;     // (rows, r)
     const double* normals;  // (n, r)
@@ -58,11 +65,11 @@ void score(const Inputs& in, double* best, double* lean, double* sin2 = nullptr,
             }
             q0 = std::max(q0, 1e-300);
             q1 = std::max(q1, 1e-300);
-            const double b = std::min(p0 * p0 / q0, p1 * p1 / q1);
+            const double b = minimum(p0 * p0 / q0, p1 * p1 / q1);
             const double u0 = p0 / std::sqrt(q0), u1 = p1 / std::sqrt(q1);
             double side = u0 + u1;
             side /= std::max(std::fabs(side), 1e-300);
-            const double l = std::min(u0 * side, u1 * side);
+            const double l = minimum(u0 * side, u1 * side);
             if (sin2 != nullptr) {
                 sin2[i * in.w + a] = l >= sin_lim ? l * l : (l <= 0.0 ? 0.0 : b);
             } else {
@@ -184,7 +191,7 @@ PyMethodDef methods[] = {
 };
 
 PyModuleDef module = {
-    PyModuleDef_HEAD_INIT, "_segments", "Algorithm 2's codimension-1 cocone ends and certificate.", -1, methods,
+    PyModuleDef_HEAD_INIT, "_segments", "Algorithm 2's codimension-1 cocone scores: the segments' ends, certificate and exact minimum.", -1, methods,
     nullptr, nullptr, nullptr, nullptr,
 };
 

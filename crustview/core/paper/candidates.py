@@ -347,7 +347,8 @@ def segment_sin2(best: np.ndarray, lean: np.ndarray, sin_lim: float) -> np.ndarr
     ``n . x``) the cosine keeps its sign on the arc and is concave there, so
     its smallest magnitude is at an end: the minimum is ``best``, the ends'
     smaller value.  Where they lie on opposite sides the segment crosses the
-    plane and the minimum is 0.  ``lean`` (the one-sided bound of
+    plane and the minimum is 0.  (A segment through ``s`` itself would score 0 too; a
+    Voronoi edge of a face never passes through the face's own vertices.)  ``lean`` (the one-sided bound of
     :func:`_segment_ends`) tells the cases apart: it is the smaller of the
     ends' signed sines, signed by their side, so it is positive when both ends
     are on one side, and 0 or below when the segment crosses (or touches) the
