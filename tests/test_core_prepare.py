@@ -63,6 +63,27 @@ def test_duplicates_and_near_duplicates_are_merged_with_a_map_back():
     assert rec.input_points.shape == (44, 2)
 
 
+def test_nearest_other_point_is_the_plain_query_point_for_point():
+    """merge_duplicates asks the k-d tree in its own leaf order; each point still gets the distance
+    of a plain query in input order (0 where it has an exact copy), on shuffled points with copies."""
+    from scipy.spatial import cKDTree
+
+    from crustview.core.prepare import merge_duplicates, nearest_other
+
+    rng = np.random.default_rng(5)
+    pts = rng.normal(size=(3000, 3))
+    pts = np.vstack([pts, pts[rng.choice(3000, 40, replace=False)]])[rng.permutation(3040)]
+    tree = cKDTree(pts)
+    plain = tree.query(pts, k=2)[0][:, 1]
+    got = nearest_other(tree)
+    assert np.array_equal(got, plain) and (got == 0).sum() == 80
+    d, _ = tree.query(pts, k=8)
+    positive = np.where(d[:, 1:] > 0, d[:, 1:], np.inf).min(axis=1)
+    _, point_input, spacing = merge_duplicates(pts, 1e-9)
+    assert spacing == np.median(positive) and len(point_input) == 3000
+    assert np.isinf(nearest_other(cKDTree(np.zeros((1, 3))))).all()
+
+
 def test_large_offset_and_scale_do_not_matter():
     p = circle(50) * 1e-3 + 1e6
     rec = reconstruct(p, 1)
