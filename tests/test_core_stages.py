@@ -9,6 +9,19 @@ from crustview.core.paper import conemin, dualcells
 from crustview.core.paper.normals import complete_bases, greedy_poles
 
 
+def _dual_cells(pts: np.ndarray, d: int):
+    """Delaunay with bounding points, circumcentres, Algorithm 1's normals and the d-faces with their
+    dual cells: what Algorithm 2 scores, for a sample ``pts`` of a d-manifold."""
+    k = pts.shape[1]
+    b = bounding_points(k)
+    simp = delaunay(pts, b)
+    allp = np.vstack([pts, b])
+    cc = circumcenters(allp, simp)
+    _, nrm, _ = greedy_poles(allp, simp, cc, len(pts), k - d)
+    faces, ptr, cs = cand.enumerate_faces(simp, len(pts), d)
+    return allp, simp, cc, nrm, faces, ptr, cs
+
+
 def test_circumcentres_are_equidistant_from_simplex_vertices():
     rng = np.random.default_rng(0)
     pts = rng.normal(size=(60, 4))
@@ -170,12 +183,7 @@ def test_cocone_score_matches_brute_force_on_real_cells():
     u, v = rng.uniform(0, 2 * np.pi, (2, 300))
     pts = np.c_[np.cos(u), np.sin(u), np.cos(v), np.sin(v)] / np.sqrt(2)
     pts += rng.normal(scale=1e-3, size=pts.shape)
-    b = bounding_points(4)
-    simp = delaunay(pts, b)
-    allp = np.vstack([pts, b])
-    cc = circumcenters(allp, simp)
-    poles, nrm, _ = greedy_poles(allp, simp, cc, len(pts), 2)
-    faces, ptr, cs = cand.enumerate_faces(simp, len(pts), 2)
+    allp, simp, cc, nrm, faces, ptr, cs = _dual_cells(pts, 2)
     per_vertex = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs)
     assert per_vertex.shape == faces.shape
     score = per_vertex.max(axis=1)
@@ -207,12 +215,7 @@ def test_codimension_3_boundary_from_real_cell_faces_matches_all_subsets(monkeyp
     rng = np.random.default_rng(3)
     t = np.sort(rng.uniform(0, 2 * np.pi, 36))  # 72 scored faces, 390 cells of 5+ vertices (up to 56)
     pts = np.c_[np.cos(t), np.sin(t), 0.4 * np.cos(2 * t), 0.3 * np.sin(3 * t)]
-    b = bounding_points(4)
-    simp = delaunay(pts, b)
-    allp = np.vstack([pts, b])
-    cc = circumcenters(allp, simp)
-    _, nrm, _ = greedy_poles(allp, simp, cc, len(pts), 3)
-    faces, ptr, cs = cand.enumerate_faces(simp, len(pts), 1)
+    allp, simp, cc, nrm, faces, ptr, cs = _dual_cells(pts, 1)
     fast = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs, simplices=simp)
     monkeypatch.setattr(cand, "MAX_SUBSET_VERTICES", 10**6)
     slow = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs)
@@ -226,12 +229,7 @@ def test_codimension_2_real_cell_edges_match_all_vertex_pairs():
     rng = np.random.default_rng(4)
     t = np.sort(rng.uniform(0, 2 * np.pi, 120))
     pts = np.c_[np.sin(t) + 2 * np.sin(2 * t), np.cos(t) - 2 * np.cos(2 * t), -np.sin(3 * t)]
-    b = bounding_points(3)
-    simp = delaunay(pts, b)
-    allp = np.vstack([pts, b])
-    cc = circumcenters(allp, simp)
-    _, nrm, _ = greedy_poles(allp, simp, cc, len(pts), 2)
-    faces, ptr, cs = cand.enumerate_faces(simp, len(pts), 1)
+    allp, simp, cc, nrm, faces, ptr, cs = _dual_cells(pts, 1)
     fast = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs, simplices=simp)
     slow = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs)
     scored = (fast < cand.SCORE_LIMIT) | (slow < cand.SCORE_LIMIT)
@@ -315,12 +313,7 @@ def test_codimension_1_scores_are_the_minimum_over_each_dual_segment():
     rng = np.random.default_rng(7)
     pts = get_manifold("torus").sample(700, seed=3).points
     pts = pts + rng.normal(scale=0.01, size=pts.shape)
-    b = bounding_points(3)
-    simp = delaunay(pts, b)
-    allp = np.vstack([pts, b])
-    cc = circumcenters(allp, simp)
-    _, nrm, _ = greedy_poles(allp, simp, cc, len(pts), 1)
-    faces, ptr, cs = cand.enumerate_faces(simp, len(pts), 2)
+    allp, simp, cc, nrm, faces, ptr, cs = _dual_cells(pts, 2)
     got = cand.cocone_angles(allp, nrm, cc, faces, ptr, cs, simplices=simp)
     ends = cs.reshape(-1, 2)
     pick = rng.choice(len(faces), 600, replace=False)

@@ -411,15 +411,7 @@ def _segment_ends_native(
 ) -> list[tuple[np.ndarray, np.ndarray]]:
     """:func:`_segment_ends` through the extension :mod:`._segments` (same values, bit for bit)."""
     f, w = fc.shape
-    best, lean = _native_segments.segments(
-        np.ascontiguousarray(work),
-        np.ascontiguousarray(normals),
-        np.ascontiguousarray(centres),
-        np.ascontiguousarray(fc, dtype=np.int64),
-        np.ascontiguousarray(cell_ids, dtype=np.int64),
-        work.shape[1],
-        w,
-    )
+    best, lean = _native_segments.segments(*_segment_args(work, normals, centres, fc, cell_ids))
     best = np.frombuffer(best, dtype=np.float64).reshape(f, w)
     lean = np.frombuffer(lean, dtype=np.float64).reshape(f, w)
     return [(best[:, a].copy(), lean[:, a].copy()) for a in range(w)]
@@ -430,17 +422,21 @@ def _segment_sin2_native(
 ) -> np.ndarray:
     """:func:`segment_sin2` of :func:`_segment_ends`, (F, w), in one pass of :mod:`._segments` (bit for bit)."""
     f, w = fc.shape
-    raw = _native_segments.sin2(
+    raw = _native_segments.sin2(*_segment_args(work, normals, centres, fc, cell_ids), float(sin_lim))
+    return np.frombuffer(raw, dtype=np.float64).reshape(f, w)
+
+
+def _segment_args(work: np.ndarray, normals: np.ndarray, centres: np.ndarray, fc: np.ndarray, cell_ids: np.ndarray):
+    """The arrays and sizes both entry points of :mod:`._segments` take, contiguous and typed."""
+    return (
         np.ascontiguousarray(work),
         np.ascontiguousarray(normals),
         np.ascontiguousarray(centres),
         np.ascontiguousarray(fc, dtype=np.int64),
         np.ascontiguousarray(cell_ids, dtype=np.int64),
         work.shape[1],
-        w,
-        float(sin_lim),
+        fc.shape[1],
     )
-    return np.frombuffer(raw, dtype=np.float64).reshape(f, w)
 
 
 def _boundary_subsets(nv: int, m: int) -> list[np.ndarray]:
