@@ -145,42 +145,44 @@ def test_facets_of_two_tetrahedra_by_hand(native, monkeypatch):
     assert ptr.tolist() == [0, 1, 2, 3, 5] and owners.tolist() == [0, 0, 0, 0, 1]
 
 
-def test_codimension_1_segment_ends_compiled_equal_numpy_bit_for_bit(monkeypatch):
-    # the compiled _segments does numpy's arithmetic operation for operation:
-    # the vertex minima and certificates, and so the whole cocone scores, are equal
+def test_codimension_1_segment_scores_compiled_equal_numpy_bit_for_bit(monkeypatch):
+    # the compiled _segments does numpy's arithmetic operation for operation: the ends' minima and
+    # certificates, and the exact minimum over each segment from them, so the whole cocone scores are equal
     work, normals, centres, faces, ptr, cs, simp = _stage_inputs("torus", 1500)
     assert cand._native_segments is not None  # setup.py builds it
     cells = cs.reshape(-1, 2)  # codimension 1 with bounding points: every dual cell is a segment
     assert np.array_equal(ptr, np.arange(0, 2 * len(faces) + 1, 2))
-    native = cand._segment_ends_native(work, normals, centres, faces, cells)
-    plain = cand._segment_ends(work, normals, centres, faces, cells)
-    for (b1, l1), (b2, l2) in zip(native, plain):
-        assert np.array_equal(b1, b2) and np.array_equal(l1, l2)
-    # and the exact minimum over each segment from them, in the same pass
     sin_lim = np.sin(cand.SCORE_LIMIT)
-    fused = cand._segment_sin2_native(work, normals, centres, faces, cells, sin_lim)
-    apart = np.stack([cand.segment_sin2(b, lean, sin_lim) for b, lean in plain], axis=1)
-    assert np.array_equal(fused, apart) and (fused == 0).sum() > 100 and (fused > sin_lim**2).sum() > 100
+
+    def both(c, f, e):
+        plain = cand._segment_ends(work, normals, c, f, e)
+        return (
+            cand._segment_sin2_native(work, normals, c, f, e, sin_lim),
+            np.stack([cand.segment_sin2(b, lean, sin_lim) for b, lean in plain], axis=1),
+            np.stack([lean for _, lean in plain], axis=1),
+        )
+
+    fused, apart, lean = both(centres, faces, cells)
+    assert np.array_equal(fused, apart)
+    # every branch taken many times: crossing (0), the nearer end (best), and certified (lean ** 2)
+    assert (lean <= 0).sum() > 100 and ((lean > 0) & (lean < sin_lim)).sum() > 100 and (lean >= sin_lim).sum() > 100
     # a non-finite Voronoi vertex gives NaN in both, as numpy's minimum does (std::min would drop it)
     bad = centres.copy()
     bad[cells[:5, 1]] = np.nan
-    fused = cand._segment_sin2_native(work, normals, bad, faces[:5], cells[:5], sin_lim)
-    plain = cand._segment_ends(work, normals, bad, faces[:5], cells[:5])
-    apart = np.stack([cand.segment_sin2(b, lean, sin_lim) for b, lean in plain], axis=1)
+    fused, apart, _ = both(bad, faces[:5], cells[:5])
     assert np.isnan(apart).all() and np.array_equal(fused, apart, equal_nan=True)
     # a Voronoi vertex on the sample itself: |x| = 0 is guarded the same way
     hit = centres.copy()
     hit[cells[0, 0]] = work[faces[0, 0]]
-    native = cand._segment_ends_native(work, normals, hit, faces[:1], cells[:1])
-    plain = cand._segment_ends(work, normals, hit, faces[:1], cells[:1])
-    assert all(np.array_equal(a, b) for pn, pp in zip(native, plain) for a, b in zip(pn, pp))
+    fused, apart, _ = both(hit, faces[:1], cells[:1])
+    assert np.array_equal(fused, apart)
     whole = cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp)
     monkeypatch.setattr(cand, "_native_segments", None)
     assert np.array_equal(cand.cocone_angles(work, normals, centres, faces, ptr, cs, simplices=simp), whole)
     from crustview.core.delaunay import _segments
 
     with pytest.raises(ValueError, match="outside"):
-        _segments.segments(
+        _segments.sin2(
             work,
             normals[:, :, 0],
             centres,
@@ -188,6 +190,7 @@ def test_codimension_1_segment_ends_compiled_equal_numpy_bit_for_bit(monkeypatch
             np.zeros((1, 2), dtype=np.int64),
             3,
             3,
+            float(sin_lim),
         )
 
 

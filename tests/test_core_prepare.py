@@ -68,7 +68,8 @@ def test_nearest_other_point_is_the_plain_query_point_for_point():
     of a plain query in input order (0 where it has an exact copy), on shuffled points with copies."""
     from scipy.spatial import cKDTree
 
-    from crustview.core.prepare import merge_duplicates, nearest_other
+    from crustview.core.prepare import merge_duplicates
+    from crustview.core.util.nearest import nearest_other
 
     rng = np.random.default_rng(5)
     pts = rng.normal(size=(3000, 3))

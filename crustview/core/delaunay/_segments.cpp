@@ -8,9 +8,9 @@
 //   best = min(p_0^2 / q_0, p_1^2 / q_1)          (sin^2 at the segment's ends)
 //   u_i = p_i / sqrt(q_i), side = sign(u_0 + u_1)  (u_0 + u_1 over max(|u_0 + u_1|, 1e-300))
 //   lean = min(u_0 side, u_1 side)                 (the one-sided certificate)
-// segments() returns best and lean; sin2() the exact minimum over the segment
-// from them (candidates.segment_sin2: the segment crosses the tangent plane
-// where lean <= 0, and otherwise its minimum is at an end).  The arithmetic is
+// sin2() returns the exact minimum over the segment from them
+// (candidates.segment_sin2: the segment crosses the tangent plane where
+// lean <= 0, and otherwise its minimum is at an end).  The arithmetic is
 // numpy's, operation for operation (dot products summed from the first
 // coordinate, no fused multiply-add: -ffp-contract=off in setup.py), so the
 // scores are the same bit for bit.  No third-party code.
@@ -41,10 +41,10 @@ struct Inputs {
     int r, w;
 };
 
-// With sin2 set, the exact minimum over the segment instead of best and lean (the caller's
-// candidates.segment_sin2, operation for operation): lean^2 where lean >= sin_lim, 0 where lean <= 0
-// (the segment crosses the tangent plane), else best (the nearer end: no point inside beats it).
-void score(const Inputs& in, double* best, double* lean, double* sin2 = nullptr, double sin_lim = 0.0) {
+// The exact minimum over the segment (candidates.segment_sin2, operation for operation): lean^2 where
+// lean >= sin_lim, 0 where lean <= 0 (the segment crosses the tangent plane), else best (the nearer end:
+// no point inside beats it).
+void score(const Inputs& in, double* sin2, double sin_lim) {
     for (std::int64_t i = 0; i < in.f; ++i) {
         const double* c0 = in.centres + in.cells[2 * i] * in.r;
         const double* c1 = in.centres + in.cells[2 * i + 1] * in.r;
@@ -70,24 +70,15 @@ void score(const Inputs& in, double* best, double* lean, double* sin2 = nullptr,
             double side = u0 + u1;
             side /= std::max(std::fabs(side), 1e-300);
             const double l = minimum(u0 * side, u1 * side);
-            if (sin2 != nullptr) {
-                sin2[i * in.w + a] = l >= sin_lim ? l * l : (l <= 0.0 ? 0.0 : b);
-            } else {
-                best[i * in.w + a] = b;
-                lean[i * in.w + a] = l;
-            }
+            sin2[i * in.w + a] = l >= sin_lim ? l * l : (l <= 0.0 ? 0.0 : b);
         }
     }
 }
 
-// Parses and checks the arrays of both entry points; false (with a Python error set) if they do not fit.
+// Parses and checks the arrays; false (with a Python error set) if they do not fit.
 bool parse(PyObject* args, Py_buffer (&bufs)[5], Inputs& in, double* sin_lim) {
     int r = 0, w = 0;
-    const bool ok = sin_lim == nullptr
-                        ? PyArg_ParseTuple(args, "y*y*y*y*y*ii", &bufs[0], &bufs[1], &bufs[2], &bufs[3], &bufs[4], &r, &w)
-                        : PyArg_ParseTuple(args, "y*y*y*y*y*iid", &bufs[0], &bufs[1], &bufs[2], &bufs[3], &bufs[4], &r,
-                                           &w, sin_lim);
-    if (!ok) {
+    if (!PyArg_ParseTuple(args, "y*y*y*y*y*iid", &bufs[0], &bufs[1], &bufs[2], &bufs[3], &bufs[4], &r, &w, sin_lim)) {
         return false;
     }
     const auto release = [&] {
@@ -126,34 +117,6 @@ bool parse(PyObject* args, Py_buffer (&bufs)[5], Inputs& in, double* sin_lim) {
     return true;
 }
 
-PyObject* segments(PyObject* /*self*/, PyObject* args) {
-    Py_buffer bufs[5] = {};
-    Inputs in{};
-    if (!parse(args, bufs, in, nullptr)) {
-        return nullptr;
-    }
-    const auto release = [&] {
-        for (auto& b : bufs) {
-            PyBuffer_Release(&b);
-        }
-    };
-    PyObject* best = PyByteArray_FromStringAndSize(nullptr, in.f * in.w * 8);
-    PyObject* lean = PyByteArray_FromStringAndSize(nullptr, in.f * in.w * 8);
-    if (best == nullptr || lean == nullptr) {
-        Py_XDECREF(best);
-        Py_XDECREF(lean);
-        release();
-        return nullptr;
-    }
-    double* b = reinterpret_cast<double*>(PyByteArray_AS_STRING(best));
-    double* l = reinterpret_cast<double*>(PyByteArray_AS_STRING(lean));
-    Py_BEGIN_ALLOW_THREADS
-    score(in, b, l);
-    Py_END_ALLOW_THREADS
-    release();
-    return Py_BuildValue("NN", best, lean);
-}
-
 PyObject* sin2(PyObject* /*self*/, PyObject* args) {
     Py_buffer bufs[5] = {};
     Inputs in{};
@@ -165,7 +128,7 @@ PyObject* sin2(PyObject* /*self*/, PyObject* args) {
     if (out != nullptr) {
         double* v = reinterpret_cast<double*>(PyByteArray_AS_STRING(out));
         Py_BEGIN_ALLOW_THREADS
-        score(in, nullptr, nullptr, v, sin_lim);
+        score(in, v, sin_lim);
         Py_END_ALLOW_THREADS
     }
     for (auto& b : bufs) {
@@ -175,23 +138,18 @@ PyObject* sin2(PyObject* /*self*/, PyObject* args) {
 }
 
 PyMethodDef methods[] = {
-    {"segments", segments, METH_VARARGS,
-     "segments(work, normals, centres, faces, cells, r, w) -> (best, lean)\n\n"
-     "Per face (int64 rows of w samples) and vertex s, with the face's dual\n"
-     "segment between the Voronoi vertices cells[f] (int64 pairs): the\n"
-     "smaller sin^2 of the angle between c - s and AT_s at the two ends, and\n"
-     "the one-sided lower bound of sin over the segment; float64 (f x w)\n"
-     "bytearrays."},
     {"sin2", sin2, METH_VARARGS,
      "sin2(work, normals, centres, faces, cells, r, w, sin_lim) -> sin2\n\n"
-     "The same arrays as segments(); per face and vertex the exact minimum of\n"
-     "sin^2 of the angle over the dual segment (candidates.segment_sin2 of\n"
-     "best and lean, bit for bit); a float64 (f x w) bytearray."},
+     "Per face (int64 rows of w samples) and vertex s, with the face's dual\n"
+     "segment between the Voronoi vertices cells[f] (int64 pairs): the exact\n"
+     "minimum of sin^2 of the angle between y - s and AT_s over the segment\n"
+     "(candidates.segment_sin2 of the ends' best and lean, bit for bit); a\n"
+     "float64 (f x w) bytearray."},
     {nullptr, nullptr, 0, nullptr},
 };
 
 PyModuleDef module = {
-    PyModuleDef_HEAD_INIT, "_segments", "Algorithm 2's codimension-1 cocone scores: the segments' ends, certificate and exact minimum.", -1, methods,
+    PyModuleDef_HEAD_INIT, "_segments", "Algorithm 2's codimension-1 cocone scores.", -1, methods,
     nullptr, nullptr, nullptr, nullptr,
 };
 

@@ -406,17 +406,6 @@ def _segment_ends(
     return out
 
 
-def _segment_ends_native(
-    work: np.ndarray, normals: np.ndarray, centres: np.ndarray, fc: np.ndarray, cell_ids: np.ndarray
-) -> list[tuple[np.ndarray, np.ndarray]]:
-    """:func:`_segment_ends` through the extension :mod:`._segments` (same values, bit for bit)."""
-    f, w = fc.shape
-    best, lean = _native_segments.segments(*_segment_args(work, normals, centres, fc, cell_ids))
-    best = np.frombuffer(best, dtype=np.float64).reshape(f, w)
-    lean = np.frombuffer(lean, dtype=np.float64).reshape(f, w)
-    return [(best[:, a].copy(), lean[:, a].copy()) for a in range(w)]
-
-
 def _segment_sin2_native(
     work: np.ndarray, normals: np.ndarray, centres: np.ndarray, fc: np.ndarray, cell_ids: np.ndarray, sin_lim: float
 ) -> np.ndarray:
@@ -427,7 +416,7 @@ def _segment_sin2_native(
 
 
 def _segment_args(work: np.ndarray, normals: np.ndarray, centres: np.ndarray, fc: np.ndarray, cell_ids: np.ndarray):
-    """The arrays and sizes both entry points of :mod:`._segments` take, contiguous and typed."""
+    """The arrays and sizes :mod:`._segments` takes, contiguous and typed."""
     return (
         np.ascontiguousarray(work),
         np.ascontiguousarray(normals),

