@@ -99,7 +99,7 @@ def test_steps_and_jumps_cost_little_more_than_a_frame(qtbot, window, fertility_
 
     clock.time(middle, settle=0.3)
     times: dict[str, list[float]] = {name: [] for name in ("floor", *actions)}
-    for _ in range(6):
+    for _ in range(4):  # four rounds: each median is of four frames, each interleaved with its floor
         for name, action in actions.items():
             if name == "end":
                 clock.time(middle, settle=0.3)
