@@ -187,3 +187,80 @@ def test_spread_distances_are_numpy_s_norms_bit_for_bit():
             cols = np.ascontiguousarray(q.T)
             for j in (0, 17, 1999):
                 assert np.array_equal(_distances_to(cols, j), np.linalg.norm(q - q[j], axis=1))
+
+
+def test_compiled_edge_triangles_and_dual_forest_are_numpys_and_scipys(monkeypatch):
+    # cotree.edge_triangles and cotree.bfs_forest (core/analysis/_paths.cpp) against the stable sort and
+    # scipy's breadth-first search, component by component from its smallest node: on a noisy torus's
+    # M_S (its dual graph through every inner edge, and through a random half, many components) and on
+    # random graphs with isolated nodes, repeated edges and edges given in both directions
+    from crustview.core import reconstruct
+    from crustview.core.analysis import cotree
+    from crustview.core.analysis.loops import triangle_edges
+    from crustview.core.samples.manifolds import get_manifold
+
+    rng = np.random.default_rng(3)
+    rec = reconstruct(get_manifold("torus").sample(800, seed=2, noise=0.005).points, 2)
+    edges, tri_edges = triangle_edges(rec.manifold)
+    cases = []
+    for keep in (np.ones(len(edges), bool), rng.random(len(edges)) < 0.5):
+        compiled = cotree.edge_triangles(tri_edges, len(edges))
+        assert (compiled >= 0).all()  # a closed surface: two triangles at every edge
+        e = np.flatnonzero(keep)
+        cases.append((len(tri_edges), compiled[e, 0], compiled[e, 1]))
+    # three triangles at an edge, an edge of none: first and last triangle, -1 where none
+    odd = np.array([[0, 1, 2], [2, 3, 4], [2, 5, 6], [7, 8, 0]])
+    cases_e = [(tri_edges, len(edges)), (odd, 10)]
+    for te, m in cases_e:
+        got = cotree.edge_triangles(te, m)
+        monkeypatch.setattr(cotree, "_paths", None)
+        want = cotree.edge_triangles(te, m)
+        monkeypatch.undo()
+        assert got.dtype == want.dtype and np.array_equal(got, want)
+    assert cotree.edge_triangles(odd, 10)[2].tolist() == [0, 2] and cotree.edge_triangles(odd, 10)[9].tolist() == [
+        -1,
+        -1,
+    ]
+    for n in (1, 40, 2000):
+        a = rng.integers(0, n, size=n)
+        b = rng.integers(0, n, size=n)
+        a, b = np.r_[a, b[:5]], np.r_[b, a[:5]]  # some edges twice, the other way round
+        cases.append((n + 7, a, b))  # the last seven nodes isolated
+    for n, a, b in cases:
+        got = cotree.bfs_forest(n, a, b)
+        monkeypatch.setattr(cotree, "_paths", None)
+        want = cotree.bfs_forest(n, a, b)
+        monkeypatch.undo()
+        for x, y in zip(got, want):
+            assert x.dtype == y.dtype == np.int64 and np.array_equal(x, y)
+    # a path 2 - 0 - 1 and a lone node 3: roots are each component's smallest node
+    parent, depth = cotree.bfs_forest(4, np.array([0, 0]), np.array([1, 2]))
+    assert parent.tolist() == [-1, 0, 0, -1] and depth.tolist() == [0, 1, 1, 0]
+
+
+def test_the_loop_basis_is_the_same_on_both_cores_and_in_line(monkeypatch):
+    # short_basis with its trees beside the tree-cotree split and the roots' loops on a pool (above
+    # PARALLEL_MIN vertices) against the same search in line: the same loops, lengths and cocycles
+    from pathlib import Path
+
+    from crustview.core import reconstruct
+    from crustview.core.analysis import loops
+    from crustview.core.samples.manifolds import get_manifold
+    from crustview.io import read_mesh
+
+    fertility = read_mesh(Path(__file__).resolve().parents[1] / "resources" / "fertility.off").points  # genus 4
+    for points in (get_manifold("torus").sample(1500, seed=4).points, fertility):
+        rec = reconstruct(points, 2)
+        tris = rec.manifold
+        edges, tri_edges = loops.triangle_edges(tris)
+        count = np.bincount(tri_edges.ravel(), minlength=len(edges))
+        got = {}
+        for parallel_min in (0, 10**9):
+            monkeypatch.setattr(loops, "PARALLEL_MIN", parallel_min)
+            cocycles: dict = {}
+            basis = loops.short_basis(rec.points, tris, edges, tri_edges, count, rec.n, cocycles=cocycles)
+            got[parallel_min] = (basis, cocycles["mask"])
+        (b1, m1), (b2, m2) = got.values()
+        assert len(b1) == len(b2) == rec.topology.betti[1] and np.array_equal(m1, m2)
+        for (loop1, len1), (loop2, len2) in zip(b1, b2):
+            assert np.array_equal(loop1, loop2) and len1 == len2

@@ -11,6 +11,9 @@
 // priority queue gives scipy's arrays.  When two nodes leave at the same
 // distance, the root is flagged, and the caller asks scipy for that root.
 // The GIL is released; no third-party code.
+//
+// Also the loop basis's tree-cotree split (crustview.core.analysis.cotree): each edge's two
+// triangles and the breadth-first forest of the dual graph, as numpy and scipy give them.
 
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -220,7 +223,112 @@ PyObject* path_xor(PyObject*, PyObject* args) {
     return result;
 }
 
+// e_tris[e] = (first, last) triangle t, in increasing t, whose edge triple tri_edges[t] holds e; -1 where none
+// (numpy's stable sort of the flattened triples by edge, first and last of each run).
+PyObject* edge_triangles(PyObject*, PyObject* args) {
+    Py_buffer tri_edges;
+    long long n_edges;
+    if (!PyArg_ParseTuple(args, "y*L", &tri_edges, &n_edges)) return nullptr;
+    PyObject* result = nullptr;
+    const i64 slots = tri_edges.len / 8;
+    const auto* te = static_cast<const i64*>(tri_edges.buf);
+    bool ok = n_edges >= 0 && tri_edges.len % 24 == 0;
+    for (i64 i = 0; ok && i < slots; ++i) ok = te[i] >= 0 && te[i] < n_edges;
+    if (!ok) {
+        PyErr_SetString(PyExc_ValueError, "edge_triangles: int64 (t, 3) edge ids in [0, n_edges)");
+    } else if ((result = PyByteArray_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(n_edges * 16))) != nullptr) {
+        auto* out = reinterpret_cast<i64*>(PyByteArray_AS_STRING(result));
+        Py_BEGIN_ALLOW_THREADS;
+        std::fill(out, out + 2 * n_edges, i64(-1));
+        for (i64 i = 0; i < slots; ++i) {
+            i64* row = out + 2 * te[i];
+            (row[0] < 0 ? row[0] : row[1]) = i / 3;
+        }
+        Py_END_ALLOW_THREADS;
+    }
+    PyBuffer_Release(&tri_edges);
+    return result;
+}
+
+// Breadth-first forest of the undirected graph on n nodes with edges (a[i], b[i]): from the smallest
+// unvisited node of each component, neighbours taken in increasing order (scipy's breadth_first_order
+// on the canonical CSR matrix of the graph).  parent -1 at roots; depth in hops to the root.
+PyObject* bfs_forest(PyObject*, PyObject* args) {
+    Py_buffer abuf, bbuf;
+    long long n;
+    if (!PyArg_ParseTuple(args, "Ly*y*", &n, &abuf, &bbuf)) return nullptr;
+    PyObject* result = nullptr;
+    const i64 m = abuf.len / 8;
+    const auto* a = static_cast<const i64*>(abuf.buf);
+    const auto* b = static_cast<const i64*>(bbuf.buf);
+    bool ok = n >= 0 && abuf.len % 8 == 0 && bbuf.len == abuf.len;
+    for (i64 i = 0; ok && i < m; ++i) ok = a[i] >= 0 && a[i] < n && b[i] >= 0 && b[i] < n;
+    PyObject* parent = nullptr;
+    PyObject* depth = nullptr;
+    if (!ok) {
+        PyErr_SetString(PyExc_ValueError, "bfs_forest: int64 edge ends in [0, n)");
+    } else {
+        parent = PyByteArray_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(n * 8));
+        depth = PyByteArray_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(n * 8));
+    }
+    if (parent != nullptr && depth != nullptr) {
+        auto* par = reinterpret_cast<i64*>(PyByteArray_AS_STRING(parent));
+        auto* dep = reinterpret_cast<i64*>(PyByteArray_AS_STRING(depth));
+        Py_BEGIN_ALLOW_THREADS;
+        std::vector<i64> start(static_cast<std::size_t>(n + 1), 0);
+        for (i64 i = 0; i < m; ++i) {
+            ++start[a[i] + 1];
+            ++start[b[i] + 1];
+        }
+        for (i64 v = 0; v < n; ++v) start[v + 1] += start[v];
+        std::vector<i64> adj(static_cast<std::size_t>(2 * m));
+        std::vector<i64> fill(start.begin(), start.end() - 1);
+        for (i64 i = 0; i < m; ++i) {
+            adj[fill[a[i]]++] = b[i];
+            adj[fill[b[i]]++] = a[i];
+        }
+        for (i64 v = 0; v < n; ++v) std::sort(adj.begin() + start[v], adj.begin() + start[v + 1]);
+        std::vector<unsigned char> seen(static_cast<std::size_t>(n), 0);
+        std::vector<i64> queue;
+        queue.reserve(static_cast<std::size_t>(n));
+        for (i64 r = 0; r < n; ++r) {
+            if (seen[r]) continue;
+            seen[r] = 1;
+            par[r] = -1;
+            dep[r] = 0;
+            queue.clear();
+            queue.push_back(r);
+            for (std::size_t q = 0; q < queue.size(); ++q) {
+                const i64 v = queue[q];
+                for (i64 j = start[v]; j < start[v + 1]; ++j) {
+                    const i64 w = adj[j];
+                    if (seen[w]) continue;
+                    seen[w] = 1;
+                    par[w] = v;
+                    dep[w] = dep[v] + 1;
+                    queue.push_back(w);
+                }
+            }
+        }
+        Py_END_ALLOW_THREADS;
+        result = Py_BuildValue("(NN)", parent, depth);
+    } else {
+        Py_XDECREF(parent);
+        Py_XDECREF(depth);
+    }
+    PyBuffer_Release(&abuf);
+    PyBuffer_Release(&bbuf);
+    return result;
+}
+
 PyMethodDef methods[] = {
+    {"bfs_forest", bfs_forest, METH_VARARGS,
+     "bfs_forest(n, a, b) -> (parent, depth): breadth-first forest of the undirected graph with int64 edges "
+     "(a[i], b[i]) on n nodes, from each component's smallest node, neighbours in increasing order; int64 "
+     "bytearrays, parent -1 at roots, depth in hops."},
+    {"edge_triangles", edge_triangles, METH_VARARGS,
+     "edge_triangles(tri_edges, n_edges) -> e_tris: per edge its first and last triangle (int64 bytearray, "
+     "(n_edges, 2), -1 where none) from the int64 (t, 3) edge ids of the triangles."},
     {"path_xor", path_xor, METH_VARARGS,
      "path_xor(pred, start, words) -> acc: per node the XOR of start (uint64, words per node) over its tree path "
      "to the root, the root's own entry included (int32 pred, negative at roots)."},
@@ -232,7 +340,7 @@ PyMethodDef methods[] = {
 };
 
 PyModuleDef module = {
-    PyModuleDef_HEAD_INIT, "_paths", "Shortest-path trees from several roots, on two threads.", -1, methods,
+    PyModuleDef_HEAD_INIT, "_paths", "Shortest-path trees from several roots, on two threads; the dual forest of the loop basis.", -1, methods,
 };
 
 }  // namespace

@@ -14,9 +14,11 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.sparse import coo_matrix, csr_matrix
-from scipy.sparse.csgraph import breadth_first_order, connected_components, dijkstra, minimum_spanning_tree
+from scipy.sparse.csgraph import connected_components, dijkstra, minimum_spanning_tree
 
+from ..util.parallel import run_in_order, start_in_background
 from ..util.vectors import SEQUENTIAL_SUM, edge_lengths
+from .cotree import bfs_forest, edge_triangles
 from .necks import _reduce
 
 try:
@@ -28,6 +30,10 @@ except ImportError:  # pragma: no cover - the extension is optional
 ROOTS = 12
 #: Basis loops are not searched above this first Betti number.
 MAX_LOOPS = 256
+#: Vertices from which the spread roots' trees run beside the tree-cotree split and the roots' loops on both
+#: cores (below, in line: starting threads costs more than they save).  A scheduling choice, not part of the
+#: result, which is the same either way; measured in the README (issue 21, fourteenth round).
+PARALLEL_MIN = 50_000
 
 
 def short_basis(
@@ -98,21 +104,19 @@ def short_basis(
         lo, hi = np.minimum(a, b), np.maximum(a, b)
         return order[np.searchsorted(skey, lo * n + hi)]
 
+    comps = np.unique(label[used])
+    spread_roots = [] if cocycles_only else [_spread_roots(points, used & (label == c), surface) for c in comps]
+    # the spread roots' trees need only the graph: on a large surface searched on other threads (the
+    # compiled search releases the GIL) while the tree-cotree split below runs; the same arrays either way
+    parallel = n >= PARALLEL_MIN and not cocycles_only
+    trees = start_in_background(_trees, g, spread_roots) if parallel else None
     dist0, pred0, _ = dijkstra(g, indices=roots0, return_predecessors=True, min_only=True)
     pred_ms = pred0
     child = np.nonzero((pred_ms >= 0) & used)[0]
     in_tree[edge_ids(child, pred_ms[child])] = True
     # dual graph over triangles through inner non-tree edges: spanning forest (BFS)
     tcount = len(tris)
-    e_tris = np.full((len(edges), 2), -1, np.int64)
-    flat_e = tri_edges.ravel()
-    flat_t = np.repeat(np.arange(tcount), 3)
-    o = np.argsort(flat_e, kind="stable")
-    fe, ft = flat_e[o], flat_t[o]
-    first = np.r_[True, fe[1:] != fe[:-1]]
-    e_tris[fe[first], 0] = ft[first]
-    second = ~first
-    e_tris[fe[second], 1] = ft[second]
+    e_tris = edge_triangles(tri_edges, len(edges))
     dual_ok = inner & ~in_tree
     de = np.nonzero(dual_ok)[0]
     pair = (e_tris[de, 0], e_tris[de, 1])
@@ -122,27 +126,18 @@ def short_basis(
         # (root, tree path, the edge, tree path) passes an apex, a leaf of the shortest-path tree (a
         # noisy plastic vase had a handle whose only loop found ran through a cap)
         weight = np.where((edges[de] >= surface).any(axis=1), 1.0, 2.0)
-        dg = minimum_spanning_tree(coo_matrix((weight, pair), shape=(tcount, tcount)).tocsr())
+        mst = minimum_spanning_tree(coo_matrix((weight, pair), shape=(tcount, tcount)).tocsr()).tocoo()
+        tparent, tdepth = bfs_forest(tcount, mst.row, mst.col)
     else:
-        dg = coo_matrix((np.ones(len(de)), pair), shape=(tcount, tcount)).tocsr()
-    dg = dg + dg.T
-    _, tlabel = connected_components(dg, directed=False)
-    tparent = np.full(tcount, -1, np.int64)
+        tparent, tdepth = bfs_forest(tcount, *pair)
     cotree = np.zeros(len(edges), bool)
-    for c in np.unique(tlabel):
-        r = int(np.nonzero(tlabel == c)[0][0])
-        bfs, par = breadth_first_order(dg, r, directed=False, return_predecessors=True)
-        nz = bfs[1:]
-        tparent[nz] = par[nz]
-    tdepth = _depths(tparent)  # hops to the BFS root (pointer doubling, not one Python step per triangle)
-    # cotree edges: the edge shared by a triangle and its dual parent
-    kids = np.nonzero(tparent >= 0)[0]
-    if len(kids):
-        # the shared edge of t and parent(t): common entry of their edge triples
-        te, pe = tri_edges[kids], tri_edges[tparent[kids]]
-        match = (te[:, :, None] == pe[:, None, :]).any(axis=2)
-        shared = te[np.arange(len(kids)), np.argmax(match, axis=1)]
-        cotree[shared] = True
+    # cotree edges: the edge shared by a triangle and its dual parent, which is the dual edge joining
+    # them (two distinct triangles share at most one edge); tri_up_edge[t] is that edge
+    tri_up_edge = np.full(tcount, -1, np.int64)
+    for t, u in ((pair[0], pair[1]), (pair[1], pair[0])):
+        up = tparent[t] == u
+        tri_up_edge[t[up]] = de[up]
+        cotree[de[up]] = True
     left = np.nonzero(inner & ~in_tree & ~cotree)[0]
     if len(left) == 0:
         return []
@@ -151,9 +146,6 @@ def short_basis(
     # cocycle of each leftover edge: the dual path between its two triangles, plus itself
     words = (len(left) + 63) // 64
     mask = np.zeros((len(edges), words), np.uint64)
-    tri_up_edge = np.full(tcount, -1, np.int64)
-    if len(kids):
-        tri_up_edge[kids] = shared
     for j, e in enumerate(left):
         a, b = int(e_tris[e, 0]), int(e_tris[e, 1])
         bit = np.uint64(1) << np.uint64(j % 64)
@@ -182,30 +174,22 @@ def short_basis(
     cand_len.append(dist0[a0] + length[left] + dist0[b0])
     cand_mask.append(pm0[a0] ^ pm0[b0] ^ mask[left])
     cand_info.extend((-1, -1, int(x), int(y)) for x, y in zip(a0, b0))
-    for c in np.unique(label[used]):
-        vs = np.nonzero(used & (label == c))[0]
-        if surface is not None:
-            vs = vs[vs < surface]
-        roots = _spread(points, vs, ROOTS)
-        dist, pred = shortest_path_trees(g, roots)
+    searched = trees.result() if parallel else _trees(g, spread_roots)
+    tasks, names = [], []
+    for c, roots, (dist, pred) in zip(comps, spread_roots, searched):
         # each row is its own single-source search: the chosen loops are walked on these trees below
         spread_pred.update((int(r), pred[ri]) for ri, r in enumerate(roots))
         sel_c = np.nonzero(inner & (label[edges[:, 0]] == c))[0]  # the same for every root
-        a_c, b_c, mask_c = edges[sel_c, 0], edges[sel_c, 1], mask[sel_c]
-        for ri, r in enumerate(roots):
-            pm = _path_masks(pred[ri], marked, marked_mask)
-            # a tree edge's class is 0 (pm of the child = pm of the parent ^ the edge's mask), so the
-            # nonzero classes are those of non-tree edges without removing the tree edges first
-            cls = pm[a_c] ^ pm[b_c] ^ mask_c
-            nz = np.flatnonzero(cls.any(axis=1))
-            if len(nz) == 0:
-                continue
-            sel, a, b = sel_c[nz], a_c[nz], b_c[nz]
-            L = dist[ri][a] + length[sel] + dist[ri][b]
-            keep = np.argsort(L)[: 8 * len(left)]
-            cand_len.append(L[keep])
-            cand_mask.append(cls[nz][keep])
-            cand_info.extend((ri, int(r), int(x), int(y)) for x, y in zip(a[keep], b[keep]))
+        edges_c = (sel_c, edges[sel_c, 0], edges[sel_c, 1], mask[sel_c])
+        tasks += [(pred[ri], dist[ri], marked, marked_mask, edges_c, length, 8 * len(left)) for ri in range(len(roots))]
+        names += list(enumerate(roots))
+    # on a large surface the roots on both cores (numpy's gathers and the compiled XOR release the GIL);
+    # the results in root order either way
+    for (ri, r), found in zip(names, run_in_order(_root_loops, tasks, None if parallel else 1)):
+        if found is not None:
+            cand_len.append(found[0])
+            cand_mask.append(found[1])
+            cand_info.extend((ri, int(r), int(x), int(y)) for x, y in zip(found[2], found[3]))
     if local is not None:
         lroots = np.unique(edges[left].ravel())
         for r in lroots.tolist():
@@ -335,6 +319,39 @@ def shortest_path_trees(g: csr_matrix, roots: list[int]) -> tuple[np.ndarray, np
     return dist, pred
 
 
+def _trees(g: csr_matrix, spread_roots: list[list[int]]) -> list[tuple[np.ndarray, np.ndarray]]:
+    """:func:`shortest_path_trees` of each component's spread roots."""
+    return [shortest_path_trees(g, roots) for roots in spread_roots]
+
+
+def _root_loops(task: tuple) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+    """One root's shortest loops of a nonzero class: (lengths, classes, a, b) of their non-tree edges (a, b).
+
+    ``task`` is (pred, dist, marked, marked_mask, (sel, a, b, mask) of the component's inner edges,
+    edge lengths, how many loops); None when no edge closes a loop of a nonzero class.
+    """
+    pred, dist, marked, marked_mask, (sel_c, a_c, b_c, mask_c), length, limit = task
+    pm = _path_masks(pred, marked, marked_mask)
+    # a tree edge's class is 0 (pm of the child = pm of the parent ^ the edge's mask), so the
+    # nonzero classes are those of non-tree edges without removing the tree edges first
+    cls = pm[a_c] ^ pm[b_c] ^ mask_c
+    nz = np.flatnonzero(cls.any(axis=1))
+    if len(nz) == 0:
+        return None
+    sel, a, b = sel_c[nz], a_c[nz], b_c[nz]
+    L = dist[a] + length[sel] + dist[b]
+    keep = np.argsort(L)[:limit]
+    return L[keep], cls[nz][keep], a[keep], b[keep]
+
+
+def _spread_roots(points: np.ndarray, member: np.ndarray, surface: int | None) -> list[int]:
+    """A component's :data:`ROOTS` spread roots (its vertices where ``member``, below ``surface`` if given)."""
+    vs = np.nonzero(member)[0]
+    if surface is not None:
+        vs = vs[vs < surface]
+    return _spread(points, vs, ROOTS)
+
+
 def _spread(points: np.ndarray, vs: np.ndarray, k: int) -> list[int]:
     """Up to k vertices of vs spread by farthest-point sampling.
 
@@ -426,19 +443,6 @@ def _path_masks(pred: np.ndarray, marked: np.ndarray, marked_mask: np.ndarray) -
         if np.array_equal(nxt, anc):  # every ancestor is a root, whose own entry is 0
             return acc
         acc ^= acc[anc]
-        anc = nxt
-
-
-def _depths(pred: np.ndarray) -> np.ndarray:
-    """Hops from every reached vertex to its tree's root (pointer doubling)."""
-    n = len(pred)
-    anc = np.where(pred >= 0, pred, np.arange(n))
-    depth = (pred >= 0).astype(np.int64)
-    while True:
-        nxt = anc[anc]
-        if np.array_equal(nxt, anc):
-            return depth
-        depth = depth + depth[anc]  # a root's own depth is 0
         anc = nxt
 
 
