@@ -65,12 +65,16 @@ def result_features(
     list of Feature
     """
     counts = ext.counts_by_rule()
+    # the robust driver began measuring the paper's own result while it analysed it (the same call)
+    pending = ext.__dict__.pop("pending_features", None)
+    if ext.features is not None:
+        measured = ext.features
+    elif pending is not None and pending[0] == ext.n_steps:
+        measured = pending[1].result()
+    else:
+        measured = features(rec.points / scale, manifold, rec.d)
     # on the rescaled samples (sizes are ratios; locations are scaled back)
-    feats = [
-        replace(f, location=f.location * scale)
-        for f in (features(rec.points / scale, manifold, rec.d) if ext.features is None else ext.features)
-        + list(ext.disputed)
-    ]
+    feats = [replace(f, location=f.location * scale) for f in measured + list(ext.disputed)]
     # a handle cut in the band [LOOP_MIN, LOOP_SUPPORTED) stays uncertain: a sample coarser than
     # eps = 1/2 resolves it, so the sample did not decide it; one below LOOP_MIN is below what any
     # eps < 1 sample resolves, and its removal is what the sampling condition implies

@@ -81,11 +81,12 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..analysis.features import LOOP_MIN
+from ..analysis.features import LOOP_MIN, features
 from ..analysis.topology import analyse
 from ..errors import Cancelled
 from ..paper.extraction import extract
 from ..steps import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
+from ..util.parallel import start_in_background
 from .cells import extract_by_labels, weak_openings
 from .cut_loop import cut_short_loops
 from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
@@ -157,9 +158,13 @@ def extract_robust(
         paper = extract(points, tset, stop_when_sample_lost=True, cancel=cancel)
         if paper.stopped == "closed":
             final = paper.complex_at(paper.n_steps)
+            # the report measures the features of this complex if it is the result: begun on the other
+            # core while it is analysed (the same values as measured afterwards; see uncertainty.py)
+            pending = start_in_background(features, points, final, d1 - 1)
             top = analyse(final, n, d1 - 1)
             if top.closed_manifold:
                 paper.final_topology = (paper.n_steps, n, d1 - 1, top)  # type: ignore[attr-defined]
+                paper.pending_features = (paper.n_steps, pending)  # type: ignore[attr-defined]
                 paper.mode = "robust"
                 paper.notes.append(
                     "the paper's Algorithm 3 gave a closed manifold through every sample; the extension was not needed"
