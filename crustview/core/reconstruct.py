@@ -172,15 +172,20 @@ def reconstruct(
         simplices, neighbors = delaunay(prep.work, bounds, neighbors=True)
     else:
         simplices, neighbors = delaunay(prep.work, bounds), None
-    work_all = np.vstack([prep.work, bounds])
-    # room for the Voronoi vertices at infinity (at most one per sample), filled in place at the lift
-    centres = circumcenters(work_all, simplices, spare=n if r == k else 0)
-    timings["delaunay"] = time.perf_counter() - t0
-    _next_stage(cancel)
-
-    # Algorithm 2's face lists need only the simplices: listed on the other core during Algorithm 1
+    # Algorithm 2's face lists need only the simplices: listed on the other core while the circumcentres
+    # are computed and during Algorithm 1
     listing = start_in_background(cand.enumerate_faces, simplices, n, d, neighbors=neighbors)
     del neighbors
+    try:
+        work_all = np.vstack([prep.work, bounds])
+        # room for the Voronoi vertices at infinity (at most one per sample), filled in place at the lift
+        centres = circumcenters(work_all, simplices, spare=n if r == k else 0)
+        timings["delaunay"] = time.perf_counter() - t0
+        _next_stage(cancel)
+    except BaseException:
+        listing.exception()  # waits: the listing is not left running past a failed or cancelled run
+        raise
+
     t0 = time.perf_counter()
     report("normals", 0.0)
     try:
