@@ -1,6 +1,7 @@
 """The loop basis's compiled shortest-path trees (core/analysis/_paths.cpp) against scipy."""
 
 import numpy as np
+import pytest
 
 
 def test_compiled_shortest_path_trees_are_scipys():
@@ -264,3 +265,42 @@ def test_the_loop_basis_is_the_same_on_both_cores_and_in_line(monkeypatch):
         assert len(b1) == len(b2) == rec.topology.betti[1] and np.array_equal(m1, m2)
         for (loop1, len1), (loop2, len2) in zip(b1, b2):
             assert np.array_equal(loop1, loop2) and len1 == len2
+
+
+def test_each_triangle_s_up_edge_is_the_first_edge_it_shares_with_its_dual_parent():
+    # cotree.up_edges against its definition (the first of a triangle's three edge slots that its dual
+    # parent also has) on triangle soups with repeated rows, where a triangle shares all three edges with
+    # its twin, and without them; and the loop basis of a soup with a repeated triangle (a review's case)
+    from crustview.core.analysis import cotree
+    from crustview.core.analysis.loops import short_basis, triangle_edges
+
+    rng = np.random.default_rng(5)
+    for trial in range(300):
+        n = int(rng.integers(4, 12))
+        tris = np.sort(rng.integers(0, n, size=(int(rng.integers(2, 25)), 3)), axis=1)
+        tris = tris[(tris[:, 0] < tris[:, 1]) & (tris[:, 1] < tris[:, 2])]
+        if trial % 2:
+            tris = np.concatenate([tris, tris[: len(tris) // 3]])  # repeated rows
+        if len(tris) < 2:
+            continue
+        edges, tri_edges = triangle_edges(tris)
+        e_tris = cotree.edge_triangles(tri_edges, len(edges))
+        count = np.bincount(tri_edges.ravel(), minlength=len(edges))
+        de = np.flatnonzero(count == 2)
+        pair = (e_tris[de, 0], e_tris[de, 1])
+        parent, _ = cotree.bfs_forest(len(tris), *pair)
+        got = cotree.up_edges(tris, edges, tri_edges, parent, de, pair)
+        for t in range(len(tris)):
+            if parent[t] < 0:
+                assert got[t] == -1
+            else:
+                want = next(e for e in tri_edges[t] if e in set(tri_edges[parent[t]].tolist()))
+                assert got[t] == want, (trial, t)
+    tris = np.array([[0, 1, 2], [0, 1, 2], [0, 1, 3], [0, 1, 4], [0, 3, 4], [1, 3, 4]])
+    points = np.array([[0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, 0, 1], [0.5, 0, -1]], float)
+    edges, tri_edges = triangle_edges(tris)
+    count = np.bincount(tri_edges.ravel(), minlength=len(edges))
+    basis = short_basis(points, tris, edges, tri_edges, count, len(points))
+    # the old edge-triple comparison's basis: one loop, round the edge 0-1 through sample 3 (1 + 2 sqrt(1.25))
+    assert [loop.tolist() for loop, _ in basis] == [[0, 1, 3, 0]]
+    assert basis[0][1] == pytest.approx(1 + 2 * np.sqrt(1.25))

@@ -172,6 +172,7 @@ def reconstruct(
         simplices, neighbors = delaunay(prep.work, bounds, neighbors=True)
     else:
         simplices, neighbors = delaunay(prep.work, bounds), None
+    _check(cancel)  # a cancel during the triangulation stops here, before the listing starts
     # Algorithm 2's face lists need only the simplices: listed on the other core while the circumcentres
     # are computed and during Algorithm 1
     listing = start_in_background(cand.enumerate_faces, simplices, n, d, neighbors=neighbors)
@@ -312,6 +313,7 @@ def reextract(
         prune_boundary = rec.prune_boundary
     # the exact power-of-two rescaling keeps squares finite at any input scale
     scale = prescale(rec.points)
+    measured: list = []  # the robust driver's measurement of the paper's own result, begun early
     with gc_paused():  # see memory.gc_paused: the extraction makes many long-lived small objects
         if mode == "robust":
             cells = None
@@ -332,6 +334,7 @@ def reextract(
                 cancel=cancel,
                 progress=lambda f: report("extraction", f),
                 rows_sorted=True,  # Candidates.faces: sorted rows
+                measured=measured,
             )
         else:
             tset = rec.candidates.select(test, theta)
@@ -396,6 +399,7 @@ def reextract(
         contacts=contacts,
         cancel=cancel,
         report=report,
+        pending=measured[0] if measured else None,
     )
     timings["topology"] += time.perf_counter() - t0
     report("done", 1.0)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from concurrent.futures import Future
 from dataclasses import replace
 
 import numpy as np
@@ -38,6 +39,7 @@ def result_features(
     contacts: bool,
     cancel: object | None,
     report: Callable[[str, float], None],
+    pending: Future | None = None,
 ) -> list[Feature]:
     """Every feature of ``manifold`` and of the rules' decisions, with whether the sample supports it.
 
@@ -59,6 +61,9 @@ def result_features(
         As in :func:`crustview.core.reconstruct.reconstruct`.
     cancel, report
         Cancellation and progress of the run.
+    pending : Future, optional
+        ``features`` of ``manifold`` begun by the robust driver (see
+        :func:`~crustview.core.robust.driver.extract_robust`'s ``measured``); taken instead of measuring again.
 
     Returns
     -------
@@ -66,11 +71,10 @@ def result_features(
     """
     counts = ext.counts_by_rule()
     # the robust driver began measuring the paper's own result while it analysed it (the same call)
-    pending = ext.__dict__.pop("pending_features", None)
     if ext.features is not None:
         measured = ext.features
-    elif pending is not None and pending[0] == ext.n_steps:
-        measured = pending[1].result()
+    elif pending is not None:
+        measured = pending.result()
     else:
         measured = features(rec.points / scale, manifold, rec.d)
     # on the rescaled samples (sizes are ratios; locations are scaled back)

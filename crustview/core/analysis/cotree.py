@@ -55,6 +55,45 @@ def _edge_triangles_numpy(tri_edges: np.ndarray, n_edges: int) -> np.ndarray:
     return e_tris
 
 
+def may_have_loops(tris: np.ndarray, count: np.ndarray, used: np.ndarray, pieces: int) -> bool:
+    """False only for closed surfaces of spheres (every edge in two triangles, V - E + F = 2 per piece).
+
+    A scheduling test of :func:`.loops.short_basis` (no loop: its trees are not searched ahead):
+    ``count`` is the triangles at each edge, ``used`` the vertices of the triangles and ``pieces`` their
+    components.  A closed piece has Euler characteristic 2 only as a sphere, so the sum is 2 per piece
+    only when there is no loop.  Anything else (boundary or non-manifold edges) may have loops.
+    """
+    if len(count) == 0 or not (count == 2).all():
+        return True
+    chi = int(used.sum()) - len(count) + len(tris)
+    return chi < 2 * pieces
+
+
+def up_edges(
+    tris: np.ndarray, edges: np.ndarray, tri_edges: np.ndarray, tparent: np.ndarray, de: np.ndarray, pair: tuple
+) -> np.ndarray:
+    """Each triangle's edge shared with its dual parent (-1 at roots): the first of its three it shares.
+
+    Two triangles with different vertex sets share at most one edge, which is then the dual edge that joins
+    them in the forest; read off the dual edges.  A triangle whose parent has its very vertices (a repeated
+    row) shares all three, and takes the first of its own edge slots, as comparing the edge triples does.
+    """
+    up_edge = np.full(len(tris), -1, np.int64)
+    for t, u in ((pair[0], pair[1]), (pair[1], pair[0])):
+        up = tparent[t] == u
+        up_edge[t[up]] = de[up]
+    kids = np.flatnonzero(tparent >= 0)
+    e = up_edge[kids]
+    # the same vertex set: the third vertices (beside the shared edge) are the same
+    rest = edges[e].sum(axis=1)
+    twin = kids[tris[kids].sum(axis=1) - rest == tris[tparent[kids]].sum(axis=1) - rest]
+    if len(twin):
+        te, pe = tri_edges[twin], tri_edges[tparent[twin]]
+        match = (te[:, :, None] == pe[:, None, :]).any(axis=2)
+        up_edge[twin] = te[np.arange(len(twin)), np.argmax(match, axis=1)]
+    return up_edge
+
+
 def bfs_forest(n: int, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Breadth-first forest of the undirected graph on ``n`` nodes with edges ``(a[i], b[i])``.
 

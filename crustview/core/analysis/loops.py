@@ -18,7 +18,7 @@ from scipy.sparse.csgraph import connected_components, dijkstra, minimum_spannin
 
 from ..util.parallel import run_in_order, start_in_background
 from ..util.vectors import SEQUENTIAL_SUM, edge_lengths
-from .cotree import bfs_forest, edge_triangles
+from .cotree import bfs_forest, edge_triangles, may_have_loops, up_edges
 from .necks import _reduce
 
 try:
@@ -106,10 +106,19 @@ def short_basis(
 
     comps = np.unique(label[used])
     spread_roots = [] if cocycles_only else [_spread_roots(points, used & (label == c), surface) for c in comps]
-    # the spread roots' trees need only the graph: on a large surface searched on other threads (the
-    # compiled search releases the GIL) while the tree-cotree split below runs; the same arrays either way
-    parallel = n >= PARALLEL_MIN and not cocycles_only
-    trees = start_in_background(_trees, g, spread_roots) if parallel else None
+    # the spread roots' trees need only the graph: the largest component's, when it has PARALLEL_MIN vertices
+    # and may have loops, are searched on other threads (the compiled search releases the GIL) while the
+    # tree-cotree split below runs; the others in line, one component at a time; the same arrays either way
+    sizes = np.bincount(label[used], minlength=ncomp)
+    big = int(comps[np.argmax(sizes[comps])]) if len(comps) else -1
+    parallel = (
+        not cocycles_only and big >= 0 and sizes[big] >= PARALLEL_MIN and may_have_loops(tris, count, used, len(comps))
+    )
+    trees = (
+        start_in_background(shortest_path_trees, g, spread_roots[int(np.searchsorted(comps, big))])
+        if parallel
+        else None
+    )
     dist0, pred0, _ = dijkstra(g, indices=roots0, return_predecessors=True, min_only=True)
     pred_ms = pred0
     child = np.nonzero((pred_ms >= 0) & used)[0]
@@ -130,14 +139,9 @@ def short_basis(
         tparent, tdepth = bfs_forest(tcount, mst.row, mst.col)
     else:
         tparent, tdepth = bfs_forest(tcount, *pair)
+    tri_up_edge = up_edges(tris, edges, tri_edges, tparent, de, pair)
     cotree = np.zeros(len(edges), bool)
-    # cotree edges: the edge shared by a triangle and its dual parent, which is the dual edge joining
-    # them (two distinct triangles share at most one edge); tri_up_edge[t] is that edge
-    tri_up_edge = np.full(tcount, -1, np.int64)
-    for t, u in ((pair[0], pair[1]), (pair[1], pair[0])):
-        up = tparent[t] == u
-        tri_up_edge[t[up]] = de[up]
-        cotree[de[up]] = True
+    cotree[tri_up_edge[tparent >= 0]] = True
     left = np.nonzero(inner & ~in_tree & ~cotree)[0]
     if len(left) == 0:
         return []
@@ -174,22 +178,20 @@ def short_basis(
     cand_len.append(dist0[a0] + length[left] + dist0[b0])
     cand_mask.append(pm0[a0] ^ pm0[b0] ^ mask[left])
     cand_info.extend((-1, -1, int(x), int(y)) for x, y in zip(a0, b0))
-    searched = trees.result() if parallel else _trees(g, spread_roots)
-    tasks, names = [], []
-    for c, roots, (dist, pred) in zip(comps, spread_roots, searched):
+    for c, roots in zip(comps, spread_roots):
+        dist, pred = trees.result() if parallel and c == big else shortest_path_trees(g, roots)
         # each row is its own single-source search: the chosen loops are walked on these trees below
         spread_pred.update((int(r), pred[ri]) for ri, r in enumerate(roots))
         sel_c = np.nonzero(inner & (label[edges[:, 0]] == c))[0]  # the same for every root
         edges_c = (sel_c, edges[sel_c, 0], edges[sel_c, 1], mask[sel_c])
-        tasks += [(pred[ri], dist[ri], marked, marked_mask, edges_c, length, 8 * len(left)) for ri in range(len(roots))]
-        names += list(enumerate(roots))
-    # on a large surface the roots on both cores (numpy's gathers and the compiled XOR release the GIL);
-    # the results in root order either way
-    for (ri, r), found in zip(names, run_in_order(_root_loops, tasks, None if parallel else 1)):
-        if found is not None:
-            cand_len.append(found[0])
-            cand_mask.append(found[1])
-            cand_info.extend((ri, int(r), int(x), int(y)) for x, y in zip(found[2], found[3]))
+        tasks = [(pred[ri], dist[ri], marked, marked_mask, edges_c, length, 8 * len(left)) for ri in range(len(roots))]
+        # the largest component's roots on both cores (numpy's gathers and the compiled XOR release the
+        # GIL), the results in root order either way
+        for ri, found in enumerate(run_in_order(_root_loops, tasks, None if parallel and c == big else 1)):
+            if found is not None:
+                cand_len.append(found[0])
+                cand_mask.append(found[1])
+                cand_info.extend((ri, int(roots[ri]), int(x), int(y)) for x, y in zip(found[2], found[3]))
     if local is not None:
         lroots = np.unique(edges[left].ravel())
         for r in lroots.tolist():
@@ -317,11 +319,6 @@ def shortest_path_trees(g: csr_matrix, roots: list[int]) -> tuple[np.ndarray, np
         d1, p1 = dijkstra(g, indices=[roots[i]], return_predecessors=True)
         dist[i], pred[i] = d1[0], p1[0]
     return dist, pred
-
-
-def _trees(g: csr_matrix, spread_roots: list[list[int]]) -> list[tuple[np.ndarray, np.ndarray]]:
-    """:func:`shortest_path_trees` of each component's spread roots."""
-    return [shortest_path_trees(g, roots) for roots in spread_roots]
 
 
 def _root_loops(task: tuple) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:

@@ -107,6 +107,7 @@ def extract_robust(
     cancel: object | None = None,
     progress: Callable[[float], None] | None = None,
     rows_sorted: bool = False,
+    measured: list | None = None,
 ) -> Extraction:
     """Algorithm 3, and the extension (labelling, growing) where the paper's loop fails.
 
@@ -134,6 +135,10 @@ def extract_robust(
     rows_sorted : bool
         Every row of ``faces`` is known to be sorted (``Candidates.faces`` are): the check, a pass over all
         Delaunay faces (0.12 s at 300,000 samples), is skipped.
+    measured : list, optional
+        Where the paper's loop gives the result, a future of its
+        :func:`~crustview.core.analysis.features.features` is appended (measured on the other core while
+        the result is analysed); kept apart from the returned :class:`Extraction`, which stays picklable.
 
     Returns
     -------
@@ -159,12 +164,14 @@ def extract_robust(
         if paper.stopped == "closed":
             final = paper.complex_at(paper.n_steps)
             # the report measures the features of this complex if it is the result: begun on the other
-            # core while it is analysed (the same values as measured afterwards; see uncertainty.py)
-            pending = start_in_background(features, points, final, d1 - 1)
+            # core while it is analysed (the same values as measured afterwards; see uncertainty.py).  Where
+            # the loop ended pinched (rare) the measurement is not used, and its thread ends by itself.
+            pending = start_in_background(features, points, final, d1 - 1) if measured is not None else None
             top = analyse(final, n, d1 - 1)
             if top.closed_manifold:
                 paper.final_topology = (paper.n_steps, n, d1 - 1, top)  # type: ignore[attr-defined]
-                paper.pending_features = (paper.n_steps, pending)  # type: ignore[attr-defined]
+                if pending is not None:
+                    measured.append(pending)
                 paper.mode = "robust"
                 paper.notes.append(
                     "the paper's Algorithm 3 gave a closed manifold through every sample; the extension was not needed"
