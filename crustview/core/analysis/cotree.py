@@ -1,11 +1,13 @@
-"""The dual side of the loop basis's tree-cotree split: each edge's triangles, the dual forest.
+"""The dual side of the loop basis's tree-cotree split: each edge's triangles, the dual forest, its edges.
 
 :func:`.loops.short_basis` pairs a spanning tree of the vertices with a
 spanning forest of the triangles across the remaining edges (Eppstein 2003);
-the edges in neither are the basis's leftover edges.  Both helpers give the
-same arrays with and without the compiled code (``_paths.cpp``), which does
-each in one pass instead of a sort and a graph search (0.3-0.4 s to a few
-tens of milliseconds on a 300,000-point torus).
+the edges in neither are the basis's leftover edges.  :func:`edge_triangles`
+and :func:`bfs_forest` give the same arrays with and without the compiled
+code (``_paths.cpp``), which does each in one pass instead of a sort and a
+graph search (0.3-0.4 s to a few tens of milliseconds on a 300,000-point
+torus); :func:`up_edges` reads the forest's edges off the dual edges, and
+:func:`may_have_loops` tells the basis when searching ahead cannot pay.
 """
 
 from __future__ import annotations
