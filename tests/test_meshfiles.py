@@ -133,6 +133,40 @@ def test_bad_off_files_are_one_sentence(tmp_path, text, fragment):
     assert fragment in msg and str(path) in msg and "\n" not in msg
 
 
+def test_faces_in_one_pass_are_the_line_by_line_ones(tmp_path, monkeypatch):
+    # off._uniform_faces (every face line "size i0 ... i(size-1)", read in one pass) against the line-by-line
+    # reading it falls back to: a triangle mesh, the same with a comment, a quad mesh, mixed sizes (blocks in
+    # order of first appearance), face colours, an index out of range and a non-integer index (the same
+    # one-line errors)
+    from crustview.meshfiles import off
+
+    head = "OFF\n5 {nf} 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 1\n"
+    cases = {
+        "tris": head.format(nf=3) + "3 0 1 4\n3 1 2 4\n3 2 3 4\n",
+        "comment": head.format(nf=2) + "3 0 1 4 # first\n\n3 1 2 4\n",
+        "quads": head.format(nf=2) + "4 0 1 2 3\n4 0 1 4 3\n",
+        "mixed": head.format(nf=3) + "4 0 1 2 3\n3 0 1 4\n4 0 1 4 3\n",
+        "colours": head.format(nf=2) + "3 0 1 4 1 0 0\n3 1 2 4 0 1 0\n",
+        "range": head.format(nf=2) + "3 0 1 4\n3 1 2 9\n",
+        "word": head.format(nf=2) + "3 0 1 4\n3 1 two 4\n",
+    }
+    for name, text in cases.items():
+        path = _write(tmp_path, f"{name}.off", text)
+        got = []
+        for fast in (True, False):
+            if not fast:
+                monkeypatch.setattr(off, "_uniform_faces", lambda *args: None)
+            try:
+                mesh = off.read_off(path)
+                got.append(("mesh", mesh.points.tolist(), [(c.dtype, c.tolist()) for c in mesh.cells]))
+            except InputError as err:
+                got.append(("error", str(err)))
+            monkeypatch.undo()
+        assert got[0] == got[1], name
+    assert got[0][0] == "error" and "must be whole numbers" in got[0][1]  # the last case: a non-integer index
+    assert off._uniform_faces([["3", "0", "1", "4"], ["3", "1", "2", "4"]], 0, 2).tolist() == [[0, 1, 4], [1, 2, 4]]
+
+
 # ---------------------------------------------------------------- faces as d-simplices
 def test_quads_and_pentagons_become_triangle_fans(tmp_path):
     path = _write(tmp_path, "q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 2 0\nv 0 0 1\nf 1 2 3 4\nf 1 2 6\n")

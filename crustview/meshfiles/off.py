@@ -30,6 +30,7 @@ expect) and ``nOFF`` with Ndim = k otherwise, or always with
 
 from __future__ import annotations
 
+import itertools
 import re
 from pathlib import Path
 
@@ -107,6 +108,10 @@ def read_off(path: Path) -> MeshData:
     except ValueError:
         raise _bad(path, "a vertex coordinate is not a number") from None
     points = _dehomogenise(values[:, :comps], four, path)
+    uniform = _uniform_faces(lines, pos[0] + (pos[1] != 0), nf)
+    if uniform is not None:
+        _check_indices([uniform], nv, path)
+        return MeshData(points, [uniform], path)
     polys: list[list[int]] = []
     for i in range(nf):
         if pos[1] != 0:  # faces start on their own line
@@ -122,6 +127,29 @@ def read_off(path: Path) -> MeshData:
     cells = _blocks(polys)
     _check_indices(cells, nv, path)
     return MeshData(points, cells, path)
+
+
+def _uniform_faces(lines: list[list[str]], start: int, nf: int) -> np.ndarray | None:
+    """The faces as one (nf, size) block when every face line is ``size`` and its ``size`` indices, else None.
+
+    The common case (a triangle or quad mesh without face colours) in one pass: the same ``int`` of every
+    token as the line-by-line reading, which gives the faces every other case, and its messages for
+    anything malformed (None here sends it there).
+    """
+    block = lines[start : start + nf]
+    if nf == 0 or len(block) != nf:
+        return None
+    width = len(block[0])
+    if width < 2 or any(len(row) != width for row in block):
+        return None
+    try:
+        flat = np.fromiter(map(int, itertools.chain.from_iterable(block)), dtype=np.int64, count=nf * width)
+    except (ValueError, OverflowError):
+        return None
+    table = flat.reshape(nf, width)
+    if (table[:, 0] != width - 1).any():
+        return None
+    return np.ascontiguousarray(table[:, 1:])
 
 
 def _dehomogenise(values: np.ndarray, four: bool, path: Path) -> np.ndarray:
