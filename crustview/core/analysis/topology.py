@@ -12,6 +12,12 @@
   #d-simplices minus #components of the dual graph (the only d-cycles are the
   components' fundamental classes); every other rank is computed by column
   reduction over GF(2) with Python integers as bit sets.
+* **Triangle complexes** (d = 2) with no edge in more than two triangles have
+  every count of the report (edges, boundary, components, the dual graph's
+  closed components, pinched vertices, orientability) from one compiled pass
+  per vertex (``_surface.surface_report``), the same integers as the general
+  code below (``tests/test_core_topology_compiled.py``), which runs without
+  the extension and wherever an edge has three triangles or more.
 * **Orientability**: a consistent orientation exists iff the signed dual
   graph has no component containing both orientations of one simplex.
 """
@@ -34,6 +40,10 @@ try:
     from . import _components
 except ImportError:  # pragma: no cover - the extension is optional
     _components = None
+try:
+    from . import _surface
+except ImportError:  # pragma: no cover - the extension is optional
+    _surface = None
 
 
 def all_faces(simplices: np.ndarray, facets: np.ndarray | None = None) -> list[np.ndarray]:
@@ -305,6 +315,9 @@ def is_closed_manifold(simplices: np.ndarray, d: int) -> bool:
     simplices = np.asarray(simplices, dtype=np.int64).reshape(-1, d + 1)
     if len(simplices) == 0:
         return False
+    counts = _surface_counts(simplices, counts_only=False) if d == 2 else None
+    if counts is not None:
+        return counts[2] == 0 and counts[3] == 0 and counts[6] == 0
     pairs = _facet_pairs(simplices)
     counts = pairs[2]
     if (counts != 2).any():
@@ -313,8 +326,92 @@ def is_closed_manifold(simplices: np.ndarray, d: int) -> bool:
     return len(singular_vertices(simplices, faces, pairs)) == 0
 
 
+def _surface_counts(triangles: np.ndarray, counts_only: bool = False) -> tuple[int, ...] | None:
+    """``_surface.surface_report`` of a triangle complex, or None without the kernel or for a degenerate row.
+
+    Returns (vertices, edges, boundary edges, non-manifold edges, components, closed dual components (-1 with
+    a non-manifold edge), pinched vertices and orientable (both -1 unless a closed pseudo-surface)).
+    """
+    if _surface is None or len(triangles) == 0 or int(triangles.min()) < 0:
+        return None
+    t = np.ascontiguousarray(triangles, dtype=np.int64)
+    return _surface.surface_report(int(t.max()) + 1, t, counts_only)
+
+
+def _surface_report(triangles: np.ndarray, n_samples: int) -> TopologyReport | None:
+    """:func:`_analyse` of a triangle complex from its compiled counts; None where the general code must run.
+
+    With an edge in three triangles or more, rank d_2 needs the elimination; that case is left to it.
+    """
+    counts = _surface_counts(triangles)
+    if counts is None or counts[3] > 0:
+        return None
+    nv, ne, boundary, _nonman, comps, closed_parts, sing, orient = counts
+    nf = len(triangles)
+    pseudo = boundary == 0
+    return _report(
+        nf,
+        boundary,
+        0,
+        sing if pseudo else 0,
+        n_samples,
+        nv,
+        (comps, ne - (nv - comps) - (nf - closed_parts), closed_parts),
+        nv - ne + nf,
+        bool(orient) if pseudo else None,
+        comps,
+    )
+
+
+def _report(
+    n_simplices: int,
+    boundary: int,
+    nonman: int,
+    singular: int,
+    n_samples: int,
+    nverts: int,
+    betti: tuple[int, ...],
+    euler: int,
+    orient: bool | None,
+    comps: int,
+) -> TopologyReport:
+    """The report with its messages."""
+    unused = n_samples - nverts
+    msgs = []
+    if boundary:
+        msgs.append(f"{boundary} (d-1)-faces lie in only one d-simplex (boundary)")
+    if nonman:
+        msgs.append(f"{nonman} (d-1)-faces lie in more than two d-simplices (non-manifold)")
+    if singular:
+        msgs.append(f"{singular} vertices have a link that is not a (d-1)-sphere (pinched)")
+    if unused:
+        msgs.append(f"{unused} of {n_samples} samples are not vertices of the complex")
+    return TopologyReport(
+        n_simplices=n_simplices,
+        closed_manifold=bool(boundary == 0 and nonman == 0 and singular == 0),
+        boundary_faces=boundary,
+        nonmanifold_faces=nonman,
+        singular_vertices=int(singular),
+        unused_samples=int(unused),
+        betti=tuple(int(b) for b in betti),
+        euler=int(euler),
+        orientable=orient,
+        components=int(comps),
+        messages=msgs,
+    )
+
+
 def _analyse(simplices: np.ndarray, n_samples: int, d: int) -> TopologyReport:
     """:func:`analyse` without the memory of the last complex."""
+    if d == 2:
+        fast = _surface_report(simplices, n_samples)
+        if fast is not None:
+            return fast
+    return _analyse_general(simplices, n_samples, d)
+
+
+def _analyse_general(simplices: np.ndarray, n_samples: int, d: int) -> TopologyReport:
+    """:func:`_analyse` for any pure d-complex (numpy and GF(2) elimination)."""
     pairs = _facet_pairs(simplices)
     faces = all_faces(simplices, facets=pairs[0])
     counts = pairs[2]
@@ -337,28 +434,5 @@ def _analyse(simplices: np.ndarray, n_samples: int, d: int) -> TopologyReport:
         else:
             ranks[j] = boundary_rank_gf2(faces[j], faces[j - 1])
     betti = tuple(len(faces[j]) - ranks[j] - ranks[j + 1] for j in range(d + 1))
-    closed = pseudo and len(sing) == 0
     orient = orientable(simplices, pairs) if pseudo else None
-    unused = n_samples - nverts
-    msgs = []
-    if boundary:
-        msgs.append(f"{boundary} (d-1)-faces lie in only one d-simplex (boundary)")
-    if nonman:
-        msgs.append(f"{nonman} (d-1)-faces lie in more than two d-simplices (non-manifold)")
-    if len(sing):
-        msgs.append(f"{len(sing)} vertices have a link that is not a (d-1)-sphere (pinched)")
-    if unused:
-        msgs.append(f"{unused} of {n_samples} samples are not vertices of the complex")
-    return TopologyReport(
-        n_simplices=len(simplices),
-        closed_manifold=bool(closed),
-        boundary_faces=boundary,
-        nonmanifold_faces=nonman,
-        singular_vertices=int(len(sing)),
-        unused_samples=int(unused),
-        betti=tuple(int(b) for b in betti),
-        euler=euler,
-        orientable=orient,
-        components=int(comps),
-        messages=msgs,
-    )
+    return _report(len(simplices), boundary, nonman, len(sing), n_samples, nverts, betti, euler, orient, comps)

@@ -54,6 +54,11 @@ from ..steps import RULE_PRUNE, RULE_RESOLVE, Extraction, Step
 from ..util.rows import unique_rows
 from . import compiled_loop
 
+try:
+    from ..analysis import _surface
+except ImportError:  # pragma: no cover - the extension is optional
+    _surface = None
+
 HALF_PI = np.pi / 2
 #: Largest prune cascade simulated when choosing a pair (see _choose_pair).
 CASCADE_LIMIT = 64
@@ -83,8 +88,17 @@ def facet_structure(
         ``facet_of[i, a]`` is the facet of simplex ``i`` opposite its vertex ``a``.
     ptr, inc : ndarray
         CSR: simplices containing facet ``g`` are ``inc[ptr[g]:ptr[g+1]]``.
+
+    Triangles (d = 2) take the compiled edge table (``_surface.edge_structure``: each vertex lists the
+    edges to its larger neighbours, which taken vertex by vertex is the sorted order), the same arrays
+    as the numpy code below, which every other case runs (``tests/test_core_topology_compiled.py``).
     """
     c, dp1 = simplices.shape
+    if dp1 == 3 and c and _surface is not None:
+        fast = _edge_structure(simplices)
+        if fast is not None:
+            facets, facet_of, ptr, pos = fast
+            return facets, facet_of, ptr, pos if positions else pos // dp1
     srt = np.sort(simplices, axis=1)
     allf = np.empty((c, dp1, dp1 - 1), dtype=srt.dtype)
     for a in range(dp1):
@@ -99,6 +113,18 @@ def facet_structure(
     if not positions:
         order //= dp1
     return facets, facet_of, ptr, order
+
+
+def _edge_structure(triangles: np.ndarray) -> tuple[np.ndarray, ...] | None:
+    """:func:`facet_structure` of triangles (``positions=True``) by the compiled edge table, or None."""
+    t = np.ascontiguousarray(triangles, dtype=np.int64)
+    if int(t.min()) < 0:
+        return None
+    out = _surface.edge_structure(int(t.max()) + 1, t)
+    if out is None:
+        return None
+    edges, facet_of, ptr, pos = (np.frombuffer(b, dtype=np.int64) for b in out)
+    return edges.reshape(-1, 2).copy(), facet_of.reshape(-1, 3).copy(), ptr.copy(), pos.copy()
 
 
 def opposite_vectors(points: np.ndarray, simplices: np.ndarray) -> np.ndarray:

@@ -1,0 +1,124 @@
+"""The compiled counts of a triangle complex (``analysis/_surface.cpp``) against the general-d report."""
+
+import itertools
+
+import numpy as np
+import pytest
+
+from crustview.core.analysis import topology
+from crustview.core.analysis.topology import _analyse_general, _surface_report, analyse, is_closed_manifold
+from test_core_extraction import OCTA, grid_surface
+
+pytestmark = pytest.mark.skipif(topology._surface is None, reason="the compiled kernel is not built")
+
+RP2 = np.array(
+    [[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5], [0, 5, 1], [1, 2, 4], [2, 3, 5], [3, 4, 1], [4, 5, 2], [5, 1, 3]]
+)
+
+
+def _general_closed(tris: np.ndarray, monkeypatch: pytest.MonkeyPatch) -> bool:
+    with monkeypatch.context() as m:
+        m.setattr(topology, "_surface", None)
+        return is_closed_manifold(tris, 2)
+
+
+def _pinched() -> np.ndarray:
+    other = OCTA + 5
+    other[other == 5] = 0  # two octahedra sharing one vertex
+    return np.vstack([OCTA, other])
+
+
+def _complexes(rng: np.random.Generator) -> list[tuple[str, np.ndarray, int]]:
+    torus, klein = grid_surface(6, 7), grid_surface(6, 7, klein=True)
+    cases = [
+        ("octahedron", OCTA, 6),
+        ("projective plane", RP2, 6),
+        ("torus", torus, 42),
+        ("klein bottle", klein, 42),
+        ("pinched octahedra", _pinched(), 11),
+        ("disc", np.array([[0, 1, 2], [0, 2, 3]]), 6),
+        ("shuffled rows and columns", rng.permuted(torus[rng.permutation(len(torus))], axis=1), 50),
+        ("torus, klein bottle and octahedron apart", np.vstack([torus, klein + 42, OCTA + 84]), 95),
+        # two tori glued along a grid circle would be non-manifold; glued at a vertex: pinched, two cycles
+        ("tori at a vertex", np.vstack([torus, np.where(torus == 0, 0, torus + 41)]), 83),
+    ]
+    for i in range(12):  # punched surfaces: holes, closed and open parts, isolated triangles
+        tris = np.vstack([torus, klein + 42, OCTA + 84, RP2 + 90])
+        keep = rng.random(len(tris)) > rng.choice([0.02, 0.1, 0.4, 0.8])
+        cases.append((f"punched {i}", tris[keep], 100))
+    # a wedge of three triangles at an edge: non-manifold, left to the general code
+    cases.append(("fin on an octahedron", np.vstack([OCTA, [[0, 2, 7]]]), 8))
+    return cases
+
+
+def test_the_compiled_report_is_the_general_one(monkeypatch):
+    rng = np.random.default_rng(3)
+    for name, tris, n in _complexes(rng):
+        tris = np.asarray(tris, np.int64)
+        want = _analyse_general(tris, n, 2)
+        got = _surface_report(tris, n)
+        if want.nonmanifold_faces:
+            assert got is None, name  # rank d_2 needs the elimination
+        else:
+            assert got == want, name
+        assert analyse(tris, n, 2) == want, name
+        assert is_closed_manifold(tris, 2) == _general_closed(tris, monkeypatch) == want.closed_manifold, name
+
+
+def test_known_answers_from_the_compiled_counts():
+    # worked by hand: V - E + F and the orientation of each
+    for tris, n, betti, euler, orient in (
+        (OCTA, 6, (1, 0, 1), 2, True),
+        (RP2, 6, (1, 1, 1), 1, False),
+        (grid_surface(4, 5), 20, (1, 2, 1), 0, True),
+        (grid_surface(4, 5, klein=True), 20, (1, 2, 1), 0, False),
+    ):
+        rep = _surface_report(np.asarray(tris, np.int64), n)
+        assert rep.closed_manifold and rep.betti == betti and rep.euler == euler and rep.orientable is orient
+    pinched = _surface_report(_pinched(), 11)
+    assert not pinched.closed_manifold and pinched.singular_vertices == 1 and pinched.betti == (1, 0, 2)
+    disc = _surface_report(np.array([[0, 1, 2], [0, 2, 3]]), 6)
+    assert disc.boundary_faces == 4 and disc.unused_samples == 2 and disc.betti == (1, 0, 0)
+    assert disc.orientable is None and disc.messages[-1] == "2 of 6 samples are not vertices of the complex"
+
+
+def test_a_triangle_repeating_a_vertex_goes_to_the_general_code():
+    tris = np.vstack([OCTA, [[1, 1, 2]]])
+    assert _surface_report(tris, 6) is None
+    assert analyse(tris, 6, 2) == _analyse_general(tris, 6, 2)
+
+
+def test_a_delaunay_surface_and_its_parts(torus_run, monkeypatch):
+    rec, _ = torus_run
+    m_s = np.asarray(rec.manifold, np.int64)
+    rng = np.random.default_rng(0)
+    for tris in (m_s, m_s[rng.random(len(m_s)) > 0.01], m_s[: len(m_s) // 2], m_s[::-1]):
+        assert _surface_report(tris, rec.n) == _analyse_general(tris, rec.n, 2)
+        assert is_closed_manifold(tris, 2) == _general_closed(tris, monkeypatch)
+    # every triangle of the tetrahedra at some samples: non-manifold edges
+    tets = rec.delaunay_simplices[(rec.delaunay_simplices < rec.n).all(axis=1)][:200]
+    soup = np.unique(
+        np.sort(np.vstack([tets[:, list(c)] for c in itertools.combinations(range(4), 3)]), axis=1), axis=0
+    )
+    assert _surface_report(soup, rec.n) is None
+    assert analyse(soup, rec.n, 2) == _analyse_general(soup, rec.n, 2)
+
+
+def test_the_compiled_edge_table_is_numpys_facet_structure(torus_run, monkeypatch):
+    from crustview.core.paper import extraction
+
+    rec, _ = torus_run
+    rng = np.random.default_rng(5)
+    t_s = np.asarray(rec.candidates.select(rec.test, rec.theta), np.int64)  # edges in 1-6 triangles
+    cases = [t.astype(np.int64) for _, t, _ in _complexes(rng)]
+    cases += [t_s, t_s[rng.permutation(len(t_s))], rng.permuted(t_s, axis=1), OCTA[:1]]
+    for tris in cases:
+        for positions in (False, True):
+            got = extraction.facet_structure(tris, positions)
+            with monkeypatch.context() as m:
+                m.setattr(extraction, "_surface", None)
+                want = extraction.facet_structure(tris, positions)
+            for g, w in zip(got, want, strict=True):
+                assert g.dtype == w.dtype and np.array_equal(g, w)
+    assert extraction._edge_structure(np.array([[0, 0, 1]])) is None  # a repeated vertex: numpy's table
+    assert np.diff(extraction.facet_structure(t_s)[2]).max() > 2  # T_S has edges in three triangles and more
