@@ -4,10 +4,10 @@ import itertools
 
 import numpy as np
 import pytest
+from test_core_extraction import OCTA, grid_surface
 
 from crustview.core.analysis import topology
 from crustview.core.analysis.topology import _analyse_general, _surface_report, analyse, is_closed_manifold
-from test_core_extraction import OCTA, grid_surface
 
 pytestmark = pytest.mark.skipif(topology._surface is None, reason="the compiled kernel is not built")
 
