@@ -13,7 +13,7 @@ Algorithm 1's greedy rounds, ``crustview.core.delaunay._segments`` and
 codimension 1 and 2, ``crustview.core.delaunay._literal`` its literal test on triangles,
 ``crustview.core.delaunay._centres`` the simplices' circumcentres and
 ``crustview.core.paper._prune`` Algorithm 3's loop, ``crustview.core.analysis._components``
-graph components, ``crustview.core.analysis._surface`` a triangle complex's topology counts,
+graph components, ``crustview.core.util._surface`` a triangle complex's edge table and topology counts,
 ``crustview.core.analysis._spacing`` the local spacing's enclosing radii
 and ``crustview.core.analysis._paths`` the loop basis's shortest-path trees; without them
 numpy, scipy and Python do the same.
@@ -98,9 +98,9 @@ setup(
             extra_compile_args=FLAGS,
             optional=True,
         ),
-        Extension(  # no third-party headers: a triangle complex's topology counts (core/analysis/topology.py)
-            "crustview.core.analysis._surface",
-            sources=["crustview/core/analysis/_surface.cpp"],
+        Extension(  # no third-party headers: a triangle complex's edge table and topology counts (core/util)
+            "crustview.core.util._surface",
+            sources=["crustview/core/util/_surface.cpp"],
             language="c++",
             extra_compile_args=FLAGS,
             optional=True,

@@ -1,4 +1,4 @@
-"""The compiled counts of a triangle complex (``analysis/_surface.cpp``) against the general-d report."""
+"""The compiled counts of a triangle complex (``util/_surface.cpp``) against the general-d report."""
 
 import itertools
 

@@ -41,7 +41,7 @@ try:
 except ImportError:  # pragma: no cover - the extension is optional
     _components = None
 try:
-    from . import _surface
+    from ..util import _surface
 except ImportError:  # pragma: no cover - the extension is optional
     _surface = None
 

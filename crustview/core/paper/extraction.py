@@ -55,7 +55,7 @@ from ..util.rows import unique_rows
 from . import compiled_loop
 
 try:
-    from ..analysis import _surface
+    from ..util import _surface
 except ImportError:  # pragma: no cover - the extension is optional
     _surface = None
 

@@ -1,5 +1,6 @@
-// The counts of a topology report of a triangle complex in one pass per vertex
-// (crustview.core.analysis.topology: analyse and is_closed_manifold for d = 2).
+// The edge table of a triangle complex (crustview.core.paper.extraction.facet_structure for d = 2) and the
+// counts of its topology report (crustview.core.analysis.topology: analyse and is_closed_manifold for
+// d = 2), each in one pass per vertex.
 //
 // For triangles over vertex ids 0..n-1 (any k: only the combinatorics matter)
 // it gives the numbers numpy's general-d code computes from its sorted facet
