@@ -122,3 +122,26 @@ def test_the_compiled_edge_table_is_numpys_facet_structure(torus_run, monkeypatc
                 assert g.dtype == w.dtype and np.array_equal(g, w)
     assert extraction._edge_structure(np.array([[0, 0, 1]])) is None  # a repeated vertex: numpy's table
     assert np.diff(extraction.facet_structure(t_s)[2]).max() > 2  # T_S has edges in three triangles and more
+
+
+def test_the_compiled_triangle_edges_are_numpys(torus_run, monkeypatch):
+    from crustview.core.analysis import loops
+
+    rec, _ = torus_run
+    rng = np.random.default_rng(11)
+    m_s = np.asarray(rec.manifold)
+    cases = [t for _, t, _ in _complexes(rng)] + [m_s, m_s.astype(np.int32), rng.permuted(m_s, axis=1)[::-1]]
+    for tris in cases:
+        got = loops.triangle_edges(tris)
+        with monkeypatch.context() as m:
+            m.setattr(loops, "_surface", None)
+            want = loops.triangle_edges(tris)
+        assert loops._compiled_edges(tris) is not None
+        for g, w in zip(got, want, strict=True):
+            assert g.dtype == w.dtype and np.array_equal(g, w)
+    repeated = np.array([[0, 1, 1], [0, 1, 2]])
+    assert loops._compiled_edges(repeated) is None
+    assert [e.tolist() for e in loops.triangle_edges(repeated)] == [
+        [[0, 1], [0, 2], [1, 1], [1, 2]],
+        [[0, 2, 0], [0, 3, 1]],
+    ]
