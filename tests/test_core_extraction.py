@@ -363,3 +363,24 @@ def test_compiled_graph_components_give_scipys_labels(torus_run):
         want_count, want = topology.scipy_components(n, edges)
         assert count == want_count and labels.dtype == want.dtype and np.array_equal(labels, want)
     assert topology._components is not None  # the compiled one ran (setup.py builds it)
+
+
+def test_the_pair_dot_of_initial_sharp_is_the_matrix_entry_bit_for_bit(torus_run):
+    # _initial_sharp takes a facet of two simplices' dot product from einsum over k alone; the matrix of
+    # every pair (still used for three simplices and more) must give the same bits, or the sharp set of
+    # a facet at exactly pi/2 could change
+    from crustview.core.paper.extraction import _Extractor, _initial_sharp
+
+    rng = np.random.default_rng(2)
+    vec = rng.normal(size=(200_000, 2, 3))
+    vec[:, 1] -= (vec[:, 1] * vec[:, 0]).sum(axis=1)[:, None] * vec[:, 0] / (vec[:, 0] ** 2).sum(axis=1)[:, None]
+    vec[:, 1] += rng.normal(scale=1e-9, size=(200_000, 3))  # nearly orthogonal pairs, dots near 0
+    vec /= np.linalg.norm(vec, axis=2, keepdims=True)
+    pair = np.einsum("gk,gk->g", vec[:, 0], vec[:, 1])
+    matrix = np.einsum("gik,gjk->gij", vec, vec)
+    assert np.array_equal(pair, matrix[:, 0, 1]) and np.array_equal(pair, matrix[:, 1, 0])
+    rec, _ = torus_run
+    ex = _Extractor(rec.points, rec.candidates.select(rec.test, rec.theta))
+    two = np.flatnonzero(ex.count == 2)
+    sample = two[:: max(1, len(two) // 3000)]
+    assert set(_initial_sharp(ex)) & set(sample.tolist()) == {g for g in sample.tolist() if ex.is_sharp(g)[0]}
