@@ -94,6 +94,7 @@ setup(
         Extension(  # no third-party headers: graph components with scipy's labels (core/analysis/topology.py)
             "crustview.core.analysis._components",
             sources=["crustview/core/analysis/_components.cpp"],
+            depends=["crustview/core/util/_union_find.h"],
             language="c++",
             extra_compile_args=FLAGS,
             optional=True,
@@ -101,6 +102,7 @@ setup(
         Extension(  # no third-party headers: a triangle complex's edge table and topology counts (core/util)
             "crustview.core.util._surface",
             sources=["crustview/core/util/_surface.cpp"],
+            depends=["crustview/core/util/_union_find.h"],
             language="c++",
             extra_compile_args=FLAGS,
             optional=True,

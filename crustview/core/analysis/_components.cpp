@@ -14,17 +14,12 @@
 #include <cstdint>
 #include <vector>
 
+#include "../util/_union_find.h"
+
 namespace {
 
 using i64 = std::int64_t;
-
-i64 find(std::vector<i64>& parent, i64 v) {
-    while (parent[v] != v) {
-        parent[v] = parent[parent[v]];  // path halving
-        v = parent[v];
-    }
-    return v;
-}
+using crustview::find;
 
 PyObject* components(PyObject*, PyObject* args) {
     Py_buffer a, b;

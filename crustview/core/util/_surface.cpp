@@ -31,23 +31,28 @@
 #include <utility>
 #include <vector>
 
+#include "_union_find.h"
+
 namespace {
 
 using i64 = std::int64_t;
+using crustview::find;
+using crustview::unite;
 
-i64 find(std::vector<i64>& parent, i64 v) {
-    while (parent[v] != v) {
-        parent[v] = parent[parent[v]];  // path halving
-        v = parent[v];
+// Each row's three vertices in increasing order into tri; false where a row repeats a vertex.
+bool sorted_rows(i64 f, const i64* rows, std::vector<i64>& tri) {
+    tri.resize(static_cast<std::size_t>(3 * f));
+    for (i64 t = 0; t < f; ++t) {
+        i64 a = rows[3 * t], b = rows[3 * t + 1], c = rows[3 * t + 2];
+        if (a == b || a == c || b == c) return false;
+        if (a > b) std::swap(a, b);
+        if (b > c) std::swap(b, c);
+        if (a > b) std::swap(a, b);
+        tri[3 * t] = a;
+        tri[3 * t + 1] = b;
+        tri[3 * t + 2] = c;
     }
-    return v;
-}
-
-void unite(std::vector<i64>& parent, i64 a, i64 b) {
-    a = find(parent, a);
-    b = find(parent, b);
-    if (a < b) parent[b] = a;
-    else if (b < a) parent[a] = b;
+    return true;
 }
 
 // Union-find whose nodes carry a parity to their parent: sign(node) = sign(root) xor parity(node).
@@ -99,16 +104,8 @@ struct Report {
 
 Report report(i64 n, i64 f, const i64* rows, bool counts_only) {
     Report out;
-    std::vector<i64> tri(static_cast<std::size_t>(3 * f));
-    for (i64 t = 0; t < f; ++t) {
-        i64 a = rows[3 * t], b = rows[3 * t + 1], c = rows[3 * t + 2];
-        if (a > b) std::swap(a, b);
-        if (b > c) std::swap(b, c);
-        if (a > b) std::swap(a, b);
-        tri[3 * t] = a;
-        tri[3 * t + 1] = b;
-        tri[3 * t + 2] = c;
-    }
+    std::vector<i64> tri;
+    sorted_rows(f, rows, tri);  // the caller checked that no row repeats a vertex
     std::vector<i64> start(static_cast<std::size_t>(n + 1), 0);
     for (i64 e = 0; e < 3 * f; ++e) ++start[tri[e] + 1];
     for (i64 v = 0; v < n; ++v) start[v + 1] += start[v];
@@ -255,17 +252,8 @@ PyObject* surface_report(PyObject*, PyObject* args) {
 // false where a triangle repeats a vertex (an edge (v, v) is not v's to list: the caller's numpy code).
 bool edge_table(i64 n, i64 f, const i64* rows, std::vector<i64>& edges, std::vector<i64>& facet_of,
                 std::vector<i64>& ptr, std::vector<i64>& inc) {
-    std::vector<i64> tri(static_cast<std::size_t>(3 * f));
-    for (i64 t = 0; t < f; ++t) {
-        i64 a = rows[3 * t], b = rows[3 * t + 1], c = rows[3 * t + 2];
-        if (a == b || a == c || b == c) return false;
-        if (a > b) std::swap(a, b);
-        if (b > c) std::swap(b, c);
-        if (a > b) std::swap(a, b);
-        tri[3 * t] = a;
-        tri[3 * t + 1] = b;
-        tri[3 * t + 2] = c;
-    }
+    std::vector<i64> tri;
+    if (!sorted_rows(f, rows, tri)) return false;
     // the lower end of each edge owns it: positions 0 and 1 own two edges each, position 0 of (a, b, c)
     // owns (a, b) opposite c and (a, c) opposite b, position 1 owns (b, c) opposite a
     std::vector<i64> start(static_cast<std::size_t>(n + 1), 0);
