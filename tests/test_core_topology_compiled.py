@@ -145,3 +145,15 @@ def test_the_compiled_triangle_edges_are_numpys(torus_run, monkeypatch):
         [[0, 1], [0, 2], [1, 1], [1, 2]],
         [[0, 2, 0], [0, 3, 1]],
     ]
+
+
+def test_huge_vertex_ids_take_numpys_tables():
+    # a few triangles over ids near 2^40: the kernels would index a table that long, numpy sorts six entries
+    from crustview.core.analysis import loops
+    from crustview.core.paper import extraction
+
+    big = (OCTA[:2] + (1 << 40)).astype(np.int64)
+    assert topology._surface_counts(big) is None and extraction._edge_structure(big) is None
+    assert loops._compiled_edges(big) is None
+    assert analyse(big, 6, 2).boundary_faces == 4 and len(loops.triangle_edges(big)[0]) == 5
+    assert len(extraction.facet_structure(big)[0]) == 5

@@ -17,6 +17,7 @@ from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import connected_components, dijkstra, minimum_spanning_tree
 
 from ..util.parallel import run_in_order, start_in_background
+from ..util.rows import dense_ids
 from ..util.vectors import SEQUENTIAL_SUM, edge_lengths
 from .cotree import bfs_forest, edge_triangles, may_have_loops, up_edges
 from .necks import _reduce
@@ -484,7 +485,10 @@ def _compiled_edges(tris: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
     if _surface is None or t.ndim != 2 or t.shape[1] != 3 or len(t) == 0 or int(t.min()) < 0:
         return None
     t = np.ascontiguousarray(t, dtype=np.int64)
-    out = _surface.edge_structure(int(t.max()) + 1, t)
+    top = int(t.max())
+    if not dense_ids(top, t.size):
+        return None
+    out = _surface.edge_structure(top + 1, t)
     if out is None:
         return None
     edges = np.frombuffer(out[0], dtype=np.int64).reshape(-1, 2).copy()

@@ -34,7 +34,7 @@ from scipy.sparse.csgraph import connected_components
 
 from ..result import TopologyReport
 from ..util.memory import release_free_memory
-from ..util.rows import unique_rows
+from ..util.rows import dense_ids, unique_rows
 
 try:
     from . import _components
@@ -58,7 +58,7 @@ def all_faces(simplices: np.ndarray, facets: np.ndarray | None = None) -> list[n
         if facets is not None and j == dp1 - 2:
             out.append(facets)
             continue
-        if j == 0 and len(srt) and srt.min() >= 0:  # the vertices: sorted, unique, without a sort
+        if j == 0 and len(srt) and srt.min() >= 0 and dense_ids(int(srt.max()), srt.size):  # sorted, unique, no sort
             present = np.zeros(int(srt.max()) + 1, dtype=bool)
             present[srt.ravel()] = True
             out.append(np.flatnonzero(present).astype(np.int64).reshape(-1, 1))
@@ -335,7 +335,10 @@ def _surface_counts(triangles: np.ndarray, counts_only: bool = False) -> tuple[i
     if _surface is None or len(triangles) == 0 or int(triangles.min()) < 0:
         return None
     t = np.ascontiguousarray(triangles, dtype=np.int64)
-    return _surface.surface_report(int(t.max()) + 1, t, counts_only)
+    top = int(t.max())
+    if not dense_ids(top, t.size):
+        return None
+    return _surface.surface_report(top + 1, t, counts_only)
 
 
 def _surface_report(triangles: np.ndarray, n_samples: int) -> TopologyReport | None:

@@ -52,7 +52,7 @@ import numpy as np
 
 from ..steps import RULE_PRUNE, RULE_RESOLVE, Extraction, Step
 from ..util.parallel import start_in_background
-from ..util.rows import unique_rows
+from ..util.rows import dense_ids, unique_rows
 from . import compiled_loop
 
 try:
@@ -124,9 +124,10 @@ def facet_structure(
 def _edge_structure(triangles: np.ndarray) -> tuple[np.ndarray, ...] | None:
     """:func:`facet_structure` of triangles (``positions=True``) by the compiled edge table, or None."""
     t = np.ascontiguousarray(triangles, dtype=np.int64)
-    if int(t.min()) < 0:
+    top = int(t.max())
+    if int(t.min()) < 0 or not dense_ids(top, t.size):
         return None
-    out = _surface.edge_structure(int(t.max()) + 1, t)
+    out = _surface.edge_structure(top + 1, t)
     if out is None:
         return None
     edges, facet_of, ptr, pos = (np.frombuffer(b, dtype=np.int64) for b in out)

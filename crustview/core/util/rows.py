@@ -54,3 +54,18 @@ def unique_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     inverse = np.empty(len(rows), dtype=np.int64)
     inverse[order] = group
     return rows[order[new]], inverse
+
+
+#: Vertex ids up to this many times the table's entries (and any id below 2^20) count as dense.
+DENSE_IDS = 16
+
+
+def dense_ids(max_id: int, entries: int) -> bool:
+    """Whether a kernel may index a per-vertex table by id: ids at most DENSE_IDS times the entries or < 2^20.
+
+    The compiled edge table and counts (``util/_surface.cpp``) allocate a few int64 per id up to the largest,
+    and :func:`crustview.core.analysis.topology.all_faces` a flag per id; a complex over a handful of huge ids
+    (never met in the pipeline, where ids are sample rows) takes a sort instead, whose memory follows the
+    number of entries.
+    """
+    return max_id < (1 << 20) or max_id <= DENSE_IDS * entries
