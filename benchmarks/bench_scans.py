@@ -51,7 +51,7 @@ from scipy.spatial import cKDTree
 from scipy.spatial.distance import pdist
 
 from crustview.core import reconstruct, reextract
-from crustview.core.analysis.loops import triangle_edges
+from crustview.core.analysis.cotree import triangle_edges
 from crustview.core.analysis.topology import analyse, graph_components
 from crustview.io import read_mesh
 

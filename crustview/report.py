@@ -51,7 +51,7 @@ def holes_of_candidates(rec: Reconstruction) -> int:
     """
     if rec.extraction.holes is not None:
         return len(rec.extraction.holes)
-    from crustview.core.paper.extraction import facet_structure
+    from crustview.core.paper.facets import facet_structure
 
     tset = rec.candidates.select(rec.test, rec.theta)
     if len(tset) == 0:

@@ -3,7 +3,7 @@
 import numpy as np
 from test_core_extraction import grid_surface
 
-from crustview.core.paper.extraction import facet_structure
+from crustview.core.paper.facets import facet_structure
 from crustview.core.robust.grow import COS_PAPER, Grower, unit_normals_to_facets
 from crustview.core.robust.seed_core import manifold_core
 

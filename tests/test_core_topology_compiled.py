@@ -105,7 +105,7 @@ def test_a_delaunay_surface_and_its_parts(torus_run, monkeypatch):
 
 
 def test_the_compiled_edge_table_is_numpys_facet_structure(torus_run, monkeypatch):
-    from crustview.core.paper import extraction
+    from crustview.core.paper import facets
 
     rec, _ = torus_run
     rng = np.random.default_rng(5)
@@ -114,34 +114,34 @@ def test_the_compiled_edge_table_is_numpys_facet_structure(torus_run, monkeypatc
     cases += [t_s, t_s[rng.permutation(len(t_s))], rng.permuted(t_s, axis=1), OCTA[:1]]
     for tris in cases:
         for positions in (False, True):
-            got = extraction.facet_structure(tris, positions)
+            got = facets.facet_structure(tris, positions)
             with monkeypatch.context() as m:
-                m.setattr(extraction, "_surface", None)
-                want = extraction.facet_structure(tris, positions)
+                m.setattr(facets, "_surface", None)
+                want = facets.facet_structure(tris, positions)
             for g, w in zip(got, want, strict=True):
                 assert g.dtype == w.dtype and np.array_equal(g, w)
-    assert extraction._edge_structure(np.array([[0, 0, 1]])) is None  # a repeated vertex: numpy's table
-    assert np.diff(extraction.facet_structure(t_s)[2]).max() > 2  # T_S has edges in three triangles and more
+    assert facets._edge_structure(np.array([[0, 0, 1]])) is None  # a repeated vertex: numpy's table
+    assert np.diff(facets.facet_structure(t_s)[2]).max() > 2  # T_S has edges in three triangles and more
 
 
 def test_the_compiled_triangle_edges_are_numpys(torus_run, monkeypatch):
-    from crustview.core.analysis import loops
+    from crustview.core.analysis import cotree
 
     rec, _ = torus_run
     rng = np.random.default_rng(11)
     m_s = np.asarray(rec.manifold)
     cases = [t for _, t, _ in _complexes(rng)] + [m_s, m_s.astype(np.int32), rng.permuted(m_s, axis=1)[::-1]]
     for tris in cases:
-        got = loops.triangle_edges(tris)
+        got = cotree.triangle_edges(tris)
         with monkeypatch.context() as m:
-            m.setattr(loops, "_surface", None)
-            want = loops.triangle_edges(tris)
-        assert loops._compiled_edges(tris) is not None
+            m.setattr(cotree, "_surface", None)
+            want = cotree.triangle_edges(tris)
+        assert cotree._compiled_edges(tris) is not None
         for g, w in zip(got, want, strict=True):
             assert g.dtype == w.dtype and np.array_equal(g, w)
     repeated = np.array([[0, 1, 1], [0, 1, 2]])
-    assert loops._compiled_edges(repeated) is None
-    assert [e.tolist() for e in loops.triangle_edges(repeated)] == [
+    assert cotree._compiled_edges(repeated) is None
+    assert [e.tolist() for e in cotree.triangle_edges(repeated)] == [
         [[0, 1], [0, 2], [1, 1], [1, 2]],
         [[0, 2, 0], [0, 3, 1]],
     ]
@@ -149,11 +149,11 @@ def test_the_compiled_triangle_edges_are_numpys(torus_run, monkeypatch):
 
 def test_huge_vertex_ids_take_numpys_tables():
     # a few triangles over ids near 2^40: the kernels would index a table that long, numpy sorts six entries
-    from crustview.core.analysis import loops
-    from crustview.core.paper import extraction
+    from crustview.core.analysis import cotree
+    from crustview.core.paper import facets
 
     big = (OCTA[:2] + (1 << 40)).astype(np.int64)
-    assert topology._surface_counts(big) is None and extraction._edge_structure(big) is None
-    assert loops._compiled_edges(big) is None
-    assert analyse(big, 6, 2).boundary_faces == 4 and len(loops.triangle_edges(big)[0]) == 5
-    assert len(extraction.facet_structure(big)[0]) == 5
+    assert topology._surface_counts(big) is None and facets._edge_structure(big) is None
+    assert cotree._compiled_edges(big) is None
+    assert analyse(big, 6, 2).boundary_faces == 4 and len(cotree.triangle_edges(big)[0]) == 5
+    assert len(facets.facet_structure(big)[0]) == 5

@@ -50,8 +50,8 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.spatial import cKDTree
 
+from .cotree import triangle_edges
 from .features import Feature
-from .loops import triangle_edges
 from .radii import local_spacing
 from .topology import graph_components
 

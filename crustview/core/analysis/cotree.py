@@ -8,6 +8,8 @@ code (``_paths.cpp``), which does each in one pass instead of a sort and a
 graph search (0.3-0.4 s to a few tens of milliseconds on a 300,000-point
 torus); :func:`up_edges` reads the forest's edges off the dual edges, and
 :func:`may_have_loops` tells the basis when searching ahead cannot pay.
+:func:`triangle_edges` is the primal side's table (every edge once, each triangle's three), from the
+compiled edge table of ``util/_surface.cpp`` or numpy's keys.
 """
 
 from __future__ import annotations
@@ -16,10 +18,16 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import breadth_first_order, connected_components
 
+from ..util.rows import dense_ids
+
 try:
     from . import _paths
 except ImportError:  # pragma: no cover - the extension is optional
     _paths = None
+try:
+    from ..util import _surface
+except ImportError:  # pragma: no cover - the extension is optional
+    _surface = None
 
 
 def edge_triangles(tri_edges: np.ndarray, n_edges: int) -> np.ndarray:
@@ -142,3 +150,45 @@ def depths(pred: np.ndarray) -> np.ndarray:
             return depth
         depth = depth + depth[anc]  # a root's own depth is 0
         anc = nxt
+
+
+def triangle_edges(tris: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unique edges of the triangles (sorted rows, in key order), and each triangle's three edge ids.
+
+    A triangle (x, y, z) has the edges (x, y), (y, z) and (x, z), in that order.  With the compiled edge
+    table (``util._surface``) the same arrays come from one pass per vertex; numpy's keys otherwise, and
+    for a triangle that repeats a vertex.
+    """
+    fast = _compiled_edges(tris)
+    if fast is not None:
+        return fast
+    e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [0, 2]]])
+    e = np.sort(e, axis=1).astype(np.int64)
+    base = np.int64(e.max() + 1) if len(e) else np.int64(1)
+    key = e[:, 0] * base + e[:, 1]
+    uniq, first, inv = np.unique(key, return_index=True, return_inverse=True)
+    return e[first], inv.reshape(3, -1).T
+
+
+def _compiled_edges(tris: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """:func:`triangle_edges` by the compiled edge table, or None (no kernel, no triangles, a repeated vertex).
+
+    The table gives the edge of each *sorted* row opposite each position; the edge (x, y) of a row is the
+    one opposite z, at z's rank in its row (the number of the row's entries below it).
+    """
+    t = np.asarray(tris)
+    if _surface is None or t.ndim != 2 or t.shape[1] != 3 or len(t) == 0 or int(t.min()) < 0:
+        return None
+    t = np.ascontiguousarray(t, dtype=np.int64)
+    top = int(t.max())
+    if not dense_ids(top, t.size):
+        return None
+    out = _surface.edge_structure(top + 1, t)
+    if out is None:
+        return None
+    edges = np.frombuffer(out[0], dtype=np.int64).reshape(-1, 2).copy()
+    opposite = np.frombuffer(out[1], dtype=np.int64).reshape(-1, 3)
+    x, y, z = t[:, 0], t[:, 1], t[:, 2]
+    rank = [(c > a).astype(np.int64) + (c > b) for c, a, b in ((z, x, y), (x, y, z), (y, x, z))]
+    rows = np.arange(len(t))
+    return edges, np.stack([opposite[rows, r] for r in rank], axis=1)

@@ -71,8 +71,8 @@ from ..delaunay.adjacency import cell_adjacency
 from ..util.vectors import squared_distances
 from .alpha import ATTACH_TOL, PERSISTENT, AlphaLadder, dual_merges, merge_regions
 from .contacts import STAND_ANGLE
+from .cotree import triangle_edges
 from .features import GAP_MIN, Feature
-from .loops import triangle_edges
 from .radii import local_spacing
 from .topology import graph_components
 

@@ -58,7 +58,8 @@ from scipy.spatial import cKDTree
 
 from ..util.nearest import nearest_distances
 from ..util.vectors import edge_lengths
-from .loops import capped, no_loops, short_basis, triangle_edges
+from .cotree import triangle_edges
+from .loops import capped, no_loops, short_basis
 from .necks import tighten, walk_class, walk_length
 from .radii import circumradii, enclosing_cover, enclosing_radii, local_spacing
 

@@ -17,15 +17,10 @@ from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import connected_components, dijkstra, minimum_spanning_tree
 
 from ..util.parallel import run_in_order, start_in_background
-from ..util.rows import dense_ids
 from ..util.vectors import SEQUENTIAL_SUM, edge_lengths
-from .cotree import bfs_forest, edge_triangles, may_have_loops, up_edges
+from .cotree import bfs_forest, edge_triangles, may_have_loops, triangle_edges, up_edges
 from .necks import _reduce
 
-try:
-    from ..util import _surface
-except ImportError:  # pragma: no cover - the extension is optional
-    _surface = None
 try:
     from . import _paths
 except ImportError:  # pragma: no cover - the extension is optional
@@ -455,48 +450,6 @@ def _walk(pred: np.ndarray, v: int) -> list[int]:
         v = int(pred[v])
         out.append(v)
     return out
-
-
-def triangle_edges(tris: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unique edges of the triangles (sorted rows, in key order), and each triangle's three edge ids.
-
-    A triangle (x, y, z) has the edges (x, y), (y, z) and (x, z), in that order.  With the compiled edge
-    table (``util._surface``) the same arrays come from one pass per vertex; numpy's keys otherwise, and
-    for a triangle that repeats a vertex.
-    """
-    fast = _compiled_edges(tris)
-    if fast is not None:
-        return fast
-    e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [0, 2]]])
-    e = np.sort(e, axis=1).astype(np.int64)
-    base = np.int64(e.max() + 1) if len(e) else np.int64(1)
-    key = e[:, 0] * base + e[:, 1]
-    uniq, first, inv = np.unique(key, return_index=True, return_inverse=True)
-    return e[first], inv.reshape(3, -1).T
-
-
-def _compiled_edges(tris: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-    """:func:`triangle_edges` by the compiled edge table, or None (no kernel, no triangles, a repeated vertex).
-
-    The table gives the edge of each *sorted* row opposite each position; the edge (x, y) of a row is the
-    one opposite z, at z's rank in its row (the number of the row's entries below it).
-    """
-    t = np.asarray(tris)
-    if _surface is None or t.ndim != 2 or t.shape[1] != 3 or len(t) == 0 or int(t.min()) < 0:
-        return None
-    t = np.ascontiguousarray(t, dtype=np.int64)
-    top = int(t.max())
-    if not dense_ids(top, t.size):
-        return None
-    out = _surface.edge_structure(top + 1, t)
-    if out is None:
-        return None
-    edges = np.frombuffer(out[0], dtype=np.int64).reshape(-1, 2).copy()
-    opposite = np.frombuffer(out[1], dtype=np.int64).reshape(-1, 3)
-    x, y, z = t[:, 0], t[:, 1], t[:, 2]
-    rank = [(c > a).astype(np.int64) + (c > b) for c, a, b in ((z, x, y), (x, y, z), (y, x, z))]
-    rows = np.arange(len(t))
-    return edges, np.stack([opposite[rows, r] for r in rank], axis=1)
 
 
 def capped(

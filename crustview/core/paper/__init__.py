@@ -6,7 +6,8 @@
   :mod:`.conemin`, :mod:`.dualcells` and :mod:`.exactmin` the geometry of
   the cocone score over each face's dual Voronoi cell.
 * :mod:`.extraction`: Algorithm 3 as printed (``prune-sharp``,
-  ``resolve-nonmanifold``), a recorded sequence of steps.
+  ``resolve-nonmanifold``), a recorded sequence of steps; :mod:`.facets` the
+  facet table and opposite vectors its rules read.
 
 The documented interpretations of the paper (``docs/algorithm.md``) live
 here beside the code they decide.

@@ -14,7 +14,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ..paper.extraction import facet_structure
+from ..paper.facets import facet_structure
 
 #: A closing simplex may meet its neighbours at phi > 60 deg (creases up to 120 deg).
 COS_FILL = 0.5

@@ -12,7 +12,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from ..paper.extraction import facet_structure
+from ..paper.facets import facet_structure
 
 #: Components with fewer simplices than this, and under STRAY_SHARE of the largest, are stray.
 STRAY_MAX = 128

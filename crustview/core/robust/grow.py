@@ -6,7 +6,7 @@ simplex) pairs, validity tests that keep the complex a manifold with
 boundary, and seeding of new components.
 
 All per-candidate arrays are laid out in the CSR order of
-:func:`~crustview.core.paper.extraction.facet_structure`: entry ``j`` pairs facet
+:func:`~crustview.core.paper.facets.facet_structure`: entry ``j`` pairs facet
 ``fg[j]`` with simplex ``inc[j]``, whose vertex opposite that facet is
 ``apex[j]`` and whose unit vector from the facet to that vertex is ``ucsr[j]``.
 """
@@ -21,7 +21,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ..errors import Cancelled
-from ..paper.extraction import facet_structure
+from ..paper.facets import facet_structure
 from .handles import HandleGuard
 
 #: Largest size ratio (circumradius over the local spacing) of a grown simplex.
@@ -76,7 +76,7 @@ def size_ratio(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
 def unit_normals_to_facets(points: np.ndarray, simplices: np.ndarray) -> np.ndarray:
     """Unit vectors from each facet's affine hull to the opposite vertex.
 
-    The same quantity as :func:`crustview.core.paper.extraction.opposite_vectors`,
+    The same quantity as :func:`crustview.core.paper.facets.opposite_vectors`,
     computed by vectorised Gram-Schmidt instead of batched QR (several times
     faster on hundreds of thousands of simplices).
 

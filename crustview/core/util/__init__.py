@@ -4,7 +4,8 @@
 * :mod:`.memory`: garbage collection paused over big builds, memory handed back.
 * :mod:`.parallel`: chunks on a thread pool, results in order.
 * ``_surface`` (compiled, optional): a triangle complex's edge table and the integer counts of its
-  topology report, for :mod:`crustview.core.paper.extraction` and :mod:`crustview.core.analysis.topology`.
+  topology report, for :mod:`crustview.core.paper.facets`, :mod:`crustview.core.analysis.cotree` and
+  :mod:`crustview.core.analysis.topology`.
 
 May import: numpy and the standard library only.
 """

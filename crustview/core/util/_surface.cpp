@@ -1,4 +1,4 @@
-// The edge table of a triangle complex (crustview.core.paper.extraction.facet_structure for d = 2) and the
+// The edge table of a triangle complex (crustview.core.paper.facets.facet_structure for d = 2) and the
 // counts of its topology report (crustview.core.analysis.topology: analyse and is_closed_manifold for
 // d = 2), each in one pass per vertex.
 //
