@@ -315,7 +315,7 @@ def is_closed_manifold(simplices: np.ndarray, d: int) -> bool:
     simplices = np.asarray(simplices, dtype=np.int64).reshape(-1, d + 1)
     if len(simplices) == 0:
         return False
-    counts = _surface_counts(simplices, counts_only=False) if d == 2 else None
+    counts = _surface_counts(simplices) if d == 2 else None
     if counts is not None:
         return counts[2] == 0 and counts[3] == 0 and counts[6] == 0
     pairs = _facet_pairs(simplices)
@@ -326,7 +326,7 @@ def is_closed_manifold(simplices: np.ndarray, d: int) -> bool:
     return len(singular_vertices(simplices, faces, pairs)) == 0
 
 
-def _surface_counts(triangles: np.ndarray, counts_only: bool = False) -> tuple[int, ...] | None:
+def _surface_counts(triangles: np.ndarray) -> tuple[int, ...] | None:
     """``_surface.surface_report`` of a triangle complex, or None without the kernel or for a degenerate row.
 
     Returns (vertices, edges, boundary edges, non-manifold edges, components, closed dual components (-1 with
@@ -338,7 +338,7 @@ def _surface_counts(triangles: np.ndarray, counts_only: bool = False) -> tuple[i
     top = int(t.max())
     if not dense_ids(top, t.size):
         return None
-    return _surface.surface_report(top + 1, t, counts_only)
+    return _surface.surface_report(top + 1, t)
 
 
 def _surface_report(triangles: np.ndarray, n_samples: int) -> TopologyReport | None:

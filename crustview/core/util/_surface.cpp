@@ -102,7 +102,7 @@ struct Report {
     i64 top_cycles = -1, singular = -1, orientable = -1;
 };
 
-Report report(i64 n, i64 f, const i64* rows, bool counts_only) {
+Report report(i64 n, i64 f, const i64* rows) {
     Report out;
     std::vector<i64> tri;
     sorted_rows(f, rows, tri);  // the caller checked that no row repeats a vertex
@@ -160,7 +160,7 @@ Report report(i64 n, i64 f, const i64* rows, bool counts_only) {
     }
     for (i64 v = 0; v < n; ++v)
         if (start[v] != start[v + 1] && find(vparent, v) == v) ++out.components;
-    if (counts_only || out.nonmanifold > 0) return out;
+    if (out.nonmanifold > 0) return out;
     for (const auto& [e1, e2] : pairs) unite(dual, e1 / 3, e2 / 3);
     std::vector<unsigned char> open_root(static_cast<std::size_t>(f), 0);
     for (i64 t = 0; t < f; ++t)
@@ -212,8 +212,7 @@ Report report(i64 n, i64 f, const i64* rows, bool counts_only) {
 PyObject* surface_report(PyObject*, PyObject* args) {
     Py_buffer rows;
     long long n;
-    int counts_only = 0;
-    if (!PyArg_ParseTuple(args, "Ly*|p", &n, &rows, &counts_only)) return nullptr;
+    if (!PyArg_ParseTuple(args, "Ly*", &n, &rows)) return nullptr;
     PyObject* result = nullptr;
     if (n < 0 || rows.len % 24 != 0) {
         PyErr_SetString(PyExc_ValueError, "surface_report: n >= 0 and int64 rows of three");
@@ -232,7 +231,7 @@ PyObject* surface_report(PyObject*, PyObject* args) {
         } else {
             Report out;
             Py_BEGIN_ALLOW_THREADS;
-            out = report(n, f, r, counts_only != 0);
+            out = report(n, f, r);
             Py_END_ALLOW_THREADS;
             result = Py_BuildValue("(LLLLLLLL)", static_cast<long long>(out.vertices),
                                    static_cast<long long>(out.edges), static_cast<long long>(out.boundary),
@@ -338,11 +337,11 @@ PyMethodDef methods[] = {
      "repeats a vertex: the distinct edges (pairs, lexicographic), the edge of each sorted row opposite each "
      "position, and the CSR of the positions t * 3 + a at each edge, increasing."},
     {"surface_report", surface_report, METH_VARARGS,
-     "surface_report(n, rows[, counts_only]) -> (vertices, edges, boundary, nonmanifold, components, top_cycles, "
+     "surface_report(n, rows) -> (vertices, edges, boundary, nonmanifold, components, top_cycles, "
      "singular, orientable) of the triangles in rows (int64, three per triangle, ids below n), or None where a "
      "triangle repeats a vertex; top_cycles is -1 "
      "where an edge has more than two triangles, singular and orientable -1 where the surface is not a closed "
-     "pseudo-surface, and all three -1 with counts_only."},
+     "pseudo-surface."},
     {nullptr, nullptr, 0, nullptr},
 };
 
