@@ -372,13 +372,14 @@ def test_the_pair_dot_of_initial_sharp_is_the_matrix_entry_bit_for_bit(torus_run
     from crustview.core.paper.extraction import _Extractor, _initial_sharp
 
     rng = np.random.default_rng(2)
-    vec = rng.normal(size=(200_000, 2, 3))
-    vec[:, 1] -= (vec[:, 1] * vec[:, 0]).sum(axis=1)[:, None] * vec[:, 0] / (vec[:, 0] ** 2).sum(axis=1)[:, None]
-    vec[:, 1] += rng.normal(scale=1e-9, size=(200_000, 3))  # nearly orthogonal pairs, dots near 0
-    vec /= np.linalg.norm(vec, axis=2, keepdims=True)
-    pair = np.einsum("gk,gk->g", vec[:, 0], vec[:, 1])
-    matrix = np.einsum("gik,gjk->gij", vec, vec)
-    assert np.array_equal(pair, matrix[:, 0, 1]) and np.array_equal(pair, matrix[:, 1, 0])
+    for k in (2, 3, 4, 5):  # every ambient dimension crustview reconstructs in
+        vec = rng.normal(size=(100_000, 2, k))
+        vec[:, 1] -= (vec[:, 1] * vec[:, 0]).sum(axis=1)[:, None] * vec[:, 0] / (vec[:, 0] ** 2).sum(axis=1)[:, None]
+        vec[:, 1] += rng.normal(scale=1e-9, size=(100_000, k))  # nearly orthogonal pairs, dots near 0
+        vec /= np.linalg.norm(vec, axis=2, keepdims=True)
+        pair = np.einsum("gk,gk->g", vec[:, 0], vec[:, 1])
+        matrix = np.einsum("gik,gjk->gij", vec, vec)
+        assert np.array_equal(pair, matrix[:, 0, 1]) and np.array_equal(pair, matrix[:, 1, 0]), k
     rec, _ = torus_run
     ex = _Extractor(rec.points, rec.candidates.select(rec.test, rec.theta))
     two = np.flatnonzero(ex.count == 2)

@@ -100,6 +100,7 @@ struct ParityForest {
 struct Report {
     i64 vertices = 0, edges = 0, boundary = 0, nonmanifold = 0, components = 0;
     i64 top_cycles = -1, singular = -1, orientable = -1;
+    bool repeated = false;  // a triangle listed twice (the general code counts it once): the caller's numpy code
 };
 
 Report report(i64 n, i64 f, const i64* rows) {
@@ -147,6 +148,10 @@ Report report(i64 n, i64 f, const i64* rows) {
             ++out.edges;
             unite(vparent, v, mine[i].w);
             const std::size_t c = j - i;
+            // two rows at one edge are one triangle when their third vertices agree
+            for (std::size_t k = i; k < j && !out.repeated; ++k)
+                for (std::size_t l = k + 1; l < j; ++l)
+                    if (tri[3 * mine[k].t + mine[k].q] == tri[3 * mine[l].t + mine[l].q]) out.repeated = true;
             if (c == 1) {
                 ++out.boundary;
                 open[mine[i].t] = 1;
@@ -158,6 +163,7 @@ Report report(i64 n, i64 f, const i64* rows) {
             i = j;
         }
     }
+    if (out.repeated) return out;
     for (i64 v = 0; v < n; ++v)
         if (start[v] != start[v + 1] && find(vparent, v) == v) ++out.components;
     if (out.nonmanifold > 0) return out;
@@ -230,14 +236,26 @@ PyObject* surface_report(PyObject*, PyObject* args) {
             result = Py_None;
         } else {
             Report out;
+            bool failed = false;
             Py_BEGIN_ALLOW_THREADS;
-            out = report(n, f, r);
+            try {
+                out = report(n, f, r);
+            } catch (...) {  // std::bad_alloc, std::length_error: the tables did not fit
+                failed = true;
+            }
             Py_END_ALLOW_THREADS;
-            result = Py_BuildValue("(LLLLLLLL)", static_cast<long long>(out.vertices),
-                                   static_cast<long long>(out.edges), static_cast<long long>(out.boundary),
-                                   static_cast<long long>(out.nonmanifold), static_cast<long long>(out.components),
-                                   static_cast<long long>(out.top_cycles), static_cast<long long>(out.singular),
-                                   static_cast<long long>(out.orientable));
+            if (failed) {
+                PyErr_NoMemory();
+            } else if (out.repeated) {
+                Py_INCREF(Py_None);
+                result = Py_None;
+            } else {
+                result = Py_BuildValue("(LLLLLLLL)", static_cast<long long>(out.vertices),
+                                       static_cast<long long>(out.edges), static_cast<long long>(out.boundary),
+                                       static_cast<long long>(out.nonmanifold),
+                                       static_cast<long long>(out.components), static_cast<long long>(out.top_cycles),
+                                       static_cast<long long>(out.singular), static_cast<long long>(out.orientable));
+            }
         }
     }
     PyBuffer_Release(&rows);
@@ -315,11 +333,17 @@ PyObject* edge_structure(PyObject*, PyObject* args) {
             PyErr_SetString(PyExc_ValueError, "edge_structure: a vertex id is outside 0..n-1");
         } else {
             std::vector<i64> edges, facet_of, ptr, inc;
-            bool proper;
+            bool proper = false, failed = false;
             Py_BEGIN_ALLOW_THREADS;
-            proper = edge_table(n, f, r, edges, facet_of, ptr, inc);
+            try {
+                proper = edge_table(n, f, r, edges, facet_of, ptr, inc);
+            } catch (...) {  // std::bad_alloc, std::length_error: the tables did not fit
+                failed = true;
+            }
             Py_END_ALLOW_THREADS;
-            if (!proper) {
+            if (failed) {
+                PyErr_NoMemory();
+            } else if (!proper) {
                 Py_INCREF(Py_None);
                 result = Py_None;
             } else {
@@ -339,7 +363,7 @@ PyMethodDef methods[] = {
     {"surface_report", surface_report, METH_VARARGS,
      "surface_report(n, rows) -> (vertices, edges, boundary, nonmanifold, components, top_cycles, "
      "singular, orientable) of the triangles in rows (int64, three per triangle, ids below n), or None where a "
-     "triangle repeats a vertex; top_cycles is -1 "
+     "triangle repeats a vertex or is listed twice; top_cycles is -1 "
      "where an edge has more than two triangles, singular and orientable -1 where the surface is not a closed "
      "pseudo-surface."},
     {nullptr, nullptr, 0, nullptr},
