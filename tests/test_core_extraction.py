@@ -385,3 +385,18 @@ def test_the_pair_dot_of_initial_sharp_is_the_matrix_entry_bit_for_bit(torus_run
     two = np.flatnonzero(ex.count == 2)
     sample = two[:: max(1, len(two) // 3000)]
     assert set(_initial_sharp(ex)) & set(sample.tolist()) == {g for g in sample.tolist() if ex.is_sharp(g)[0]}
+
+
+def test_the_facet_table_built_beside_the_opposite_vectors_is_the_same(torus_run, monkeypatch):
+    # from BESIDE_MIN simplices the facet table is built on another thread; the tables must not depend on it
+    from crustview.core.paper import extraction
+
+    rec, _ = torus_run
+    t_s = rec.candidates.select(rec.test, rec.theta)
+    monkeypatch.setattr(extraction, "BESIDE_MIN", 10**12)
+    alone = extraction._Extractor(rec.points, t_s)
+    monkeypatch.setattr(extraction, "BESIDE_MIN", 0)
+    beside = extraction._Extractor(rec.points, t_s)
+    for name in ("facets", "facet_of", "ptr", "inc", "u", "count"):
+        assert np.array_equal(getattr(alone, name), getattr(beside, name)), name
+    assert extraction._initial_sharp(alone) == extraction._initial_sharp(beside)
