@@ -10,6 +10,7 @@ from scipy.spatial import ConvexHull
 
 from crustview.core import reconstruct
 from crustview.core.analysis.enclosures import enclosure_voids, joined_enclosures, joined_loops
+from crustview.core.util.parallel import start_in_background
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
@@ -53,6 +54,12 @@ def test_one_closed_surface_around_both_spheres_is_flagged_and_two_are_not() -> 
     assert abs(feats[0].location[0] - 1.15) < 0.3  # between the two spheres
     apart = np.vstack([ConvexHull(pts[:600]).simplices, 600 + ConvexHull(pts[600:]).simplices])
     assert joined_enclosures(pts, apart, normals, cells) == []
+    # the voids found ahead on another thread (uncertainty.result_features) give the same features
+    ahead = start_in_background(enclosure_voids, *cells, len(pts))
+    again = joined_enclosures(pts, joined, normals, cells, voids=ahead)
+    assert [(f.kind, f.size_spacings, f.reason, f.vertices.tolist(), f.location.tolist()) for f in again] == [
+        (f.kind, f.size_spacings, f.reason, f.vertices.tolist(), f.location.tolist()) for f in feats
+    ]
 
 
 def test_a_dumbbell_is_one_enclosure_its_resolved_neck_splits_it() -> None:

@@ -63,6 +63,7 @@ changes M_S.
 from __future__ import annotations
 
 import math
+from concurrent.futures import Future
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -184,6 +185,7 @@ def joined_enclosures(
     cells: tuple[np.ndarray, np.ndarray, np.ndarray],
     known: list[Feature] | None = None,
     adjacency: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+    voids: Future | None = None,
 ) -> list[Feature]:
     """Uncertain ``component`` features where one closed component of M_S holds two enclosures.
 
@@ -203,11 +205,16 @@ def joined_enclosures(
     adjacency : (a, b, faces), optional
         The tetrahedra's shared faces (:func:`~crustview.core.delaunay.adjacency.cell_adjacency` of
         ``cells``'s simplices), if already known (the labelling's).
+    voids : Future, optional
+        :func:`enclosure_voids` of ``cells`` (with ``adjacency``) begun by the caller on another thread.
     """
     tri = np.asarray(triangles, np.int64)
+    found = voids.result() if voids is not None else None
     if len(tri) == 0:
         return []
-    voids = enclosure_voids(*cells, len(points), adjacency)
+    if found is None:
+        found = enclosure_voids(*cells, len(points), adjacency)
+    voids = found
     if len(voids) < 2:
         return []
     return _report(points, tri, normals, [(b, f, s) for b, _d, f, s in voids], known, "surface")
@@ -253,13 +260,17 @@ def joined_objects(
     cells: tuple[np.ndarray, np.ndarray, np.ndarray],
     known: list[Feature] | None = None,
     adjacency: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+    voids: Future | None = None,
 ) -> list[Feature]:
-    """:func:`joined_enclosures` for a surface in R^3, :func:`joined_loops` for a curve in the plane, else none."""
+    """:func:`joined_enclosures` for a surface in R^3, :func:`joined_loops` for a curve in the plane, else none.
+
+    ``voids``: :func:`enclosure_voids` of ``cells`` begun by the caller on another thread (surfaces in R^3).
+    """
     simplices = np.asarray(simplices, np.int64)
     if simplices.ndim != 2 or simplices.shape[1] != points.shape[1]:
         return []
     if points.shape[1] == 3:
-        return joined_enclosures(points, simplices, normals, cells, known, adjacency)
+        return joined_enclosures(points, simplices, normals, cells, known, adjacency, voids)
     if points.shape[1] == 2:
         return joined_loops(points, simplices, normals, known)
     return []
