@@ -73,7 +73,7 @@ def result_features(
     counts = ext.counts_by_rule()
     # one closed component holding two regions the sample encloses (below): the samples' voids need only the
     # Delaunay cells, so where M_S has loops to measure they are found on the other core while the features
-    # are (below 50,000 vertices the loop basis runs on one; feline 0.89 -> 0.48-0.67 s); without loops the
+    # are (below 50,000 vertices the loop basis runs on one; feline 0.89 -> 0.57-0.69 s); without loops the
     # features take little and the two only contend (armadillo 0.56 -> 0.61 s); the same call either way
     enclosing = contacts and mode == "robust" and topo.closed_manifold and _beyond(counts)
     enclosing = enclosing and rec.subspace_dim == rec.k

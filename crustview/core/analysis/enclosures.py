@@ -209,15 +209,15 @@ def joined_enclosures(
         :func:`enclosure_voids` of ``cells`` (with ``adjacency``) begun by the caller on another thread.
     """
     tri = np.asarray(triangles, np.int64)
-    found = voids.result() if voids is not None else None
+    # a begun search is always waited for, so its thread never outlives the call
+    regions = voids.result() if voids is not None else None
     if len(tri) == 0:
         return []
-    if found is None:
-        found = enclosure_voids(*cells, len(points), adjacency)
-    voids = found
-    if len(voids) < 2:
+    if regions is None:
+        regions = enclosure_voids(*cells, len(points), adjacency)
+    if len(regions) < 2:
         return []
-    return _report(points, tri, normals, [(b, f, s) for b, _d, f, s in voids], known, "surface")
+    return _report(points, tri, normals, [(b, f, s) for b, _d, f, s in regions], known, "surface")
 
 
 def joined_loops(
