@@ -118,6 +118,60 @@ def test_a_chain_of_left_out_samples_comes_in_one_link_a_pass():
     assert rep.nonmanifold_faces == 0 and rep.singular_vertices == 0 and rep.components == 1
 
 
+def _unit_sheet(m: int = 10) -> tuple[np.ndarray, list]:
+    """A flat m x m grid of spacing 1 in the plane z = 0 and its triangles."""
+    x, y = np.meshgrid(np.arange(float(m)), np.arange(float(m)), indexing="ij")
+    sheet = np.c_[x.ravel(), y.ravel(), np.zeros(m * m)]
+    idx = lambda i, j: i * m + j  # noqa: E731
+    tris = [tuple(sorted((idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)))) for i in range(m - 1) for j in range(m - 1)]
+    tris += [tuple(sorted((idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)))) for i in range(m - 1) for j in range(m - 1)]
+    return sheet, tris
+
+
+def test_insertion_limit_is_the_local_spacing_of_the_surface_not_of_a_cluster():
+    """A sheet sampled at spacing 1 in a run whose median spacing is 0.4 (denser elsewhere), and four
+    samples 0.1 apart (a marching-cubes corner, a decimated mesh's tiny triangles) 1.5 above it: their
+    own nearest-neighbour distance (0.1) and the median (0.4) put the limit at 0.8, and they were left
+    out (a lattice ball at 0.1 h noise, 4 of 17,586); the sheet's own spacing there is 1, so the limit
+    is 2 and they come in.  A 3 x 3 patch sampled like the sheet, 3 below it, is a part the sheet does
+    not stand for: it stays out."""
+    from crustview.core.robust.patcher import Patcher
+
+    sheet, tris = _unit_sheet()
+    cluster = np.array([[4.3, 4.6, 1.5], [4.4, 4.6, 1.5], [4.3, 4.7, 1.5], [4.4, 4.7, 1.52]])
+    px, py = np.meshgrid([1.5, 2.5, 3.5], [5.5, 6.5, 7.5], indexing="ij")
+    patch = np.c_[px.ravel(), py.ravel(), np.full(9, -3.0)]
+    pts = np.vstack([sheet, cluster, patch])
+    pt = Patcher(pts, tris, np.array(tris), 0.4)
+    assert sorted(pt.insert_unused()) == list(range(104, 113))
+    m = np.array([pt.simp[i] for i in range(len(pt.simp)) if pt.alive[i]])
+    assert {100, 101, 102, 103} <= set(m.ravel().tolist())
+    rep = analyse(m, len(pts), 2)
+    assert rep.nonmanifold_faces == 0 and rep.singular_vertices == 0 and rep.components == 1
+
+
+def test_a_cluster_seen_from_the_surface_as_one_point_is_taken_in_like_one_sample():
+    """Three samples 0.02 apart, 2.3 spacings above a sheet sampled at the run's median spacing (1): a
+    corner of a marching-cubes mesh where a sharp rim bends away from the face spanning it (a lattice
+    ball, 4 of 17,130 left out clean).  Their own distance (0.02) and the sheet's (1) put the limit at 2,
+    but nothing else lies within 2.3 of them, so seen from M_S they are one point, and one sample alone
+    is always taken in (its nearest neighbour is as far as M_S): they come in.  A pair 0.3 apart 2.5
+    above is point-like too; three samples spread over 2.4 (1.2 apart, 2.6 below) are not: they stay out."""
+    from crustview.core.robust.patcher import Patcher
+
+    sheet, tris = _unit_sheet()
+    cluster = np.array([[4.3, 4.6, 2.3], [4.32, 4.6, 2.3], [4.3, 4.62, 2.3]])
+    pair = np.array([[1.5, 1.5, 2.5], [1.8, 1.5, 2.5]])
+    spread = np.array([[6.5, 2.5, -2.6], [7.7, 2.5, -2.6], [8.9, 2.5, -2.6]])
+    pts = np.vstack([sheet, cluster, pair, spread])
+    pt = Patcher(pts, tris, np.array(tris), 1.0)
+    assert sorted(pt.insert_unused()) == [105, 106, 107]
+    m = np.array([pt.simp[i] for i in range(len(pt.simp)) if pt.alive[i]])
+    assert set(range(100, 105)) <= set(m.ravel().tolist())
+    rep = analyse(m, len(pts), 2)
+    assert rep.nonmanifold_faces == 0 and rep.singular_vertices == 0 and rep.components == 1
+
+
 def test_nearest_face_of_a_collinear_triangle_is_its_long_edge():
     """A triangle whose three corners lie on a line has no plane: the nearest face is its longest
     edge, at the distance to that segment (no division by its zero area)."""

@@ -14,7 +14,10 @@ dictionaries of simplices, stars and facets they edit.
 
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
+from scipy.spatial import cKDTree
 
 Simplex = tuple[int, ...]
 
@@ -28,7 +31,13 @@ Simplex = tuple[int, ...]
 #: (``analysis/missing.py``).  Tried in session 20 and not kept: 2.65 times the largest enclosing radius of the
 #: faces near the sample (the local sampling radius) took in the fin tip of ``bench_shapes.py``'s fish (2 of its 5
 #: wrong runs at 0.1 h right), but turned one closed result open, and on marching-cubes meshes that limit is 4-5
-#: spacings everywhere.
+#: spacings everywhere.  The spacing is the surface's own there (session 28): the largest of the median spacing, the
+#: sample's own nearest-neighbour distance and the median nearest-neighbour distance of the 8 vertices of M_S nearest
+#: to it; the bound is on sampling radii, which the sampling condition ties to the local feature size, and a few
+#: samples much closer together than the surface around them (a marching-cubes corner, a decimated mesh's slivers)
+#: said nothing about it: four 0.2 spacings apart, 2.6 median spacings from M_S where the surface's samples are
+#: 1.5 apart, were left out.  A lone sample's own distance is at least its distance to M_S, so the limit only
+#: judges clusters, and a cluster narrower than half a spacing is judged as one sample (``_point_like``).
 INSERT_MAX = 2.0
 
 
@@ -59,8 +68,6 @@ class SampleInsertion:
 
     def _insert_pass(self) -> list[int]:
         """One pass of :meth:`insert_unused` over the samples that are no vertex."""
-        from scipy.spatial import cKDTree
-
         used = self.used()
         missing = np.flatnonzero(~used)
         if len(missing) == 0:
@@ -79,8 +86,10 @@ class SampleInsertion:
                     dist, tau = self._nearest_face(x, self.simp[i])
                     if best is None or dist < best[0]:
                         best = (dist, tau)
-            limit = INSERT_MAX * max(self.spacing, float(self.nn[x]))
-            if best is None or best[0] > limit:
+            # the spacing there: the run's median, the sample's own, or that of the surface's vertices around it
+            local = float(np.median(self.nn[ids[np.atleast_1d(near)]]))
+            limit = INSERT_MAX * max(self.spacing, float(self.nn[x]), local)
+            if best is None or (best[0] > limit and not self._point_like(x, best[0], limit / INSERT_MAX)):
                 left.append(x)
                 continue
             dist, tau = best
@@ -111,6 +120,25 @@ class SampleInsertion:
                 )
             )
         return left
+
+    @cached_property
+    def _sample_tree(self) -> cKDTree:
+        """A k-d tree of every sample (built on first use: most runs leave no sample that far out)."""
+        return cKDTree(self.points)
+
+    def _point_like(self, x: int, dist: float, unit: float) -> bool:
+        """Whether every sample within ``dist`` of x (M_S's distance) lies within half of ``dist`` and of ``unit``.
+
+        ``unit`` is the spacing of the limit.  Such a cluster is narrower than half a spacing, below what the
+        sample resolves, and seen from M_S one point; one sample alone is always within the limit (its nearest
+        neighbour is at least as far as M_S, and the limit is twice that), so a few samples much closer
+        together than to anything else (a marching-cubes corner, a decimated mesh's sliver triangles: four
+        within 0.03 spacings, 2.3 from M_S, on a lattice ball) are judged as that one sample would be.  A part
+        sampled like a surface, its samples about a spacing apart, keeps the limit.
+        """
+        near = self._sample_tree.query_ball_point(self.points[x], dist)
+        gap = np.linalg.norm(self.points[near] - self.points[x], axis=1)
+        return bool((gap <= min(dist, unit) / 2).all())
 
     def _nearest_face(self, x: int, s: Simplex) -> tuple[float, Simplex]:
         """Distance from sample x to simplex s, and the face of s (>= an edge) nearest to it."""
