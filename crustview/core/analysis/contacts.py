@@ -284,14 +284,18 @@ def bridged_handles(points: np.ndarray, triangles: np.ndarray, normals: np.ndarr
     cyc = np.unique(cyc[cyc.any(axis=1)], axis=0)
     span = _echelon(list(cyc))
     # only walks along M_S's edges have a class here (a disputed feature marks the other result's loop)
-    keys = edges[:, 0] * n + edges[:, 1]
+    keys = np.sort(edges[:, 0] * n + edges[:, 1])  # sorted once: each walk is looked up by bisection
 
     def on_surface(walk: np.ndarray) -> bool:
         w = np.asarray(walk, np.int64)
         nxt = np.roll(w, -1)
         step = w != nxt
         lo, hi = np.minimum(w, nxt)[step], np.maximum(w, nxt)[step]
-        return bool(len(lo)) and bool(np.isin(lo * n + hi, keys).all())
+        if not len(lo):
+            return False
+        want = lo * n + hi
+        at = np.minimum(np.searchsorted(keys, want), len(keys) - 1)
+        return bool((keys[at] == want).all())
 
     return {
         i
