@@ -32,7 +32,8 @@ its topology only since it does not interpolate the samples.
 
 Run: ``python benchmarks/bench_scans.py [--only NAME] [--clean-only] [--peers] [--modes robust,paper]``;
 ``--noisy-only --seed 21`` runs noise draws held out of the public ones (another seed of ``noisy.py``), and
-``--subsample 0.5 --seed 7`` random halves of every sample (draw 7), sparser samples of the same objects.
+``--subsample 0.5 --seed 7`` random halves of every sample (draw 7), sparser samples of the same objects;
+``--decimate 0.3`` every mesh decimated to 30 % of its faces first (other tessellations of the same objects).
 All 72 files in both modes take about 10 minutes on two cores.
 """
 
@@ -116,12 +117,16 @@ def cases(
     seed: int = 0,
     clean: bool = True,
     subsample: float | None = None,
+    decimate: float | None = None,
 ) -> list[Case]:
     """The clean meshes (unless not ``clean``) and, with ``noise``, their noisy copies (made once into ``noisy_dir``).
 
     ``seed`` is ``noisy.py``'s: 0 gives the public draws, any other a draw held out of them.  With
     ``subsample``, each case keeps that share of its samples (numpy's draw ``seed``), a sparser sample of
-    the same object.
+    the same object.  With ``decimate``, each mesh is first decimated by VTK's quadric decimation to that
+    share of its faces (``bench_shapes.decimated``: dense where it bends, long thin triangles where it is
+    flat, as decimated scans are) and judged by the decimated mesh's own topology; a mesh that decimation
+    left neither closed nor with the original's boundary is skipped, and said so.
     """
     out = []
     for folder in FOLDERS:
@@ -135,18 +140,43 @@ def cases(
                 continue
             mesh = read_mesh(folder / fname)
             pts = np.asarray(mesh.points, dtype=float)
-            keep = None if subsample is None else np.random.default_rng(seed).random(len(pts)) < subsample
-            betti = tuple(int(b) for b in analyse(np.asarray(mesh.simplices(2)), len(pts), 2).betti)
-            small = _holes_under_a_spacing(pts, np.asarray(mesh.simplices(2)))
+            tris = np.asarray(mesh.simplices(2))
+            true = truth[fname]
             tag = "" if subsample is None else f"-s{round(100 * subsample):02d}"
+            if decimate is not None:
+                pts, tris, true = _decimated_case(pts, tris, true, decimate)
+                if true is None:
+                    print(f"{fname}: its decimated mesh changed topology: skipped", file=sys.stderr)
+                    continue
+                stem += f"-qem{round(100 * decimate):02d}"
+            keep = None if subsample is None else np.random.default_rng(seed).random(len(pts)) < subsample
+            betti = tuple(int(b) for b in analyse(tris, len(pts), 2).betti)
+            small = _holes_under_a_spacing(pts, tris)
             if clean:
-                out.append(Case(stem + tag, pts if keep is None else pts[keep], truth[fname], 0.0, betti, small))
+                out.append(Case(stem + tag, pts if keep is None else pts[keep], true, 0.0, betti, small))
             if noise:
                 for level in (0.1, 0.3):
                     noisy = _noisy(pts, stem, level, noisy_dir, seed)
                     noisy = noisy if keep is None else noisy[keep]
-                    out.append(Case(f"{stem}-n{round(100 * level):02d}{tag}", noisy, truth[fname], level, betti, small))
+                    out.append(Case(f"{stem}-n{round(100 * level):02d}{tag}", noisy, true, level, betti, small))
     return out
+
+
+def _decimated_case(
+    pts: np.ndarray, tris: np.ndarray, truth: dict, keep: float
+) -> tuple[np.ndarray, np.ndarray, dict | None]:
+    """A mesh decimated to ``keep`` of its faces, and its truth (None where decimation changed its topology)."""
+    from bench_shapes import decimated
+
+    new_pts, new_tris = decimated(pts, tris, keep)
+    before = analyse(tris, len(pts), 2)
+    after = analyse(new_tris, len(new_pts), 2)
+    same = (after.closed_manifold, after.betti, after.boundary_faces > 0) == (
+        before.closed_manifold,
+        before.betti,
+        before.boundary_faces > 0,
+    )
+    return new_pts, new_tris, (dict(truth, points=len(new_pts)) if same else None)
 
 
 def _holes_under_a_spacing(points: np.ndarray, tris: np.ndarray) -> int:
@@ -324,6 +354,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--subsample", type=float, metavar="SHARE", help="keep this share of every sample (draw --seed): sparser cases"
     )
+    ap.add_argument(
+        "--decimate", type=float, metavar="KEEP", help="decimate every mesh to this share of its faces first"
+    )
     a = ap.parse_args(argv)
     if a.subsample is not None and not 0 < a.subsample <= 1:
         ap.error("--subsample takes a share in (0, 1]")
@@ -335,7 +368,7 @@ def main(argv: list[str] | None = None) -> int:
     print(HEADER, flush=True)
     rows: list[Row] = []
     only = set(a.only) if a.only else None
-    for case in cases(not a.clean_only, only, noisy_dir, a.seed, not a.noisy_only, a.subsample):
+    for case in cases(not a.clean_only, only, noisy_dir, a.seed, not a.noisy_only, a.subsample, a.decimate):
         new = run_crustview(case, modes)
         if a.peers:
             new += [r for r in (run_cgal(case), run_poisson(case)) if r is not None]

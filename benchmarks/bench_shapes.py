@@ -24,7 +24,17 @@ Two generators, neither tuned to crustview:
   unevenly (close pairs where the surface passes near a grid node).  Shapes:
   a spherical shell pierced by ``lines`` cylinders through its centre
   (``2 * lines`` holes, genus ``2 * lines - 1``), three tori fused in a row
-  (genus 3), an ellipsoid body with a thin fin (genus 0).
+  (genus 3), an ellipsoid body with a thin fin (genus 0).  And solids with
+  sharp edges, as modelled parts have (session 28): a shell with 13 or 31
+  holes each through one side (genus 12 and 30), slabs with 3 x 3 and 4 x 4
+  holes, two linked tori (two objects), a tube around a trefoil, a body with
+  slab fins and a tail.  Marching cubes leaves clusters of vertices much
+  closer than the spacing at sharp rims.
+
+``--decimate KEEP`` adds each mesh decimated by VTK's quadric decimation to
+``KEEP`` of its faces (dense where the surface bends, long thin triangles
+where it is flat: how decimated scans and modelled meshes are tessellated),
+judged by the decimated mesh's own topology.
 
 A result is *right* when M_S is a closed manifold with the mesh's Betti
 numbers (C, 2 g, C) through every sample (99 % at 0.3 h, as ``bench_scans.py``);
@@ -32,8 +42,8 @@ numbers (C, 2 g, C) through every sample (99 % at 0.3 h, as ``bench_scans.py``);
 The closing line counts the wrong results without a flag (issue 18's target:
 none) and the right ones with a flag (at most one in ten).
 
-Run: ``python benchmarks/bench_shapes.py [--seeds N] [--first-seed S] [--only NAME]`` (2 minutes; other
-noise draws with ``--first-seed 3`` and so on).
+Run: ``python benchmarks/bench_shapes.py [--seeds N] [--first-seed S] [--only NAME] [--decimate 0.3]``
+(3 minutes, 6 with ``--decimate``; other noise draws with ``--first-seed 3`` and so on).
 """
 
 from __future__ import annotations
@@ -204,6 +214,90 @@ def fish(fin: float) -> Callable[[np.ndarray], np.ndarray]:
     return f
 
 
+# ------------------------------------------------------------------------------ sharp solids (session 28)
+def _box(p: np.ndarray, centre: np.ndarray, half: np.ndarray) -> np.ndarray:
+    q = np.abs(p - centre) - half
+    return np.linalg.norm(np.maximum(q, 0.0), axis=1) + np.minimum(q.max(axis=1), 0.0)
+
+
+def _ring(p: np.ndarray, centre: np.ndarray, big: float, small: float, axis: int = 2) -> np.ndarray:
+    y = p - centre
+    a, b = (i for i in range(3) if i != axis)
+    return np.hypot(np.hypot(y[:, a], y[:, b]) - big, y[:, axis]) - small
+
+
+def holed_shell(holes: int, half: float, radius: float) -> Callable[[np.ndarray], np.ndarray]:
+    """A spherical shell (radius 1, wall 2 ``half``) with ``holes`` round holes, each through one side only.
+
+    The holes' axes are spread over the whole sphere, so unlike :func:`lattice_ball` no two holes share a
+    line; the rims are sharp (an intersection of solids, no blend): reach 0 there, as on a modelled part.
+    """
+    i = np.arange(holes) + 0.5
+    z = 1 - 2 * i / holes
+    phi = np.pi * (1 + 5**0.5) * i
+    dirs = np.stack([np.sqrt(1 - z * z) * np.cos(phi), np.sqrt(1 - z * z) * np.sin(phi), z], axis=1)
+
+    def f(p: np.ndarray) -> np.ndarray:
+        rad = np.linalg.norm(p, axis=1)
+        along = p @ dirs.T
+        off = np.sqrt(np.maximum(rad[:, None] ** 2 - along**2, 0.0))
+        hole = np.where(along > 0, off, 9.0).min(axis=1) - radius
+        return np.maximum(np.abs(rad - 1.0) - half, -hole)
+
+    return f
+
+
+def plate(n: int, radius: float) -> Callable[[np.ndarray], np.ndarray]:
+    """A slab 2 x 2 x 0.5 with an n x n grid of round holes through it (genus n^2, sharp rims and corners)."""
+    centres = [(-0.75 + 1.5 * i / (n - 1), -0.75 + 1.5 * j / (n - 1)) for i in range(n) for j in range(n)]
+
+    def f(p: np.ndarray) -> np.ndarray:
+        out = _box(p, np.zeros(3), np.array([1.0, 1.0, 0.25]))
+        for cx, cy in centres:
+            out = np.maximum(out, radius - np.hypot(p[:, 0] - cx, p[:, 1] - cy))
+        return out
+
+    return f
+
+
+def linked_tori(p: np.ndarray) -> np.ndarray:
+    """Two linked tori (radii 0.5 and 0.12) in perpendicular planes, 0.16 apart at their closest: two objects."""
+    first = _ring(p, np.array([-0.3, 0.0, 0.0]), 0.5, 0.12)
+    return np.minimum(first, _ring(p, np.array([0.3, 0.0, 0.0]), 0.5, 0.12, axis=1))
+
+
+def trefoil_tube(p: np.ndarray) -> np.ndarray:
+    """A tube of radius 0.13 around a trefoil knot (genus 1, knotted)."""
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    curve = np.c_[np.sin(t) + 2 * np.sin(2 * t), np.cos(t) - 2 * np.cos(2 * t), -np.sin(3 * t)] * 0.36
+    return cKDTree(curve).query(p)[0] - 0.13
+
+
+def box_fins(fin: float) -> Callable[[np.ndarray], np.ndarray]:
+    """An ellipsoid body with a flat dorsal fin and a tail, slabs ``fin`` thick with sharp edges (genus 0)."""
+
+    def f(p: np.ndarray) -> np.ndarray:
+        body = np.linalg.norm(p / np.array([1.0, 0.45, 0.35]), axis=1) - 1.0
+        dorsal = _box(p, np.array([0.0, 0.0, 0.42]), np.array([0.45, fin / 2, 0.2]))
+        tail = _box(p, np.array([1.05, 0.0, 0.0]), np.array([0.15, fin / 2, 0.35]))
+        return np.min([body, dorsal, tail], axis=0)
+
+    return f
+
+
+def decimated(verts: np.ndarray, faces: np.ndarray, keep: float) -> tuple[np.ndarray, np.ndarray]:
+    """VTK's quadric decimation of a mesh to ``keep`` of its faces: dense where it bends, long thin triangles
+    where it is flat (how modelled and decimated scans are tessellated)."""
+    import pyvista as pv
+
+    mesh = pv.PolyData(verts, np.hstack([np.full((len(faces), 1), 3), faces]).ravel())
+    out = mesh.decimate(1 - keep).clean(tolerance=1e-9, absolute=False)
+    used = np.unique(out.faces.reshape(-1, 4)[:, 1:])
+    remap = np.full(out.n_points, -1)
+    remap[used] = np.arange(len(used))
+    return np.asarray(out.points, np.float64)[used], remap[out.faces.reshape(-1, 4)[:, 1:]].astype(np.int64)
+
+
 # ---------------------------------------------------------------------------------------------- cases
 def _shapes() -> dict[str, Callable[[], tuple[np.ndarray, np.ndarray]]]:
     out: dict[str, Callable[[], tuple[np.ndarray, np.ndarray]]] = {}
@@ -217,6 +311,14 @@ def _shapes() -> dict[str, Callable[[], tuple[np.ndarray, np.ndarray]]]:
     out["pretzel"] = lambda: implicit(pretzel, 2.0, 90)
     out["fish-fin-0.06"] = lambda: implicit(fish(0.06), 1.2, 90)
     out["fish-fin-0.12"] = lambda: implicit(fish(0.12), 1.2, 90)
+    out["holed-shell-31"] = lambda: implicit(holed_shell(31, 0.07, 0.16), 1.3, 69)
+    out["holed-shell-31-thin"] = lambda: implicit(holed_shell(31, 0.05, 0.16), 1.3, 59)
+    out["holed-shell-13"] = lambda: implicit(holed_shell(13, 0.06, 0.25), 1.3, 59)
+    out["plate-3x3"] = lambda: implicit(plate(3, 0.18), 1.3, 69)
+    out["plate-4x4"] = lambda: implicit(plate(4, 0.12), 1.3, 89)
+    out["linked-tori"] = lambda: implicit(linked_tori, 1.3, 89)
+    out["trefoil-tube"] = lambda: implicit(trefoil_tube, 1.3, 89)
+    out["box-fins-0.06"] = lambda: implicit(box_fins(0.06), 1.3, 89)
     return out
 
 
@@ -241,6 +343,9 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--seeds", type=int, default=2, help="noise seeds per noisy case")
     ap.add_argument("--first-seed", type=int, default=1, help="first noise seed (other draws: 3, 5, ...)")
     ap.add_argument("--only", action="append", help="only this shape (repeatable)")
+    ap.add_argument(
+        "--decimate", type=float, metavar="KEEP", help="also each mesh decimated to this share of its faces"
+    )
     a = ap.parse_args(argv)
     shapes = _shapes()
     names = a.only or list(shapes)
@@ -248,8 +353,11 @@ def main(argv: list[str]) -> int:
     print("|---|---|---|---|---|---|---|---|---|---|")
     right = total = quiet = flagged_right = 0
     quiet_names: list[str] = []
-    for name in names:
-        verts, faces = shapes[name]()
+    todo = [(name, shapes[name]) for name in names]
+    if a.decimate:
+        todo += [(f"{name}/qem{a.decimate:g}", lambda m=make: decimated(*m(), a.decimate)) for name, make in list(todo)]
+    for name, make in todo:
+        verts, faces = make()
         truth = mesh_truth(verts, faces)
         if truth is None:
             print(f"| {name} | – | – | {len(verts):,} | the generated mesh is not closed: skipped | | | | | |")
