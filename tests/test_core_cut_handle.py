@@ -203,8 +203,8 @@ def test_handles_decided_only_for_more_handles_all_resolved():
 
 
 def test_a_dispute_is_dropped_only_when_the_kept_handles_are_resolved():
-    """choose()'s dispute test (driver._disputed): two closed results through every sample with other
-    Betti numbers are a dispute, unless they differ only in b1 and the kept one has the more handles,
+    """choose()'s dispute test (driver._disputed): two closed results (or two with boundary) through every
+    sample with other Betti numbers are a dispute, unless they differ only in b1 and the kept one has the more handles,
     every loop of them at least LOOP_SUPPORTED, and it is the labelled one; a different b0 is always a
     dispute."""
     from types import SimpleNamespace as NS
@@ -215,8 +215,15 @@ def test_a_dispute_is_dropped_only_when_the_kept_handles_are_resolved():
     def handle(size):
         return Feature("handle", np.zeros(3), size, size < LOOP_SUPPORTED, np.array([0, 1, 2]), "")
 
-    def top(betti, closed=True, unused=0):
-        return NS(betti=betti, closed_manifold=closed, unused_samples=unused)
+    def top(betti, closed=True, unused=0, boundary=0, nonmanifold=0):
+        return NS(
+            betti=betti,
+            closed_manifold=closed,
+            unused_samples=unused,
+            boundary_faces=boundary,
+            nonmanifold_faces=nonmanifold,
+            singular_vertices=0,
+        )
 
     torus, sphere, two = top((1, 2, 1)), top((1, 0, 1)), top((2, 2, 2))
     resolved, band = [handle(30.0), handle(60.0)], [handle(LOOP_SUPPORTED - 0.5), handle(60.0)]
@@ -230,6 +237,12 @@ def test_a_dispute_is_dropped_only_when_the_kept_handles_are_resolved():
     assert not _disputed(torus, top((1, 0, 1), closed=False), band, 1000)  # the other is not closed
     assert _disputed(torus, top((1, 0, 1), unused=20), band, 1000)  # one through (nearly) every sample
     assert not _disputed(top((1, 2, 1), unused=20), top((1, 0, 1), unused=20), band, 1000)  # both leave 2 % out
+    # two manifolds with boundary are as undecided as two closed ones (an extra hole kept: a dispute)
+    disk, annulus = top((1, 0, 0), False, boundary=56), top((1, 1, 0), False, boundary=92)
+    assert _disputed(annulus, disk, [], 1000, labelled=False)
+    assert not _disputed(annulus, top((1, 1, 0), False, boundary=60), [], 1000)  # same Betti numbers
+    assert not _disputed(annulus, top((1, 0, 0), False, boundary=56, nonmanifold=3), [], 1000)  # not a manifold
+    assert not _disputed(annulus, sphere, [], 1000)  # one closed, one open: choose() keeps the closed one
 
 
 def test_a_cut_the_sample_may_resolve_brings_the_second_opinion(knight):

@@ -6,11 +6,11 @@ import math
 import numpy as np
 
 from crustview.core import reconstruct
+from crustview.core.analysis.dispute import disagreement
 from crustview.core.analysis.features import (
     GAP_MIN,
     HOLE_SUPPORTED,
     LOOP_MIN,
-    disagreement,
     enclosing_cover,
     enclosing_radii,
     features,
@@ -170,6 +170,19 @@ def test_disagreement_places_a_handle_where_the_two_differ():
     other = tris[1:]
     feats = disagreement(pts, tris, other, (1, 2, 1), (1, 0, 1))
     assert [x.kind for x in feats] == ["handle"] and feats[0].uncertain
+
+
+def test_disagreement_of_two_open_results_names_the_extra_hole():
+    """Two manifolds with boundary: a grid sheet (a disk) and the same sheet with one inner triangle
+    missing (an annulus, b1 = 1).  They differ by a hole, not a handle: one uncertain hole, at the
+    missing triangle."""
+    pts, tris = _sheet(8, 8, 1.0, 1.0, 0.0)
+    centre = np.flatnonzero(np.all(np.isin(tris, [27, 28, 35, 36]), axis=1))[0]  # a triangle in the middle
+    holed = np.delete(tris, centre, axis=0)
+    assert analyse(holed, len(pts), 2).betti == (1, 1, 0) and analyse(tris, len(pts), 2).betti == (1, 0, 0)
+    (f,) = disagreement(pts, holed, tris, (1, 1, 0), (1, 0, 0))
+    assert f.kind == "hole" and f.uncertain and "boundary loops = 2 kept, 1 in the other" in f.reason
+    assert np.allclose(f.location, pts[tris[centre]].mean(axis=0))
 
 
 def test_local_spacing_sees_the_sparse_direction():

@@ -184,7 +184,7 @@ class Extraction:
     disputed : list
         Uncertain features that the extraction itself found: where two of the
         robust extension's methods give closed manifolds of different
-        topology (:func:`crustview.core.analysis.features.disagreement`).
+        topology (:func:`crustview.core.analysis.dispute.disagreement`).
     features : list or None
         The features of the final complex when the extraction already
         measured them (in the coordinates it was given); None otherwise.

@@ -70,7 +70,6 @@ __all__ = [
     "LOOP_SUPPORTED",
     "Feature",
     "circumradii",
-    "disagreement",
     "enclosing_cover",
     "enclosing_radii",
     "features",
@@ -438,50 +437,3 @@ def handles_decided(kept: list[Feature], b1_kept: int, b1_other: int) -> bool:
         return False
     loops = [f.size_spacings for f in kept if f.kind == "handle"]
     return len(loops) == b1_kept and min(loops) >= LOOP_SUPPORTED
-
-
-def disagreement(
-    points: np.ndarray, kept: np.ndarray, other: np.ndarray, betti_kept: tuple, betti_other: tuple
-) -> list[Feature]:
-    """Uncertain features where two closed results of the same sample differ in topology.
-
-    Both complexes are closed manifolds through (nearly) every sample, so the
-    sample does not decide between them.  The faces that only one of them has are
-    grouped by shared vertices; the largest group is where they differ most.
-    One feature per differing Betti number is placed there: a handle when
-    b_1 differs, a component when b_0 differs.
-    """
-    d = kept.shape[1] - 1
-    a = {tuple(sorted(r)) for r in np.asarray(kept).tolist()}
-    b = {tuple(sorted(r)) for r in np.asarray(other).tolist()}
-    diff = np.array(sorted(a ^ b), dtype=np.int64).reshape(-1, d + 1)
-    n = len(points)
-    if len(diff):
-        rows = np.repeat(diff[:, 0], d)
-        cols = diff[:, 1:].ravel()
-        _, label = connected_components(
-            coo_matrix((np.ones(len(rows), np.int8), (rows, cols)), shape=(n, n)), directed=False
-        )
-        lab = label[diff[:, 0]]
-        big = np.bincount(lab).argmax()
-        verts = np.unique(diff[lab == big])
-    else:
-        verts = np.unique(np.asarray(kept).ravel())
-    loc = points[verts].mean(axis=0)
-    h = local_spacing(points, kept)
-    size = float(np.ptp(points[verts], axis=0).max() / np.median(h[verts])) if len(verts) > 1 else 0.0
-    out = []
-    for kind, i in (("component", 0), ("handle", 1)):
-        if i < len(betti_kept) and betti_kept[i] != betti_other[i]:
-            out.append(
-                Feature(
-                    kind,
-                    loc,
-                    size,
-                    True,
-                    verts,
-                    f"two closed reconstructions of this sample differ here (b{i} = {betti_kept[i]} kept, "
-                    f"{betti_other[i]} in the other): the sample does not decide between them",
-                )
-            )
-    return out

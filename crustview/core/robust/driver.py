@@ -244,7 +244,8 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     (:func:`~crustview.core.analysis.features.handles_decided`), there is no
     dispute: the other has spanned tunnels the sample shows.
     """
-    from ..analysis.features import disagreement, features, uncertain
+    from ..analysis.dispute import disagreement
+    from ..analysis.features import features, uncertain
 
     n = len(points)
     d = faces.shape[1] - 1
