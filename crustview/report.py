@@ -143,7 +143,7 @@ def report_dict(
             # every separation join-parts joined, every cap open-cap kept closed
             "removed_features": [f.as_dict() for f in rec.features if f.removed],
             "features": {
-                kind: sum(f.kind == kind and not f.removed for f in rec.features)
+                kind: sum(f.kind == kind and not f.removed and not f.disputed for f in rec.features)
                 for kind in ("handle", "hole", "component")
             },
             "rules": rec.extraction.counts_by_rule(),

@@ -169,7 +169,7 @@ def test_disagreement_places_a_handle_where_the_two_differ():
     # so compare with itself minus one face and plus another: only the Betti numbers matter here
     other = tris[1:]
     feats = disagreement(pts, tris, other, (1, 2, 1), (1, 0, 1))
-    assert [x.kind for x in feats] == ["handle"] and feats[0].uncertain
+    assert [x.kind for x in feats] == ["handle"] and feats[0].uncertain and feats[0].disputed
 
 
 def test_disagreement_of_two_open_results_names_the_extra_hole():
@@ -181,7 +181,7 @@ def test_disagreement_of_two_open_results_names_the_extra_hole():
     holed = np.delete(tris, centre, axis=0)
     assert analyse(holed, len(pts), 2).betti == (1, 1, 0) and analyse(tris, len(pts), 2).betti == (1, 0, 0)
     (f,) = disagreement(pts, holed, tris, (1, 1, 0), (1, 0, 0))
-    assert f.kind == "hole" and f.uncertain and "boundary loops = 2 kept, 1 in the other" in f.reason
+    assert f.kind == "hole" and f.uncertain and f.disputed and "boundary loops = 2 kept, 1 in the other" in f.reason
     assert np.allclose(f.location, pts[tris[centre]].mean(axis=0))
 
 

@@ -141,3 +141,20 @@ def test_selection_holds_one_thing_at_a_time(model):
     assert (sel.sample, sel.simplex, sel.face) == (None, None, (1, 2))
     sel.select_sample(4)
     assert (sel.sample, sel.simplex, sel.face) == (4, None, None)
+
+
+def test_a_disputed_hole_marks_a_place_and_is_not_counted_as_a_hole():
+    """boundary_words counts the holes of M_S: a disputed hole (two answers differ by a hole there) and a
+    cap kept closed (removed) are uncertain features, not holes of M_S."""
+    from types import SimpleNamespace as NS
+
+    from crustview.core.analysis.features import Feature
+    from crustview.scene.describe import boundary_words
+
+    def hole(**kw):
+        return Feature("hole", np.zeros(3), 10.0, True, np.array([0, 1, 2]), "", **kw)
+
+    rec = NS(features=[hole(), hole(), hole(disputed=True), hole(removed=True)], topology=NS(boundary_faces=92))
+    assert boundary_words(rec) == "2 holes"
+    rec.features = [hole(disputed=True)]
+    assert boundary_words(rec) == "92 boundary faces"

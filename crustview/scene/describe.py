@@ -257,7 +257,8 @@ def kept_open(rec: Reconstruction) -> bool:
 
 def boundary_words(rec: Reconstruction) -> str:
     """The boundary in words: "1 hole", "3 holes" (the hole features), or the boundary face count."""
-    holes = sum(f.kind == "hole" and not f.removed for f in (rec.features or []))  # not caps kept closed
+    # not caps kept closed (removed), nor where two answers differ by a hole (disputed: a place, not a hole)
+    holes = sum(f.kind == "hole" and not f.removed and not f.disputed for f in (rec.features or []))
     if holes:
         return f"{holes} hole{'s' if holes != 1 else ''}"
     return f"{rec.topology.boundary_faces} boundary faces"

@@ -70,6 +70,7 @@ def disagreement(
                     verts,
                     f"two reconstructions of this sample, both {both}, differ here ({what} = {mine} kept, "
                     f"{theirs} in the other): the sample does not decide between them",
+                    disputed=True,
                 )
             )
     return out

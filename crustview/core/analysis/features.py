@@ -125,6 +125,10 @@ class Feature:
         A removed handle stays *uncertain* when its loop was at least
         :data:`LOOP_MIN` (a sample coarser than eps = 1/2 resolves it: the
         sample did not decide it); below LOOP_MIN no eps < 1 sample resolves it.
+    disputed : bool
+        Where two robust answers of the same sample differ (:mod:`.dispute`): one handle, hole or
+        component more or fewer than M_S has there, always uncertain.  It marks a place, not a feature of
+        M_S of its own, so counts of M_S's holes and handles leave it out.
     """
 
     kind: str
@@ -134,6 +138,7 @@ class Feature:
     vertices: np.ndarray
     reason: str
     removed: bool = False
+    disputed: bool = False
 
     def as_dict(self) -> dict:
         """The JSON form (``uncertain_features`` entries)."""
@@ -143,6 +148,7 @@ class Feature:
             "size_spacings": round(float(self.size_spacings), 3),
             "uncertain": bool(self.uncertain),
             "removed": bool(self.removed),
+            "disputed": bool(self.disputed),
             "reason": self.reason,
         }
 
