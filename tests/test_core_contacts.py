@@ -150,6 +150,45 @@ def test_a_handle_carried_only_by_standing_bands_is_found() -> None:
     assert bridged_handles(pts, tri, normals, [off, *handles]) == {1 + next(iter(through))}
 
 
+def test_a_bridged_handle_of_an_open_surface_is_found_on_its_capped_form() -> None:
+    """The two spheres joined by two bands, with a hole cut on the far side of the first one (an open
+    scan): the handle through both bands is found as on the closed surface (session 28: the check looked at
+    closed surfaces only, and a decimated hand at 0.3 h kept a false handle across two fingers, sure)."""
+    from crustview.core.analysis.contacts import bridged_handles
+    from crustview.core.analysis.features import features
+
+    pts, tri, normals = _double_contact()
+    far = int(np.argmin(pts[:300, 0]))  # the first sphere's point farthest from the contacts
+    tri = tri[~(tri == far).any(axis=1)]  # its star removed: one hole
+    top = analyse(tri, len(pts), 2)
+    assert not top.closed_manifold and top.boundary_faces > 0 and top.nonmanifold_faces == 0
+    feats = features(pts, tri, 2)
+    handles = [f for f in feats if f.kind == "handle"]
+    assert len(handles) == 2 and sum(f.kind == "hole" for f in feats) == 1
+    through = bridged_handles(pts, tri, normals, handles)
+    assert len(through) == 1
+    loop = handles[next(iter(through))].vertices
+    assert (loop < 300).any() and (loop >= 300).any()
+
+
+def test_a_surface_without_handles_has_no_bridged_handle() -> None:
+    """Handle features on a genus-0 M_S (another answer's, or a disputed one) and standing faces: the
+    surface has no handle class, so nothing is bridged (the decimated feline at half its faces raised
+    KeyError here once open surfaces were checked)."""
+    from crustview.core.analysis.contacts import bridged_handles
+    from crustview.core.analysis.features import Feature
+
+    pts, tri, _ = _double_contact()
+    one = tri[(tri < 300).all(axis=1)]  # the first sphere alone: closed, genus 0
+    normals = np.tile([0.0, 0.0, 1.0], (len(pts), 1))  # every face near the equator stands across these
+    assert standing_faces(pts, one, normals, STAND_ANGLE / 2).any()
+    other = Feature("handle", np.zeros(3), 30.0, False, np.array([0, 1, 2, 3]), "")
+    assert bridged_handles(pts, one, normals, [other]) == set()
+    far = int(np.argmin(pts[:300, 0]))
+    holed = one[~(one == far).any(axis=1)]  # and with a hole
+    assert bridged_handles(pts, holed, normals, [other]) == set()
+
+
 def test_real_handles_are_not_bridges() -> None:
     """A built-in torus with 0.1 % noise: its two loops stay sure."""
     from crustview.core import reconstruct

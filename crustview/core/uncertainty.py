@@ -126,7 +126,8 @@ def result_features(
             for f in hidden_parts(rec.points / scale, manifold, rec.normals[:, :, 0], feats)
         ]
         # and handles whose loops only such faces carry (two contacts between the same two parts)
-        if topo.closed_manifold and topo.betti[1]:
+        manifold_ok = topo.closed_manifold or (topo.nonmanifold_faces == 0 and topo.singular_vertices == 0)
+        if manifold_ok and any(f.kind == "handle" and not f.removed for f in feats):
             bridged = bridged_handles(rec.points / scale, manifold, rec.normals[:, :, 0], feats)
             feats = [
                 replace(f, uncertain=True, reason=f"{f.reason} ({BRIDGED})") if i in bridged else f

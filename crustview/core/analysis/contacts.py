@@ -234,7 +234,9 @@ def bridged_handles(points: np.ndarray, triangles: np.ndarray, normals: np.ndarr
     ----------
     points : ndarray of shape (n, 3)
     triangles : ndarray of shape (f, 3)
-        M_S, a closed surface.
+        M_S, a surface, closed or with boundary (then capped as :func:`.loops.capped` does, session 28:
+        the hand decimated to half at 0.3 h, an open scan, had a false handle across two fingers that
+        only standing faces carry, and the check, closed surfaces only, never looked).
     normals : ndarray of shape (n, 3)
         Algorithm 1's normal line at each sample.
     handles : list of Feature
@@ -247,12 +249,16 @@ def bridged_handles(points: np.ndarray, triangles: np.ndarray, normals: np.ndarr
     """
     from scipy.sparse.csgraph import breadth_first_order
 
-    from .loops import _path_masks, short_basis
+    from .loops import _path_masks, capped, short_basis
     from .necks import _as_int, _echelon, _reduce, walk_class
 
     tri = np.asarray(triangles, dtype=np.int64)
     n = len(points)
-    todo = [i for i, f in enumerate(handles) if f.kind == "handle" and not f.removed and len(f.vertices) > 2]
+    todo = [
+        i
+        for i, f in enumerate(handles)
+        if f.kind == "handle" and not f.removed and not f.disputed and len(f.vertices) > 2
+    ]
     if not todo or len(tri) == 0:
         return set()
     stand = standing_faces(points, tri, normals, HANDLE_ANGLE)
@@ -260,10 +266,15 @@ def bridged_handles(points: np.ndarray, triangles: np.ndarray, normals: np.ndarr
         return set()
     edges, tri_edges = triangle_edges(tri)
     count = np.bincount(tri_edges.ravel(), minlength=len(edges))
-    if (count != 2).any():  # closed surfaces only (an open one's classes live on its capped form)
+    if (count > 2).any():  # a manifold only
         return set()
+    # an open surface's handle classes live on its capped form (features._handles measures its loops there):
+    # every hole gets a cone from an apex of its own, whose faces are bookkeeping, not faces that stand
+    points, tri, edges, tri_edges, count, n = capped(points, tri, edges, tri_edges, count)
+    stand = np.r_[stand, np.zeros(len(tri) - len(stand), bool)]
     cocycles: dict = {}
-    if isinstance(short_basis(points, tri, edges, tri_edges, count, n, cocycles=cocycles, cocycles_only=True), int):
+    basis = short_basis(points, tri, edges, tri_edges, count, n, cocycles=cocycles, cocycles_only=True)
+    if isinstance(basis, int) or "mask" not in cocycles:  # too many loops to class, or none at all (genus 0)
         return set()
     mask = cocycles["mask"]
     # a spanning forest of K's edge graph, the XOR of the masks up it, and each other edge's cycle
