@@ -185,6 +185,27 @@ def test_disagreement_of_two_open_results_names_the_extra_hole():
     assert np.allclose(f.location, pts[tris[centre]].mean(axis=0))
 
 
+def test_disagreement_where_rims_pinch_compares_b1():
+    """Two holes touching at a vertex count as one boundary loop, and the topology report counts pinched
+    vertices on closed complexes only: the genus from b0 + b1 - b2 - loops comes out odd.  Then the
+    difference is named by b1, as for curves (a review's case: "2 g = 3 kept" before)."""
+    pts, tris = _sheet(8, 8, 1.0, 1.0, 0.0)
+    a = np.flatnonzero(np.all(np.isin(tris, [18, 19, 26, 27]), axis=1))[0]
+    b = np.flatnonzero(np.all(np.isin(tris, [27, 28, 35, 36]), axis=1))
+    b = next(int(t) for t in b if len(set(tris[t]) & set(tris[a])) == 1)  # shares the vertex 27 only
+    pinched = np.delete(tris, [a, b], axis=0)
+    betti = analyse(pinched, len(pts), 2).betti
+    assert betti == (1, 2, 0) and not analyse(pinched, len(pts), 2).closed_manifold
+    (f,) = disagreement(pts, pinched, tris, betti, (1, 0, 0))
+    assert f.kind == "handle" and "b1 = 2 kept, 0 in the other" in f.reason
+    # and on curves (two Betti numbers) the same comparison, no genus
+    t = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    ring = np.c_[np.cos(t), np.sin(t)]
+    edges = np.c_[np.arange(12), (np.arange(12) + 1) % 12]
+    (g,) = disagreement(ring, edges, edges[:6], (1, 1), (1, 0))
+    assert g.kind == "handle" and g.disputed
+
+
 def test_local_spacing_sees_the_sparse_direction():
     """On long thin triangles the nearest neighbour is along the ring; the sampling radius is across."""
     pts, tris = _torus_mesh(200, 6)  # 200 around the hole (dense), 6 around the tube (sparse)

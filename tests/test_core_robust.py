@@ -150,26 +150,23 @@ def test_insertion_limit_is_the_local_spacing_of_the_surface_not_of_a_cluster():
     assert rep.nonmanifold_faces == 0 and rep.singular_vertices == 0 and rep.components == 1
 
 
-def test_a_cluster_seen_from_the_surface_as_one_point_is_taken_in_like_one_sample():
-    """Three samples 0.02 apart, 2.3 spacings above a sheet sampled at the run's median spacing (1): a
-    corner of a marching-cubes mesh where a sharp rim bends away from the face spanning it (a lattice
-    ball, 4 of 17,130 left out clean).  Their own distance (0.02) and the sheet's (1) put the limit at 2,
-    but nothing else lies within 2.3 of them, so seen from M_S they are one point, and one sample alone
-    is always taken in (its nearest neighbour is as far as M_S): they come in.  A pair 0.3 apart 2.5
-    above is point-like too; three samples spread over 2.4 (1.2 apart, 2.6 below) are not: they stay out."""
-    from crustview.core.robust.patcher import Patcher
+def test_a_left_out_cluster_beyond_the_limit_stays_out_and_keeps_its_flag():
+    """Two noisy circles side by side (``bench_curves.py``: gap 1, noise of one spacing, seed 0) come out as
+    one closed curve, wrong; two samples of the other circle stay out, and that part is the result's only
+    flag.  Judging a cluster narrower than half a spacing as one sample (tried in session 28) took them in
+    and left the wrong curve without a word; the limit judges clusters by the surface's spacing only."""
+    import sys
+    from pathlib import Path
 
-    sheet, tris = _unit_sheet()
-    cluster = np.array([[4.3, 4.6, 2.3], [4.32, 4.6, 2.3], [4.3, 4.62, 2.3]])
-    pair = np.array([[1.5, 1.5, 2.5], [1.8, 1.5, 2.5]])
-    spread = np.array([[6.5, 2.5, -2.6], [7.7, 2.5, -2.6], [8.9, 2.5, -2.6]])
-    pts = np.vstack([sheet, cluster, pair, spread])
-    pt = Patcher(pts, tris, np.array(tris), 1.0)
-    assert sorted(pt.insert_unused()) == [105, 106, 107]
-    m = np.array([pt.simp[i] for i in range(len(pt.simp)) if pt.alive[i]])
-    assert set(range(100, 105)) <= set(m.ravel().tolist())
-    rep = analyse(m, len(pts), 2)
-    assert rep.nonmanifold_faces == 0 and rep.singular_vertices == 0 and rep.components == 1
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from bench_curves import circle_pair
+
+    from crustview.core import reconstruct
+
+    rec = reconstruct(circle_pair("side by side", 1.0, 1.0, 0), 1)
+    assert rec.topology.betti == (1, 1)  # one curve for two: wrong
+    assert rec.topology.unused_samples > 0
+    assert any(f.kind == "component" and f.uncertain for f in rec.features)
 
 
 def test_nearest_face_of_a_collinear_triangle_is_its_long_edge():

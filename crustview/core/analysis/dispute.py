@@ -52,10 +52,14 @@ def disagreement(
     if min(holes) == 0:  # not both with boundary (outside _disputed's pairs): compared by the Betti numbers
         holes = (0, 0)
     counts = [("component", "b0", betti_kept[0], betti_other[0])]
-    if d == 2 and len(betti_kept) == 3:
-        genus2 = [bk[0] + bk[1] - bk[2] - hk for bk, hk in ((betti_kept, holes[0]), (betti_other, holes[1]))]
+    surfaces = d == 2 and len(betti_kept) == len(betti_other) == 3
+    pairs = ((betti_kept, holes[0]), (betti_other, holes[1]))
+    genus2 = [bk[0] + bk[1] - bk[2] - hk for bk, hk in pairs] if surfaces else []
+    if surfaces and all(g >= 0 and g % 2 == 0 for g in genus2):
         counts += [("hole", "boundary loops", *holes), ("handle", "2 g", *genus2)]
     elif len(betti_kept) > 1:
+        # curves, higher dimensions, or rims that pinch (two holes touching at a vertex count as one loop, and
+        # the topology report counts pinched vertices on closed complexes only): b1 as it is
         counts.append(("handle", "b1", betti_kept[1], betti_other[1]))
     both = "closed manifolds" if holes == (0, 0) else "manifolds with boundary"
     out = []
