@@ -15,6 +15,7 @@ from scipy.sparse.csgraph import connected_components
 from .cotree import triangle_edges
 from .features import Feature
 from .radii import local_spacing
+from .topology import graph_components
 
 
 def disagreement(
@@ -88,6 +89,5 @@ def _boundary_loops(tris: np.ndarray, n: int) -> int:
     rim = edges[np.bincount(tri_edges.ravel(), minlength=len(edges)) == 1]
     if len(rim) == 0:
         return 0
-    g = coo_matrix((np.ones(len(rim), np.int8), (rim[:, 0], rim[:, 1])), shape=(n, n))
-    _, label = connected_components(g, directed=False)
+    _, label = graph_components(n, rim)
     return len(np.unique(label[np.unique(rim)]))

@@ -44,12 +44,13 @@ def _boundary_vertices(faces: np.ndarray) -> set[int]:
 
 
 def _open_manifold(top) -> bool:
-    """A manifold with boundary: boundary faces, and no non-manifold face or pinched vertex."""
+    """A manifold with boundary: boundary faces, and no non-manifold face or pinched vertex.
+
+    The topology report counts pinched vertices on closed complexes only; two rims touching at a vertex
+    pass here, and :func:`~crustview.core.analysis.dispute.disagreement` then names the difference by b1.
+    """
     return (
-        not top.closed_manifold
-        and top.boundary_faces > 0
-        and top.nonmanifold_faces == 0
-        and (top.singular_vertices == 0)
+        not top.closed_manifold and top.boundary_faces > 0 and top.nonmanifold_faces == 0 and top.singular_vertices == 0
     )
 
 
