@@ -19,6 +19,7 @@ import numpy as np
 from .analysis.contacts import BRIDGED, bridged_handles, hidden_parts
 from .analysis.enclosures import enclosure_voids, joined_objects
 from .analysis.features import LOOP_MIN, Feature, features, summary_suffix
+from .analysis.planar import planar_holes
 from .analysis.resample import Resampled, resample_check
 from .prepare import DEFAULT_JOGGLE
 from .result import Reconstruction, TopologyReport
@@ -119,6 +120,10 @@ def result_features(
     ]
     # a cap open-cap kept closed is a possible opening the sample did not decide: always uncertain
     feats += [replace(f, location=f.location * scale) for f in ext.removed_features if f.kind == "hole"]
+    if mode == "robust" and rec.k - rec.d == 1 and rec.d >= 2 and _beyond(counts):
+        # a sure hole over a planar rim: a planar cut, or a flat face sampled only on its outline (CAD,
+        # decimation); the sample does not tell them apart (analysis/planar.py)
+        feats = planar_holes(rec.points, feats, rec.spacing)
     if contacts and mode == "robust" and (rec.k, rec.d) == (3, 2) and _beyond(counts):
         # parts held together only by faces that stand across the normals: a contact no rule decided
         feats += [
