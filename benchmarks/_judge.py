@@ -27,7 +27,11 @@ class Judged:
 
     @property
     def quiet_wrong(self) -> bool:
-        """A wrong topology without an uncertain feature and reported closed: issue 18's target is none."""
+        """A wrong topology without an uncertain feature: issue 18's target is none.
+
+        An open result without one counts too: the window shows it as a sure open surface (a closed solid
+        reported open with sure holes looks right), so only ``uncertain_features`` flags a result.
+        """
         return not self.right and not self.flagged
 
     @property
@@ -55,4 +59,4 @@ def judge(points: np.ndarray, betti: tuple[int, ...], noise: float, d: int = 2) 
     ok = bool(t.closed_manifold and tuple(t.betti) == tuple(betti) and used >= need * len(points) - 1e-9)
     u = rec.uncertain_features
     unc = tuple(sum(f.kind == k for f in u) for k in ("handle", "hole", "component"))
-    return Judged(ok, bool(u) or not t.closed_manifold, tuple(t.betti), unc, used, seconds)  # type: ignore[arg-type]
+    return Judged(ok, bool(u), tuple(t.betti), unc, used, seconds)  # type: ignore[arg-type]

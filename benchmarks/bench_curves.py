@@ -2,7 +2,7 @@
 
 Two parts, each judged like ``bench_objects.py`` (right: a closed curve per
 true curve, the right Betti numbers, every sample a vertex, 99 % at 0.3 h or
-more; flagged: an uncertain feature or not closed):
+more; flagged: an uncertain feature, issue 18's definition):
 
 * **Noisy ellipses**: the built-in ellipse (200 samples) with Gaussian noise of
   0.5, 1 and 1.5 % of its size (``bench_variants.py``'s model; 1 % is about

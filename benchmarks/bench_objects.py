@@ -15,7 +15,8 @@ Gaussian noise of 0, 0.1 h and 0.3 h (the issue's noise model), two seeds each:
 
 A result is *right* when M_S is a closed manifold with the pair's Betti
 numbers (2, 2 g, 2) through every sample (99 % at 0.3 h); *flagged* when it
-has an uncertain feature or is not a closed manifold.  By the sampling theory
+has an uncertain feature (issue 18's definition; an open result without one counts as a quiet wrong).
+By the sampling theory
 (``docs/algorithm.md``, GAP_MIN) two sheets closer than 2 sampling radii are
 below what an eps < 1 sample resolves: there a joined result is expected, and
 it must be flagged.  The closing line counts the wrong results without a flag
