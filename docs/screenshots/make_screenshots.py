@@ -407,6 +407,28 @@ def turned_vase_caps(app, win) -> None:
     wait(app, win)
 
 
+def vase_outline_planar(app, win) -> None:
+    """A vase tessellated as CAD tools do (rings 3 times farther apart than the vertices along them, flat base
+    and lid without an inner vertex; ``bench_shapes.py``'s ``vase-outline-x3``) with noise of 0.1 h, seed 1:
+    open-cap opens both flat ends, and since their rims lie in planes (0.09 spacings RMS) the result is amber,
+    the two holes named uncertain (analysis/planar.py) instead of a sure open tube."""
+    import tempfile
+
+    sys.path.insert(0, str(HERE.parents[1] / "benchmarks"))
+    from bench_shapes import profile_vase, turned_outline
+    from scipy.spatial import cKDTree
+
+    verts, _ = turned_outline(profile_vase()[1:-1], 96, 3.0)
+    h = float(np.median(cKDTree(verts).query(verts, k=2)[0][:, 1]))
+    pts = verts + np.random.default_rng(1).normal(scale=0.1 * h, size=verts.shape)
+    path = Path(tempfile.mkdtemp()) / "vase-outline-rings-3x-noise-0.1h.xyz"
+    np.savetxt(path, pts)
+    win.open_file(path, d=2)
+    wait(app, win)
+    look_from(win, (0.5, -1.0, 1.3), 1.2, up=(0.0, 0.0, 1.0))
+    wait(app, win)
+
+
 def _noisy_builtin_at_step(app, win, name: str, pick) -> None:  # noqa: ANN001
     """Open a built-in with noise of 1 % of its size (``bench_variants.py``'s draw) and go to the step after
     the one ``pick(steps)`` returns, framed as 'frame each step' frames it."""
@@ -471,6 +493,7 @@ SIZES = {
     "camel-bridge": (1600, 1000),
     "objects-touching": (1600, 1000),
     "turned-vase-caps": (1600, 1000),
+    "vase-outline-planar": (1600, 1000),
     "klein-loop-cut": (1600, 1000),
     "s3-unfold": (1600, 1000),
 }
@@ -486,6 +509,7 @@ CASES = {
     "camel-bridge": camel_bridge,
     "objects-touching": objects_touching,
     "turned-vase-caps": turned_vase_caps,
+    "vase-outline-planar": vase_outline_planar,
     "klein-loop-cut": klein_loop_cut,
     "s3-unfold": s3_unfold,
     "bunny-holes": bunny_holes,
