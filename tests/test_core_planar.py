@@ -80,3 +80,28 @@ def test_a_closed_cylinder_sampled_on_its_rings_is_never_reported_open_for_sure(
     # the clean sample is the paper's own closed result: nothing to flag
     clean = reconstruct(pts, 2)
     assert clean.topology.closed_manifold and clean.topology.betti == (1, 0, 1) and not clean.uncertain_features
+
+
+def test_an_open_curve_has_its_gap_as_a_hole_and_the_robust_result_calls_it_uncertain() -> None:
+    """An arc of 3/4 of a circle (150 samples): the gap between its ends is measured as a hole (the ends'
+    distance over their local spacing, half an edge: here 2 sin(134.1 deg) / sin(0.9 deg) = 91 radii, well above
+    HOLE_SUPPORTED); the robust result is open there, and since two ends always lie on a line (a gap or a
+    straight piece sampled only at its ends), it says so."""
+    from crustview.core.analysis.features import HOLE_SUPPORTED, features
+
+    t = 2 * np.pi * np.arange(150) / 200
+    pts = np.c_[np.cos(t), np.sin(t)]
+    path = np.c_[np.arange(149), np.arange(1, 150)]
+    holes = [f for f in features(pts, path, 1) if f.kind == "hole"]
+    assert len(holes) == 1 and sorted(holes[0].vertices.tolist()) == [0, 149]
+    radius = np.linalg.norm(pts[1] - pts[0]) / 2  # an edge's enclosing radius: half the chord
+    assert holes[0].size_spacings == pytest.approx(np.linalg.norm(pts[149] - pts[0]) / radius, rel=1e-9)
+    assert holes[0].size_spacings > HOLE_SUPPORTED and not holes[0].uncertain
+    # a closed curve has none; a gap of one missing sample is uncertain by its size
+    assert not [f for f in features(pts, np.r_[path, [[149, 0]]], 1) if f.kind == "hole"]
+    short = [f for f in features(pts[:3], np.array([[0, 1]]), 1) if f.kind == "hole"]
+    assert len(short) == 1 and short[0].size_spacings == pytest.approx(2.0) and short[0].uncertain
+    rec = reconstruct(pts, 1)
+    gaps = [f for f in rec.features if f.kind == "hole"]
+    if not rec.topology.closed_manifold:
+        assert gaps and all(f.uncertain and "straight piece" in f.reason for f in gaps)

@@ -120,7 +120,7 @@ def result_features(
     ]
     # a cap open-cap kept closed is a possible opening the sample did not decide: always uncertain
     feats += [replace(f, location=f.location * scale) for f in ext.removed_features if f.kind == "hole"]
-    if mode == "robust" and rec.k - rec.d == 1 and rec.d >= 2 and _beyond(counts):
+    if mode == "robust" and rec.k - rec.d == 1 and _beyond(counts):
         # a sure hole over a planar rim: a planar cut, or a flat face sampled only on its outline (CAD,
         # decimation); the sample does not tell them apart (analysis/planar.py)
         feats = planar_holes(rec.points, feats, rec.spacing)

@@ -171,8 +171,8 @@ def features(
     simplices : ndarray of shape (s, d + 1)
         M_S.
     d : int
-        Its dimension.  Handles and holes are found for d = 2; components in
-        every dimension.
+        Its dimension.  Handles and holes are found for d = 2, holes (the gaps between an open
+        curve's ends) for d = 1; components in every dimension.
     spacing : ndarray of shape (n,), optional
         Local spacing per sample (default: nearest-neighbour distances).
     tighten_loops : bool
@@ -198,6 +198,8 @@ def features(
         return [] if handles_only else left_out(points, simplices, d)  # an empty M_S reaches no sample
     h = local_spacing(points, simplices) if spacing is None else np.asarray(spacing, dtype=float)
     out = [] if handles_only else _components(points, simplices, h) + left_out(points, simplices, d)
+    if d == 1 and not handles_only:
+        out += _gaps(points, simplices, h)
     if d == 2:
         edges, tri_edges = triangle_edges(simplices)
         count = np.bincount(tri_edges.ravel(), minlength=len(edges))
@@ -294,6 +296,38 @@ def _holes(points: np.ndarray, edges: np.ndarray, count: np.ndarray, h: np.ndarr
             else ""
         )
         result.append(Feature("hole", p.mean(axis=0), size, unc, vs, reason))
+    return result
+
+
+def _gaps(points: np.ndarray, edges: np.ndarray, h: np.ndarray) -> list[Feature]:
+    """The hole of each open path of a curve: its two ends (vertices in one edge) and their distance.
+
+    A curve's hole is the gap between its ends, measured as a surface's rim is (its span, here the
+    distance between the two ends, over their local spacing) and uncertain under the same bound,
+    :data:`HOLE_SUPPORTED`.  A component with other than two ends (a branch point) is not a path: its
+    ends are left to the report's manifold check.
+    """
+    n = len(points)
+    deg = np.bincount(edges.ravel(), minlength=n)
+    ends = np.flatnonzero(deg == 1)
+    if len(ends) == 0:
+        return []
+    g = coo_matrix((np.ones(len(edges), np.int8), (edges[:, 0], edges[:, 1])), shape=(n, n))
+    _, label = connected_components(g, directed=False)
+    result = []
+    for c in np.unique(label[ends]).tolist():
+        pair = ends[label[ends] == c]
+        if len(pair) != 2:
+            continue
+        p = points[pair]
+        size = float(np.linalg.norm(p[1] - p[0])) / float(np.median(h[pair]))
+        unc = size < HOLE_SUPPORTED
+        reason = f"gap of an open curve: its two ends {size:.3g} spacings apart" + (
+            " (under 4 spacings: only a sample coarser than eps = 1/2 resolves it, so it may be a gap of the sampling)"
+            if unc
+            else ""
+        )
+        result.append(Feature("hole", p.mean(axis=0), size, unc, pair, reason))
     return result
 
 

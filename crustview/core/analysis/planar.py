@@ -42,7 +42,10 @@ public open scans' openings measure 0.00 (the cow head), 0.20 (owl), 0.22
 1.9 (plastic vase's outer rim), 6.8 (face): ``benchmarks/bench_caps.py``
 lists the value of every cap it examines.  The check never changes M_S; it
 runs on the robust extension's own results only (a result of the paper's
-loop is closed).
+loop is closed).  For a curve in the plane a hole is the gap between an open
+path's two ends (:func:`~.features.features`), which always lie on a line:
+a gap, or a straight piece sampled only at its ends, so it is always
+uncertain.
 """
 
 from __future__ import annotations
@@ -109,6 +112,15 @@ def planar_holes(points: np.ndarray, feats: list, spacing: float) -> list:
     changed = False
     for i in todo:
         f = feats[i]
+        if points.shape[1] == 2:  # a curve's gap: its two ends always lie on a line
+            changed = True
+            out[i] = replace(
+                f,
+                uncertain=True,
+                reason=f"{f.reason} (a gap, or a straight piece sampled only at its two ends; the sample does "
+                "not tell the two apart)",
+            )
+            continue
         off = rim_offset(points, f.vertices, spacing)
         if off <= PLANAR_RIM:
             changed = True
