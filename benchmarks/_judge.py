@@ -29,8 +29,8 @@ class Judged:
     def quiet_wrong(self) -> bool:
         """A wrong topology without an uncertain feature: issue 18's target is none.
 
-        An open result without one counts too: the window shows it as a sure open surface (a closed solid
-        reported open with sure holes looks right), so only ``uncertain_features`` flags a result.
+        An open result without one counts too: its report lists every hole as sure (the window's amber for any
+        open result says only "an open scan?"), so only ``uncertain_features`` flags a result.
         """
         return not self.right and not self.flagged
 
