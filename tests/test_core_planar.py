@@ -82,26 +82,64 @@ def test_a_closed_cylinder_sampled_on_its_rings_is_never_reported_open_for_sure(
     assert clean.topology.closed_manifold and clean.topology.betti == (1, 0, 1) and not clean.uncertain_features
 
 
-def test_an_open_curve_has_its_gap_as_a_hole_and_the_robust_result_calls_it_uncertain() -> None:
-    """An arc of 3/4 of a circle (150 samples): the gap between its ends is measured as a hole (the ends'
-    distance over their local spacing, half an edge: here 2 sin(134.1 deg) / sin(0.9 deg) = 91 radii, well above
-    HOLE_SUPPORTED); the robust result is open there, and since two ends always lie on a line (a gap or a
-    straight piece sampled only at its ends), it says so."""
-    from crustview.core.analysis.features import HOLE_SUPPORTED, features
+def test_a_curves_gaps_pair_the_ends_that_face_each_other() -> None:
+    """curve_gaps, on paper: a 60-sample circle missing samples 0 and 30 is two arcs with two gaps of one
+    sample each (two edges long: 4 radii, at HOLE_SUPPORTED, uncertain), each at its missing sample, not the
+    arcs' own chords across the circle; an arc is one gap between its ends; a branch point is left out."""
+    from crustview.core.analysis.features import HOLE_SUPPORTED, curve_gaps
 
-    t = 2 * np.pi * np.arange(150) / 200
+    t = 2 * np.pi * np.arange(60) / 60
     pts = np.c_[np.cos(t), np.sin(t)]
-    path = np.c_[np.arange(149), np.arange(1, 150)]
-    holes = [f for f in features(pts, path, 1) if f.kind == "hole"]
-    assert len(holes) == 1 and sorted(holes[0].vertices.tolist()) == [0, 149]
-    radius = np.linalg.norm(pts[1] - pts[0]) / 2  # an edge's enclosing radius: half the chord
-    assert holes[0].size_spacings == pytest.approx(np.linalg.norm(pts[149] - pts[0]) / radius, rel=1e-9)
-    assert holes[0].size_spacings > HOLE_SUPPORTED and not holes[0].uncertain
-    # a closed curve has none; a gap of one missing sample is uncertain by its size
-    assert not [f for f in features(pts, np.r_[path, [[149, 0]]], 1) if f.kind == "hole"]
-    short = [f for f in features(pts[:3], np.array([[0, 1]]), 1) if f.kind == "hole"]
-    assert len(short) == 1 and short[0].size_spacings == pytest.approx(2.0) and short[0].uncertain
+    path = np.array([[i, (i + 1) % 60] for i in range(60) if i not in (0, 59, 29, 30)])
+    gaps = curve_gaps(pts, path)
+    assert len(gaps) == 2 and sorted(sorted(g.vertices.tolist()) for g in gaps) == [[1, 59], [29, 31]]
+    radius = np.linalg.norm(pts[1] - pts[0]) / 2
+    for g in gaps:
+        a, b = pts[g.vertices]
+        assert g.size_spacings == pytest.approx(np.linalg.norm(a - b) / radius, rel=1e-9)
+        assert g.size_spacings == pytest.approx(HOLE_SUPPORTED, rel=0.01) and g.uncertain
+        assert np.linalg.norm(g.location) > 0.99  # at the missing sample, on the circle
+    # a three-quarter arc: one gap, between its two ends, far above the bound
+    arc = np.array([[i, i + 1] for i in range(44)])
+    (one,) = curve_gaps(pts, arc)
+    assert sorted(one.vertices.tolist()) == [0, 44] and one.size_spacings > 5 * HOLE_SUPPORTED and not one.uncertain
+    # a closed curve has none; a circle with a whisker (a branch point) is not a path: none either
+    assert curve_gaps(pts, np.array([[i, (i + 1) % 60] for i in range(60)])) == []
+    whisker = np.vstack([pts, [[1.2, 0.0]]])
+    assert curve_gaps(whisker, np.array([[i, (i + 1) % 60] for i in range(60)] + [[0, 60]])) == []
+
+
+def test_an_open_curve_in_the_plane_is_flagged_by_its_gap_in_robust_mode_only() -> None:
+    """A half circle of 80 samples stays open in both modes.  The robust report measures its gap and calls
+    it uncertain (two ends lie on a line: a gap or a straight piece); the paper mode's report is as before,
+    with no hole feature."""
+    t = np.linspace(0, np.pi, 80)
+    pts = np.c_[np.cos(t), np.sin(t)]
     rec = reconstruct(pts, 1)
+    assert not rec.topology.closed_manifold and rec.topology.betti == (1, 0)
     gaps = [f for f in rec.features if f.kind == "hole"]
-    if not rec.topology.closed_manifold:
-        assert gaps and all(f.uncertain and "straight piece" in f.reason for f in gaps)
+    assert len(gaps) == 1 and np.allclose(sorted(rec.points[gaps[0].vertices].tolist()), [[-1.0, 0.0], [1.0, 0.0]])
+    assert gaps[0].uncertain and "straight piece" in gaps[0].reason
+    assert np.allclose(gaps[0].location, [0.0, 0.0], atol=1e-9)  # midway between the ends, as scaled back
+    paper = reconstruct(pts, 1, mode="paper", prune_boundary=False)
+    assert not [f for f in paper.features if f.kind == "hole"]
+
+
+def test_a_hole_in_a_flat_sheet_stays_sure() -> None:
+    """A 30 x 30 sheet with a bump in the middle and a flat margin, noise 0.1 spacing: its one boundary is
+    planar, but the sheet itself runs through the disc a flat face would fill, so it is no unsampled flat
+    face and the hole stays sure; the same rim with nothing inside (the vase's base) is flagged."""
+    from crustview.core.analysis.planar import surface_in_disc
+
+    rng = np.random.default_rng(3)
+    g = np.stack(np.meshgrid(np.arange(30.0), np.arange(30.0)), -1).reshape(-1, 2)
+    g[:, 0] += 0.5 * (np.arange(len(g)) // 30 % 2)
+    z = 6.0 * np.exp(-((g[:, 0] - 15) ** 2 + (g[:, 1] - 15) ** 2) / 40.0)
+    pts = np.c_[g, z] + rng.normal(scale=0.1, size=(len(g), 3))
+    rec = reconstruct(pts, 2)
+    (hole,) = [f for f in rec.features if f.kind == "hole"]
+    assert rim_offset(rec.points, hole.vertices, rec.spacing) <= PLANAR_RIM and not hole.uncertain
+    assert surface_in_disc(rec.points, hole.vertices, rec.spacing) > 100
+    # the rim alone, nothing inside it: a disc no sample runs through
+    rim = np.unique(hole.vertices)
+    assert surface_in_disc(rec.points[rim], np.arange(len(rim)), rec.spacing) == 0

@@ -154,10 +154,7 @@ def test_a_disputed_hole_marks_a_place_and_is_not_counted_as_a_hole():
     def hole(**kw):
         return Feature("hole", np.zeros(3), 10.0, True, np.array([0, 1, 2]), "", **kw)
 
-    rec = NS(d=2, features=[hole(), hole(), hole(disputed=True), hole(removed=True)], topology=NS(boundary_faces=92))
+    rec = NS(features=[hole(), hole(), hole(disputed=True), hole(removed=True)], topology=NS(boundary_faces=92))
     assert boundary_words(rec) == "2 holes"
     rec.features = [hole(disputed=True)]
     assert boundary_words(rec) == "92 boundary faces"
-    # a curve's hole is the gap between an open path's two ends
-    curve = NS(d=1, features=[hole()], topology=NS(boundary_faces=2))
-    assert boundary_words(curve) == "1 gap"

@@ -35,3 +35,13 @@ def test_a_hole_with_no_rim_and_not_kept_is_a_marker_at_its_location():
     pts, lines, markers = feature_lines(_rec(), [hole])
     assert len(lines) == 0 and len(markers) == 1
     np.testing.assert_allclose(pts[markers[0]], [0.5, 0.5, 0.5])
+
+
+def test_a_curves_gap_is_drawn_between_its_two_ends_not_at_its_midpoint():
+    # a half circle's gap: its ends (1, 0) and (-1, 0); a marker at the midpoint would sit at the centre
+    t = np.linspace(0, np.pi, 5)
+    pts2 = np.c_[np.cos(t), np.sin(t)]
+    rec = SimpleNamespace(points=pts2, manifold=np.c_[np.arange(4), np.arange(1, 5)], d=1)
+    gap = Feature("hole", np.zeros(2), 4.0, True, np.array([0, 4]), "gap of an open curve")
+    pts, lines, markers = feature_lines(rec, [gap])
+    assert len(markers) == 0 and _edges(pts, lines) == {((-1.0, 0.0), (1.0, 0.0))}

@@ -18,7 +18,7 @@ import numpy as np
 
 from .analysis.contacts import BRIDGED, bridged_handles, hidden_parts
 from .analysis.enclosures import enclosure_voids, joined_objects
-from .analysis.features import LOOP_MIN, Feature, features, summary_suffix
+from .analysis.features import LOOP_MIN, Feature, curve_gaps, features, summary_suffix
 from .analysis.planar import planar_holes
 from .analysis.resample import Resampled, resample_check
 from .prepare import DEFAULT_JOGGLE
@@ -120,6 +120,10 @@ def result_features(
     ]
     # a cap open-cap kept closed is a possible opening the sample did not decide: always uncertain
     feats += [replace(f, location=f.location * scale) for f in ext.removed_features if f.kind == "hole"]
+    if mode == "robust" and rec.d == 1 and _beyond(counts):
+        # a curve's holes: the gaps between the ends of its open paths (measured here, not by features(), so
+        # the paper mode's report and the robust driver's choices stay as they were)
+        feats += [replace(f, location=f.location * scale) for f in curve_gaps(rec.points / scale, manifold)]
     if mode == "robust" and rec.k - rec.d == 1 and _beyond(counts):
         # a sure hole over a planar rim: a planar cut, or a flat face sampled only on its outline (CAD,
         # decimation); the sample does not tell them apart (analysis/planar.py)

@@ -256,12 +256,11 @@ def kept_open(rec: Reconstruction) -> bool:
 
 
 def boundary_words(rec: Reconstruction) -> str:
-    """The boundary in words: "1 hole", "3 holes" (the hole features; "gaps" of a curve), or the boundary face count."""
+    """The boundary in words: "1 hole", "3 holes" (the hole features), or the boundary face count."""
     # not caps kept closed (removed), nor where two answers differ by a hole (disputed: a place, not a hole)
     holes = sum(f.kind == "hole" and not f.removed and not f.disputed for f in (rec.features or []))
     if holes:
-        word = "gap" if rec.d == 1 else "hole"  # a curve's hole is the gap between an open path's ends
-        return f"{holes} {word}{'s' if holes != 1 else ''}"
+        return f"{holes} hole{'s' if holes != 1 else ''}"
     return f"{rec.topology.boundary_faces} boundary faces"
 
 

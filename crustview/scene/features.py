@@ -60,6 +60,12 @@ def feature_lines(rec, feats: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     for f in feats:
         vs = np.asarray(f.vertices, dtype=np.int64)
         loc = np.asarray(f.location, dtype=float).reshape(1, k)
+        if f.kind == "hole" and rec.d == 1 and len(vs) == 2:
+            # a curve's gap: the segment between the two ends that face each other
+            pts.append(rec.points[vs])
+            lines.append(np.array([[base, base + 1]]))
+            base += 2
+            continue
         if f.kind == "hole" and len(vs) >= 2:
             if rim is None:
                 faces, inc = geo.facets(np.asarray(rec.manifold, dtype=np.int64).reshape(-1, rec.d + 1))

@@ -171,8 +171,8 @@ def features(
     simplices : ndarray of shape (s, d + 1)
         M_S.
     d : int
-        Its dimension.  Handles and holes are found for d = 2, holes (the gaps between an open
-        curve's ends) for d = 1; components in every dimension.
+        Its dimension.  Handles and holes are found for d = 2; components in
+        every dimension (a curve's gaps: :func:`curve_gaps`).
     spacing : ndarray of shape (n,), optional
         Local spacing per sample (default: nearest-neighbour distances).
     tighten_loops : bool
@@ -198,8 +198,6 @@ def features(
         return [] if handles_only else left_out(points, simplices, d)  # an empty M_S reaches no sample
     h = local_spacing(points, simplices) if spacing is None else np.asarray(spacing, dtype=float)
     out = [] if handles_only else _components(points, simplices, h) + left_out(points, simplices, d)
-    if d == 1 and not handles_only:
-        out += _gaps(points, simplices, h)
     if d == 2:
         edges, tri_edges = triangle_edges(simplices)
         count = np.bincount(tri_edges.ravel(), minlength=len(edges))
@@ -299,35 +297,59 @@ def _holes(points: np.ndarray, edges: np.ndarray, count: np.ndarray, h: np.ndarr
     return result
 
 
-def _gaps(points: np.ndarray, edges: np.ndarray, h: np.ndarray) -> list[Feature]:
-    """The hole of each open path of a curve: its two ends (vertices in one edge) and their distance.
+def curve_gaps(points: np.ndarray, edges: np.ndarray, spacing: np.ndarray | None = None) -> list[Feature]:
+    """The holes of a curve: the gaps between the ends of its open paths, each end with the nearest other end.
 
-    A curve's hole is the gap between its ends, measured as a surface's rim is (its span, here the
-    distance between the two ends, over their local spacing) and uncertain under the same bound,
-    :data:`HOLE_SUPPORTED`.  A component with other than two ends (a branch point) is not a path: its
-    ends are left to the report's manifold check.
+    A curve's hole is a gap between two ends that face each other: the ends (vertices in one edge) are
+    paired nearest first, whatever path each belongs to (a circle missing two samples has two gaps of one
+    sample each, not two chords across it), and an arc's two ends are its one gap.  Each is measured as a
+    surface's rim is (the distance between the two ends over their local spacing, sampling radii) and
+    uncertain under the same bound, :data:`HOLE_SUPPORTED` (a gap of one missing sample measures 4: at the
+    bound, and uncertain).  Ends on a component with a branch point (a vertex in three or more edges) are
+    left to the report's manifold check.  The robust report adds these (:mod:`crustview.core.uncertainty`);
+    :func:`features` does not, so the paper mode's report and the robust driver's choices are unchanged.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, k)
+    edges : ndarray of shape (e, 2)
+        M_S, a curve.
+    spacing : ndarray of shape (n,), optional
+        Local sampling radius per sample (default: :func:`~.radii.local_spacing` of ``edges``).
     """
+    edges = np.asarray(edges, np.int64).reshape(-1, 2)
     n = len(points)
-    deg = np.bincount(edges.ravel(), minlength=n)
-    ends = np.flatnonzero(deg == 1)
-    if len(ends) == 0:
+    if len(edges) == 0:
         return []
+    deg = np.bincount(edges.ravel(), minlength=n)
     g = coo_matrix((np.ones(len(edges), np.int8), (edges[:, 0], edges[:, 1])), shape=(n, n))
     _, label = connected_components(g, directed=False)
+    branched = np.unique(label[deg >= 3])
+    ends = np.flatnonzero((deg == 1) & ~np.isin(label, branched))
+    if len(ends) < 2:
+        return []
+    h = local_spacing(points, edges) if spacing is None else np.asarray(spacing, dtype=float)
+    # candidate pairs: each end with its nearest other ends (all of them for up to 9 ends)
+    near_d, near_i = cKDTree(points[ends]).query(points[ends], k=min(len(ends), 9))
+    a_all = np.repeat(np.arange(len(ends)), near_i.shape[1] - 1)
+    b_all, d_all = near_i[:, 1:].ravel(), near_d[:, 1:].ravel()
+    taken = np.zeros(len(ends), bool)
     result = []
-    for c in np.unique(label[ends]).tolist():
-        pair = ends[label[ends] == c]
-        if len(pair) != 2:
+    for i in np.argsort(d_all, kind="stable").tolist():
+        a, b = int(a_all[i]), int(b_all[i])
+        if taken[a] or taken[b] or a == b:
             continue
-        p = points[pair]
-        size = float(np.linalg.norm(p[1] - p[0])) / float(np.median(h[pair]))
-        unc = size < HOLE_SUPPORTED
-        reason = f"gap of an open curve: its two ends {size:.3g} spacings apart" + (
-            " (under 4 spacings: only a sample coarser than eps = 1/2 resolves it, so it may be a gap of the sampling)"
+        taken[a] = taken[b] = True
+        pair = ends[[a, b]]
+        size = float(d_all[i]) / float(np.median(h[pair]))
+        unc = size <= HOLE_SUPPORTED
+        reason = f"gap of an open curve: two ends {size:.3g} spacings apart" + (
+            " (at most 4 spacings: only a sample coarser than eps = 1/2 resolves it, so it may be a gap of the "
+            "sampling)"
             if unc
             else ""
         )
-        result.append(Feature("hole", p.mean(axis=0), size, unc, pair, reason))
+        result.append(Feature("hole", points[pair].mean(axis=0), size, unc, pair, reason))
     return result
 
 

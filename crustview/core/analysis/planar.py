@@ -31,24 +31,29 @@ The rule
 A hole of M_S the features call sure (its rim spans at least HOLE_SUPPORTED
 radii) is made *uncertain* when its rim's samples lie within
 :data:`PLANAR_RIM` of their least-squares hyperplane, RMS, in units of the
-run's median nearest-neighbour distance h (the noise model's unit).  The
-bound is twice the largest noise the robust extraction is built for,
-sigma = 0.3 h (issue 18's model): such noise moves a planar rim's samples
-sigma RMS off its plane (measured 0.08-0.11 at 0.1 h and 0.21-0.31 at 0.3 h
-on the flat ends of ``benchmarks/bench_shapes.py``'s CAD-tessellated turned
+run's median nearest-neighbour distance h (the noise model's unit). The
+bound is twice the largest noise the robust extraction is built for, sigma =
+0.3 h (issue 18's model): such noise moves a planar rim's samples sigma RMS
+off its plane (measured 0.08-0.11 at 0.1 h and 0.21-0.31 at 0.3 h on the
+flat ends of ``benchmarks/bench_shapes.py``'s CAD-tessellated turned
 solids), so a rim within 2 sigma is planar as far as a sample under that
-noise shows.  ``benchmarks/bench_rims.py`` reruns the sweep: the public open
+noise shows. ``benchmarks/bench_rims.py`` reruns the sweep: the public open
 scans' planar cuts measure 0.11-0.35 (the cow head, the hand, the owl's
 base: now uncertain), their ragged openings 1.26-1.64 (the camel head, the
-lion) and 6.8 (the face), and decimated to 30 % (coarser h, the same
-ragged rims) 0.67-0.79.  What escapes: where ``open-cap``'s patch also took
-the long faces beside a flat end (rings 5 times farther apart than along
-them), the rim zigzags between two rings and measures 0.6-3.  The check never
-changes M_S; it runs on the robust extension's own results only (a result
-of the paper's loop is closed).  For a curve in the plane a hole is the gap between an open
-path's two ends (:func:`~.features.features`), which always lie on a line:
-a gap, or a straight piece sampled only at its ends, so it is always
-uncertain.
+lion) and 6.8 (the face), and decimated to 30 % (coarser h, the same ragged
+rims) 0.67-0.79. A planar rim around which the surface itself lies in the
+plane (a flat sheet with a hole, a relief scan with a flat border) is no
+such case: a flat face would fill a disc the surface already runs through,
+so a hole with d + 1 or more samples in that disc (within PLANAR_RIM of the
+plane, inside the rim's convex hull, GAP_MIN spacings or more from the rim:
+:func:`surface_in_disc`) stays sure. What escapes: where ``open-cap``'s
+patch also took the long faces beside a flat end (rings 5 times farther
+apart than along them), the rim zigzags between two rings and measures
+0.6-3. The check never changes M_S; it runs on the robust extension's own
+results only (a result of the paper's loop is closed). For a curve in the
+plane a hole is the gap between two facing ends of its open paths
+(:func:`~.features.curve_gaps`), which always lie on a line: a gap, or a
+straight piece sampled only at its ends, so it is always uncertain.
 """
 
 from __future__ import annotations
@@ -94,6 +99,41 @@ def rim_offset(points: np.ndarray, rim: np.ndarray, spacing: float) -> float:
     return flat_offset(points[rim], points.shape[1] - 1) / spacing
 
 
+def surface_in_disc(points: np.ndarray, rim: np.ndarray, spacing: float) -> int:
+    """How many samples lie in the flat disc a planar rim bounds, away from the rim: where the surface itself runs.
+
+    A flat face closing the rim would fill the region of the rim's least-squares plane inside its outline.
+    Samples within :data:`PLANAR_RIM` of that plane, inside the outline's convex hull (projected on the
+    plane) and at least GAP_MIN spacings from every rim sample (not the rim's own neighbours on the
+    surface) are samples of a surface already there: a flat sheet around a hole, whose hole no flat face
+    can close.  Returns their number (0 for a rim of fewer than three samples or one on a line).
+    """
+    from scipy.spatial import Delaunay, QhullError, cKDTree
+
+    from .features import GAP_MIN
+
+    rim = np.unique(np.asarray(rim, np.int64))
+    k = points.shape[1]
+    if len(rim) < k or k < 3:
+        return 0
+    centre = points[rim].mean(axis=0)
+    _, _, vt = np.linalg.svd(points[rim] - centre, full_matrices=False)
+    normal, axes = vt[-1], vt[: k - 1]
+    near = np.flatnonzero(np.abs((points - centre) @ normal) <= PLANAR_RIM * spacing)
+    near = near[~np.isin(near, rim)]
+    if len(near) == 0:
+        return 0
+    far = cKDTree(points[rim]).query(points[near])[0] >= GAP_MIN * spacing
+    near = near[far]
+    if len(near) == 0:
+        return 0
+    try:
+        hull = Delaunay((points[rim] - centre) @ axes.T)
+    except QhullError:  # the rim's samples on a line: no disc
+        return 0
+    return int((hull.find_simplex((points[near] - centre) @ axes.T) >= 0).sum())
+
+
 def planar_holes(points: np.ndarray, feats: list, spacing: float) -> list:
     """The features, with every sure hole whose rim lies within :data:`PLANAR_RIM` of a hyperplane uncertain.
 
@@ -128,7 +168,8 @@ def planar_holes(points: np.ndarray, feats: list, spacing: float) -> list:
             )
             continue
         off = rim_offset(points, f.vertices, spacing)
-        if off <= PLANAR_RIM:
+        # a flat face could close it only where the surface does not already run through the disc
+        if off <= PLANAR_RIM and surface_in_disc(points, f.vertices, spacing) < points.shape[1]:
             changed = True
             out[i] = replace(
                 f,
