@@ -143,3 +143,12 @@ def test_a_hole_in_a_flat_sheet_stays_sure() -> None:
     # the rim alone, nothing inside it: a disc no sample runs through
     rim = np.unique(hole.vertices)
     assert surface_in_disc(rec.points[rim], np.arange(len(rim)), rec.spacing) == 0
+
+
+def test_an_open_curve_is_called_a_curve_in_the_verdict() -> None:
+    from crustview.scene.describe import verdict
+
+    t = np.linspace(0, np.pi, 80)
+    level, words = verdict(reconstruct(np.c_[np.cos(t), np.sin(t)], 1))
+    assert level == "warn" and words.startswith("M_S is an open curve through every sample (1 hole")
+    assert "uncertain: 0 handles, 1 hole, 0 components" in words

@@ -259,7 +259,7 @@ class RunActions:
         verdict = (
             "closed manifold"
             if t.closed_manifold
-            else f"surface with boundary ({boundary_words(rec)})"
+            else f"{'open curve' if rec.d == 1 else 'surface with boundary'} ({boundary_words(rec)})"
             if is_open
             else f"NOT a closed manifold ({rec.extraction.stopped})"
         )

@@ -287,7 +287,8 @@ def verdict(rec: Reconstruction) -> tuple[str, str]:
     if kept_open(rec):
         # the robust extension keeps real openings open (an open scan): a surface with boundary through
         # every sample is a possible right answer, not a failure -- but not the paper's closed manifold
-        return "warn", f"M_S is a surface with boundary through every sample ({boundary_words(rec)}: an open scan?" + (
+        what = "an open curve" if rec.d == 1 else "a surface with boundary"
+        return "warn", f"M_S is {what} through every sample ({boundary_words(rec)}: an open scan?" + (
             f"; {unc})" if unc else ")"
         )
     why = f"extraction stopped: {rec.extraction.stopped}" + (f"; {unc}" if unc else "")

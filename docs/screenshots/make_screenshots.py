@@ -429,6 +429,19 @@ def vase_outline_planar(app, win) -> None:
     wait(app, win)
 
 
+def curve_gap(app, win) -> None:
+    """An open plane curve (half an ellipse, 100 samples): the robust report measures the gap
+    between its ends and calls it uncertain (two ends lie on a line: a gap or a straight piece sampled only at
+    its ends); the uncertain-features layer draws the gap as the segment between the ends."""
+    import tempfile
+
+    t = np.linspace(0.0, np.pi, 100)
+    path = Path(tempfile.mkdtemp()) / "open-half-ellipse.xyz"
+    np.savetxt(path, np.c_[2.0 * np.cos(t), np.sin(t)])
+    win.open_file(path, d=1)
+    wait(app, win)
+
+
 def _noisy_builtin_at_step(app, win, name: str, pick) -> None:  # noqa: ANN001
     """Open a built-in with noise of 1 % of its size (``bench_variants.py``'s draw) and go to the step after
     the one ``pick(steps)`` returns, framed as 'frame each step' frames it."""
@@ -494,6 +507,7 @@ SIZES = {
     "objects-touching": (1600, 1000),
     "turned-vase-caps": (1600, 1000),
     "vase-outline-planar": (1600, 1000),
+    "curve-gap": (1600, 1000),
     "klein-loop-cut": (1600, 1000),
     "s3-unfold": (1600, 1000),
 }
@@ -510,6 +524,7 @@ CASES = {
     "objects-touching": objects_touching,
     "turned-vase-caps": turned_vase_caps,
     "vase-outline-planar": vase_outline_planar,
+    "curve-gap": curve_gap,
     "klein-loop-cut": klein_loop_cut,
     "s3-unfold": s3_unfold,
     "bunny-holes": bunny_holes,
