@@ -79,17 +79,9 @@ def main(argv: list[str] | None = None) -> int:
             pts = case.points + np.random.default_rng(seed).normal(scale=0.3 * h, size=case.points.shape)
             todo.append(replace(case, name=f"{case.name}-n30s{seed}", points=pts, noise=0.3))
     if args.lathes:
-        from bench_shapes import _shapes
+        from bench_shapes import noisy_turned
 
-        for name, make in _shapes().items():
-            if not name.startswith(("vase", "bottle", "cup", "torus")):
-                continue
-            verts, _ = make()
-            h = float(np.median(cKDTree(verts).query(verts, k=2)[0][:, 1]))
-            for noise in (0.1, 0.3):
-                for seed in (1, 2):
-                    pts = verts + np.random.default_rng(seed).normal(scale=noise * h, size=verts.shape)
-                    todo.append(Case(f"{name}@{noise:g}/{seed}", pts, {}, noise))
+        todo += [Case(name, pts, {}, noise) for name, pts, noise in noisy_turned(("vase", "bottle", "cup", "torus"))]
     for case in todo:
         rec = reconstruct(case.points, 2)
         bnd = boundary_vertices(case.name)

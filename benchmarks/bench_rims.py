@@ -57,19 +57,10 @@ def boundary_points(stem: str) -> np.ndarray:
 
 def shape_cases() -> list[Case]:
     """``bench_shapes.py``'s turned solids (lathe and CAD outline) with noise: closed, so every hole is false."""
-    from bench_shapes import _shapes
+    from bench_shapes import noisy_turned
 
-    out = []
-    for name, make in _shapes().items():
-        if not name.startswith(("vase", "bottle", "cup", "torus", "cylinder")):
-            continue
-        verts, _ = make()
-        h = float(np.median(cKDTree(verts).query(verts, k=2)[0][:, 1]))
-        for noise in (0.1, 0.3):
-            for seed in (1, 2):
-                pts = verts + np.random.default_rng(seed).normal(scale=noise * h, size=verts.shape)
-                out.append(Case(f"{name}@{noise:g}/{seed}", pts, {"closed": True}, noise))
-    return out
+    turned = ("vase", "bottle", "cup", "torus", "cylinder")
+    return [Case(name, pts, {"closed": True}, noise) for name, pts, noise in noisy_turned(turned)]
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -359,6 +359,22 @@ def _shapes() -> dict[str, Callable[[], tuple[np.ndarray, np.ndarray]]]:
     return out
 
 
+def noisy_turned(prefixes: tuple[str, ...]) -> list[tuple[str, np.ndarray, float]]:
+    """The turned shapes whose names start with one of ``prefixes``, at 0.1 h and 0.3 h, seeds 1 and 2:
+    (``name@noise/seed``, points, noise) for ``bench_caps.py --lathes`` and ``bench_rims.py --shapes``."""
+    out = []
+    for name, make in _shapes().items():
+        if not name.startswith(prefixes):
+            continue
+        verts, _ = make()
+        h = float(np.median(cKDTree(verts).query(verts, k=2)[0][:, 1]))
+        for noise in (0.1, 0.3):
+            for seed in (1, 2):
+                pts = verts + np.random.default_rng(seed).normal(scale=noise * h, size=verts.shape)
+                out.append((f"{name}@{noise:g}/{seed}", pts, noise))
+    return out
+
+
 def mesh_truth(verts: np.ndarray, faces: np.ndarray) -> tuple[int, int, int] | None:
     """Betti numbers (C, 2 g, C) of a closed orientable triangle mesh through all its vertices; None if not closed."""
     e = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [0, 2]]]), axis=1)

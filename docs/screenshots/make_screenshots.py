@@ -389,20 +389,26 @@ def turned_vase_caps(app, win) -> None:
     (``benchmarks/bench_shapes.py``, seed 1): right (closed, genus 0, every sample), but amber: near the lid's
     axis the dense rings scrambled by noise leave caps 3.3-4 times the faces around them, which open-cap keeps
     closed and lists as possible openings, outlined on the lid."""
-    import tempfile
-
     sys.path.insert(0, str(HERE.parents[1] / "benchmarks"))
     from bench_shapes import lathe, profile_vase
-    from scipy.spatial import cKDTree
 
     verts, _ = lathe(profile_vase(), 96, 1.5)
+    _open_turned(app, win, verts, "turned-vase-rings-1.5x-noise-0.1h.xyz")
+
+
+def _open_turned(app, win, verts: np.ndarray, name: str) -> None:  # noqa: ANN001
+    """Open a turned mesh's vertices with noise of 0.1 h (seed 1), seen from above its lid (z is the axis)."""
+    import tempfile
+
+    from scipy.spatial import cKDTree
+
     h = float(np.median(cKDTree(verts).query(verts, k=2)[0][:, 1]))
     pts = verts + np.random.default_rng(1).normal(scale=0.1 * h, size=verts.shape)
-    path = Path(tempfile.mkdtemp()) / "turned-vase-rings-1.5x-noise-0.1h.xyz"
+    path = Path(tempfile.mkdtemp()) / name
     np.savetxt(path, pts)
     win.open_file(path, d=2)
     wait(app, win)
-    # the whole vase from above its lid (z is the turning axis), the caps' outlines on the lid and the base
+    # the whole vase from above its lid, the outlines on the lid and the base
     look_from(win, (0.5, -1.0, 1.3), 1.2, up=(0.0, 0.0, 1.0))
     wait(app, win)
 
@@ -412,21 +418,11 @@ def vase_outline_planar(app, win) -> None:
     and lid without an inner vertex; ``bench_shapes.py``'s ``vase-outline-x3``) with noise of 0.1 h, seed 1:
     open-cap opens both flat ends, and since their rims lie in planes (0.09 spacings RMS) the result is amber,
     the two holes named uncertain (analysis/planar.py) instead of a sure open tube."""
-    import tempfile
-
     sys.path.insert(0, str(HERE.parents[1] / "benchmarks"))
     from bench_shapes import profile_vase, turned_outline
-    from scipy.spatial import cKDTree
 
     verts, _ = turned_outline(profile_vase()[1:-1], 96, 3.0)
-    h = float(np.median(cKDTree(verts).query(verts, k=2)[0][:, 1]))
-    pts = verts + np.random.default_rng(1).normal(scale=0.1 * h, size=verts.shape)
-    path = Path(tempfile.mkdtemp()) / "vase-outline-rings-3x-noise-0.1h.xyz"
-    np.savetxt(path, pts)
-    win.open_file(path, d=2)
-    wait(app, win)
-    look_from(win, (0.5, -1.0, 1.3), 1.2, up=(0.0, 0.0, 1.0))
-    wait(app, win)
+    _open_turned(app, win, verts, "vase-outline-rings-3x-noise-0.1h.xyz")
 
 
 def curve_gap(app, win) -> None:
