@@ -140,9 +140,91 @@ def test_a_hole_in_a_flat_sheet_stays_sure() -> None:
     (hole,) = [f for f in rec.features if f.kind == "hole"]
     assert rim_offset(rec.points, hole.vertices, rec.spacing) <= PLANAR_RIM and not hole.uncertain
     assert surface_in_disc(rec.points, hole.vertices, rec.spacing) > 100
-    # the rim alone, nothing inside it: a disc no sample runs through
-    rim = np.unique(hole.vertices)
-    assert surface_in_disc(rec.points[rim], np.arange(len(rim)), rec.spacing) == 0
+
+
+def test_surface_in_disc_counts_a_sheet_inside_the_rim_not_samples_outside_it_or_on_other_rims() -> None:
+    """On paper: a rim of 60 samples on a circle of radius 10 in z = 0 (spacing about 1); a 5 x 5 grid at
+    its middle lies in its disc (25), a ring of radius 20 in the same plane lies outside its hull (0), and
+    a ring of radius 4 counts as a surface only when it is no other hole's rim and M_S lies flat there."""
+    from crustview.core.analysis.planar import surface_in_disc
+
+    rim = _circle_rim(60, 10.0, 0.0)
+    grid = np.c_[np.stack(np.meshgrid(np.arange(5.0) - 2, np.arange(5.0) - 2), -1).reshape(-1, 2), np.zeros(25)]
+    outer = _circle_rim(120, 20.0, 0.0)
+    inner = _circle_rim(24, 4.0, 0.0)
+    pts = np.vstack([rim, grid, outer, inner])
+    ids = np.arange(60)
+    assert surface_in_disc(pts[:85], ids, 1.0) == 25
+    assert surface_in_disc(np.vstack([rim, outer]), ids, 1.0) == 0  # in the plane, but outside the rim's hull
+    ring = np.arange(205, 229)
+    assert surface_in_disc(pts, ids, 1.0) == 25 + 24
+    assert surface_in_disc(pts, ids, 1.0, boundary=ring) == 25  # the inner ring is a rim of M_S
+    # M_S running up from the inner ring (a tube's wall): the ring's samples do not lie flat in the disc
+    up = np.vstack([pts, inner + [0, 0, 3.0]])
+    wall = np.array([[205 + i, 205 + (i + 1) % 24, 229 + i] for i in range(24)])
+    assert surface_in_disc(up, ids, 1.0, simplices=wall) == 0
+
+
+def _tube_outline(around: int = 96, ratio: float = 1.5) -> np.ndarray:
+    """A thick-walled tube (radii 0.8 and 0.3, height 2) sampled on rings only: its flat annular ends have
+    samples on their two circles and none between."""
+    out = []
+    for rad in (0.8, 0.3):
+        step = ratio * 2 * np.pi * rad / around
+        for i, z in enumerate(np.linspace(0.0, 2.0, int(round(2.0 / step)) + 1)):
+            a = 2 * np.pi * np.arange(around) / around + (np.pi / around) * (i % 2)
+            out.append(np.c_[rad * np.cos(a), rad * np.sin(a), np.full(around, z)])
+    return np.vstack(out)
+
+
+def test_a_tube_with_flat_annular_ends_sampled_on_their_circles_has_no_sure_hole() -> None:
+    """The inner circle of an annular end lies in the outer rim's disc, but it is the other edge of the same
+    flat face, not a surface across it (a review found the outer holes sure): every hole is uncertain."""
+    pts = _tube_outline()
+    h = float(np.median(np.linalg.norm(pts[1:96] - pts[:95], axis=1)))
+    rec = reconstruct(pts + np.random.default_rng(1).normal(scale=0.1 * h, size=pts.shape), 2)
+    holes = [f for f in rec.features if f.kind == "hole" and not f.removed and not f.disputed]
+    assert not rec.topology.closed_manifold and len(holes) == 4 and all(f.uncertain for f in holes)
+
+
+def test_curve_gaps_pair_every_end_and_survive_duplicate_ends() -> None:
+    """A half circle of 40 samples and four two-sample fragments near its chord: the fragments' ends take
+    each other's nearest places, and the arc's own gap (its two far ends) is still found (a review found it
+    dropped when each end looked only at its 8 nearest).  Two coincident ends pair at distance 0."""
+    from crustview.core.analysis.features import curve_gaps
+
+    t = np.linspace(0, np.pi, 40)
+    frag = np.array([[0, 0.3], [0.02, 0.3], [0, 0.35], [0.02, 0.35], [0, 0.4], [0.02, 0.4], [0, 0.45], [0.02, 0.45]])
+    pts = np.r_[np.c_[np.cos(t), np.sin(t)], frag]
+    edges = np.r_[np.c_[np.arange(39), np.arange(1, 40)], np.arange(40, 48).reshape(4, 2)]
+    gaps = curve_gaps(pts, edges)
+    assert len(gaps) == 5 and [0, 39] in [sorted(g.vertices.tolist()) for g in gaps]
+    # two paths whose facing ends coincide (a duplicate point): one gap of size 0, uncertain, no endless search
+    two = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    (dup,) = [g for g in curve_gaps(two, np.array([[0, 1], [2, 3]])) if sorted(g.vertices.tolist()) == [1, 2]]
+    assert dup.size_spacings == 0.0 and dup.uncertain
+
+
+def test_one_missing_sample_on_a_line_is_an_uncertain_gap_whatever_the_step() -> None:
+    """Two edges over half an edge is 4 radii, HOLE_SUPPORTED itself: at the bound, uncertain, for any step
+    (a review found 0.1 sure and 0.3 uncertain by rounding)."""
+    from crustview.core.analysis.features import curve_gaps
+
+    for step in (0.1, 0.3, 1.0):
+        pts = np.c_[step * np.r_[np.arange(5), np.arange(6, 11)], np.zeros(10)]
+        gaps = curve_gaps(pts, np.array([[i, i + 1] for i in (0, 1, 2, 3, 5, 6, 7, 8)]))
+        # the facing ends 4 and 5, then the two far ends (the pieces' other gap, 10 steps: sure)
+        (gap,) = [g for g in gaps if sorted(g.vertices.tolist()) == [4, 5]]
+        assert len(gaps) == 2 and gap.uncertain and gap.size_spacings == pytest.approx(4.0)
+
+
+def test_a_space_curves_gap_is_uncertain_too() -> None:
+    """Half a helix in R^3: open in the robust result, its gap a straight piece or a gap as in the plane."""
+    t = np.linspace(0, 3 * np.pi, 150)
+    rec = reconstruct(np.c_[np.cos(t), np.sin(t), 0.3 * t], 1)
+    gaps = [f for f in rec.features if f.kind == "hole"]
+    assert not rec.topology.closed_manifold and len(gaps) == 1 and gaps[0].uncertain
+    assert "straight piece" in gaps[0].reason
 
 
 def test_an_open_curve_is_called_a_curve_in_the_verdict() -> None:

@@ -124,10 +124,10 @@ def result_features(
         # a curve's holes: the gaps between the ends of its open paths (measured here, not by features(), so
         # the paper mode's report and the robust driver's choices stay as they were)
         feats += [replace(f, location=f.location * scale) for f in curve_gaps(rec.points / scale, manifold)]
-    if mode == "robust" and rec.k - rec.d == 1 and _beyond(counts):
+    if mode == "robust" and (rec.k - rec.d == 1 or rec.d == 1) and _beyond(counts):
         # a sure hole over a planar rim: a planar cut, or a flat face sampled only on its outline (CAD,
         # decimation); the sample does not tell them apart (analysis/planar.py)
-        feats = planar_holes(rec.points, feats, rec.spacing)
+        feats = planar_holes(rec.points, feats, rec.spacing, manifold)
     if contacts and mode == "robust" and (rec.k, rec.d) == (3, 2) and _beyond(counts):
         # parts held together only by faces that stand across the normals: a contact no rule decided
         feats += [

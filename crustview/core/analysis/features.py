@@ -329,20 +329,30 @@ def curve_gaps(points: np.ndarray, edges: np.ndarray, spacing: np.ndarray | None
     if len(ends) < 2:
         return []
     h = local_spacing(points, edges) if spacing is None else np.asarray(spacing, dtype=float)
-    # candidate pairs: each end with its nearest other ends (all of them for up to 9 ends)
-    near_d, near_i = cKDTree(points[ends]).query(points[ends], k=min(len(ends), 9))
-    a_all = np.repeat(np.arange(len(ends)), near_i.shape[1] - 1)
-    b_all, d_all = near_i[:, 1:].ravel(), near_d[:, 1:].ravel()
-    taken = np.zeros(len(ends), bool)
+    pairs: list[tuple[int, int, float]] = []
+    free = np.arange(len(ends))
+    while len(free) >= 2:
+        # candidate pairs among the ends still free: each with its nearest others (all of them up to 10), closest
+        # first; the closest free pair is always among them, so every round pairs at least one
+        near_d, near_i = cKDTree(points[ends[free]]).query(points[ends[free]], k=min(len(free), 10))
+        other = near_i != np.arange(len(free))[:, None]  # by index: a duplicate point may come before the end itself
+        a_all = np.repeat(free, near_i.shape[1])[other.ravel()]
+        b_all, d_all = free[near_i[other]], near_d[other]
+        taken = set()
+        for i in np.argsort(d_all, kind="stable").tolist():
+            a, b = int(a_all[i]), int(b_all[i])
+            if a in taken or b in taken or a == b:
+                continue
+            taken.update((a, b))
+            pairs.append((a, b, float(d_all[i])))
+        if not taken:  # cannot happen (the closest free pair is a candidate); never loop forever
+            break
+        free = np.setdiff1d(free, np.fromiter(taken, np.int64, len(taken)))
     result = []
-    for i in np.argsort(d_all, kind="stable").tolist():
-        a, b = int(a_all[i]), int(b_all[i])
-        if taken[a] or taken[b] or a == b:
-            continue
-        taken[a] = taken[b] = True
+    for a, b, dist in pairs:
         pair = ends[[a, b]]
-        size = float(d_all[i]) / float(np.median(h[pair]))
-        unc = size <= HOLE_SUPPORTED
+        size = dist / float(np.median(h[pair]))
+        unc = size <= HOLE_SUPPORTED * (1 + 1e-9)  # one missing sample measures 4: at the bound, uncertain
         reason = f"gap of an open curve: two ends {size:.3g} spacings apart" + (
             " (at most 4 spacings: only a sample coarser than eps = 1/2 resolves it, so it may be a gap of the "
             "sampling)"

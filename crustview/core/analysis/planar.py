@@ -51,8 +51,8 @@ patch also took the long faces beside a flat end (rings 5 times farther
 apart than along them), the rim zigzags between two rings and measures
 0.6-3. The check never changes M_S; it runs on the robust extension's own
 results only (a result of the paper's loop is closed). For a curve in the
-plane a hole is the gap between two facing ends of its open paths
-(:func:`~.features.curve_gaps`), which always lie on a line: a gap, or a
+plane or in space a hole is the gap between two facing ends of its open
+paths (:func:`~.features.curve_gaps`), which always lie on a line: a gap, or a
 straight piece sampled only at its ends, so it is always uncertain.
 """
 
@@ -99,14 +99,24 @@ def rim_offset(points: np.ndarray, rim: np.ndarray, spacing: float) -> float:
     return flat_offset(points[rim], points.shape[1] - 1) / spacing
 
 
-def surface_in_disc(points: np.ndarray, rim: np.ndarray, spacing: float) -> int:
+def surface_in_disc(
+    points: np.ndarray,
+    rim: np.ndarray,
+    spacing: float,
+    boundary: np.ndarray | None = None,
+    simplices: np.ndarray | None = None,
+) -> int:
     """How many samples lie in the flat disc a planar rim bounds, away from the rim: where the surface itself runs.
 
     A flat face closing the rim would fill the region of the rim's least-squares plane inside its outline.
     Samples within :data:`PLANAR_RIM` of that plane, inside the outline's convex hull (projected on the
     plane) and at least GAP_MIN spacings from every rim sample (not the rim's own neighbours on the
     surface) are samples of a surface already there: a flat sheet around a hole, whose hole no flat face
-    can close.  Returns their number (0 for a rim of fewer than three samples or one on a line).
+    can close.  Samples on ``boundary`` (the rims of M_S's holes) do not count, nor, given ``simplices``
+    (M_S), samples with a neighbour on M_S outside that slab (a surface crossing the plane edge-on, not
+    lying in it): the inner wall of a tube whose flat annular end is sampled on its two circles meets the
+    outer rim's disc at the inner circle, the other edge of that same flat face, and M_S there runs up the
+    wall.  Returns their number (0 for a rim of fewer than three samples or one on a line).
     """
     from scipy.spatial import Delaunay, QhullError, cKDTree
 
@@ -119,8 +129,16 @@ def surface_in_disc(points: np.ndarray, rim: np.ndarray, spacing: float) -> int:
     centre = points[rim].mean(axis=0)
     _, _, vt = np.linalg.svd(points[rim] - centre, full_matrices=False)
     normal, axes = vt[-1], vt[: k - 1]
-    near = np.flatnonzero(np.abs((points - centre) @ normal) <= PLANAR_RIM * spacing)
-    near = near[~np.isin(near, rim)]
+    slab = np.abs((points - centre) @ normal) <= PLANAR_RIM * spacing
+    near = np.flatnonzero(slab)
+    if simplices is not None and len(simplices):
+        # only samples whose whole star on M_S lies in the slab: where M_S itself lies in the plane
+        simplices = np.asarray(simplices, np.int64)
+        lies = np.zeros(len(points), bool)
+        lies[simplices.ravel()] = True
+        lies[simplices[~slab[simplices].all(axis=1)].ravel()] = False
+        near = near[lies[near]]
+    near = near[~np.isin(near, rim if boundary is None else np.union1d(rim, boundary))]
     if len(near) == 0:
         return 0
     far = cKDTree(points[rim]).query(points[near])[0] >= GAP_MIN * spacing
@@ -134,7 +152,7 @@ def surface_in_disc(points: np.ndarray, rim: np.ndarray, spacing: float) -> int:
     return int((hull.find_simplex((points[near] - centre) @ axes.T) >= 0).sum())
 
 
-def planar_holes(points: np.ndarray, feats: list, spacing: float) -> list:
+def planar_holes(points: np.ndarray, feats: list, spacing: float, simplices: np.ndarray | None = None) -> list:
     """The features, with every sure hole whose rim lies within :data:`PLANAR_RIM` of a hyperplane uncertain.
 
     Parameters
@@ -145,6 +163,8 @@ def planar_holes(points: np.ndarray, feats: list, spacing: float) -> list:
         The result's features (:func:`~crustview.core.analysis.features.features` and the rules' own).
     spacing : float
         The median nearest-neighbour distance of the samples.
+    simplices : ndarray of shape (s, k), optional
+        M_S (for :func:`surface_in_disc`).
 
     Returns
     -------
@@ -156,9 +176,12 @@ def planar_holes(points: np.ndarray, feats: list, spacing: float) -> list:
         return feats
     out = list(feats)
     changed = False
+    # every hole's rim: the edges of M_S, never a surface running through another hole's disc
+    rims = [np.asarray(f.vertices, np.int64) for f in feats if f.kind == "hole" and not f.removed and not f.disputed]
+    boundary = np.unique(np.concatenate(rims)) if rims else None
     for i in todo:
         f = feats[i]
-        if points.shape[1] == 2:  # a curve's gap: its two ends always lie on a line
+        if len(f.vertices) == 2:  # a curve's gap: its two ends always lie on a line, in any dimension
             changed = True
             out[i] = replace(
                 f,
@@ -169,7 +192,7 @@ def planar_holes(points: np.ndarray, feats: list, spacing: float) -> list:
             continue
         off = rim_offset(points, f.vertices, spacing)
         # a flat face could close it only where the surface does not already run through the disc
-        if off <= PLANAR_RIM and surface_in_disc(points, f.vertices, spacing) < points.shape[1]:
+        if off <= PLANAR_RIM and surface_in_disc(points, f.vertices, spacing, boundary, simplices) < points.shape[1]:
             changed = True
             out[i] = replace(
                 f,
