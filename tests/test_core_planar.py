@@ -86,7 +86,8 @@ def test_a_curves_gaps_pair_the_ends_that_face_each_other() -> None:
     """curve_gaps, on paper: a 60-sample circle missing samples 0 and 30 is two arcs with two gaps of one
     sample each (two edges long: 4 radii, at HOLE_SUPPORTED, uncertain), each at its missing sample, not the
     arcs' own chords across the circle; an arc is one gap between its ends; a branch point is left out."""
-    from crustview.core.analysis.features import HOLE_SUPPORTED, curve_gaps
+    from crustview.core.analysis.features import HOLE_SUPPORTED
+    from crustview.core.analysis.gaps import curve_gaps
 
     t = 2 * np.pi * np.arange(60) / 60
     pts = np.c_[np.cos(t), np.sin(t)]
@@ -191,7 +192,7 @@ def test_curve_gaps_pair_every_end_and_survive_duplicate_ends() -> None:
     """A half circle of 40 samples and four two-sample fragments near its chord: the fragments' ends take
     each other's nearest places, and the arc's own gap (its two far ends) is still found (a review found it
     dropped when each end looked only at its 8 nearest).  Two coincident ends pair at distance 0."""
-    from crustview.core.analysis.features import curve_gaps
+    from crustview.core.analysis.gaps import curve_gaps
 
     t = np.linspace(0, np.pi, 40)
     frag = np.array([[0, 0.3], [0.02, 0.3], [0, 0.35], [0.02, 0.35], [0, 0.4], [0.02, 0.4], [0, 0.45], [0.02, 0.45]])
@@ -208,7 +209,7 @@ def test_curve_gaps_pair_every_end_and_survive_duplicate_ends() -> None:
 def test_one_missing_sample_on_a_line_is_an_uncertain_gap_whatever_the_step() -> None:
     """Two edges over half an edge is 4 radii, HOLE_SUPPORTED itself: at the bound, uncertain, for any step
     (a review found 0.1 sure and 0.3 uncertain by rounding)."""
-    from crustview.core.analysis.features import curve_gaps
+    from crustview.core.analysis.gaps import curve_gaps
 
     for step in (0.1, 0.3, 1.0):
         pts = np.c_[step * np.r_[np.arange(5), np.arange(6, 11)], np.zeros(10)]

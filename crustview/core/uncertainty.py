@@ -18,7 +18,8 @@ import numpy as np
 
 from .analysis.contacts import BRIDGED, bridged_handles, hidden_parts
 from .analysis.enclosures import enclosure_voids, joined_objects
-from .analysis.features import LOOP_MIN, Feature, curve_gaps, features, summary_suffix
+from .analysis.features import LOOP_MIN, Feature, features, summary_suffix
+from .analysis.gaps import curve_gaps, straight_gaps
 from .analysis.planar import planar_holes
 from .analysis.resample import Resampled, resample_check
 from .prepare import DEFAULT_JOGGLE
@@ -122,9 +123,11 @@ def result_features(
     feats += [replace(f, location=f.location * scale) for f in ext.removed_features if f.kind == "hole"]
     if mode == "robust" and rec.d == 1 and _beyond(counts):
         # a curve's holes: the gaps between the ends of its open paths (measured here, not by features(), so
-        # the paper mode's report and the robust driver's choices stay as they were)
-        feats += [replace(f, location=f.location * scale) for f in curve_gaps(rec.points / scale, manifold)]
-    if mode == "robust" and (rec.k - rec.d == 1 or rec.d == 1) and _beyond(counts):
+        # the paper mode's report and the robust driver's choices stay as they were), each a gap or a straight
+        # piece sampled only at its ends (analysis/gaps.py)
+        gaps = curve_gaps(rec.points / scale, manifold)
+        feats += straight_gaps([replace(f, location=f.location * scale) for f in gaps])
+    if mode == "robust" and rec.k - rec.d == 1 and rec.d >= 2 and _beyond(counts):
         # a sure hole over a planar rim: a planar cut, or a flat face sampled only on its outline (CAD,
         # decimation); the sample does not tell them apart (analysis/planar.py)
         feats = planar_holes(rec.points, feats, rec.spacing, manifold)

@@ -9,8 +9,6 @@ kept result carries the difference as uncertain features (:attr:`crustview.core.
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from .cotree import triangle_edges
 from .features import Feature
@@ -36,11 +34,7 @@ def disagreement(
     diff = np.array(sorted(a ^ b), dtype=np.int64).reshape(-1, d + 1)
     n = len(points)
     if len(diff):
-        rows = np.repeat(diff[:, 0], d)
-        cols = diff[:, 1:].ravel()
-        _, label = connected_components(
-            coo_matrix((np.ones(len(rows), np.int8), (rows, cols)), shape=(n, n)), directed=False
-        )
+        _, label = graph_components(n, np.c_[np.repeat(diff[:, 0], d), diff[:, 1:].ravel()])
         lab = label[diff[:, 0]]
         big = np.bincount(lab).argmax()
         verts = np.unique(diff[lab == big])

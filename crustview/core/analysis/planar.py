@@ -50,10 +50,7 @@ plane, inside the rim's convex hull, GAP_MIN spacings or more from the rim:
 patch also took the long faces beside a flat end (rings 5 times farther
 apart than along them), the rim zigzags between two rings and measures
 0.6-3. The check never changes M_S; it runs on the robust extension's own
-results only (a result of the paper's loop is closed). For a curve in the
-plane or in space a hole is the gap between two facing ends of its open
-paths (:func:`~.features.curve_gaps`), which always lie on a line: a gap, or a
-straight piece sampled only at its ends, so it is always uncertain.
+results only (a result of the paper's loop is closed).  A curve's gaps: :mod:`.gaps`.
 """
 
 from __future__ import annotations
@@ -181,15 +178,6 @@ def planar_holes(points: np.ndarray, feats: list, spacing: float, simplices: np.
     boundary = np.unique(np.concatenate(rims)) if rims else None
     for i in todo:
         f = feats[i]
-        if len(f.vertices) == 2:  # a curve's gap: its two ends always lie on a line, in any dimension
-            changed = True
-            out[i] = replace(
-                f,
-                uncertain=True,
-                reason=f"{f.reason} (a gap, or a straight piece sampled only at its two ends; the sample does "
-                "not tell the two apart)",
-            )
-            continue
         off = rim_offset(points, f.vertices, spacing)
         # a flat face could close it only where the surface does not already run through the disc
         if off <= PLANAR_RIM and surface_in_disc(points, f.vertices, spacing, boundary, simplices) < points.shape[1]:
