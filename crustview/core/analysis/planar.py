@@ -34,7 +34,7 @@ radii) is made *uncertain* when its rim's samples lie within
 run's median nearest-neighbour distance h (the noise model's unit). The
 bound is twice the largest noise the robust extraction is built for, sigma =
 0.3 h (issue 18's model): such noise moves a planar rim's samples sigma RMS
-off its plane (measured 0.08-0.11 at 0.1 h and 0.21-0.31 at 0.3 h on the
+off its plane (measured 0.08-0.11 at 0.1 h (one 0.40) and 0.19-0.42 at 0.3 h, rings 1.5 and 3 times apart, on the
 flat ends of ``benchmarks/bench_shapes.py``'s CAD-tessellated turned
 solids), so a rim within 2 sigma is planar as far as a sample under that
 noise shows. ``benchmarks/bench_rims.py`` reruns the sweep: the public open
