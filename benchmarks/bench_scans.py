@@ -33,7 +33,8 @@ its topology only since it does not interpolate the samples.
 Run: ``python benchmarks/bench_scans.py [--only NAME] [--clean-only] [--peers] [--modes robust,paper]``;
 ``--noisy-only --seed 21`` runs noise draws held out of the public ones (another seed of ``noisy.py``), and
 ``--subsample 0.5 --seed 7`` random halves of every sample (draw 7), sparser samples of the same objects;
-``--decimate 0.3`` every mesh decimated to 30 % of its faces first (other tessellations of the same objects).
+``--decimate 0.3`` every mesh decimated to 30 % of its faces first (other tessellations of the same objects);
+``--gradient 0.25 --seed 3`` samples thinned along their longest axis down to a quarter (density varying 4 times).
 All 72 files in both modes take about 10 minutes on two cores.
 """
 
@@ -118,6 +119,7 @@ def cases(
     clean: bool = True,
     subsample: float | None = None,
     decimate: float | None = None,
+    gradient: float | None = None,
 ) -> list[Case]:
     """The clean meshes (unless not ``clean``) and, with ``noise``, their noisy copies (made once into ``noisy_dir``).
 
@@ -126,7 +128,10 @@ def cases(
     the same object.  With ``decimate``, each mesh is first decimated by VTK's quadric decimation to that
     share of its faces (``bench_shapes.decimated``: dense where it bends, long thin triangles where it is
     flat, as decimated scans are) and judged by the decimated mesh's own topology; a mesh that decimation
-    left neither closed nor with the original's boundary is skipped, and said so.
+    left neither closed nor with the original's boundary is skipped, and said so.  With ``gradient``, each
+    sample is kept with a chance that falls linearly from 1 to ``gradient`` along the sample's longest
+    principal axis (numpy's draw ``seed``): a density that varies 1/``gradient`` times across the object,
+    as a scanner's does with distance.
     """
     out = []
     for folder in FOLDERS:
@@ -143,6 +148,7 @@ def cases(
             tris = np.asarray(mesh.simplices(2))
             true = truth[fname]
             tag = "" if subsample is None else f"-s{round(100 * subsample):02d}"
+            tag += "" if gradient is None else f"-g{round(100 * gradient):02d}"
             if decimate is not None:
                 pts, tris, true = _decimated_case(pts, tris, true, decimate)
                 if true is None:
@@ -150,6 +156,8 @@ def cases(
                     continue
                 stem += f"-qem{round(100 * decimate):02d}"
             keep = None if subsample is None else np.random.default_rng(seed).random(len(pts)) < subsample
+            if gradient is not None:
+                keep = (np.ones(len(pts), bool) if keep is None else keep) & _gradient_keep(pts, gradient, seed)
             betti = tuple(int(b) for b in analyse(tris, len(pts), 2).betti)
             small = _holes_under_a_spacing(pts, tris)
             if clean:
@@ -160,6 +168,15 @@ def cases(
                     noisy = noisy if keep is None else noisy[keep]
                     out.append(Case(f"{stem}-n{round(100 * level):02d}{tag}", noisy, true, level, betti, small))
     return out
+
+
+def _gradient_keep(points: np.ndarray, low: float, seed: int) -> np.ndarray:
+    """Keep each sample with a chance falling linearly from 1 to ``low`` along the longest principal axis."""
+    centred = points - points.mean(axis=0)
+    axis = np.linalg.svd(centred, full_matrices=False)[2][0]
+    t = centred @ axis
+    t = (t - t.min()) / max(float(np.ptp(t)), 1e-300)
+    return np.random.default_rng(seed + 1).random(len(points)) < 1.0 - (1.0 - low) * t
 
 
 def _decimated_case(
@@ -357,7 +374,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--decimate", type=float, metavar="KEEP", help="decimate every mesh to this share of its faces first"
     )
+    ap.add_argument(
+        "--gradient",
+        type=float,
+        metavar="LOW",
+        help="keep samples with a chance from 1 down to LOW along the longest axis (draw --seed): uneven density",
+    )
     a = ap.parse_args(argv)
+    if a.gradient is not None and not 0 < a.gradient <= 1:
+        ap.error("--gradient takes a share in (0, 1]")
     if a.subsample is not None and not 0 < a.subsample <= 1:
         ap.error("--subsample takes a share in (0, 1]")
     modes = a.modes.split(",")
@@ -368,7 +393,7 @@ def main(argv: list[str] | None = None) -> int:
     print(HEADER, flush=True)
     rows: list[Row] = []
     only = set(a.only) if a.only else None
-    for case in cases(not a.clean_only, only, noisy_dir, a.seed, not a.noisy_only, a.subsample, a.decimate):
+    for case in cases(not a.clean_only, only, noisy_dir, a.seed, not a.noisy_only, a.subsample, a.decimate, a.gradient):
         new = run_crustview(case, modes)
         if a.peers:
             new += [r for r in (run_cgal(case), run_poisson(case)) if r is not None]

@@ -37,3 +37,28 @@ def test_an_empty_result_reaches_no_sample():
     """M_S empty (the paper's loop pruned everything): the samples it does not reach are one part."""
     (f,) = features(OCTA_PTS, np.zeros((0, 3), np.int64), 2)
     assert f.kind == "component" and f.uncertain and sorted(f.vertices.tolist()) == list(range(6))
+
+
+def _grid(nx: int, step: float, x0: float, start: int) -> tuple[np.ndarray, np.ndarray]:
+    """An nx by nx grid of the plane z = 0 with corner (x0, 0), step ``step``, in triangles numbered from ``start``."""
+    ii, jj = np.meshgrid(np.arange(nx), np.arange(nx), indexing="ij")
+    pts = np.c_[x0 + step * ii.ravel(), step * jj.ravel(), np.zeros(nx * nx)]
+    v = np.arange(nx * nx).reshape(nx, nx) + start
+    a, b, c, d = v[:-1, :-1].ravel(), v[1:, :-1].ravel(), v[:-1, 1:].ravel(), v[1:, 1:].ravel()
+    return pts, np.r_[np.c_[a, b, d], np.c_[a, d, c]]
+
+
+def test_left_out_samples_are_clustered_in_the_surfaces_own_spacing_where_the_density_varies():
+    """A dense patch (step 0.1, 900 samples: the median spacing) beside a sparse one (step 2.5).  Three
+    left-out samples 3 apart above the sparse patch are one part (3 < 2 x 2.5, the spacing of the surface
+    there), though 30 median spacings apart; the same three above the dense patch are three lone samples."""
+    dense, t1 = _grid(30, 0.1, 0.0, 0)
+    sparse, t2 = _grid(5, 2.5, 10.0, len(dense))
+    line = np.array([[0.0, 0, 3.0], [3.0, 0, 3.0], [6.0, 0, 3.0]])
+    surface = np.vstack([dense, sparse])
+    tris = np.vstack([t1, t2])
+    above_sparse = np.vstack([surface, line + [12.0, 5.0, 0]])
+    (f,) = left_out(above_sparse, tris, 2)
+    assert sorted(f.vertices.tolist()) == [len(surface), len(surface) + 1, len(surface) + 2]
+    above_dense = np.vstack([surface, line + [0.0, 1.5, 0]])
+    assert left_out(above_dense, tris, 2) == []
