@@ -38,7 +38,6 @@ from scipy.spatial import cKDTree
 from ..util.nearest import nearest_distances
 from .features import GAP_MIN, Feature
 
-
 #: Vertices of M_S nearest to a left-out sample whose median nearest-neighbour distance is the surface's spacing
 #: there (``insert-sample``'s 8: the sample's own ring of neighbours on a surface, about 6, and a few beyond).
 SURFACE_NEAREST = 8
