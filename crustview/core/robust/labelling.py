@@ -105,6 +105,7 @@ class Labelling:
         h = nearest_distances(points)
         h = np.where(h > 0, h, np.median(h))
         self.spacing = h
+        self.points = points
         self.outside = (simplices >= n).any(axis=1)
         hv = np.where(simplices < n, h[np.minimum(simplices, n - 1)], 0.0)
         cnt = (simplices < n).sum(axis=1)
