@@ -106,12 +106,16 @@ def check_outputs(inputs: list[Path], outputs: list[Path], force: bool, hint: bo
     InputError
         One sentence naming the output.
     """
+    probed: set[Path] = set()
     for out in outputs:
         parent = out.parent if str(out.parent) else Path(".")
         if not parent.is_dir():
             raise InputError(f"Cannot write '{out}': the folder '{parent}' does not exist.")
         if out.is_dir():
             raise InputError(f"Cannot write '{out}': it is a folder.")
+        if parent.resolve() not in probed:
+            _probe_folder(out, parent)
+            probed.add(parent.resolve())
         for inp in inputs:
             if not force and _same_file(out, inp):
                 raise InputError(
@@ -124,6 +128,42 @@ def check_outputs(inputs: list[Path], outputs: list[Path], force: bool, hint: bo
         if key in seen:
             raise InputError(f"Cannot write '{out}' twice: the result and the report need different names.")
         seen[key] = out
+
+
+def _probe_folder(out: Path, parent: Path) -> None:
+    """Create and drop a file in ``parent``: a folder that cannot be written to fails here, before the run.
+
+    A permission test (``os.access``) says yes to root on a read-only file system; creating a file does not.
+    """
+    import tempfile
+
+    try:
+        with tempfile.TemporaryFile(dir=parent):
+            pass
+    except OSError as err:
+        reason = err.strerror or type(err).__name__
+        raise InputError(f"Cannot write '{out}': the folder '{parent}' cannot be written to ({reason}).") from None
+
+
+def _previous(path: Path) -> bytes | None:
+    """The bytes of an existing file (to put back if a later output fails), None if there is none."""
+    try:
+        return path.read_bytes() if path.is_file() else None
+    except OSError:
+        return None
+
+
+def _put_back(path: Path, old: bytes | None) -> None:
+    """Undo a new output: the previous content again (atomically), or no file where there was none."""
+    from crustview.atomic import write_bytes
+
+    try:
+        if old is None:
+            path.unlink(missing_ok=True)
+        else:
+            write_bytes(path, old)
+    except OSError:
+        pass  # the error being raised says what failed; this file is then the new one
 
 
 # ---------------------------------------------------------------- one file
@@ -202,9 +242,17 @@ def reconstruct_file(
         comparison = compare_to_mesh(rec, truth)
     extra = _report_extra(rec, attributes, estimate)
     progress("write", 0.0)
-    write_result(output, rec)
-    if report is not None:
+    if report is None:
+        write_result(output, rec)
+    else:
+        # the small report first: if either write fails, neither output changes (a failed command writes nothing)
+        old = _previous(report)
         write_report(report, rec, comparison, extra=extra)
+        try:
+            write_result(output, rec)
+        except BaseException:
+            _put_back(report, old)
+            raise
     progress("write", 1.0)
     say("summary", result_summary(rec, seconds, output))
     say("summary", extraction_summary(rec))

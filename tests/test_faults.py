@@ -213,6 +213,56 @@ def test_a_read_only_folder_keeps_the_old_result(setup):
     _intact(folder, old)
 
 
+def test_a_read_only_report_folder_fails_before_the_run_and_writes_nothing(setup, tmp_path_factory):
+    """The result's folder is writable, the report's is not: the command stops before reconstructing."""
+    folder, old = setup
+    closed = tmp_path_factory.mktemp("closed")
+    undo = _make_read_only(closed)
+    try:
+        run = subprocess.run(
+            _cmd("reconstruct", folder / "torus.npy", "-d", 2, "-o", folder / "new.npz", "--report", closed / "r.json"),
+            env=ENV,
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+    finally:
+        undo()
+    assert run.returncode == 2, run.stderr
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and f"the folder '{closed}' cannot be written to" in lines[0], run.stderr
+    _intact(folder, old)  # no new.npz
+    assert _listing(closed) == []
+
+
+def test_a_result_that_cannot_be_written_puts_the_previous_report_back(setup):
+    """A file-size limit that the new report fits under and the result does not: the report is written
+    first, the result fails, and the previous report is back byte for byte (a failed command writes nothing)."""
+    folder, old = setup
+    limit = 2 * len(old["victim.json"])
+    assert len(old["victim.npz"]) > 2 * limit  # the premise: the result (of a larger sample) cannot fit
+    run = subprocess.run(
+        _cmd(
+            "reconstruct",
+            folder / "torus.npy",
+            "-d",
+            2,
+            "-o",
+            folder / "victim.npz",
+            "--report",
+            folder / "victim.json",
+        ),
+        env=ENV,
+        capture_output=True,
+        text=True,
+        preexec_fn=_fsize_limit(limit),
+        timeout=120,
+    )
+    assert run.returncode == 2, run.stderr
+    assert "victim.npz" in run.stderr and "File too large" in run.stderr, run.stderr
+    _intact(folder, old)
+
+
 def test_a_missing_folder_writes_nothing_at_all(setup):
     folder, old = setup
     run = subprocess.run(
