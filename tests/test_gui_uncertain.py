@@ -101,14 +101,22 @@ def test_clean_torus_is_green_without_uncertain_features(qtbot, window):
     assert "#3a8f3a" in _chunk_colour(window)
     assert window.info_panel.features.isHidden()
     assert not window.model.layers["uncertain"].visible and window.model.layers["uncertain"].count == 0
+    # the verdict is over the 3-D view too, in green, whichever dock is in front
+    from crustview.render.overlay import OK_COLOR
+
+    assert window.view.notes()[0].startswith("M_S is a closed manifold through every sample")
+    assert (window.view.notes()[0], OK_COLOR) in window.view.legend.entries
 
 
 @pytest.mark.skipif(not FOOTBONES.exists(), reason="needs /work/shared/data/scans2/footbones.ply")
 def test_footbones_show_amber(qtbot, window):
-    """26 foot bones that touch: the verdict box is amber, with its uncertain features listed and drawn.
+    """26 foot bones that touch: the uncertain features are listed and drawn, and every verdict says wrong.
 
-    The run panel's bar is red there: the mesh's faces say the topology is
-    wrong (Betti numbers differ), and it names the uncertain features too.
+    The mesh's faces say the topology is wrong (Betti numbers differ): the run
+    panel's bar, the Information box and the note over the view are red and say
+    so the same way (session 30: the box and the note said only "not all of it is
+    supported" while the bar said WRONG), and name the uncertain features too.
+    The topology table's expected column is the mesh's.
     """
     from crustview.qt.info_dock import BANNER_STYLE
 
@@ -116,7 +124,16 @@ def test_footbones_show_amber(qtbot, window):
     wait_idle(qtbot, window, timeout=180_000)
     rec = window.model.rec
     assert rec.uncertain_features and rec.topology.closed_manifold
-    assert window.info_panel.banner.styleSheet() == BANNER_STYLE["warn"]
+    mesh = window.model.truth.comparison.mesh_topology
+    assert tuple(mesh.betti) == (26, 0, 26) and tuple(rec.topology.betti) != (26, 0, 26)
+    assert window.info_panel.banner.styleSheet() == BANNER_STYLE["bad"]
+    wrong = f"M_S is WRONG: Betti {tuple(rec.topology.betti)} ≠ mesh (26, 0, 26)"
+    assert wrong in window.info_panel.banner.text()
+    assert window.view.notes()[0] == wrong
+    assert "WRONG: Betti" in window.run_panel.progress.format()
+    table = window.info_panel.topology
+    betti_row = next(r for r in range(table.rowCount()) if table.item(r, 0).text() == "Betti numbers (Z/2)")
+    assert table.item(betti_row, 2).text() == "26, 0, 26"
     assert "uncertain: " in window.info_panel.banner.text()
     assert "uncertain: " in window.run_panel.progress.format()
     assert window.info_panel.features.list.count() == len(rec.uncertain_features)
@@ -138,3 +155,22 @@ def test_an_open_scan_kept_open_is_amber_and_names_its_hole(qtbot, window):
     assert "surface with boundary (1 hole)" in window.run_panel.progress.format()
     assert window.info_panel.banner.styleSheet() == BANNER_STYLE["warn"]
     assert "surface with boundary through every sample (1 hole" in window.info_panel.banner.text()
+
+
+def test_a_verdict_longer_than_the_run_bar_is_shown_whole_below_it(qtbot, window):
+    """The Run dock's bar cannot wrap: a verdict it cannot show in full (session 30: "... (uncertain: 2 handles,
+    0 holes, 11" cut off) is repeated below it, wrapped; a short one is not; a new run clears it."""
+    panel = window.run_panel
+    short = "paper: done in 0.1 s — closed manifold"
+    panel.show_idle(short, ok=True)
+    assert panel.full_text.isHidden()
+    long = (
+        "robust: done in 3.43 s — WRONG: Betti (3, 4, 3) ≠ mesh (26, 0, 26) "
+        + "(uncertain: 2 handles, 0 holes, 11 components) " * 4
+    )
+    panel.show_idle(long, ok=False)
+    assert not panel.full_text.isHidden() and panel.full_text.text() == long
+    assert panel.progress.format() == long  # the bar keeps it too (and its tool tip)
+    panel.set_busy(True, "starting")
+    assert panel.full_text.isHidden() and panel.full_text.text() == ""
+    panel.set_busy(False)

@@ -641,7 +641,11 @@ def test_legend_names_all_poles_and_a_colouring_that_needs_the_truth(qtbot, wind
     window.model.layers["poles"].mode = "all"
     labels = [label for label, _ in window.view.legend_entries()]
     assert "Pole at infinity (hull sample)" in labels  # S^3: every sample is on the hull
-    assert window.view.legend.entries == window.view.legend_entries() + [(n, None) for n in window.view.notes()]
+    from crustview.render.overlay import OK_COLOR
+
+    # the notes (the verdict, green for this closed S^3) follow the entries
+    notes = window.view.notes()
+    assert notes and window.view.legend.entries == window.view.legend_entries() + [(n, OK_COLOR) for n in notes]
     # a point file has no true manifold: the normal-error colouring says so
     pts = tmp_path / "torus.xyz"
     np.savetxt(pts, load_points_of("torus"))

@@ -158,3 +158,24 @@ def test_a_disputed_hole_marks_a_place_and_is_not_counted_as_a_hole():
     assert boundary_words(rec) == "2 holes"
     rec.features = [hole(disputed=True)]
     assert boundary_words(rec) == "92 boundary faces"
+
+
+def test_a_result_that_contradicts_the_files_own_mesh_is_wrong_in_every_verdict(torus_run):
+    """The torus's own result (closed, Betti (1, 2, 1), every feature supported: "ok") against two meshes on
+    its samples: its own reconstruction as the file's faces (agrees: still "ok"), and the same faces less a
+    fan of triangles (a punctured torus, Betti (1, 2, 0)): the verdict is then "bad" and names both Betti
+    numbers, as the Run bar does, and the topology table's expected column is the mesh's."""
+    from crustview.scene.describe import topology_rows, truth_problems
+    from crustview.scene.truth import MeshTruth
+
+    rec, _ = torus_run
+    faces = rec.point_input[np.asarray(rec.manifold)]
+    same = MeshTruth(rec.input_points, faces, "same.off").compared(rec)
+    assert verdict(rec, same)[0] == "ok" and truth_problems(rec, same) == []
+    cut = faces[~(faces == faces[0, 0]).any(axis=1)]  # the star of one vertex removed: a hole
+    other = MeshTruth(rec.input_points, cut, "cut.off").compared(rec)
+    level, words = verdict(rec, other)
+    assert level == "bad" and words.startswith("M_S is WRONG: Betti (1, 2, 1) ≠ mesh (1, 2, 0)"), words
+    rows = {name: (found, exp) for name, found, exp in topology_rows(rec, None, other.comparison.mesh_topology)}
+    assert rows["Betti numbers (Z/2)"] == ("1, 2, 1", "1, 2, 0")
+    assert rows["closed manifold"] == ("yes", "no") and rows["boundary faces"][1] != "0"

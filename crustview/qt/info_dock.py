@@ -201,7 +201,8 @@ class InfoPanel(QWidget):
             return
         truth = self.model.truth
         expected = getattr(truth, "manifold", None)
-        rows = topology_rows(rec, expected)
+        mesh_cmp = getattr(truth, "comparison", None)
+        rows = topology_rows(rec, expected, mesh_cmp.mesh_topology if mesh_cmp is not None else None)
         self.topology.setRowCount(len(rows))
         for r, (name, found, exp) in enumerate(rows):
             for c, text in enumerate((name, found, exp)):
@@ -216,7 +217,7 @@ class InfoPanel(QWidget):
         if expected is not None:
             title += f" — expected: {expected.name}"
         self.messages.setText("<b>" + escape(title) + "</b>")
-        level, words = verdict(rec)
+        level, words = verdict(rec, truth)
         msgs = rec.topology.messages
         self.banner.setStyleSheet(BANNER_STYLE[level])
         which = "robust extraction" if rec.mode == "robust" else "the paper's Algorithm 3"

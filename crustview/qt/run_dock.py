@@ -186,6 +186,13 @@ class RunPanel(QWidget):
         self.stall_timer.setInterval(250)
         self.stall_timer.timeout.connect(self._stalled)
         lay.addWidget(self.progress)
+        # the bar's text in full, wrapped, where the bar is too narrow for it (a long verdict: never cut off)
+        self.full_text = QLabel(self)
+        self.full_text.setWordWrap(True)
+        self.full_text.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.full_text.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Maximum)
+        self.full_text.setVisible(False)
+        lay.addWidget(self.full_text)
         for w in (self.run, self.cancel, self.progress):
             w.setMinimumHeight(w.sizeHint().height())
         self.run.clicked.connect(self._request)
@@ -318,6 +325,8 @@ class RunPanel(QWidget):
             self.progress.setStyleSheet("")
             self.progress.setValue(0)
             self.progress.setFormat(label or "starting…")
+            self.full_text.setText("")  # the last run's verdict, not this one's
+            self.full_text.setVisible(False)
             self._stage = (label or "starting", time.monotonic(), time.monotonic())
             self.stall_timer.start()
         else:
@@ -347,6 +356,16 @@ class RunPanel(QWidget):
         self.progress.setFormat(f"{words}: {now - started:.0f} s")
         self.progress_shown.emit()
 
+    def _fit_text(self) -> None:
+        """Show the bar's idle text below it, wrapped, when the bar cannot show all of it."""
+        text = self.full_text.text()
+        room = self.progress.contentsRect().width() - 12
+        self.full_text.setVisible(bool(text) and self.progress.fontMetrics().horizontalAdvance(text) > room)
+
+    def resizeEvent(self, event) -> None:  # noqa: ANN001, D102 - Qt override
+        super().resizeEvent(event)
+        self._fit_text()
+
     def show_idle(self, text: str, ok: bool | str | None = None) -> None:
         """Idle text; ``ok=False`` turns the bar red (failed or wrong result), True green, "warn" amber.
 
@@ -357,6 +376,8 @@ class RunPanel(QWidget):
         self.progress.setRange(0, 1000)
         self.progress.setFormat(text)
         self.progress.setToolTip(text)
+        self.full_text.setText(text)
+        self._fit_text()
         colour = {True: "#3a8f3a", False: "#c0392b", "warn": "#e0a020"}.get(ok)
         self.progress.setStyleSheet(f"QProgressBar::chunk {{ background: {colour}; }}" if colour else "")
         if ok is not None:

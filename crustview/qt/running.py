@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import cost_warning, reconstruct, reextract
-from ..scene.describe import boundary_words, kept_open
+from ..scene.describe import boundary_words, kept_open, truth_problems
 from ..scene.features import uncertain_features, uncertain_summary
 from ..scene.shapes import name_of
 from ..session import BuiltinSource
@@ -263,17 +263,7 @@ class RunActions:
             if is_open
             else f"NOT a closed manifold ({rec.extraction.stopped})"
         )
-        expected = truth.manifold if truth is not None else None
-        problems = []
-        if expected is not None and t.closed_manifold and tuple(t.betti) != tuple(expected.betti):
-            problems.append(f"Betti {tuple(t.betti)} ≠ true {tuple(expected.betti)}")
-        mesh_cmp = getattr(truth, "comparison", None)
-        if (
-            mesh_cmp is not None
-            and (t.closed_manifold or is_open)
-            and tuple(t.betti) != tuple(mesh_cmp.mesh_topology.betti)
-        ):
-            problems.append(f"Betti {tuple(t.betti)} ≠ mesh {tuple(mesh_cmp.mesh_topology.betti)}")
+        problems = truth_problems(rec, truth)  # the verdict over the view and in Information says the same
         if t.closed_manifold and t.unused_samples:
             problems.append(f"{t.unused_samples} unused")
         if problems:

@@ -126,6 +126,8 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
         self.status_progress = StatusProgress(self.run_panel, self)  # in sight whatever tab is in front
         self.statusBar().addPermanentWidget(self.status_progress)
         self.statusBar().addPermanentWidget(self.status_counts)
+        # a message longer than the room left of the counts is cut there: the whole of it on hover
+        self.statusBar().messageChanged.connect(self.statusBar().setToolTip)
         self.statusBar().showMessage("Open a point file (File ▸ Open, or drop it here) or a built-in sample.")
         self.setAcceptDrops(True)
         self._press: tuple[int, int] | None = None

@@ -9,6 +9,8 @@ from vtkmodules.vtkRenderingCore import vtkCoordinate, vtkTextActor
 NOTE_COLOR = "#b00000"
 #: Colour of the notes about a result that is closed but not all supported by its sample.
 WARN_COLOR = "#9a5800"
+#: Colour of the note over the view for a result the sample supports throughout (the Information box's green).
+OK_COLOR = "#1d6b2a"
 
 
 class Legend:

@@ -23,7 +23,7 @@ from .diagnosis import CascadeAdapter, HolesAdapter, OrientationAdapter, Uncerta
 from .inspect import SelectionAdapter, VoronoiAdapter
 from .lod import LevelOfDetail
 from .navigation import CameraControl
-from .overlay import NOTE_COLOR, WARN_COLOR, Legend
+from .overlay import NOTE_COLOR, OK_COLOR, WARN_COLOR, Legend
 from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter, lighter
 
 #: Adapter of each layer (by layer name), in drawing order.
@@ -468,8 +468,9 @@ class SceneView(CameraControl):
         return out
 
     def update_legend(self) -> None:
-        level = verdict(self.model.rec)[0] if self.model.rec is not None else "ok"
-        self.legend.set(self.legend_entries(), self.notes(), WARN_COLOR if level == "warn" else NOTE_COLOR)
+        level = verdict(self.model.rec, self.model.truth)[0] if self.model.rec is not None else "ok"
+        color = {"ok": OK_COLOR, "warn": WARN_COLOR}.get(level, NOTE_COLOR)
+        self.legend.set(self.legend_entries(), self.notes(), color)
 
     def notes(self) -> list[str]:
         """Lines above the legend: M_S is not a closed manifold through every sample; layers drawn thinned."""
@@ -478,11 +479,14 @@ class SceneView(CameraControl):
             return []
         # layers drawn as a subset say so over the view, too
         thinned = [layer.note for layer in self.model.layers.values() if layer.visible and layer.note]
-        level, words = verdict(rec)
+        level, words = verdict(rec, self.model.truth)
         if level == "ok":
-            return thinned
-        head, _, rest = words.partition(" (")
-        return [head, ("(" + rest + " — see Information") if rest else "see Information"] + thinned
+            # the verdict is over the view whatever the dock shows (Steps is in front after a run)
+            return [words + " — every handle, hole and part supported by the sample"] + thinned
+        # two lines: the verdict, and its bracket (the uncertain features, or why); a mismatch's Betti tuples stay whole
+        at = " (uncertain" if " (uncertain" in words else " (" if not words.startswith("M_S is WRONG") else "\0"
+        head, _, rest = words.partition(at)
+        return [head, (at.strip() + rest + " — see Information") if rest else "see Information"] + thinned
 
     def update_basis_text(self) -> None:
         p = self.model.projection

@@ -264,9 +264,37 @@ def boundary_words(rec: Reconstruction) -> str:
     return f"{rec.topology.boundary_faces} boundary faces"
 
 
-def verdict(rec: Reconstruction) -> tuple[str, str]:
+def truth_problems(rec: Reconstruction, truth=None) -> list[str]:
+    """Where M_S contradicts a known truth: a built-in's Betti numbers, or those of the file's own mesh.
+
+    ``truth`` is the scene's (``SceneModel.truth``): ``manifold`` for a built-in, ``comparison`` (a
+    :class:`~crustview.core.analysis.compare.MeshComparison`) for a file whose faces are known.  Only a
+    result that is a closed manifold, or a robust surface with boundary through every sample, is compared
+    (anything else is already a failure of its own).
+    """
+    if truth is None:
+        return []
+    t = rec.topology
+    problems = []
+    expected = getattr(truth, "manifold", None)
+    if expected is not None and t.closed_manifold and tuple(t.betti) != tuple(expected.betti):
+        problems.append(f"Betti {tuple(t.betti)} ≠ true {tuple(expected.betti)}")
+    mesh_cmp = getattr(truth, "comparison", None)
+    if (
+        mesh_cmp is not None
+        and (t.closed_manifold or kept_open(rec))
+        and tuple(t.betti) != tuple(mesh_cmp.mesh_topology.betti)
+    ):
+        problems.append(f"Betti {tuple(t.betti)} ≠ mesh {tuple(mesh_cmp.mesh_topology.betti)}")
+    return problems
+
+
+def verdict(rec: Reconstruction, truth=None) -> tuple[str, str]:
     """(level, one-line verdict): level is "ok", "warn" or "bad".
 
+    "bad": M_S contradicts the known truth (:func:`truth_problems`: a built-in's, or the file's own
+    mesh's Betti numbers), whatever else holds -- the viewer never calls a result that the file's own
+    faces show wrong merely unsure; or M_S is no closed manifold (paper mode).
     "warn": closed but skipping samples, an open surface (robust), or uncertain features.
 
     A closed manifold through every sample is "ok" only when the sample
@@ -278,6 +306,9 @@ def verdict(rec: Reconstruction) -> tuple[str, str]:
     """
     t = rec.topology
     unc = uncertain_summary(uncertain_features(rec))
+    problems = truth_problems(rec, truth)
+    if problems:
+        return "bad", "M_S is WRONG: " + ", ".join(problems) + (f" ({unc})" if unc else "")
     if t.closed_manifold and not t.unused_samples and unc:
         return "warn", f"M_S is a closed manifold through every sample, but not all of it is supported ({unc})"
     if t.closed_manifold and not t.unused_samples:
@@ -295,10 +326,16 @@ def verdict(rec: Reconstruction) -> tuple[str, str]:
     return "bad", f"M_S is NOT a closed manifold ({why})"
 
 
-def topology_rows(rec: Reconstruction, expected=None) -> list[tuple[str, str, str]]:
-    """(quantity, found, expected) rows of the topology table."""
+def topology_rows(rec: Reconstruction, expected=None, mesh=None) -> list[tuple[str, str, str]]:
+    """(quantity, found, expected) rows of the topology table.
+
+    ``expected`` is a built-in's manifold; else ``mesh``, the file's own mesh's
+    :class:`~crustview.core.result.TopologyReport`, fills the column.
+    """
     t = rec.topology
     exp = expected
+    if exp is None and mesh is not None:
+        return _mesh_rows(rec, mesh)
     rows = [
         ("shape", name_of(t, rec.d), shape_name(exp.d, exp.betti, exp.orientable) if exp else ""),
         ("closed manifold", "yes" if t.closed_manifold else "no", "yes" if exp is not None else ""),
@@ -317,3 +354,25 @@ def topology_rows(rec: Reconstruction, expected=None) -> list[tuple[str, str, st
         ("samples not used", str(t.unused_samples), "0" if exp else ""),
     ]
     return rows
+
+
+def _mesh_rows(rec: Reconstruction, mesh) -> list[tuple[str, str, str]]:
+    """The topology table against the file's own mesh (its faces: what the scan's maker saw)."""
+    t = rec.topology
+
+    def yes(v: bool | None) -> str:
+        return {True: "yes", False: "no", None: "-"}[v]
+
+    return [
+        ("shape", name_of(t, rec.d), name_of(mesh, rec.d) + " (the file's mesh)"),
+        ("closed manifold", yes(t.closed_manifold), yes(mesh.closed_manifold)),
+        ("simplices", str(t.n_simplices), str(mesh.n_simplices)),
+        ("Betti numbers (Z/2)", ", ".join(map(str, t.betti)), ", ".join(map(str, mesh.betti))),
+        ("Euler characteristic", str(t.euler), str(mesh.euler)),
+        ("orientable", yes(t.orientable), yes(mesh.orientable)),
+        ("components", str(t.components), str(mesh.components)),
+        ("boundary faces", str(t.boundary_faces), str(mesh.boundary_faces)),
+        ("non-manifold faces", str(t.nonmanifold_faces), str(mesh.nonmanifold_faces)),
+        ("singular vertices", str(t.singular_vertices), str(mesh.singular_vertices)),
+        ("samples not used", str(t.unused_samples), "0"),
+    ]
