@@ -34,7 +34,8 @@ Run: ``python benchmarks/bench_scans.py [--only NAME] [--clean-only] [--peers] [
 ``--noisy-only --seed 21`` runs noise draws held out of the public ones (another seed of ``noisy.py``), and
 ``--subsample 0.5 --seed 7`` random halves of every sample (draw 7), sparser samples of the same objects;
 ``--decimate 0.3`` every mesh decimated to 30 % of its faces first (other tessellations of the same objects);
-``--gradient 0.25 --seed 3`` samples thinned along their longest axis down to a quarter (density varying 4 times).
+``--gradient 0.25 --seed 3`` samples thinned along their longest axis down to a quarter (density varying 4 times);
+``--rotate --seed 5`` every case turned, scaled and moved at random (another pose; the noisy copies are made first).
 All 72 files in both modes take about 10 minutes on two cores.
 """
 
@@ -53,6 +54,7 @@ from scipy.spatial import cKDTree
 from scipy.spatial.distance import pdist
 
 from crustview.core import reconstruct, reextract
+from crustview.core.analysis.compare import hausdorff
 from crustview.core.analysis.cotree import triangle_edges
 from crustview.core.analysis.topology import analyse, graph_components
 from crustview.io import read_mesh
@@ -76,6 +78,8 @@ class Case:
     #: Rims (boundary components) of the true mesh whose diameter is under its median vertex spacing:
     #: no sample of it can show those holes
     small_holes: int = 0
+    #: The true mesh's triangles as rows of ``points`` (None where samples were dropped)
+    tris: np.ndarray | None = None
 
 
 @dataclass
@@ -94,6 +98,9 @@ class Row:
     ratio: float | None = None
     interpolates: bool = True
     note: str = ""
+    #: How far the result strays from the true mesh: the sampled Hausdorff distance from M_S to the mesh's
+    #: faces on the same points, in the sample's median nearest-neighbour distance (None: not measured)
+    far: float | None = None
 
     @property
     def right(self) -> bool:
@@ -120,6 +127,7 @@ def cases(
     subsample: float | None = None,
     decimate: float | None = None,
     gradient: float | None = None,
+    rotate: bool = False,
 ) -> list[Case]:
     """The clean meshes (unless not ``clean``) and, with ``noise``, their noisy copies (made once into ``noisy_dir``).
 
@@ -131,7 +139,9 @@ def cases(
     left neither closed nor with the original's boundary is skipped, and said so.  With ``gradient``, each
     sample is kept with a chance that falls linearly from 1 to ``gradient`` along the sample's longest
     principal axis (numpy's draw ``seed``): a density that varies 1/``gradient`` times across the object,
-    as a scanner's does with distance.
+    as a scanner's does with distance.  With ``rotate``, every case is turned by a random rotation,
+    scaled by a random factor between 1/100 and 100 and moved (numpy's draw ``seed``): the same objects in
+    another pose and unit, which no result should notice.
     """
     out = []
     for folder in FOLDERS:
@@ -158,16 +168,30 @@ def cases(
             keep = None if subsample is None else np.random.default_rng(seed).random(len(pts)) < subsample
             if gradient is not None:
                 keep = (np.ones(len(pts), bool) if keep is None else keep) & _gradient_keep(pts, gradient, seed)
+            pose = (lambda p: _posed(p, seed)) if rotate else (lambda p: p)
+            tag += "-r" if rotate else ""
             betti = tuple(int(b) for b in analyse(tris, len(pts), 2).betti)
             small = _holes_under_a_spacing(pts, tris)
             if clean:
-                out.append(Case(stem + tag, pts if keep is None else pts[keep], true, 0.0, betti, small))
+                whole = tris if keep is None else None
+                out.append(Case(stem + tag, pose(pts if keep is None else pts[keep]), true, 0.0, betti, small, whole))
             if noise:
                 for level in (0.1, 0.3):
                     noisy = _noisy(pts, stem, level, noisy_dir, seed)
                     noisy = noisy if keep is None else noisy[keep]
-                    out.append(Case(f"{stem}-n{round(100 * level):02d}{tag}", noisy, true, level, betti, small))
+                    name = f"{stem}-n{round(100 * level):02d}{tag}"
+                    out.append(Case(name, pose(noisy), true, level, betti, small, whole))
     return out
+
+
+def _posed(points: np.ndarray, seed: int) -> np.ndarray:
+    """The points turned by a random rotation, scaled by 10^u (u uniform in [-2, 2]) and moved (draw ``seed``)."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(seed + 2)
+    scale = 10.0 ** rng.uniform(-2, 2)
+    shift = rng.normal(size=3) * 10 * scale * float(np.ptp(points, axis=0).max())
+    return Rotation.random(random_state=int(rng.integers(2**31))).apply(points) * scale + shift
 
 
 def _gradient_keep(points: np.ndarray, low: float, seed: int) -> np.ndarray:
@@ -261,6 +285,15 @@ def run_crustview(case: Case, modes: list[str]) -> list[Row]:
     return rows
 
 
+def _far(case: Case, rec) -> float | None:
+    """The sampled Hausdorff distance from M_S to the true mesh's faces, in the case's median spacing."""
+    if case.tris is None or len(rec.manifold) == 0:
+        return None
+    h = float(np.median(cKDTree(case.points).query(case.points, k=2)[0][:, 1]))
+    est = hausdorff(case.points, case.tris, rec.point_input[np.asarray(rec.manifold)])
+    return est.b_to_a / h if h > 0 else None
+
+
 def _row(case: Case, method: str, rec, total: float, ratio: float) -> Row:
     top = rec.topology
     used = rec.n - top.unused_samples if top.n_simplices else 0
@@ -276,6 +309,7 @@ def _row(case: Case, method: str, rec, total: float, ratio: float) -> Row:
         total,
         ratio,
         note=next((m for m in top.messages if "result is kept" in m), ""),
+        far=_far(case, rec),
     )
 
 
@@ -340,8 +374,9 @@ def run_poisson(case: Case) -> Row | None:
 
 
 HEADER = (
-    "| file | method | points | right | Betti | uncertain (h/holes/c) | samples used | total s | extraction/rest |\n"
-    "|---|---|---|---|---|---|---|---|---|"
+    "| file | method | points | right | Betti | uncertain (h/holes/c) | samples used | total s | extraction/rest "
+    "| far (h) |\n"
+    "|---|---|---|---|---|---|---|---|---|---|"
 )
 
 
@@ -354,7 +389,9 @@ def line(r: Row) -> str:
     ratio = "–" if r.ratio is None else f"{r.ratio:.2f}"
     return (
         f"| {r.case.name} | {r.method} | {r.n:,} | {'yes' if r.right else 'no'} ({truth}) | {r.betti}"
-        f"{'' if r.closed else f', {r.boundary} bnd'} | {unc} | {r.used:,} | {r.total:.2f} | {ratio} |"
+        f"{'' if r.closed else f', {r.boundary} bnd'} | {unc} | {r.used:,} | {r.total:.2f} | {ratio} | "
+        + ("–" if r.far is None else f"{r.far:.1f}")
+        + " |"
     )
 
 
@@ -380,6 +417,9 @@ def main(argv: list[str] | None = None) -> int:
         metavar="LOW",
         help="keep samples with a chance from 1 down to LOW along the longest axis (draw --seed): uneven density",
     )
+    ap.add_argument(
+        "--rotate", action="store_true", help="turn, scale and move every case at random (draw --seed): another pose"
+    )
     a = ap.parse_args(argv)
     if a.gradient is not None and not 0 < a.gradient <= 1:
         ap.error("--gradient takes a share in (0, 1]")
@@ -393,7 +433,10 @@ def main(argv: list[str] | None = None) -> int:
     print(HEADER, flush=True)
     rows: list[Row] = []
     only = set(a.only) if a.only else None
-    for case in cases(not a.clean_only, only, noisy_dir, a.seed, not a.noisy_only, a.subsample, a.decimate, a.gradient):
+    todo = cases(
+        not a.clean_only, only, noisy_dir, a.seed, not a.noisy_only, a.subsample, a.decimate, a.gradient, a.rotate
+    )
+    for case in todo:
         new = run_crustview(case, modes)
         if a.peers:
             new += [r for r in (run_cgal(case), run_poisson(case)) if r is not None]
@@ -413,6 +456,12 @@ def main(argv: list[str] | None = None) -> int:
             f"{' (' + ', '.join(wrong_quiet) + ')' if wrong_quiet else ''}; right with one: {len(right_flagged)}"
             f"{med}"
         )
+        far = sorted(((r.far, r.case.name) for r in mine if r.right and r.far is not None), reverse=True)
+        if far:
+            print(
+                f"  right results, M_S to the true mesh (far, h): median {far[len(far) // 2][0]:.1f}, farthest "
+                + ", ".join(f"{name} {v:.1f}" for v, name in far[:3])
+            )
         unseen = [r.case.name for r in mine if not r.right and r.case.small_holes]
         if unseen:
             print(f"  wrong where the true mesh has rims narrower than its spacing: {', '.join(unseen)}")
@@ -432,6 +481,7 @@ def main(argv: list[str] | None = None) -> int:
                         "total": r.total,
                         "ratio": r.ratio,
                         "note": r.note,
+                        "far": r.far,
                     }
                     for r in rows
                 ],
