@@ -108,8 +108,8 @@ def run(args: argparse.Namespace) -> int:
         words = "the two do not share vertices, so only the distance is compared"
     print(f"A = {a.label}: {len(a.simplices)} simplices; B = {b.label}: {len(b.simplices)} simplices")
     print(
-        f"{words}; Hausdorff distance {h.distance:.4g} (A to B {h.a_to_b:.4g}, B to A {h.b_to_a:.4g}, "
-        f"sampled, within {h.error_bound:.2g})."
+        f"{words}; Hausdorff distance {h.distance:.4g} ± {h.error_bound:.2g} (A to B {h.a_to_b:.4g}, "
+        f"B to A {h.b_to_a:.4g}; sampled on grids over both complexes, ± their covering radius)."
     )
     if args.json is not None:
         from crustview.atomic import write_text

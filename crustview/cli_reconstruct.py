@@ -64,7 +64,9 @@ def add_parser(sub, angle_type) -> None:
         default=None,
         help="batch mode: write NAME.npz and NAME.report.json per input and summary.csv/summary.json here",
     )
-    p.add_argument("-j", "--jobs", type=int, default=1, help="batch mode: files reconstructed at once (processes)")
+    p.add_argument(
+        "-j", "--jobs", type=_positive, default=1, help="batch mode: files reconstructed at once (processes, >= 1)"
+    )
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors (no progress, no summary)")
     p.add_argument("--force", action="store_true", help="allow writing over the input file")
     p.add_argument(
@@ -128,6 +130,17 @@ def check_outputs(inputs: list[Path], outputs: list[Path], force: bool, hint: bo
         if key in seen:
             raise InputError(f"Cannot write '{out}' twice: the result and the report need different names.")
         seen[key] = out
+
+
+def _positive(text: str) -> int:
+    """An argparse type: a whole number of at least 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, not {value}")
+    return value
 
 
 def _probe_folder(out: Path, parent: Path) -> None:
@@ -425,6 +438,6 @@ def comparison_summary(c, name: str) -> str:
     return (
         f"Against the faces of {name}: {c.recovered} of {c.mesh_faces} mesh faces recovered "
         f"({100 * c.recovered_share:.1f}%){collapsed}, {c.extra} extra; mesh {top(c.mesh_topology)}; "
-        f"M_S {top(c.result_topology)}; Hausdorff distance {h.distance:.4g} "
-        f"(sampled, within {h.error_bound:.2g})."
+        f"M_S {top(c.result_topology)}; Hausdorff distance {h.distance:.4g} ± {h.error_bound:.2g} "
+        "(sampled on grids over both complexes; the error bound is the grids' covering radius)."
     )

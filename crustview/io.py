@@ -103,6 +103,8 @@ def read_points(path: str | os.PathLike, notes: list[str] | None = None, attribu
         or malformed content, wrong shape, NaN or infinite values).
     """
     path = Path(path)
+    if path.is_dir():  # a folder is one whatever its name (no suffix, or a point file's)
+        raise InputError(f"Cannot read '{path}': it is a folder, not a regular file.")
     suffix = _suffix(path, READ_SUFFIXES, "read points from")
     if not path.exists():
         raise InputError(f"Cannot read '{path}': the file does not exist.")

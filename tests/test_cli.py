@@ -488,3 +488,16 @@ def test_reconstruct_with_smoothed_normals(capsys, torus_file, tmp_path):
     assert diff.min() < 0.9999  # some planes moved
     bad = run_main(capsys, "reconstruct", torus_file, "-d", 2, "-o", out_s, "--normals", "blurred")
     assert bad.returncode != 0 and "Traceback" not in bad.stderr and "--normals" in bad.stderr
+
+
+def test_jobs_below_one_is_refused_in_one_line(tmp_path):
+    """``-j 0`` (or a negative count) is no number of processes: one line, exit 2, before reading anything."""
+    for bad in ("0", "-3", "two"):
+        run = subprocess.run(
+            [sys.executable, "-m", "crustview", "reconstruct", tmp_path / "a.xyz", "-d", "2", "-o", tmp_path / "a.npz"]
+            + ["-j", bad],
+            capture_output=True,
+            text=True,
+        )
+        assert run.returncode == 2 and len(run.stderr.strip().splitlines()) == 1, run.stderr
+        assert "-j/--jobs" in run.stderr

@@ -40,7 +40,7 @@ def test_a_planar_rim_makes_its_hole_uncertain_and_a_wavy_one_does_not() -> None
     handle = Feature("handle", np.zeros(3), 30.0, False, np.arange(5), "loop")
     feats = [_hole(np.arange(60)), _hole(np.arange(60, 120)), handle]
     out = planar_holes(points, feats, 1.0)
-    assert out[0].uncertain and "PLANAR_RIM" in out[0].reason and out[0].vertices is feats[0].vertices
+    assert out[0].uncertain and "from a plane, within" in out[0].reason and out[0].vertices is feats[0].vertices
     assert out[1] is feats[1] and out[2] is feats[2]
     # a rim just inside the bound is planar, one just outside is not
     for wave, planar in ((0.99 * PLANAR_RIM * math.sqrt(2), True), (1.01 * PLANAR_RIM * math.sqrt(2), False)):
@@ -76,7 +76,7 @@ def test_a_closed_cylinder_sampled_on_its_rings_is_never_reported_open_for_sure(
         assert rec.topology.betti == (1, 0, 1)
     else:
         assert holes and all(f.uncertain for f in holes)
-        assert all("PLANAR_RIM" in f.reason for f in holes if "open-cap" not in f.reason)
+        assert all("from a plane, within" in f.reason for f in holes if "open-cap" not in f.reason)
     # the clean sample is the paper's own closed result: nothing to flag
     clean = reconstruct(pts, 2)
     assert clean.topology.closed_manifold and clean.topology.betti == (1, 0, 1) and not clean.uncertain_features

@@ -96,6 +96,8 @@ def test_read_errors_name_the_file(tmp_path):
     _expect_error(tmp_path / "missing.csv", "does not exist")
     (tmp_path / "dir.csv").mkdir()
     _expect_error(tmp_path / "dir.csv", "not a regular file")
+    (tmp_path / "adir").mkdir()  # a folder without a suffix is a folder too, not an unsupported file type
+    _expect_error(tmp_path / "adir", "is a folder, not a regular file")
     (tmp_path / "p.dat").write_text("1 2\n")
     _expect_error(tmp_path / "p.dat", "unsupported", ".csv")
     (tmp_path / "noext").write_text("1 2\n")

@@ -9,7 +9,8 @@ order of the neighbourhood's radius squared and the others much smaller
 the largest gap ``l_d / l_(d+1)``.  This is done at
 several neighbourhood sizes; the estimate is the d with the most votes over
 all of them, and its *confidence* is that share of the votes.  A sample in
-R^2 can only be a curve: d = 1 with confidence 1.
+R^2 gets d = 1 with confidence 1, the only dimension there is to reconstruct:
+no estimate, and its sentence says so (points filling a square get it too).
 """
 
 from __future__ import annotations
@@ -59,7 +60,10 @@ class DimensionEstimate:
     def sentence(self) -> str:
         """What was chosen and why, in one sentence."""
         if not self.neighbours:
-            return f"d = {self.d} (a curve), confidence 100%: points in R^2 can only be a curve."
+            return (
+                f"d = {self.d} (a curve): in R^2 the only dimension there is to reconstruct "
+                "(not an estimate: whether the points lie on a curve is not checked)."
+            )
         word = {1: "a curve", 2: "a surface"}.get(self.d, f"a {self.d}-manifold")
         others = ", ".join(f"d = {d}: {100 * v:.0f}%" for d, v in sorted(self.votes.items()) if d != self.d and v > 0)
         level = "high" if self.confidence >= 0.8 else "moderate" if self.confidence >= 0.6 else "low"

@@ -185,8 +185,9 @@ def planar_holes(points: np.ndarray, feats: list, spacing: float, simplices: np.
             out[i] = replace(
                 f,
                 uncertain=True,
-                reason=f"{f.reason} (its rim lies {off:.2g} spacings RMS from a plane, within PLANAR_RIM = "
-                f"{PLANAR_RIM:g}: a cut along a plane, or a flat face sampled only on its outline as CAD "
+                reason=f"{f.reason} (its rim lies {off:.2g} spacings RMS from a plane, within {PLANAR_RIM:g}, "
+                "twice the largest noise the extraction allows for: a cut along a plane, or a flat face sampled "
+                "only on its outline as CAD "
                 "tessellations and decimated meshes have them; the sample does not tell the two apart)",
             )
     return out if changed else feats
