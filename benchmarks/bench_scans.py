@@ -172,8 +172,8 @@ def cases(
             tag += "-r" if rotate else ""
             betti = tuple(int(b) for b in analyse(tris, len(pts), 2).betti)
             small = _holes_under_a_spacing(pts, tris)
+            whole = tris if keep is None else None  # the mesh's faces index these samples only if all are kept
             if clean:
-                whole = tris if keep is None else None
                 out.append(Case(stem + tag, pose(pts if keep is None else pts[keep]), true, 0.0, betti, small, whole))
             if noise:
                 for level in (0.1, 0.3):
