@@ -127,7 +127,7 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
         self.statusBar().addPermanentWidget(self.status_progress)
         self.statusBar().addPermanentWidget(self.status_counts)
         # a message longer than the room left of the counts is cut there: the whole of it on hover
-        self.statusBar().messageChanged.connect(self.statusBar().setToolTip)
+        self.statusBar().messageChanged.connect(lambda text: self.statusBar().setToolTip(text))
         self.statusBar().showMessage("Open a point file (File ▸ Open, or drop it here) or a built-in sample.")
         self.setAcceptDrops(True)
         self._press: tuple[int, int] | None = None

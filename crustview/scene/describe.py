@@ -364,9 +364,9 @@ def _mesh_rows(rec: Reconstruction, mesh) -> list[tuple[str, str, str]]:
         return {True: "yes", False: "no", None: "-"}[v]
 
     return [
-        ("shape", name_of(t, rec.d), name_of(mesh, rec.d) + " (the file's mesh)"),
+        ("shape", name_of(t, rec.d), name_of(mesh, rec.d)),
         ("closed manifold", yes(t.closed_manifold), yes(mesh.closed_manifold)),
-        ("simplices", str(t.n_simplices), str(mesh.n_simplices)),
+        ("simplices", str(t.n_simplices), ""),  # another triangulation of the same surface may have more or fewer
         ("Betti numbers (Z/2)", ", ".join(map(str, t.betti)), ", ".join(map(str, mesh.betti))),
         ("Euler characteristic", str(t.euler), str(mesh.euler)),
         ("orientable", yes(t.orientable), yes(mesh.orientable)),

@@ -490,6 +490,27 @@ def bunny_holes(app, win) -> None:
     look_from(win, (-0.4, -3.0, 0.8), 1.3, up=(0.0, 0.0, -1.0))  # from below: the bunny's open base
 
 
+def cow_head_opened(app, win) -> None:
+    """The cow head opened from a file, as it first shows: its neck opening outlined (amber: a planar cut or a
+    flat face), no sliver fin from an ear to the chin (session 30: sculpt-sample's size bound)."""
+    win.open_file(SCANS2 / "cow-head.off", d=2)
+    wait(app, win)
+
+
+def footbones_wrong(app, win) -> None:
+    """The foot bones opened from a file: the file's own mesh says 26 bones, M_S has fewer parts, and every
+    verdict (the note over the view, the Information box, the Run bar) says WRONG the same way."""
+    win.open_file(SCANS2 / "footbones.ply", d=2)
+    wait(app, win)
+    win.docks["info"].raise_()
+
+
+def torus_green(app, win) -> None:
+    """The built-in torus as the demo opens: the verdict over the view, green, whatever dock is in front."""
+    win.load_builtin("torus")
+    wait(app, win)
+
+
 #: Window sizes other than :data:`SIZE`.
 SIZES = {
     "scan-just-opened": (1600, 1000),
@@ -506,6 +527,8 @@ SIZES = {
     "curve-gap": (1600, 1000),
     "klein-loop-cut": (1600, 1000),
     "s3-unfold": (1600, 1000),
+    "cow-head-opened": (1600, 1000),
+    "footbones-wrong": (1600, 1000),
 }
 
 CASES = {
@@ -523,6 +546,9 @@ CASES = {
     "curve-gap": curve_gap,
     "klein-loop-cut": klein_loop_cut,
     "s3-unfold": s3_unfold,
+    "cow-head-opened": cow_head_opened,
+    "footbones-wrong": footbones_wrong,
+    "torus-green": torus_green,
     "bunny-holes": bunny_holes,
     "fertility-epsilon": lambda app, win: epsilon_and_cascade(app, win, "fertility.off", (0.3, 0.4, 3.0), 2.0),
     "nefertiti-epsilon": lambda app, win: epsilon_and_cascade(app, win, "nefertiti.obj", (0.3, 0.4, 3.0), 1.6),
