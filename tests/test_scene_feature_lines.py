@@ -45,3 +45,17 @@ def test_a_curves_gap_is_drawn_between_its_two_ends_not_at_its_midpoint():
     gap = Feature("hole", np.zeros(2), 4.0, True, np.array([0, 4]), "gap of an open curve")
     pts, lines, markers = feature_lines(rec, [gap])
     assert len(markers) == 0 and _edges(pts, lines) == {((-1.0, 0.0), (1.0, 0.0))}
+
+
+def test_a_disputed_handle_is_a_marker_not_a_loop_through_its_region():
+    """A disputed handle's vertices are where two results differ (foot bones: hundreds of samples in no
+    order): drawn as a loop they criss-crossed the model; it is its location, as a marker.  A handle that is
+    not disputed is still its loop."""
+    region = np.array([0, 4, 1, 5, 2, 3])
+    disputed = Feature("handle", np.array([0.1, 0.2, 0.3]), 9.0, True, region, "differ here", disputed=True)
+    pts, lines, markers = feature_lines(_rec(), [disputed])
+    assert len(lines) == 0 and len(markers) == 1
+    np.testing.assert_allclose(pts[markers[0]], [0.1, 0.2, 0.3])
+    loop = Feature("handle", np.zeros(3), 9.0, True, np.array([0, 2, 1, 3]), "a loop")
+    pts, lines, markers = feature_lines(_rec(), [loop])
+    assert len(lines) == 4 and len(markers) == 0

@@ -49,7 +49,8 @@ def feature_lines(rec, feats: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     samples; for a cap ``open-cap`` kept closed, which has none, the outline
     of the faces of M_S on its samples) and a component's closest pair.
     ``markers`` (c,) index the points drawn as big dots: each component's
-    closest approach, each feature's location when it has no vertices.
+    closest approach, each feature's location when it has no vertices (or,
+    for a disputed feature, no loop or rim: the region two results differ in).
     """
     k = rec.points.shape[1]
     pts: list[np.ndarray] = []
@@ -79,7 +80,8 @@ def feature_lines(rec, feats: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]
                 lines.append(local.reshape(-1, 2) + base)
                 base += len(order)
                 continue
-        if f.kind == "handle" and len(vs) >= 2:
+        if f.kind == "handle" and len(vs) >= 2 and not getattr(f, "disputed", False):
+            # (a disputed handle's vertices are the region where two results differ, no loop: its location)
             pts.append(rec.points[vs])
             m = len(vs)
             lines.append(np.stack([np.arange(m), np.roll(np.arange(m), -1)], axis=1) + base)
