@@ -405,6 +405,12 @@ def test_saved_result_reopens_with_its_own_run_and_wrong_topology_is_flagged(qtb
     assert t.closed_manifold and t.betti != (1, 2, 1)
     text = window.run_panel.progress.format()
     assert "WRONG" in text and "≠ true (1, 2, 1)" in text and f"{t.unused_samples} unused" in text
+    # one verdict: the Information box and the note over the view say the same, in red
+    from crustview.qt.info_dock import BANNER_STYLE
+
+    banner = window.info_panel.banner
+    assert banner.styleSheet() == BANNER_STYLE["bad"] and "WRONG" in banner.text()
+    assert f"{t.unused_samples} unused" in banner.text() and window.view.notes()[0].startswith("M_S is WRONG")
 
 
 def test_changing_the_test_marks_the_result_out_of_date_until_reextracted(qtbot, window):

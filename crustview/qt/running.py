@@ -6,6 +6,7 @@ import numpy as np
 
 from ..core import cost_warning, reconstruct, reextract
 from ..scene.describe import boundary_words, kept_open, truth_problems
+from ..scene.describe import verdict as describe_verdict
 from ..scene.features import uncertain_features, uncertain_summary
 from ..scene.shapes import name_of
 from ..session import BuiltinSource
@@ -263,19 +264,19 @@ class RunActions:
             if is_open
             else f"NOT a closed manifold ({rec.extraction.stopped})"
         )
-        problems = truth_problems(rec, truth)  # the verdict over the view and in Information says the same
-        if t.closed_manifold and t.unused_samples:
+        problems = truth_problems(rec, truth)
+        if problems and t.closed_manifold and t.unused_samples:
             problems.append(f"{t.unused_samples} unused")
         if problems:
             verdict = "WRONG: " + ", ".join(problems)
-        ok = t.closed_manifold and not problems
-        if is_open and not problems:
-            ok = "warn"  # may be right, but not the closed manifold the paper's guarantees are about
+        elif t.closed_manifold and t.unused_samples:
+            verdict += f", skips {t.unused_samples} samples"
         unsure = uncertain_summary(uncertain_features(rec))
         if unsure:  # never silently wrong: a closed result the sample does not support is amber
             verdict += f" ({unsure})"
-            ok = "warn" if ok else ok
             self.docks["info"].raise_()  # its tab, when the docks share one column: the list is there
+        # the bar's colour is the verdict's over the view and in Information (describe.verdict): one verdict
+        ok = {"ok": True, "warn": "warn", "bad": False}[describe_verdict(rec, truth)[0]]
         self.run_panel.show_idle(f"{rec.mode}: done in {sum(rec.timings.values()):.2f} s — {verdict}", ok=ok)
         message = (
             f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} steps of "

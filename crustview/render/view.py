@@ -482,7 +482,8 @@ class SceneView(CameraControl):
         level, words = verdict(rec, self.model.truth)
         if level == "ok":
             # the verdict is over the view whatever the dock shows (Steps is in front after a run)
-            return [words + " — every handle, hole and part supported by the sample"] + thinned
+            what = "every part" if rec.d == 1 else "every handle, hole and part"
+            return [f"{words} — {what} supported by the sample"] + thinned
         # two lines: the verdict, and its bracket (the uncertain features, or why); a mismatch's Betti tuples stay whole
         at = " (uncertain" if " (uncertain" in words else " (" if not words.startswith("M_S is WRONG") else "\0"
         head, _, rest = words.partition(at)

@@ -308,7 +308,8 @@ def verdict(rec: Reconstruction, truth=None) -> tuple[str, str]:
     unc = uncertain_summary(uncertain_features(rec))
     problems = truth_problems(rec, truth)
     if problems:
-        return "bad", "M_S is WRONG: " + ", ".join(problems) + (f" ({unc})" if unc else "")
+        skips = [f"{t.unused_samples} unused"] if t.closed_manifold and t.unused_samples else []
+        return "bad", "M_S is WRONG: " + ", ".join(problems + skips) + (f" ({unc})" if unc else "")
     if t.closed_manifold and not t.unused_samples and unc:
         return "warn", f"M_S is a closed manifold through every sample, but not all of it is supported ({unc})"
     if t.closed_manifold and not t.unused_samples:

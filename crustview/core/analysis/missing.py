@@ -38,6 +38,9 @@ from scipy.spatial import cKDTree
 from ..util.nearest import nearest_distances
 from .features import GAP_MIN, Feature
 
+#: Nearest left-out samples each one is linked to (within reach): the features' component gaps' 16
+#: (a sample's own ring and, at a contact, the other side).
+LINKS = 16
 #: Vertices of M_S nearest to a left-out sample whose median nearest-neighbour distance is the surface's spacing
 #: there (``insert-sample``'s 8: the sample's own ring of neighbours on a surface, about 6, and a few beyond).
 SURFACE_NEAREST = 8
@@ -82,11 +85,18 @@ def left_out(points: np.ndarray, simplices: np.ndarray, d: int) -> list[Feature]
     nn = nearest_distances(points)
     unit = float(np.median(nn[nn > 0])) if (nn > 0).any() else 1.0
     local = _surface_spacing(points, np.flatnonzero(used), out_ids, nn, unit)
-    pairs = cKDTree(points[out_ids]).query_pairs(GAP_MIN * float(local.max()), output_type="ndarray").reshape(-1, 2)
-    reach = GAP_MIN * np.maximum(local[pairs[:, 0]], local[pairs[:, 1]])
-    gap = np.linalg.norm(points[out_ids[pairs[:, 0]]] - points[out_ids[pairs[:, 1]]], axis=1)
-    pairs = pairs[gap < reach]
+    # each left-out sample linked to its LINKS nearest left-out samples within reach: bounded work however
+    # large the reach (one radius for all, or all pairs within it, grows with the square of a dense left-out
+    # patch beside a sparse M_S); a chain of nearer links joins what a farther pair within reach would
     m = len(out_ids)
+    k = min(m, LINKS + 1)
+    dist, idx = cKDTree(points[out_ids]).query(points[out_ids], k=k)
+    dist, idx = dist.reshape(m, k), idx.reshape(m, k)
+    rows = np.repeat(np.arange(m), k)
+    cols = idx.ravel()
+    reach = GAP_MIN * np.maximum(local[rows], local[cols])
+    keep = (cols != rows) & (dist.ravel() < reach)
+    pairs = np.stack([rows[keep], cols[keep]], axis=1)
     graph = coo_matrix((np.ones(len(pairs), np.int8), (pairs[:, 0], pairs[:, 1])), shape=(m, m))
     _, label = connected_components(graph, directed=False)
     result = []

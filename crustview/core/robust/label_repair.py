@@ -310,10 +310,11 @@ class LabelEditor:
 
 
 def face_sizes(points: np.ndarray, spacing: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """Circumradius of each triangle over the mean of its vertices' ``spacing`` (:func:`.grow.size_ratio`'s measure).
+    """Circumradius of each triangle over the mean of its vertices' ``spacing``.
 
-    ``spacing`` is the labelling's nearest-neighbour distance per sample (a duplicate's replaced by the
-    median), so a few triangles are measured without the whole sample's nearest-neighbour pass.
+    :func:`.grow.size_ratio`'s measure when ``spacing`` is the nearest-neighbour distance; ``sculpt-sample``
+    passes its own unit (:meth:`LabelEditor._unit`, never below that distance), so a few triangles are
+    measured without the whole sample's nearest-neighbour pass.
     """
     p = points[triangles]
     a = np.linalg.norm(p[:, 1] - p[:, 2], axis=1)
