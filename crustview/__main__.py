@@ -31,16 +31,6 @@ class _Parser(argparse.ArgumentParser):
         raise _UsageError(f"{message} (see '{self.prog} --help')")
 
 
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value}")
-    return value
-
-
 def _nonnegative_float(text: str) -> float:
     try:
         value = float(text)
@@ -89,7 +79,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("sample", help="sample a built-in manifold to a point file")
     p.add_argument("name", help="manifold name (see 'crustview list')")
-    p.add_argument("-n", type=_positive_int, default=None, help="number of points (default: the manifold's default)")
+    p.add_argument(
+        "-n", type=cli_reconstruct.positive_int, default=None, help="number of points (default: the manifold's default)"
+    )
     p.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
     p.add_argument(
         "--noise",

@@ -35,12 +35,9 @@ def dimension_arg(text: str) -> int | str:
     if text.strip().lower() == "auto":
         return "auto"
     try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive integer or 'auto', got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer or 'auto', got {value}")
-    return value
+        return positive_int(text)
+    except argparse.ArgumentTypeError as err:
+        raise argparse.ArgumentTypeError(f"{err} (or 'auto')") from None
 
 
 def add_parser(sub, angle_type) -> None:
@@ -65,7 +62,7 @@ def add_parser(sub, angle_type) -> None:
         help="batch mode: write NAME.npz and NAME.report.json per input and summary.csv/summary.json here",
     )
     p.add_argument(
-        "-j", "--jobs", type=_positive, default=1, help="batch mode: files reconstructed at once (processes, >= 1)"
+        "-j", "--jobs", type=positive_int, default=1, help="batch mode: files reconstructed at once (processes, >= 1)"
     )
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors (no progress, no summary)")
     p.add_argument("--force", action="store_true", help="allow writing over the input file")
@@ -132,14 +129,14 @@ def check_outputs(inputs: list[Path], outputs: list[Path], force: bool, hint: bo
         seen[key] = out
 
 
-def _positive(text: str) -> int:
-    """An argparse type: a whole number of at least 1."""
+def positive_int(text: str) -> int:
+    """An argparse type: a whole number of at least 1 (``-j``, and ``crustview sample -n``)."""
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
     if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, not {value}")
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {value}")
     return value
 
 

@@ -78,18 +78,23 @@ def _fsize_limit(limit):
     return apply
 
 
-@pytest.mark.parametrize("name", ["victim.npz", "victim.ply"])
-def test_a_file_size_limit_below_the_result_keeps_the_old_result(setup, name):
-    folder, old = setup
-    limit = len(old[name]) // 3  # the new result (of a larger sample) is bigger still
-    run = subprocess.run(
-        _cmd("reconstruct", folder / "torus.npy", "-d", 2, "-o", folder / name),
+def _limited(limit, source, *outputs):
+    """The real command reconstructing ``source`` under a file-size limit of ``limit`` bytes."""
+    return subprocess.run(
+        _cmd("reconstruct", source, "-d", 2, *outputs),
         env=ENV,
         capture_output=True,
         text=True,
         preexec_fn=_fsize_limit(limit),
         timeout=120,
     )
+
+
+@pytest.mark.parametrize("name", ["victim.npz", "victim.ply"])
+def test_a_file_size_limit_below_the_result_keeps_the_old_result(setup, name):
+    folder, old = setup
+    limit = len(old[name]) // 3  # the new result (of a larger sample) is bigger still
+    run = _limited(limit, folder / "torus.npy", "-o", folder / name)
     assert run.returncode == 2, run.stderr
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and "Cannot write" in lines[0] and "File too large" in lines[0], run.stderr
@@ -194,12 +199,12 @@ def _make_read_only(folder):
     return lambda: subprocess.run(["chattr", "-i", str(folder)], check=True)
 
 
-def test_a_read_only_folder_keeps_the_old_result(setup):
-    folder, old = setup
-    undo = _make_read_only(folder)
+def _reconstruct_in(closed, folder, *outputs):
+    """The real command on ``folder``'s torus with ``outputs``, while ``closed`` is a read-only folder."""
+    undo = _make_read_only(closed)
     try:
-        run = subprocess.run(
-            _cmd("reconstruct", folder / "torus.npy", "-d", 2, "-o", folder / "victim.npz"),
+        return subprocess.run(
+            _cmd("reconstruct", folder / "torus.npy", "-d", 2, *outputs),
             env=ENV,
             capture_output=True,
             text=True,
@@ -207,6 +212,11 @@ def test_a_read_only_folder_keeps_the_old_result(setup):
         )
     finally:
         undo()
+
+
+def test_a_read_only_folder_keeps_the_old_result(setup):
+    folder, old = setup
+    run = _reconstruct_in(folder, folder, "-o", folder / "victim.npz")
     assert run.returncode == 2, run.stderr
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and "Cannot write" in lines[0], run.stderr
@@ -217,17 +227,7 @@ def test_a_read_only_report_folder_fails_before_the_run_and_writes_nothing(setup
     """The result's folder is writable, the report's is not: the command stops before reconstructing."""
     folder, old = setup
     closed = tmp_path_factory.mktemp("closed")
-    undo = _make_read_only(closed)
-    try:
-        run = subprocess.run(
-            _cmd("reconstruct", folder / "torus.npy", "-d", 2, "-o", folder / "new.npz", "--report", closed / "r.json"),
-            env=ENV,
-            capture_output=True,
-            text=True,
-            timeout=120,
-        )
-    finally:
-        undo()
+    run = _reconstruct_in(closed, folder, "-o", folder / "new.npz", "--report", closed / "r.json")
     assert run.returncode == 2, run.stderr
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and f"the folder '{closed}' cannot be written to" in lines[0], run.stderr
@@ -241,23 +241,7 @@ def test_a_result_that_cannot_be_written_puts_the_previous_report_back(setup):
     folder, old = setup
     limit = 2 * len(old["victim.json"])
     assert len(old["victim.npz"]) > 2 * limit  # the premise: the result (of a larger sample) cannot fit
-    run = subprocess.run(
-        _cmd(
-            "reconstruct",
-            folder / "torus.npy",
-            "-d",
-            2,
-            "-o",
-            folder / "victim.npz",
-            "--report",
-            folder / "victim.json",
-        ),
-        env=ENV,
-        capture_output=True,
-        text=True,
-        preexec_fn=_fsize_limit(limit),
-        timeout=120,
-    )
+    run = _limited(limit, folder / "torus.npy", "-o", folder / "victim.npz", "--report", folder / "victim.json")
     assert run.returncode == 2, run.stderr
     assert "victim.npz" in run.stderr and "File too large" in run.stderr, run.stderr
     _intact(folder, old)

@@ -55,6 +55,11 @@ def size_ratio(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
     if len(faces) == 0:
         return np.zeros(0)
     nn = nearest_distances(points)
+    return circumradii(points, faces) / np.maximum(nn[faces].mean(axis=1), 1e-300)
+
+
+def circumradii(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Circumradius of each simplex ``faces`` (f, d + 1) of ``points``; triangles in closed form."""
     p = points[faces]
     if faces.shape[1] == 3:  # triangles: R = abc / (4 area), in closed form
         a = np.linalg.norm(p[:, 1] - p[:, 2], axis=1)
@@ -70,7 +75,7 @@ def size_ratio(points: np.ndarray, faces: np.ndarray) -> np.ndarray:
         reg = 1e-12 * np.maximum(np.einsum("fdd->f", gram), 1e-300)[:, None, None] * np.eye(gram.shape[1])
         lam = np.linalg.solve(gram + reg, rhs[..., None])[..., 0]
         radius = np.linalg.norm(np.einsum("fd,fdk->fk", lam, a), axis=1)
-    return radius / np.maximum(nn[faces].mean(axis=1), 1e-300)
+    return radius
 
 
 def unit_normals_to_facets(points: np.ndarray, simplices: np.ndarray) -> np.ndarray:

@@ -51,7 +51,7 @@ from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import connected_components
 
 from ..analysis.radii import enclosing_cover
-from .grow import SIZE_MAX
+from .grow import SIZE_MAX, circumradii
 from .labelling import Labelling
 
 try:  # the compiled star_pieces; the Python reference below gives the same pieces
@@ -316,11 +316,4 @@ def face_sizes(points: np.ndarray, spacing: np.ndarray, triangles: np.ndarray) -
     passes its own unit (:meth:`LabelEditor._unit`, never below that distance), so a few triangles are
     measured without the whole sample's nearest-neighbour pass.
     """
-    p = points[triangles]
-    a = np.linalg.norm(p[:, 1] - p[:, 2], axis=1)
-    b = np.linalg.norm(p[:, 0] - p[:, 2], axis=1)
-    c = np.linalg.norm(p[:, 0] - p[:, 1], axis=1)
-    s = 0.5 * (a + b + c)
-    area4 = 4.0 * np.sqrt(np.maximum(s * (s - a) * (s - b) * (s - c), 0.0))
-    radius = a * b * c / np.maximum(area4, 1e-300)
-    return radius / np.maximum(spacing[triangles].mean(axis=1), 1e-300)
+    return circumradii(points, triangles) / np.maximum(spacing[triangles].mean(axis=1), 1e-300)
