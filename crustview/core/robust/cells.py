@@ -257,8 +257,35 @@ def extract_by_labels(
     Extraction
         ``mode = "robust"``; ``labelling`` holds the :class:`~.labelling.Labelling`.
     """
-    n = len(points)
     lab = Labelling(points, delaunay_points, simplices, centres)
+    inside0 = lab.inside.copy()
+    report = progress or (lambda f: None)
+    ext = _labelled(points, delaunay_points, lab, faces, candidates, spacing, report, frozenset())
+    # samples left out where sculpt-sample's size bound held some back (which changes what the later rules do,
+    # not only for those): run again with the held ones sculpted through their least confident cell, as before
+    # the bound (every sample a vertex comes first)
+    free = frozenset(ext.sculpt_held) if ext.left_samples else frozenset()  # type: ignore[attr-defined]
+    if free:
+        lab.inside[:] = inside0
+        ext = _labelled(points, delaunay_points, lab, faces, candidates, spacing, report, free)
+    return ext
+
+
+def _labelled(
+    points: np.ndarray,
+    delaunay_points: np.ndarray,
+    lab: Labelling,
+    faces: np.ndarray,
+    candidates: np.ndarray,
+    spacing: float,
+    report: Callable[[float], None],
+    free: frozenset,
+) -> Extraction:
+    """One run of the labelled path on ``lab`` (its labels as the labelling left them); see :func:`extract_by_labels`.
+
+    ``free``: samples ``sculpt-sample`` brings onto M_S without its size bound.
+    """
+    n = len(points)
     log = StepLog(candidates, n)
     surf, _ = lab.surface()
     n_in = int(lab.inside.sum())
@@ -272,7 +299,6 @@ def extract_by_labels(
         f"(deep overlap: same side; shallow touch and a sample's two poles: opposite sides; big balls first); "
         f"M_S is the {len(surf)} faces between the two ({lab.violated} ties could not be kept)",
     )
-    report = progress or (lambda f: None)
     report(0.4)
     ed = LabelEditor(lab)
     # the vertex test of repair-vertex costs a pass over every cell corner: only when something pinches
@@ -288,7 +314,7 @@ def extract_by_labels(
             f"(confidence {float(lab.confidence[cells].max()):.2f} or less)",
         )
     report(0.6)
-    for v, _cells, removed, added in ed.sculpt():
+    for v, _cells, removed, added in ed.sculpt(free):
         log.step(
             RULE_SCULPT,
             (int(v),),
@@ -325,7 +351,7 @@ def extract_by_labels(
     cut = ed.cut
     inner = np.where(lab.inside[lab.a[cut]], lab.a[cut], lab.b[cut])
     now = lab.faces[cut]
-    orient = oriented(now, inner, simplices, delaunay_points)
+    orient = oriented(now, inner, lab.simplices, delaunay_points)
     pt = Patcher(points, list(map(tuple, now.tolist())), faces, spacing, orient=orient.tolist(), orientable=True)
     examined = cap_patches(now, size_ratio(points, now) > SIZE_MAX, n)
     radii = enclosing_radii(points, now) if examined else np.zeros(0)
@@ -397,6 +423,8 @@ def extract_by_labels(
         )
     ext = log.extraction(stopped, notes)
     ext.labelling = lab  # type: ignore[attr-defined]
+    ext.sculpt_held = sorted(ed.held)  # type: ignore[attr-defined]
+    ext.left_samples = list(left)  # type: ignore[attr-defined]
     closed_caps = kept_caps(points, undecided)
     if closed_caps:
         ext.notes.append(
