@@ -485,9 +485,15 @@ class SceneView(CameraControl):
             what = "every part" if rec.d == 1 else "every handle, hole and part"
             return [f"{words} — {what} supported by the sample"] + thinned
         # two lines: the verdict, and its bracket (the uncertain features, or why); a mismatch's Betti tuples stay whole
-        at = " (uncertain" if " (uncertain" in words else " (" if not words.startswith("M_S is WRONG") else "\0"
-        head, _, rest = words.partition(at)
-        return [head, (at.strip() + rest + " — see Information") if rest else "see Information"] + thinned
+        if " (uncertain" in words:
+            head, rest = words.split(" (uncertain", 1)
+            rest = "(uncertain" + rest
+        elif words.startswith("M_S is WRONG"):
+            head, rest = words, ""
+        else:
+            head, _, rest = words.partition(" (")
+            rest = "(" + rest if rest else ""
+        return [head, (rest + " — see Information") if rest else "see Information"] + thinned
 
     def update_basis_text(self) -> None:
         p = self.model.projection

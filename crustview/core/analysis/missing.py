@@ -31,12 +31,11 @@ is not sure of.
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from ..util.nearest import nearest_distances
 from .features import GAP_MIN, Feature
+from .topology import graph_components
 
 #: Nearest left-out samples each one is linked to (within reach): the features' component gaps' 16
 #: (a sample's own ring and, at a contact, the other side).
@@ -96,9 +95,7 @@ def left_out(points: np.ndarray, simplices: np.ndarray, d: int) -> list[Feature]
     cols = idx.ravel()
     reach = GAP_MIN * np.maximum(local[rows], local[cols])
     keep = (cols != rows) & (dist.ravel() < reach)
-    pairs = np.stack([rows[keep], cols[keep]], axis=1)
-    graph = coo_matrix((np.ones(len(pairs), np.int8), (pairs[:, 0], pairs[:, 1])), shape=(m, m))
-    _, label = connected_components(graph, directed=False)
+    _, label = graph_components(m, np.stack([rows[keep], cols[keep]], axis=1))
     result = []
     for c in np.flatnonzero(np.bincount(label) >= d + 1).tolist():
         ids = out_ids[label == c]
