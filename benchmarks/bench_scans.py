@@ -35,7 +35,8 @@ Run: ``python benchmarks/bench_scans.py [--only NAME] [--clean-only] [--peers] [
 ``--subsample 0.5 --seed 7`` random halves of every sample (draw 7), sparser samples of the same objects;
 ``--decimate 0.3`` every mesh decimated to 30 % of its faces first (other tessellations of the same objects);
 ``--gradient 0.25 --seed 3`` samples thinned along their longest axis down to a quarter (density varying 4 times);
-``--rotate --seed 5`` every case turned, scaled and moved at random (another pose; the noisy copies are made first).
+``--rotate --seed 5`` every case turned, scaled and moved at random (another pose; the noisy copies are made first);
+``--folder DIR`` the meshes in another folder instead (its truth from their faces without a ``truth.json``).
 All 72 files in both modes take about 10 minutes on two cores.
 """
 
@@ -128,6 +129,7 @@ def cases(
     decimate: float | None = None,
     gradient: float | None = None,
     rotate: bool = False,
+    folders: list[Path] | None = None,
 ) -> list[Case]:
     """The clean meshes (unless not ``clean``) and, with ``noise``, their noisy copies (made once into ``noisy_dir``).
 
@@ -141,14 +143,15 @@ def cases(
     principal axis (numpy's draw ``seed``): a density that varies 1/``gradient`` times across the object,
     as a scanner's does with distance.  With ``rotate``, every case is turned by a random rotation,
     scaled by a random factor between 1/100 and 100 and moved (numpy's draw ``seed``): the same objects in
-    another pose and unit, which no result should notice.
+    another pose and unit, which no result should notice.  ``folders`` replaces the shared data's two
+    folders (:func:`folder_truth` gives a folder without a ``truth.json`` its truth from the faces).
     """
     out = []
-    for folder in FOLDERS:
+    for folder in FOLDERS if folders is None else folders:
         if not folder.is_dir():
             print(f"no folder {folder}: skipped", file=sys.stderr)
             continue
-        truth = json.loads((folder / "truth.json").read_text())
+        truth = folder_truth(folder)
         for fname in sorted(truth, key=lambda f: truth[f]["points"]):
             stem = Path(fname).stem
             if only and stem not in only and fname not in only:
@@ -181,6 +184,36 @@ def cases(
                     noisy = noisy if keep is None else noisy[keep]
                     name = f"{stem}-n{round(100 * level):02d}{tag}"
                     out.append(Case(name, pose(noisy), true, level, betti, small, whole))
+    return out
+
+
+def folder_truth(folder: Path) -> dict:
+    """``folder``'s ``truth.json``, or, without one, the truth of each mesh in it from its own faces.
+
+    The faces' own topology: ``closed`` when every edge has two triangles and every vertex a disc of them
+    (crustview's ``analyse``), ``components`` and ``genus`` from its Z/2 Betti numbers (c, 2g, c), and
+    ``boundary_edges``; the table's columns need no more.  A mesh whose faces are not a manifold is
+    reported and left out: it has no genus to judge by.
+    """
+    if (folder / "truth.json").is_file():
+        return json.loads((folder / "truth.json").read_text())
+    out = {}
+    for path in sorted(folder.iterdir()):
+        if path.suffix.lower() not in (".off", ".obj", ".ply", ".stl", ".vtp"):
+            continue
+        mesh = read_mesh(path)
+        top = analyse(np.asarray(mesh.simplices(2)), len(mesh.points), 2)
+        if top.nonmanifold_faces or top.singular_vertices:
+            print(f"{path.name}: its faces are not a manifold: skipped", file=sys.stderr)
+            continue
+        b = top.betti
+        out[path.name] = {
+            "points": len(mesh.points),
+            "closed": bool(top.closed_manifold),
+            "components": int(b[0]),
+            "genus": int(b[1]) // 2 if top.closed_manifold else None,
+            "boundary_edges": int(top.boundary_faces),
+        }
     return out
 
 
@@ -420,6 +453,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--rotate", action="store_true", help="turn, scale and move every case at random (draw --seed): another pose"
     )
+    ap.add_argument(
+        "--folder",
+        action="append",
+        type=Path,
+        metavar="DIR",
+        help="meshes in DIR instead of the shared data (repeatable; truth from the faces without a truth.json)",
+    )
     a = ap.parse_args(argv)
     if a.gradient is not None and not 0 < a.gradient <= 1:
         ap.error("--gradient takes a share in (0, 1]")
@@ -430,11 +470,22 @@ def main(argv: list[str] | None = None) -> int:
         ap.error("--clean-only and --noisy-only leave nothing to run")
     here = Path(__file__).resolve().parent
     noisy_dir = a.noisy_dir or (here / (".noisy" if a.seed == 0 else f".noisy-s{a.seed}"))
+    if a.folder and not a.noisy_dir:  # other meshes' copies apart from the shared data's (stems may repeat)
+        noisy_dir = here / ".noisy-folders" / f"s{a.seed}"
     print(HEADER, flush=True)
     rows: list[Row] = []
     only = set(a.only) if a.only else None
     todo = cases(
-        not a.clean_only, only, noisy_dir, a.seed, not a.noisy_only, a.subsample, a.decimate, a.gradient, a.rotate
+        not a.clean_only,
+        only,
+        noisy_dir,
+        a.seed,
+        not a.noisy_only,
+        a.subsample,
+        a.decimate,
+        a.gradient,
+        a.rotate,
+        a.folder,
     )
     for case in todo:
         new = run_crustview(case, modes)
