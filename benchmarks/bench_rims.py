@@ -13,12 +13,14 @@ disputed) of the robust result of
   false) at 0.1 h and 0.3 h, seeds 1 and 2,
 
 its rim's RMS distance from its least-squares plane in the run's median
-nearest-neighbour distance h (:func:`~crustview.core.analysis.planar.rim_offset`),
+nearest-neighbour distance h (:func:`~crustview.core.analysis.planar.rim_offset`), the
+median distance of its samples from the plane of the half of them nearest to
+it (:func:`~crustview.core.analysis.planar.trimmed_offset`),
 whether it is a true opening (the mesh is open and the rim's samples lie, in
 the median, within 2 h of the mesh's own boundary vertices) and whether the
 result calls it uncertain.  The closing lines give the ranges on either
-side: true openings above PLANAR_RIM stay sure, false holes at most
-PLANAR_RIM are flagged.
+side: true openings above PLANAR_RIM and PLANAR_MEDIAN stay sure, false holes
+at most either are flagged.
 
 Run: ``python benchmarks/bench_rims.py [--only NAME ...] [--decimate 0.3] [--shapes]`` (about 3 minutes for the
 public files; ``--shapes`` adds 2).
@@ -38,7 +40,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_scans import FOLDERS, Case, cases  # noqa: E402
 
 from crustview.core import reconstruct  # noqa: E402
-from crustview.core.analysis.planar import PLANAR_RIM, rim_offset  # noqa: E402
+from crustview.core.analysis.planar import PLANAR_MEDIAN, PLANAR_RIM, rim_offset, trimmed_offset  # noqa: E402
 from crustview.io import read_mesh  # noqa: E402
 
 
@@ -73,8 +75,11 @@ def main(argv: list[str] | None = None) -> int:
     todo = cases(True, set(args.only) if args.only else None, args.noisy_dir, decimate=args.decimate)
     if args.shapes:
         todo += shape_cases()
-    print("| file | hole (spacings across) | rim off its plane (h, RMS) | true opening | uncertain |")
-    print("|---|---|---|---|---|")
+    print(
+        "| file | hole (spacings across) | rim off its plane (h, RMS) | median off its trimmed plane (h) "
+        "| true opening | uncertain |"
+    )
+    print("|---|---|---|---|---|---|")
     real, false = [], []
     rims: dict[str, np.ndarray] = {}
     for case in todo:
@@ -87,23 +92,33 @@ def main(argv: list[str] | None = None) -> int:
             if f.kind != "hole" or f.removed or f.disputed:
                 continue
             off = rim_offset(rec.points, f.vertices, rec.spacing)
+            med = trimmed_offset(rec.points, f.vertices, rec.spacing)
             true = bool(tree is not None and np.median(tree.query(rec.points[f.vertices])[0]) < 2 * rec.spacing)
-            (real if true else false).append((off, f.uncertain))
+            (real if true else false).append((off, med, f.uncertain))
             print(
-                f"| {case.name} | {f.size_spacings:.1f} | {off:.2f} | {'yes' if true else 'no'} | "
+                f"| {case.name} | {f.size_spacings:.1f} | {off:.2f} | {med:.2f} | {'yes' if true else 'no'} | "
                 f"{'yes' if f.uncertain else 'no'} |",
                 flush=True,
             )
     print()
-    print(f"PLANAR_RIM = {PLANAR_RIM:g}")
+    print(f"PLANAR_RIM = {PLANAR_RIM:g}, PLANAR_MEDIAN = {PLANAR_MEDIAN:.3g}")
     for kind, rows in (("true openings", real), ("false holes", false)):
         if not rows:
             print(f"{kind}: none")
             continue
-        offs = [o for o, _ in rows]
+        offs = [o for o, _, _ in rows]
+        meds = [m for _, m, _ in rows]
+        beyond = [m for o, m, _ in rows if o > PLANAR_RIM]
         print(
             f"{kind}: {len(rows)}, rims {min(offs):.2f}-{max(offs):.2f} h off their planes; "
-            f"{sum(o <= PLANAR_RIM for o in offs)} at most PLANAR_RIM; {sum(u for _, u in rows)} uncertain in all"
+            f"{sum(o <= PLANAR_RIM for o in offs)} at most PLANAR_RIM; medians off the trimmed planes "
+            f"{min(meds):.2f}-{max(meds):.2f}, of those over PLANAR_RIM "
+            + (
+                f"{min(beyond):.2f}-{max(beyond):.2f}, {sum(m <= PLANAR_MEDIAN for m in beyond)}"
+                if beyond
+                else "none, 0"
+            )
+            + f" at most PLANAR_MEDIAN; {sum(u for _, _, u in rows)} uncertain in all"
         )
     return 0
 

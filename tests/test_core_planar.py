@@ -9,7 +9,15 @@ import pytest
 
 from crustview.core import reconstruct
 from crustview.core.analysis.features import Feature
-from crustview.core.analysis.planar import PLANAR_RIM, flat_offset, planar_holes, rim_offset
+from crustview.core.analysis.planar import (
+    PLANAR_MEDIAN,
+    PLANAR_RIM,
+    flat_offset,
+    planar_holes,
+    rim_offset,
+    trimmed_offset,
+    trimmed_plane,
+)
 
 
 def test_flat_offset_of_a_square_and_of_a_saddle_by_hand() -> None:
@@ -49,6 +57,43 @@ def test_a_planar_rim_makes_its_hole_uncertain_and_a_wavy_one_does_not() -> None
     # nothing to do: the same list back
     rest = feats[1:]
     assert planar_holes(points, rest, 1.0) is rest
+
+
+def test_a_rim_that_leaves_its_plane_on_less_than_half_its_length_is_planar_by_hand() -> None:
+    """On paper: 9 samples of a rim at z = 0 and 7 at z = 5 (a flat end's rim that zigzags to the next ring
+    of samples).  Off the least-squares plane they lie 2.5 RMS or so; the plane of the nearest half is z = 0,
+    and the median distance from it is 0: planar.  With 8 and 8 alternating no plane holds half the rim: the
+    median distance stays about half the step (2.4 from the best tilted plane), far over PLANAR_MEDIAN."""
+    t = 2 * np.pi * np.arange(16) / 16
+    up = np.isin(np.arange(16), [1, 3, 5, 8, 10, 12, 14])  # 7 of 16
+    pts = np.c_[10 * np.cos(t), 10 * np.sin(t), 5.0 * up]
+    assert rim_offset(pts, np.arange(16), 1.0) > 2 * PLANAR_RIM
+    centre, normal, distance = trimmed_plane(pts)
+    assert abs(normal[2]) == pytest.approx(1.0) and centre[2] == pytest.approx(0.0, abs=1e-12)
+    assert np.allclose(distance, 5.0 * up)
+    assert trimmed_offset(pts, np.arange(16), 1.0) == pytest.approx(0.0, abs=1e-12)
+    assert trimmed_offset(pts, np.arange(16), 0.5) == pytest.approx(0.0, abs=1e-12)
+    (out,) = planar_holes(pts, [_hole(np.arange(16))], 1.0)
+    assert out.uncertain and "half its rim or more lies in a plane" in out.reason
+    even = np.c_[pts[:, :2], 5.0 * (np.arange(16) % 2)]  # 8 and 8
+    assert trimmed_offset(even, np.arange(16), 1.0) > 2.0 > PLANAR_MEDIAN
+    assert not planar_holes(even, [_hole(np.arange(16))], 1.0)[0].uncertain
+
+
+def test_a_closed_cylinder_whose_rings_are_five_times_apart_is_never_reported_open_for_sure() -> None:
+    """Rings 5 times farther apart than the samples along them: open-cap's patch over a flat end also takes
+    long faces of the wall beside it, so the hole's rim zigzags to the next ring in places (0.8-1.3 spacings
+    RMS off its plane, over PLANAR_RIM: two sure holes on a closed solid before PLANAR_MEDIAN).  Half the
+    rim or more still lies in the end's plane: every hole is uncertain, or the result closed."""
+    pts = _turned_outline(ratio=5.0)
+    h = float(np.median(np.linalg.norm(pts[1:97] - pts[:96], axis=1)))
+    for level in (0.1, 0.3):
+        rec = reconstruct(pts + np.random.default_rng(1).normal(scale=level * h, size=pts.shape), 2)
+        holes = [f for f in rec.features if f.kind == "hole" and not f.removed and not f.disputed]
+        if rec.topology.closed_manifold:
+            assert rec.topology.betti == (1, 0, 1)
+        else:
+            assert holes and all(f.uncertain for f in holes), [f.reason for f in holes]
 
 
 def _turned_outline(around: int = 96, ratio: float = 1.5) -> np.ndarray:
