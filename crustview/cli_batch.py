@@ -4,7 +4,7 @@ For every input ``NAME.ext`` it writes ``DIR/NAME.npz`` and
 ``DIR/NAME.report.json`` (a number is added to names that two inputs
 share), prints one row per file as it finishes, and writes
 ``DIR/summary.csv`` and ``DIR/summary.json`` (in the order of the inputs):
-file, status, points, k, d, closed, Betti numbers, uncertain handles,
+file, status, verdict (sure, uncertain, wrong or failed), points, k, d, closed, Betti numbers, uncertain handles,
 holes and components, seconds, outputs and the error of a failed file.
 The exit status is 0 when every file succeeded, 1 otherwise.  Ctrl-C
 stops the workers; every file is written atomically, so nothing partial
@@ -30,6 +30,7 @@ from crustview.core.errors import CrustviewError, InputError
 COLUMNS = (
     "file",
     "status",
+    "verdict",
     "points",
     "k",
     "d",
@@ -96,7 +97,7 @@ def row_line(row: dict[str, Any]) -> str:
     closed = "closed" if row["closed"] else "not closed"
     unc = row["uncertain_handles"] + row["uncertain_holes"] + row["uncertain_components"]
     return (
-        f"{name}: {row['points']} points, d = {row['d']}, {closed}, Betti {tuple(row['betti'])}, "
+        f"{name}: {row['verdict']}: {row['points']} points, d = {row['d']}, {closed}, Betti {tuple(row['betti'])}, "
         f"{unc} uncertain feature(s) ({row['uncertain_handles']} handles, {row['uncertain_holes']} holes, "
         f"{row['uncertain_components']} components), {row['seconds']:.1f} s"
     )

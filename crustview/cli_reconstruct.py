@@ -264,13 +264,29 @@ def reconstruct_file(
             _put_back(report, old)
             raise
     progress("write", 1.0)
+    from crustview.report import result_verdict
+
+    level, sentence = result_verdict(rec, comparison)
     say("summary", result_summary(rec, seconds, output))
     say("summary", extraction_summary(rec))
     if comparison is not None:
         say("summary", comparison_summary(comparison, path.name))
     for line in _attribute_lines(extra):
         say("summary", line)
-    return summary_row(path, rec, seconds, output, report, estimate)
+    say("summary", verdict_line(level, sentence))
+    return summary_row(path, rec, seconds, output, report, estimate, level)
+
+
+def verdict_line(level: str, sentence: str) -> str:
+    """The last printed line: how sure the result is, as the window's coloured verdict says it."""
+    more = {
+        "sure": "",
+        "uncertain": "; the report's uncertain_features says where (where the sample is much coarser than the "
+        "object, the truth may differ by more than they say)",
+        "wrong": "",
+        "failed": "",
+    }[level]
+    return f"Verdict: {level.upper()} -- {sentence}{more}."
 
 
 def _report_extra(rec, attributes: dict, estimate) -> dict[str, Any]:
@@ -295,13 +311,16 @@ def _attribute_lines(extra: dict[str, Any]) -> list[str]:
     ]
 
 
-def summary_row(path: Path, rec, seconds: float, output: Path, report: Path | None, estimate) -> dict[str, Any]:
-    """One row of the batch summary."""
+def summary_row(
+    path: Path, rec, seconds: float, output: Path, report: Path | None, estimate, verdict: str
+) -> dict[str, Any]:
+    """One row of the batch summary (``verdict``: :func:`crustview.report.result_verdict`'s word)."""
     top = rec.topology
     kinds = {kind: sum(f.kind == kind for f in rec.uncertain_features) for kind in ("handle", "hole", "component")}
     return {
         "file": str(path),
         "status": "ok",
+        "verdict": verdict,
         "points": int(len(rec.input_points)),
         "k": int(rec.k),
         "d": int(rec.d),

@@ -117,6 +117,7 @@ def report_dict(
     quality = summary(rec) if quality is None else quality
     quality = {key: value for key, value in quality.items() if key != "seconds"}
     more = {} if comparison is None else {"ground_truth": comparison.as_dict()}
+    level, sentence = result_verdict(rec, comparison)
     if rec.mode == "paper":
         more.update(_cascades(rec))
     more.update(extra or {})
@@ -137,6 +138,7 @@ def report_dict(
             "stopped": rec.extraction.stopped,
             "notes": list(rec.extraction.notes),
             "topology": rec.topology.as_dict(),
+            "verdict": {"level": level, "text": sentence},
             "left_out_samples": left_out_samples(rec),
             "uncertain_features": [f.as_dict() for f in rec.uncertain_features],
             # every handle the rule cut-handle removed (the ones below any eps < 1 sample's resolution too),
@@ -155,6 +157,20 @@ def report_dict(
     )
 
 
+def result_verdict(rec: Reconstruction, comparison: MeshComparison | None = None) -> tuple[str, str]:
+    """How sure the result is, in one word and a sentence, as the window says it.
+
+    ``"sure"``, ``"uncertain"``, ``"wrong"`` (the mesh's own faces contradict it: ``comparison``) or
+    ``"failed"`` (:func:`crustview.scene.describe.verdict_word`).
+    """
+    from types import SimpleNamespace
+
+    from crustview.scene.describe import verdict_word
+
+    truth = None if comparison is None else SimpleNamespace(comparison=comparison, manifold=None)
+    return verdict_word(rec, truth)
+
+
 def write_report(
     path: str | os.PathLike,
     rec: Reconstruction,
@@ -167,7 +183,8 @@ def write_report(
     n_candidates stopped``; ``holes_of_T_S`` (the number of (d-1)-faces of
     T_S in a single simplex before extraction); ``notes`` (how the
     extraction went, e.g. why the robust extension took over);
-    ``topology`` (:meth:`TopologyReport.as_dict`); ``rules``
+    ``topology`` (:meth:`TopologyReport.as_dict`); ``verdict`` (``level``: ``"sure"``, ``"uncertain"``,
+    ``"wrong"`` or ``"failed"``, and ``text``, as the window says it: :func:`result_verdict`); ``rules``
     (:meth:`Extraction.counts_by_rule`); ``sampling_quality``
     (:func:`crustview.core.analysis.quality.summary` without its ``seconds``:
     estimated epsilon and the samples beyond the paper's bounds);

@@ -144,8 +144,9 @@ def test_sample_then_reconstruct_a_circle(tmp_path):
     proc = run("reconstruct", pts, "-d", 1, "-o", out, "--report", report)
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr == ""
-    summary, extraction = proc.stdout.strip().split("\n")  # the result, then how it was extracted
+    summary, extraction, verdict = proc.stdout.strip().split("\n")  # the result, how it was extracted, how sure
     assert "100 points" in summary and "(1, 1)" in summary
+    assert verdict == "Verdict: SURE -- M_S is a closed manifold through every sample."
     # an evenly sampled circle: the paper's Algorithm 3 succeeds, so the robust default returns it
     assert extraction.startswith("extraction: robust (the paper's Algorithm 3 gave a closed manifold")
     with np.load(out) as z:
@@ -154,6 +155,7 @@ def test_sample_then_reconstruct_a_circle(tmp_path):
         assert float(z["theta"]) == pytest.approx(np.pi / 8)
     data = json.loads(report.read_text())
     assert data["topology"]["betti"] == [1, 1] and data["topology"]["closed_manifold"]
+    assert data["verdict"] == {"level": "sure", "text": "M_S is a closed manifold through every sample"}
     assert data["n"] == 100 and data["theta_degrees"] == pytest.approx(22.5)
 
 

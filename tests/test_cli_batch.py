@@ -59,7 +59,8 @@ def test_piped_only_the_summary_and_with_q_nothing(samples, tmp_path):
     )
     assert run.returncode == 0 and run.stderr == ""
     lines = run.stdout.splitlines()
-    assert len(lines) == 2 and lines[0].startswith("Reconstructed a surface") and lines[1].startswith("extraction:")
+    assert len(lines) == 3 and lines[0].startswith("Reconstructed a surface") and lines[1].startswith("extraction:")
+    assert lines[2] == "Verdict: SURE -- M_S is a closed manifold through every sample."
     quiet = subprocess.run(
         _cmd("reconstruct", samples / "torus.npy", "-d", "auto", "-o", tmp_path / "q.npz", "-q"),
         capture_output=True,

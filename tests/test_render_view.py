@@ -64,6 +64,28 @@ def test_step_highlight_matches_the_recorded_step(scene):
         assert step.parts[1].mesh.n_points == len(s.tau)
 
 
+def test_a_delivered_result_shows_no_step_markers_until_the_player_moves(scene):
+    """A run lands at its final M_S: the last step's tau and removed simplices are not drawn over it (a new
+    user read the cap open-cap removed from an open scan, drawn red, as a lid over the opening).  Stepping
+    back and forward to the same position draws them, as every other position does."""
+    model, view, _ = scene
+    ext = model.rec.extraction
+    step = view.adapters["step"]
+    last = ext.steps[-1]
+    assert model.player.position == ext.n_steps and model.player.current_step is last
+    assert model.player.shown_step is None
+    assert step.part.n_cells == 0 and step.parts[1].mesh.n_points == 0
+    assert not any(label.startswith("tau") for label, _ in view.legend_entries())
+    model.player.prev()
+    model.player.next()
+    assert model.player.shown_step is last
+    assert step.part.n_cells == len(last.kept) + len(last.removed) and step.parts[1].mesh.n_points == len(last.tau)
+    assert any(label.startswith("tau") for label, _ in view.legend_entries())
+    # the same result shown again (a re-extraction keeps the step): clean again at its end
+    model.set_reconstruction(model.rec, source="torus")
+    assert model.player.shown_step is None and step.part.n_cells == 0
+
+
 def test_projection_moves_points_but_not_data(scene):
     model, view, _ = scene
     rec = model.rec

@@ -103,8 +103,12 @@ def test_an_open_scan_kept_open_is_amber_in_robust_mode_and_red_in_paper_mode():
     assert not t.closed_manifold and t.boundary_faces > 0 and t.unused_samples == 0
     level, words = verdict(rec)
     assert level == "warn" and words.startswith("M_S is a surface with boundary through every sample (1 hole")
+    from crustview.scene.describe import verdict_word
+
+    assert verdict_word(rec) == ("uncertain", words)
     paper = reextract(rec, rec.test, rec.theta, mode="paper")
     assert verdict(paper)[0] == "bad"
+    assert verdict_word(paper)[0] == "failed"  # no truth contradicts it: it is no closed manifold at all
 
 
 def test_step_words_read_well_for_boundary_steps_and_empty_replays():
@@ -179,3 +183,12 @@ def test_a_result_that_contradicts_the_files_own_mesh_is_wrong_in_every_verdict(
     rows = {name: (found, exp) for name, found, exp in topology_rows(rec, None, other.comparison.mesh_topology)}
     assert rows["Betti numbers (Z/2)"] == ("1, 2, 1", "1, 2, 0")
     assert rows["closed manifold"] == ("yes", "no") and rows["boundary faces"][1] != "0"
+    # the command line and the JSON report say the same in one word (crustview.report.result_verdict)
+    from crustview.report import report_dict, result_verdict
+    from crustview.scene.describe import verdict_word
+
+    assert verdict_word(rec, same) == ("sure", "M_S is a closed manifold through every sample")
+    assert verdict_word(rec, other) == ("wrong", words)
+    assert result_verdict(rec, other.comparison) == ("wrong", words)
+    assert report_dict(rec, other.comparison)["verdict"] == {"level": "wrong", "text": words}
+    assert result_verdict(rec) == ("sure", "M_S is a closed manifold through every sample")

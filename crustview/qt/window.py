@@ -321,7 +321,7 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
 
     def _follow_step(self, *_) -> None:
         """With "Frame each step" on, look at the step just applied from its open side."""
-        step = self.model.player.current_step
+        step = self.model.player.shown_step
         if not self.steps_panel.follow.isChecked() or step is None or self.model.rec is None:
             return
         self.view.frame_step(step)

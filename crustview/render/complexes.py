@@ -380,7 +380,7 @@ class StepAdapter(LayerAdapter):
         rec = self.model.rec
         if rec is None:
             return
-        s = self.model.player.current_step
+        s = self.model.player.shown_step
         ext = rec.extraction
         kept = np.array(s.kept if s else (), dtype=np.int64)
         removed = np.array(s.removed if s else (), dtype=np.int64)

@@ -448,7 +448,7 @@ class SceneView(CameraControl):
                 out.append((uncertain_summary(uncertain_features(self.model.rec)) + final, layer.color))
                 continue
             out.append((layer.title, layer.color))
-        step = self.model.player.current_step
+        step = self.model.player.shown_step
         if layers["step"].visible and step is not None:
             out.append(("tau (face of the step)", STEP_COLORS["tau"]))
             if step.kept:

@@ -327,6 +327,26 @@ def verdict(rec: Reconstruction, truth=None) -> tuple[str, str]:
     return "bad", f"M_S is NOT a closed manifold ({why})"
 
 
+#: The word for each :func:`verdict` level that the command line, the JSON report and the batch summary print.
+VERDICT_WORDS = {"ok": "sure", "warn": "uncertain"}
+
+
+def verdict_word(rec: Reconstruction, truth=None) -> tuple[str, str]:
+    """:func:`verdict` in one word and its sentence, as the command line and the report give it.
+
+    "sure" (the window's green): a closed manifold through every sample whose every handle, hole and
+    component the sample supports; "uncertain" (amber): a result that may be right, whose doubts the report
+    lists; "wrong" (red): contradicted by a known truth (the input mesh's own faces); "failed" (red): no
+    closed manifold where one was asked for (the paper mode, or the robust extension stuck).  The features
+    an uncertain result names are the ones the sample leaves undecided; where it is much coarser than the
+    object (handles under its resolution), the truth may differ by more than they say.
+    """
+    level, text = verdict(rec, truth)
+    if level == "bad":
+        return ("wrong" if truth_problems(rec, truth) else "failed"), text
+    return VERDICT_WORDS[level], text
+
+
 def topology_rows(rec: Reconstruction, expected=None, mesh=None) -> list[tuple[str, str, str]]:
     """(quantity, found, expected) rows of the topology table.
 

@@ -34,6 +34,7 @@ class StepPlayer:
     def __init__(self, extraction: Extraction | None = None, speed: float = 10.0) -> None:
         self.extraction: Extraction | None = None
         self.position = 0
+        self.delivered = False
         self.playing = False
         self.speed = float(speed)
         #: Play only the steps of this rule (None: every step).
@@ -58,12 +59,24 @@ class StepPlayer:
             return None
         return self.extraction.steps[self.position - 1]
 
+    @property
+    def shown_step(self) -> Step | None:
+        """The step whose simplices the views mark (tau, removed now, added now).
+
+        :attr:`current_step`, except on a result just delivered at its end (:meth:`set_extraction` at
+        ``n_steps``), shown clean until the position moves.  The last step's markers over a finished result
+        read as part of it (an open scan's opening drawn as a red lid: the cap ``open-cap`` removed).
+        """
+        return None if self.delivered else self.current_step
+
     def set_extraction(self, extraction: Extraction | None, position: int = 0) -> None:
         """Replace the recorded extraction and go to ``position``."""
         self.pause()
         self.extraction = extraction
         self._rules = np.array([st.rule for st in extraction.steps] if extraction else [], dtype=object)
         self.position = max(0, min(int(position), self.n_steps))
+        #: At the final M_S as delivered, not moved since (see :attr:`shown_step`).
+        self.delivered = extraction is not None and self.position == self.n_steps
         self.extraction_changed.emit(self.n_steps)
         self.step_changed.emit(self.position)
 
@@ -73,6 +86,7 @@ class StepPlayer:
         i = max(0, min(int(i), self.n_steps))
         if i != self.position:
             self.position = i
+            self.delivered = False
             self.step_changed.emit(i)
 
     def first(self) -> None:
