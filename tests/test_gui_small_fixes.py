@@ -128,8 +128,10 @@ def test_the_information_dock_does_not_reflow_when_the_selection_or_step_changes
 @pytest.mark.gl
 @pytest.mark.parametrize("source", ["mesh", "built-in"])
 def test_the_ground_truth_shows_over_an_opaque_m_s(qtbot, window, source):
-    """Issue 10: the ground-truth layer was invisible under an opaque M_S.  It is drawn over
-    the scene, faint, like the step highlight: showing it changes the picture of M_S."""
+    """Issue 10: the ground-truth layer was invisible under an opaque M_S.  A built-in's dense sample is drawn
+    over the scene, faint, like the step highlight; a mesh's faces are drawn in the scene with their
+    lines ahead of M_S's coincident faces, towards the camera only (drawn over everything, a dense mesh's far
+    side and inner parts made a grey tangle of a gear set): showing either changes the picture of M_S."""
     import numpy as np
 
     if source == "mesh":
@@ -150,9 +152,14 @@ def test_the_ground_truth_shows_over_an_opaque_m_s(qtbot, window, source):
     assert window.view.adapters["truth"].part.n_cells > 0
     surface = np.abs(off - off[2, -3]).sum(axis=2) > 40  # M_S, not the background
     changed = np.abs(on - off).sum(axis=2) > 24
-    # a mesh's faces are a faint wireframe (issue 19: never taken for the result): fewer pixels change
-    share = 0.06 if source == "mesh" else 0.12
+    # a mesh's faces are a faint wireframe (issue 19: never taken for the result), its near side only (about
+    # half the edges the overlay drew: 5.7 % of M_S's pixels here against 12 % before): fewer pixels change
+    share = 0.03 if source == "mesh" else 0.12
     assert (changed & surface).sum() > share * surface.sum(), (changed & surface).sum() / surface.sum()
+    actor = window.view.adapters["truth"].part.actor
+    in_scene = window.plotter.renderer.HasViewProp(actor)
+    assert in_scene == (source == "mesh") and window.view.top_renderer.HasViewProp(actor) == (source != "mesh")
+    assert bool(actor.GetProperty().GetBackfaceCulling()) == (source == "mesh")
 
 
 def _run_dialog(qtbot, open_it) -> tuple[str, list[str]]:

@@ -248,6 +248,20 @@ class NormalsAdapter(LayerAdapter):
         self.part.mapper.SetRelativeCoincidentTopologyPolygonOffsetParameters(-1, -1)
 
 
+def _outward(faces: np.ndarray, points: np.ndarray) -> np.ndarray | None:
+    """The triangles oriented so that the volume they bound is positive.
+
+    None when they are not oriented consistently (an edge used twice in the same direction: then no face
+    can be told facing away).
+    """
+    directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    if len(np.unique(directed, axis=0)) != len(directed):
+        return None
+    a, b, c = (points[faces[:, i]] for i in range(3))
+    volume = float(np.einsum("ij,ij->", a, np.cross(b, c))) / 6.0
+    return faces if volume >= 0 else faces[:, ::-1]
+
+
 class TruthAdapter(LayerAdapter):
     """The ground truth, faint: a dense sample of a built-in manifold, or a mesh file's faces.
 
@@ -279,6 +293,7 @@ class TruthAdapter(LayerAdapter):
         if getattr(truth, "faces", None) is not None:
             self._load_faces(truth)
             return
+        self._in_scene(False)
         ref = np.asarray(truth.manifold.reference(self.N_DENSE), float)
         if ref.shape[1] != self.model.rec.k:
             return
@@ -295,8 +310,11 @@ class TruthAdapter(LayerAdapter):
         faces = np.asarray(truth.faces, dtype=np.int64)
         self.xk = pts
         self.project()
+        cull = False
         if faces.shape[1] == 3:
-            set_cells(self.part.mesh, polys=faces)
+            outward = _outward(faces, pts) if pts.shape[1] == 3 else None
+            cull = outward is not None
+            set_cells(self.part.mesh, polys=faces if outward is None else outward)
         elif faces.shape[1] == 2:
             set_cells(self.part.mesh, lines=faces)
         else:
@@ -304,6 +322,27 @@ class TruthAdapter(LayerAdapter):
             edges = np.unique(np.sort(np.concatenate(pairs), axis=1), axis=0)
             set_cells(self.part.mesh, lines=edges)
         self.layer.count = len(faces)
+        # drawn over the scene, a dense mesh's far side and the parts inside other parts showed through as a
+        # grey tangle (a gear set's long CAD edges): a mesh's faces are drawn in the scene, where M_S hides
+        # what lies behind it, and only those towards the camera where the mesh's orientation says which
+        self.part.actor.GetProperty().SetBackfaceCulling(cull)
+        self._in_scene(True)
+
+    def _in_scene(self, scene: bool) -> None:
+        """Draw this layer in the scene's renderer (hidden behind M_S) or in the overlay over it.
+
+        The overlay is for a built-in's dense sample: faint points that M_S would half cover where the two
+        nearly coincide.
+        """
+        main = self.plotter.renderer
+        top = getattr(self, "overlay", None)
+        if top is None:
+            return
+        want, other = (main, top) if scene else (top, main)
+        for part in self.parts:
+            if other.HasViewProp(part.actor):
+                other.RemoveActor(part.actor)
+                want.AddActor(part.actor)
 
     def apply_visibility(self) -> None:
         super().apply_visibility()

@@ -143,6 +143,7 @@ class SceneView(CameraControl):
                 self.plotter.remove_actor(part.actor, render=False)
                 top.AddActor(part.actor)
         self.top_renderer = top
+        self.adapters["truth"].overlay = top  # a mesh's faces move into the scene (TruthAdapter._in_scene)
 
     def _hud(self):
         """A third renderer layer, over the overlay: text, legends and colour bars.
