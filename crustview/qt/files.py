@@ -146,8 +146,19 @@ class FileActions:
             return False
         self._add_recent(path)
         name = Path(path).name
-        if self.model.rec is None:  # nothing shown yet: the raw points, while d is asked and the run goes
-            self.view.show_preview(points)
+        if self.model.rec is not None and not self.runner.busy:
+            # another file's result is shown: set aside (render/shelf.py), back if this run fails or is cancelled
+            from ..render.shelf import shelve
+
+            self._shelved_title = self.windowTitle()
+            shelve(self.view)
+            self.setWindowTitle(f"crustview — {name}: reconstructing…")
+            for panel in (self.info_panel, self.steps_panel):  # greyed: they describe the result set aside
+                panel.setEnabled(False)
+            self._shelved_banner = self.info_panel.banner.isVisible()
+            self.info_panel.banner.setVisible(False)  # its own colours: the last file's verdict would stay red
+        if self.model.rec is None or getattr(self.view, "shelved", None) is not None:
+            self.view.show_preview(points)  # the raw points, while d is asked and the run goes
         params: dict = {}
         note = ""
         if saved is not None:
@@ -177,7 +188,7 @@ class FileActions:
             d = ask_dimension(self, k, estimate.d, name, estimate.sentence())
             if d is None:
                 self.statusBar().showMessage("Opening cancelled: no dimension given.", 5000)
-                return False
+                return self._put_back_shelved() or False
         truth = None
         if saved is not None and saved.get("builtin"):
             truth = builtin_truth(saved["builtin"], points)  # the expected topology comes back
@@ -188,7 +199,7 @@ class FileActions:
                 truth = MeshTruth(points, mesh.simplices(int(d)), name)
             except CrustviewError as err:
                 self.show_error(str(err))
-                return False
+                return self._put_back_shelved() or False
         self.model.file_attributes = attributes
         self.input_path = path  # saving over it asks first
         if attributes.get("colors") is not None:
@@ -196,7 +207,7 @@ class FileActions:
         elif attributes.get("normals") is not None:
             self.model.layers["points"].colorby = "file normal angle"
         if not self.start_reconstruction(points, int(d), truth=truth, source=name, origin=origin, **params):
-            return False
+            return self._put_back_shelved() or False
         if mesh is not None:  # the mesh's faces shown with its result, not over the last file's while it runs
             faces = len(truth.faces)
             # a dense wireframe on top would grey the whole result out (the armadillo's 86,482 faces)

@@ -235,6 +235,8 @@ class RunActions:
 
     def _job_done(self, result) -> None:
         pending = self._pending
+        for panel in (self.info_panel, self.steps_panel):  # greyed while a new file's points were previewed
+            panel.setEnabled(True)
         if isinstance(result, dict):
             rec, truth, points = result["rec"], result["truth"], result["points"]
         else:
@@ -303,12 +305,26 @@ class RunActions:
         if pending.get("session") is not None:
             self.restore_view(*pending["session"])
 
+    def _put_back_shelved(self) -> None:
+        """The previous result again, where a new file's preview had set it aside (render/shelf.py)."""
+        from ..render.shelf import unshelve
+
+        for panel in (self.info_panel, self.steps_panel):
+            panel.setEnabled(True)
+        if unshelve(self.view):
+            self.info_panel.banner.setVisible(getattr(self, "_shelved_banner", True))
+            self.view.show_preview(None)
+            self.setWindowTitle(getattr(self, "_shelved_title", "crustview"))
+            self.view.render()
+
     def _job_failed(self, message: str) -> None:
+        self._put_back_shelved()
         self.run_panel.sync_prune()
         self.run_panel.show_idle("failed — previous result kept" if self.model.rec is not None else "failed", ok=False)
         self.show_error(message)
 
     def _job_cancelled(self) -> None:
+        self._put_back_shelved()
         self.run_panel.sync_prune()
         self.run_panel.show_idle("cancelled — previous result kept" if self.model.rec is not None else "cancelled")
         self.statusBar().showMessage("Cancelled; the previous result is still shown.", 10000)

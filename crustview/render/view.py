@@ -25,6 +25,7 @@ from .lod import LevelOfDetail
 from .navigation import CameraControl
 from .overlay import NOTE_COLOR, OK_COLOR, WARN_COLOR, Legend
 from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter, lighter
+from .shelf import unshelve
 
 #: Adapter of each layer (by layer name), in drawing order.
 ADAPTERS: dict[str, type[LayerAdapter]] = {
@@ -290,6 +291,7 @@ class SceneView(CameraControl):
         rec = self.model.rec
         if rec is None:
             return
+        unshelve(self)  # the previous result's props, set aside while this one's points were previewed
         self.show_preview(None)
         self.clear_clip()
         self.lod.end()
