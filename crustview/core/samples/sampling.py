@@ -399,8 +399,10 @@ def farthest_point_sampling(
     weight = None if scale is None else np.asarray(scale, dtype=float) ** 2
     chosen = np.empty(n, dtype=np.intp)
     best = np.full(m, np.inf)
-    dist, tmp = np.empty(m), np.empty(m)
     nxt = int(rng.integers(m))
+    if m > LOCAL_FPS_MIN and (weight is None or weight.min() > 0):
+        return _farthest_local(coords, n, weight, chosen, best, nxt)
+    dist, tmp = np.empty(m), np.empty(m)
     for i in range(n):
         chosen[i] = nxt
         dist.fill(0.0)
@@ -412,6 +414,63 @@ def farthest_point_sampling(
             dist *= weight
         np.minimum(best, dist, out=best)
         nxt = int(np.argmax(best))
+    return chosen
+
+
+#: Candidates above which :func:`farthest_point_sampling` updates only the candidates near each new point
+#: (:func:`_farthest_local`; the same picks).  A scheduling choice: below it the plain pass over all
+#: candidates is as fast; above it the plain pass is quadratic (20,000 points took 6.6 s, 40,000 25 s, and
+#: a new user's 300,000 ran for minutes without a word).
+LOCAL_FPS_MIN = 20_000
+
+
+def _farthest_local(
+    coords: np.ndarray, n: int, weight: np.ndarray | None, chosen: np.ndarray, best: np.ndarray, nxt: int
+) -> np.ndarray:
+    """:func:`farthest_point_sampling`'s greedy picks, each new point updating only the candidates it can.
+
+    A candidate's distance to the chosen set changes only where the new point is nearer than that distance,
+    which is at most the largest one (the new point's own: it was the farthest).  So the candidates within
+    that radius (a k-d tree's ball, widened by 1e-9 against rounding; over the smallest weight with
+    ``scale``) are updated, with the same arithmetic as the plain pass (coordinates summed in order, then
+    the weight), and the farthest is kept in a heap of (-distance, index) whose stale entries (a candidate
+    whose distance has since dropped) are skipped: the same values and, on ties, the lowest index as
+    ``np.argmax`` gives, so the same picks in the same order.
+    """
+    import heapq
+
+    from scipy.spatial import cKDTree
+
+    m = coords.shape[1]
+    tree = cKDTree(coords.T)
+    wmin = 1.0 if weight is None else float(weight.min())
+    heap: list[tuple[float, int]] = []
+    for i in range(n):
+        chosen[i] = nxt
+        top = best[nxt]
+        if np.isfinite(top):
+            radius = np.sqrt(top / wmin) * (1.0 + 1e-9)
+            near = np.asarray(tree.query_ball_point(coords[:, nxt], radius), dtype=np.intp)
+        else:
+            near = np.arange(m)
+        dist = np.zeros(len(near))
+        for row in coords:
+            tmp = row[near] - row[nxt]
+            dist += tmp * tmp
+        if weight is not None:
+            dist *= weight[near]
+        lower = dist < best[near]
+        changed = near[lower]
+        best[changed] = dist[lower]
+        if not np.isfinite(top):
+            heap = list(zip((-best).tolist(), range(m)))
+            heapq.heapify(heap)
+        else:
+            for j, value in zip(changed.tolist(), best[changed].tolist()):
+                heapq.heappush(heap, (-value, j))
+        while -heap[0][0] != best[heap[0][1]]:
+            heapq.heappop(heap)
+        nxt = heap[0][1]
     return chosen
 
 
