@@ -503,3 +503,18 @@ def test_jobs_below_one_is_refused_in_one_line(tmp_path):
         )
         assert run.returncode == 2 and len(run.stderr.strip().splitlines()) == 1, run.stderr
         assert "-j/--jobs" in run.stderr
+
+
+def test_a_large_even_sample_says_first_how_long_it_takes(tmp_path, monkeypatch, capsys):
+    """A new user's `crustview sample torus -n 300000` was silent for minutes.  Above SAMPLE_SLOW_N even
+    points the command says how long it will take and what is instant (checked with the bound lowered);
+    i.i.d. points and small samples say nothing."""
+    import crustview.__main__ as cli
+
+    monkeypatch.setattr(cli, "SAMPLE_SLOW_N", 100)
+    assert cli.main(["sample", "circle", "-n", "200", "-o", str(tmp_path / "a.npy")]) == 0
+    err = capsys.readouterr().err
+    assert "sampling 200 points evenly takes about" in err and "--method random" in err
+    assert cli.main(["sample", "circle", "-n", "200", "--method", "random", "-o", str(tmp_path / "b.npy")]) == 0
+    assert cli.main(["sample", "circle", "-n", "50", "-o", str(tmp_path / "c.npy")]) == 0
+    assert capsys.readouterr().err == ""
