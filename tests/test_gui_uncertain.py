@@ -174,3 +174,28 @@ def test_a_verdict_longer_than_the_run_bar_is_shown_whole_below_it(qtbot, window
     panel.set_busy(True, "starting")
     assert panel.full_text.isHidden() and panel.full_text.text() == ""
     panel.set_busy(False)
+
+
+def test_a_clicked_feature_is_highlighted_as_well_as_framed(qtbot, window):
+    """A new user clicked an uncertain feature and saw the region framed but not which feature it was (the
+    elk's joined parts: several alike markers in view).  The click selects it: its samples are drawn in the
+    selection's colour, and picking anything else replaces it."""
+    from PySide6.QtCore import Qt
+
+    assert window.open_file(Path(__file__).parent.parent / "resources" / "cow-head.off", d=2)
+    wait_idle(qtbot, window, 60_000)
+    rec = window.model.rec
+    (hole,) = [f for f in rec.uncertain_features if f.kind == "hole"]
+    panel = window.info_panel.features
+    window.docks["info"].raise_()
+    qtbot.waitUntil(lambda: panel.list.isVisible() and panel.list.count() == 1)
+    camera = window.plotter.camera.position
+    rect = panel.list.visualItemRect(panel.list.item(0))
+    qtbot.mouseClick(panel.list.viewport(), Qt.MouseButton.LeftButton, pos=rect.center())
+    sel = window.model.selection
+    assert sel.feature is panel.features[0] and sel.feature.kind == "hole"
+    drawn = window.view.adapters["selection"]
+    assert drawn.part.mesh.n_points == len(np.unique(hole.vertices)) == 102
+    assert window.model.layers["selection"].count == 1 and window.plotter.camera.position != camera
+    sel.select_sample(0)
+    assert sel.feature is None and drawn.part.mesh.n_points == 1

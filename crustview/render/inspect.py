@@ -119,6 +119,10 @@ class SelectionAdapter(LayerAdapter):
             verts.append(sel.sample)
         if sel.simplex is not None and sel.simplex < len(rec.candidates.faces):
             edges_of(rec.candidates.faces[sel.simplex])
+        if sel.feature is not None:  # a clicked feature: its samples (a loop's, a rim's, a part's)
+            from ..scene.features import feature_samples
+
+            verts.extend(int(v) for v in feature_samples(rec, sel.feature))
         if sel.face is not None:
             verts.extend(sel.face)
             edges_of(sel.face)
@@ -134,7 +138,7 @@ class SelectionAdapter(LayerAdapter):
             verts=np.array([[remap[v]] for v in verts], dtype=np.int64) if verts else None,
             lines=np.array([[remap[a], remap[b]] for a, b in pairs], dtype=np.int64) if pairs else None,
         )
-        self.layer.count = int(sel.sample is not None) + int(sel.simplex is not None) + int(sel.face is not None)
+        self.layer.count = int(not sel.empty)
         self.project()
 
     def project(self) -> None:

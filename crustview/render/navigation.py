@@ -180,6 +180,7 @@ class CameraControl:
         if rec is None or feature is None:
             return
         self.clear_clip()
+        self.model.selection.select_feature(feature)  # which one it is: its samples highlighted
         # with what lies around it: a loop of a few samples framed alone fills the view with its own
         # triangles (a bridge between two fingers showed neither finger)
         self.frame_points(feature_samples(rec, feature), around=FEATURE_CONTEXT)

@@ -135,7 +135,7 @@ class SceneModel:
                 self.reset_notes.append("Holes of T_S")
         if not keep_view:
             self.selection.sample = self.selection.simplex = None
-            self.selection.face = None
+            self.selection.face = self.selection.feature = None
         if not (keep_view and same_space):
             self.tour.pause()
             self.tour.reset()
