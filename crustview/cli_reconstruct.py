@@ -391,6 +391,12 @@ def result_summary(rec, seconds: float, output: Path) -> str:
     merged = len(rec.input_points) - rec.n
     dup = f" ({merged} duplicates merged)" if merged else ""
     closed = "a closed manifold" if top.closed_manifold else "NOT a closed manifold"
+    if top.closed_manifold:  # named, as the window's title names it: "a closed manifold (genus-4 surface)"
+        from crustview.scene.shapes import name_of
+
+        b = tuple(int(v) for v in top.betti)
+        total = f", total genus {b[1] // 2}" if rec.d == 2 and b[0] > 1 and top.orientable else ""
+        closed += f" ({name_of(top, rec.d)}{total})"
     parts = [
         f"Reconstructed a {word} in R^{rec.k} from {rec.n} points{dup}: {top.n_simplices} {rec.d}-simplices, {closed}",
         f"Betti numbers (Z/2) {tuple(int(b) for b in top.betti)}, Euler characteristic {top.euler}",

@@ -145,7 +145,7 @@ def test_sample_then_reconstruct_a_circle(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr == ""
     summary, extraction, verdict = proc.stdout.strip().split("\n")  # the result, how it was extracted, how sure
-    assert "100 points" in summary and "(1, 1)" in summary
+    assert "100 points" in summary and "(1, 1)" in summary and "a closed manifold (circle);" in summary
     assert verdict == "Verdict: SURE -- M_S is a closed manifold through every sample."
     # an evenly sampled circle: the paper's Algorithm 3 succeeds, so the robust default returns it
     assert extraction.startswith("extraction: robust (the paper's Algorithm 3 gave a closed manifold")
@@ -171,7 +171,7 @@ def test_reconstruct_torus_npz(torus_file, tmp_path):
     out = tmp_path / "torus.npz"
     proc = run("reconstruct", torus_file, "-d", 2, "-o", out, "--test", "cocone", "--theta", 22.5)
     assert proc.returncode == 0, proc.stderr
-    assert "closed manifold" in proc.stdout and "(1, 2, 1)" in proc.stdout
+    assert "a closed manifold (torus);" in proc.stdout and "(1, 2, 1)" in proc.stdout
     points = np.load(torus_file)
     with np.load(out) as z:
         np.testing.assert_array_equal(z["points"], points)
