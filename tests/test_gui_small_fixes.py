@@ -223,3 +223,28 @@ def test_open_faces_of_a_tabbed_away_information_dock_follow_when_it_is_shown(qt
     window.docks["info"].raise_()
     qtbot.waitUntil(lambda: panel.faces_label.text().startswith(f"{len(faces)} open faces"), timeout=2000)
     assert panel.faces.count() == min(len(faces), 300)
+
+
+def test_a_long_status_message_ends_in_an_ellipsis_before_the_counts(qtbot, window):
+    """QStatusBar draws a message across its whole width, under the counts: at 1024 pixels a new user read
+    "80 stn = 20494".  The message now ends in "…" before the first permanent widget, again after a resize;
+    the whole of it is the tooltip and what currentMessage() gives (what the tests and scripts read)."""
+    from PySide6.QtWidgets import QStatusBar
+
+    window.resize(1024, 700)
+    window.status_counts.setText("n = 20494 · candidates 68,065 · M_S now 40,984 · step 80/80")
+    bar = window.statusBar()
+    qtbot.waitUntil(lambda: window.status_counts.isVisible() and window.status_counts.geometry().left() > 0)
+    long = "seahorse-n10.xyz: closed manifold (uncertain: 2 handles, 0 holes, 0 components); Betti (1, 0, 1); " * 2
+    bar.showMessage(long, 20000)
+    shown = QStatusBar.currentMessage(bar)  # what Qt draws
+    assert shown.endswith("…") and len(shown) < len(long)
+    assert bar.fontMetrics().horizontalAdvance(shown) <= window.status_counts.geometry().left()
+    assert bar.currentMessage() == long and bar.toolTip() == long
+    window.resize(1500, 800)
+    qtbot.waitUntil(lambda: len(QStatusBar.currentMessage(bar)) > len(shown))
+    assert bar.currentMessage() == long
+    bar.showMessage("short")
+    assert QStatusBar.currentMessage(bar) == "short" == bar.currentMessage()
+    bar.clearMessage()
+    assert bar.currentMessage() == ""

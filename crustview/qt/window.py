@@ -34,6 +34,7 @@ from .run_dock import RunPanel
 from .running import RunActions
 from .sessions import SessionActions
 from .status_progress import StatusProgress
+from .statusbar import ElidingStatusBar
 from .steady import SteadyLabel
 from .steps_dock import StepsPanel
 from .worker import Runner
@@ -122,12 +123,12 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
         self.model.candidates_changed.connect(lambda *_: self._update_status())
 
         self._build_menus()
+        self.setStatusBar(ElidingStatusBar(self))
         self.status_counts = SteadyLabel(self)  # a new count per step must not re-lay out the window
         self.status_progress = StatusProgress(self.run_panel, self)  # in sight whatever tab is in front
         self.statusBar().addPermanentWidget(self.status_progress)
         self.statusBar().addPermanentWidget(self.status_counts)
-        # a message longer than the room left of the counts is cut there: the whole of it on hover
-        self.statusBar().messageChanged.connect(lambda text: self.statusBar().setToolTip(text))
+        # a message longer than the room left of the counts ends in "…" there: the whole of it on hover
         self.statusBar().showMessage("Open a point file (File ▸ Open, or drop it here) or a built-in sample.")
         self.setAcceptDrops(True)
         self._press: tuple[int, int] | None = None
