@@ -131,6 +131,11 @@ def resample_check(
             "samples are left out, so particular samples, noise perhaps, make it)",
         )
     return out, (
-        f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples has b1 = {sub_handles} for "
-        f"{handles}: {gone} of them not there, made uncertain"
+        f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples has b1 = {sub_handles} where this "
+        f"one has {handles}"
+        + (
+            f": {gone} of these loops {'is' if gone == 1 else 'are'} not there, made uncertain"
+            if gone
+            else ": each of these loops is there too, kept"
+        )
     )
