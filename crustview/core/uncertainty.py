@@ -18,7 +18,7 @@ import numpy as np
 
 from .analysis.contacts import BRIDGED, bridged_handles, hidden_parts
 from .analysis.enclosures import enclosure_voids, joined_objects
-from .analysis.features import LOOP_MIN, Feature, features, summary_suffix
+from .analysis.features import LOOP_MIN, Feature, features
 from .analysis.gaps import curve_gaps, straight_gaps
 from .analysis.planar import planar_holes
 from .analysis.resample import Resampled, resample_check
@@ -169,10 +169,14 @@ def result_features(
             "below the sample's resolution (the JSON report lists them under removed_features)"
         )
     if any(f.uncertain for f in feats):
+        doubt = [f for f in feats if f.uncertain]
+        named = [
+            f"{c} {kind if c == 1 else plural}"
+            for kind, plural in (("handle", "handles"), ("hole", "holes"), ("component", "components"))
+            if (c := sum(f.kind == kind for f in doubt))
+        ]
         topo.messages.append(
-            "the sample does not support every feature of M_S: "
-            + summary_suffix(feats).strip("()")
-            + " (see uncertain_features)"
+            f"the sample does not support every feature of M_S: {', '.join(named)} uncertain (see uncertain_features)"
         )
     return feats
 
