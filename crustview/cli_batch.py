@@ -85,7 +85,9 @@ def _worker_ignores_ctrl_c() -> None:
 
 def _failed(path: Path, error: str, start: float) -> dict[str, Any]:
     row: dict[str, Any] = dict.fromkeys(COLUMNS)
-    row.update(file=str(path), status="failed", error=error, seconds=round(time.perf_counter() - start, 3))
+    row.update(
+        file=str(path), status="failed", verdict="failed", error=error, seconds=round(time.perf_counter() - start, 3)
+    )
     return row
 
 

@@ -273,19 +273,21 @@ def reconstruct_file(
         say("summary", comparison_summary(comparison, path.name))
     for line in _attribute_lines(extra):
         say("summary", line)
-    say("summary", verdict_line(level, sentence))
+    say("summary", verdict_line(level, sentence, bool(rec.uncertain_features)))
     return summary_row(path, rec, seconds, output, report, estimate, level)
 
 
-def verdict_line(level: str, sentence: str) -> str:
-    """The last printed line: how sure the result is, as the window's coloured verdict says it."""
-    more = {
-        "sure": "",
-        "uncertain": "; the report's uncertain_features says where (where the sample is much coarser than the "
-        "object, the truth may differ by more than they say)",
-        "wrong": "",
-        "failed": "",
-    }[level]
+def verdict_line(level: str, sentence: str, features: bool = False) -> str:
+    """The last printed line: how sure the result is, as the window's coloured verdict says it.
+
+    ``features``: the result has uncertain features (the report lists them, with where each is).
+    """
+    more = (
+        "; the report (--report) lists where each uncertain feature is (where the sample is much coarser than "
+        "the object, the truth may differ by more than they say)"
+        if level == "uncertain" and features
+        else ""
+    )
     return f"Verdict: {level.upper()} -- {sentence}{more}."
 
 

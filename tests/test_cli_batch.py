@@ -92,7 +92,7 @@ def test_batch_runs_files_in_two_processes_and_writes_the_summaries(samples, tmp
     assert [Path(r["file"]).name for r in summary["rows"]] == [f.name for f in files]  # input order
     assert rows["torus.npy"]["betti"] == [1, 2, 1] and rows["torus.npy"]["closed"] and rows["torus.npy"]["d"] == 2
     assert rows["trefoil.csv"]["d"] == 1 and rows["trefoil.csv"]["betti"] == [1, 1]
-    assert rows["broken.xyz"]["status"] == "failed" and rows["broken.xyz"]["error"]
+    assert rows["broken.xyz"]["status"] == "failed" == rows["broken.xyz"]["verdict"] and rows["broken.xyz"]["error"]
     for r in rows.values():
         assert {"points", "uncertain_handles", "uncertain_holes", "uncertain_components", "seconds"} <= set(r)
     table = list(csv.DictReader((out / "summary.csv").read_text().splitlines()))

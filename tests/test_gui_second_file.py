@@ -44,7 +44,14 @@ def test_a_second_file_shows_its_points_at_once_and_its_result_when_done(qtbot, 
     # a third file whose run fails (every point the same: one line, no traceback): the result shown before it
     # comes back as it was, with its title, and the preview goes
     title = window.windowTitle()
+    camera = window.plotter.camera.position
     manifold = window.view.adapters["manifold"].part.actor
+    # a file whose d cannot be estimated (4 distinct points) is refused in one line before anything moves
+    few = tmp_path / "few.xyz"
+    np.savetxt(few, np.random.default_rng(0).normal(size=(4, 3)))
+    assert not window.open_file(few)
+    assert "distinct points" in window.last_error and getattr(window.view, "shelved", None) is None
+    assert window.windowTitle() == title and window.info_panel.isEnabled() and manifold.GetVisibility()
     same = tmp_path / "same.xyz"
     np.savetxt(same, np.ones((20, 3)))
     window.open_file(same, d=2)
@@ -53,5 +60,7 @@ def test_a_second_file_shows_its_points_at_once_and_its_result_when_done(qtbot, 
     assert window.last_error and "coincide" in window.last_error
     assert window.plotter.actors.get("preview") is None
     assert manifold.GetVisibility() and window.windowTitle() == title and window.info_panel.isEnabled()
+    assert window.layers_panel.isEnabled() and window.plotter.camera.position == camera  # as it was shown
+    assert window.model.layers["points"].count == 3596
     assert not window.info_panel.banner.isHidden()
     assert window.model.rec.n == 3596

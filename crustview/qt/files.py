@@ -146,19 +146,8 @@ class FileActions:
             return False
         self._add_recent(path)
         name = Path(path).name
-        if self.model.rec is not None and not self.runner.busy:
-            # another file's result is shown: set aside (render/shelf.py), back if this run fails or is cancelled
-            from ..render.shelf import shelve
-
-            self._shelved_title = self.windowTitle()
-            shelve(self.view)
-            self.setWindowTitle(f"crustview — {name}: reconstructing…")
-            for panel in (self.info_panel, self.steps_panel):  # greyed: they describe the result set aside
-                panel.setEnabled(False)
-            self._shelved_banner = self.info_panel.banner.isVisible()
-            self.info_panel.banner.setVisible(False)  # its own colours: the last file's verdict would stay red
-        if self.model.rec is None or getattr(self.view, "shelved", None) is not None:
-            self.view.show_preview(points)  # the raw points, while d is asked and the run goes
+        if self.model.rec is None:  # nothing shown yet: the raw points, while d is asked and the run goes
+            self.view.show_preview(points)
         params: dict = {}
         note = ""
         if saved is not None:
@@ -184,11 +173,15 @@ class FileActions:
             self.statusBar().showMessage(f"d = {d} is not possible for points in R^{k}; choose 1 … {k - 1}.", 10000)
             d = None
         if d is None:
-            estimate = estimate_dimension(points)  # local PCA, with its confidence and reasons
+            try:
+                estimate = estimate_dimension(points)  # local PCA, with its confidence and reasons
+            except CrustviewError as err:  # e.g. too few distinct points to tell: one line, nothing changed
+                self.show_error(str(err))
+                return False
             d = ask_dimension(self, k, estimate.d, name, estimate.sentence())
             if d is None:
                 self.statusBar().showMessage("Opening cancelled: no dimension given.", 5000)
-                return self._put_back_shelved() or False
+                return False
         truth = None
         if saved is not None and saved.get("builtin"):
             truth = builtin_truth(saved["builtin"], points)  # the expected topology comes back
@@ -199,13 +192,15 @@ class FileActions:
                 truth = MeshTruth(points, mesh.simplices(int(d)), name)
             except CrustviewError as err:
                 self.show_error(str(err))
-                return self._put_back_shelved() or False
+                return False
         self.model.file_attributes = attributes
         self.input_path = path  # saving over it asks first
         if attributes.get("colors") is not None:
             self.model.layers["points"].colorby = "file colours"
         elif attributes.get("normals") is not None:
             self.model.layers["points"].colorby = "file normal angle"
+        if self.model.rec is not None and not self.runner.busy:
+            self._shelve_shown(points, name)  # the last file's result aside while this one runs
         if not self.start_reconstruction(points, int(d), truth=truth, source=name, origin=origin, **params):
             return self._put_back_shelved() or False
         if mesh is not None:  # the mesh's faces shown with its result, not over the last file's while it runs
@@ -239,6 +234,30 @@ class FileActions:
         if isinstance(value, str):
             value = [value]
         return [str(v) for v in (value or [])]
+
+    def _shelve_shown(self, points: np.ndarray, name: str) -> None:
+        """Set the shown result aside (render/shelf.py) and preview ``points``.
+
+        It comes back if the run fails or is cancelled (``_put_back_shelved``); its result replaces it.
+        """
+        from ..render.camera import camera_state
+        from ..render.shelf import shelve
+
+        if getattr(self.view, "shelved", None) is not None:
+            return
+        points_layer = self.model.layers["points"]
+        self._shelved_state = {
+            "title": self.windowTitle(),
+            "banner": not self.info_panel.banner.isHidden(),
+            "camera": camera_state(self.plotter),
+            "points": (points_layer.count, points_layer.total, points_layer.note),
+        }
+        shelve(self.view)
+        self.setWindowTitle(f"crustview — {name}: reconstructing…")
+        for panel in (self.info_panel, self.steps_panel, self.layers_panel):  # what they show is set aside
+            panel.setEnabled(False)
+        self.info_panel.banner.setVisible(False)  # its own colours: the last file's verdict would stay red
+        self.view.show_preview(points)
 
     def _add_recent(self, path: str) -> None:
         path = str(Path(path).resolve())

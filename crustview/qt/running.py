@@ -235,7 +235,7 @@ class RunActions:
 
     def _job_done(self, result) -> None:
         pending = self._pending
-        for panel in (self.info_panel, self.steps_panel):  # greyed while a new file's points were previewed
+        for panel in (self.info_panel, self.steps_panel, self.layers_panel):  # greyed while a preview was shown
             panel.setEnabled(True)
         if isinstance(result, dict):
             rec, truth, points = result["rec"], result["truth"], result["points"]
@@ -306,16 +306,28 @@ class RunActions:
             self.restore_view(*pending["session"])
 
     def _put_back_shelved(self) -> None:
-        """The previous result again, where a new file's preview had set it aside (render/shelf.py)."""
+        """The previous result again, as it was shown, where a new file's preview had set it aside.
+
+        See :meth:`~crustview.qt.files.FileActions._shelve_shown`.
+        """
+        from ..render.camera import set_camera_state
         from ..render.shelf import unshelve
 
-        for panel in (self.info_panel, self.steps_panel):
+        for panel in (self.info_panel, self.steps_panel, self.layers_panel):
             panel.setEnabled(True)
-        if unshelve(self.view):
-            self.info_panel.banner.setVisible(getattr(self, "_shelved_banner", True))
-            self.view.show_preview(None)
-            self.setWindowTitle(getattr(self, "_shelved_title", "crustview"))
-            self.view.render()
+        if not unshelve(self.view):
+            return
+        state = getattr(self, "_shelved_state", {})
+        self.view.show_preview(None)
+        self.info_panel.banner.setVisible(state.get("banner", True))
+        self.setWindowTitle(state.get("title", "crustview"))
+        points_layer = self.model.layers["points"]
+        points_layer.count, points_layer.total, points_layer.note = state.get(
+            "points", (points_layer.count, points_layer.total, points_layer.note)
+        )
+        if "camera" in state:
+            set_camera_state(self.plotter, state["camera"])
+        self.view.render()
 
     def _job_failed(self, message: str) -> None:
         self._put_back_shelved()

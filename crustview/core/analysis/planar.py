@@ -93,12 +93,21 @@ def flat_offset(points: np.ndarray, d: int) -> float:
     return float(math.sqrt(float(np.sum(sv[d:] ** 2)) / len(p)))
 
 
-def trimmed_plane(points: np.ndarray, steps: int = 20) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The hyperplane of least trimmed squares with half coverage, and every point's distance from it.
+#: Starts of :func:`trimmed_plane`'s concentration steps besides the least-squares plane: planes through k
+#: samples drawn with a fixed seed (Rousseeuw and Van Driessen's FAST-LTS draws elementary subsets the same
+#: way; one start finds only a fixed point near it, and a rim lifted on a third of its length in one
+#: stretch measured 0.5 from the least-squares start where its flat two thirds measure 0.1).
+TRIM_STARTS = 30
 
-    Starts from the least-squares hyperplane of all ``points`` and refits it to the half of them nearest to
-    it until that half stops changing (Rousseeuw's concentration steps: each fit's sum of squares over its
-    nearest half is no larger than the last one's), at most ``steps`` times.
+
+def trimmed_plane(points: np.ndarray, steps: int = 20) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The hyperplane of least trimmed squares, and every point's distance from it.
+
+    Coverage h = (m + k + 1) // 2 of the m points in R^k (the usual choice: more than half, and more than
+    a k-subset always fits exactly).  Concentration steps (Rousseeuw: refit to the h points nearest the
+    plane; the trimmed sum of squares never grows) run from the least-squares plane of all points and from
+    :data:`TRIM_STARTS` planes through k points drawn with a fixed seed, each until its h points stop
+    changing or ``steps`` times; the plane with the least trimmed sum of squares is kept.
 
     Returns
     -------
@@ -109,20 +118,27 @@ def trimmed_plane(points: np.ndarray, steps: int = 20) -> tuple[np.ndarray, np.n
         Each point's distance from the hyperplane.
     """
     p = np.asarray(points, np.float64)
-    keep = np.ones(len(p), bool)
-    half = (len(p) + 1) // 2
-    chosen: np.ndarray | None = None
-    for _ in range(steps):
-        centre = p[keep].mean(axis=0)
-        normal = np.linalg.svd(p[keep] - centre, full_matrices=False)[2][-1]
-        distance = np.abs((p - centre) @ normal)
-        nearest = np.sort(np.argsort(distance, kind="stable")[:half])
-        if chosen is not None and np.array_equal(nearest, chosen):
-            break
-        chosen = nearest
-        keep = np.zeros(len(p), bool)
-        keep[nearest] = True
-    return centre, normal, distance
+    m, k = p.shape
+    h = min(m, (m + k + 1) // 2)
+    rng = np.random.default_rng(0)
+    starts = [np.arange(m)] + [rng.choice(m, size=min(k, m), replace=False) for _ in range(TRIM_STARTS)]
+    best: tuple[float, np.ndarray, np.ndarray, np.ndarray] | None = None
+    for start in starts:
+        keep = np.asarray(start)
+        chosen: np.ndarray | None = None
+        for _ in range(steps):
+            centre = p[keep].mean(axis=0)
+            normal = np.linalg.svd(p[keep] - centre, full_matrices=True)[2][-1]
+            distance = np.abs((p - centre) @ normal)
+            nearest = np.sort(np.argsort(distance, kind="stable")[:h])
+            if chosen is not None and np.array_equal(nearest, chosen):
+                break
+            chosen = keep = nearest
+        cost = float(np.sum(np.sort(distance)[:h] ** 2))
+        if best is None or cost < best[0]:
+            best = (cost, centre, normal, distance)
+    assert best is not None
+    return best[1], best[2], best[3]
 
 
 def trimmed_offset(points: np.ndarray, rim: np.ndarray, spacing: float) -> float:
