@@ -123,6 +123,7 @@ def clone_scene(model: SceneModel) -> SceneModel:
     out.projection.restore(model.projection.state())
     out.set_slice(model.slice_offset, model.slice_cut)
     out.player.set_step(model.player.position)
+    out.player.delivered = model.player.delivered  # drawn clean as the window draws it
     return out
 
 

@@ -81,6 +81,11 @@ def test_a_delivered_result_shows_no_step_markers_until_the_player_moves(scene):
     assert model.player.shown_step is last
     assert step.part.n_cells == len(last.kept) + len(last.removed) and step.parts[1].mesh.n_points == len(last.tau)
     assert any(label.startswith("tau") for label, _ in view.legend_entries())
+    # asked for the last step itself (End, its row in the table): its markers, as at every other step
+    model.set_reconstruction(model.rec, source="torus")
+    assert model.player.shown_step is None
+    model.player.last()
+    assert model.player.shown_step is last and step.parts[1].mesh.n_points == len(last.tau)
     # the same result shown again (a re-extraction keeps the step): clean again at its end
     model.set_reconstruction(model.rec, source="torus")
     assert model.player.shown_step is None and step.part.n_cells == 0

@@ -24,25 +24,29 @@ class ElidingStatusBar(QStatusBar):
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self._full = ""
+        self._shown = ""  # the elided text handed to Qt (a status tip bypasses showMessage: not ours then)
         self._until: float | None = None  # when a timed message goes (time.monotonic)
         self.messageChanged.connect(lambda _text: self.setToolTip(self.currentMessage()))
 
     def showMessage(self, text: str, timeout: int = 0) -> None:  # noqa: N802 - Qt API
         self._full = str(text)
         self._until = time.monotonic() + timeout / 1000.0 if timeout > 0 else None
-        super().showMessage(self._elided(self._full), timeout)
+        self._shown = self._elided(self._full)
+        super().showMessage(self._shown, timeout)
         self.setToolTip(self._full)
 
     def currentMessage(self) -> str:  # noqa: N802 - Qt API
-        """The whole of the shown message ("" when none is)."""
-        return self._full if super().currentMessage() else ""
+        """The whole of the shown message ("" when none is; a menu's status tip as Qt shows it)."""
+        shown = super().currentMessage()
+        return self._full if shown and shown == self._shown else shown
 
     def resizeEvent(self, event) -> None:  # noqa: N802, ANN001 - Qt API
         super().resizeEvent(event)
-        if not super().currentMessage():
+        if not super().currentMessage() or super().currentMessage() != self._shown:
             return
         left = 0 if self._until is None else max(1, int(1000 * (self._until - time.monotonic())))
-        super().showMessage(self._elided(self._full), left)
+        self._shown = self._elided(self._full)
+        super().showMessage(self._shown, left)
 
     def room(self) -> int:
         """Pixels left of the first shown permanent widget (the whole width when none is)."""

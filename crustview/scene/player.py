@@ -88,6 +88,9 @@ class StepPlayer:
             self.position = i
             self.delivered = False
             self.step_changed.emit(i)
+        elif self.delivered:  # asked for the last step itself (End, its row, the slider): its markers too
+            self.delivered = False
+            self.step_changed.emit(i)
 
     def first(self) -> None:
         self.set_step(0)
