@@ -160,6 +160,16 @@ def test_the_ground_truth_shows_over_an_opaque_m_s(qtbot, window, source):
     in_scene = window.plotter.renderer.HasViewProp(actor)
     assert in_scene == (source == "mesh") and window.view.top_renderer.HasViewProp(actor) == (source != "mesh")
     assert bool(actor.GetProperty().GetBackfaceCulling()) == (source == "mesh")
+    if source == "mesh":
+        # a reflected view (x, z, y): the faces towards the camera are the mesh's back faces now
+        window.model.projection.set_coordinates(0, 2, 1)
+        assert actor.GetProperty().GetFrontfaceCulling() and not actor.GetProperty().GetBackfaceCulling()
+        # an open mesh's orientation says nothing of its outside (its enclosed volume depends on the origin)
+        from crustview.render.samples import _outward
+
+        faces = np.asarray(window.model.truth.faces)
+        pts = np.asarray(window.model.truth.points, float)
+        assert _outward(faces, pts) is not None and _outward(faces[1:], pts) is None
 
 
 def _run_dialog(qtbot, open_it) -> tuple[str, list[str]]:

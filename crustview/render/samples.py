@@ -251,11 +251,15 @@ class NormalsAdapter(LayerAdapter):
 def _outward(faces: np.ndarray, points: np.ndarray) -> np.ndarray | None:
     """The triangles oriented so that the volume they bound is positive.
 
-    None when they are not oriented consistently (an edge used twice in the same direction: then no face
-    can be told facing away).
+    None when they are not a closed surface oriented consistently (an edge used twice in the same direction,
+    or once: then no face can be told facing away).
     """
     directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     if len(np.unique(directed, axis=0)) != len(directed):
+        return None
+    # closed: every directed edge's reverse is there too (an open scan's enclosed volume depends on the origin)
+    both = np.unique(np.concatenate([directed, directed[:, ::-1]]), axis=0)
+    if len(both) != len(directed):
         return None
     a, b, c = (points[faces[:, i]] for i in range(3))
     volume = float(np.einsum("ij,ij->", a, np.cross(b, c))) / 6.0
@@ -325,8 +329,31 @@ class TruthAdapter(LayerAdapter):
         # drawn over the scene, a dense mesh's far side and the parts inside other parts showed through as a
         # grey tangle (a gear set's long CAD edges): a mesh's faces are drawn in the scene, where M_S hides
         # what lies behind it, and only those towards the camera where the mesh's orientation says which
-        self.part.actor.GetProperty().SetBackfaceCulling(cull)
+        self._cull_faces = cull
+        self._cull()
         self._in_scene(True)
+
+    def project(self) -> None:
+        super().project()
+        self._cull()
+
+    def _cull(self) -> None:
+        """Cull the faces turned away from the camera.
+
+        The back faces, or the front ones where the view's projection is a reflection (a PCA basis or a
+        swapped axis order in R^3); none where it is not linear.
+        """
+        on = bool(getattr(self, "_cull_faces", False))
+        proj = self.model.projection
+        flip = False
+        if on and proj.k == 3 and not proj.stereographic:
+            linear = proj.project(np.eye(3)) - proj.project(np.zeros(3))
+            flip = bool(np.linalg.det(linear) < 0)
+        elif on:
+            on = False
+        prop = self.part.actor.GetProperty()
+        prop.SetBackfaceCulling(on and not flip)
+        prop.SetFrontfaceCulling(on and flip)
 
     def _in_scene(self, scene: bool) -> None:
         """Draw this layer in the scene's renderer (hidden behind M_S) or in the overlay over it.
