@@ -58,6 +58,7 @@ from crustview.core import reconstruct, reextract
 from crustview.core.analysis.compare import hausdorff
 from crustview.core.analysis.cotree import triangle_edges
 from crustview.core.analysis.topology import analyse, graph_components
+from crustview.core.errors import CrustviewError
 from crustview.io import read_mesh
 
 ROOT = Path(__file__).resolve().parents[2] / "shared"
@@ -198,10 +199,22 @@ def folder_truth(folder: Path) -> dict:
     if (folder / "truth.json").is_file():
         return json.loads((folder / "truth.json").read_text())
     out = {}
+    stems: set[str] = set()
     for path in sorted(folder.iterdir()):
-        if path.suffix.lower() not in (".off", ".obj", ".ply", ".stl", ".vtp"):
+        if path.suffix.lower() not in (".off", ".obj", ".ply", ".stl"):
             continue
-        mesh = read_mesh(path)
+        if path.stem in stems:  # the noisy copies are named by stem
+            print(f"{path.name}: another file has its stem: skipped", file=sys.stderr)
+            continue
+        try:
+            mesh = read_mesh(path)
+        except CrustviewError as err:
+            print(f"{path.name}: {err}: skipped", file=sys.stderr)
+            continue
+        if mesh is None:
+            print(f"{path.name}: no faces: skipped", file=sys.stderr)
+            continue
+        stems.add(path.stem)
         top = analyse(np.asarray(mesh.simplices(2)), len(mesh.points), 2)
         if top.nonmanifold_faces or top.singular_vertices:
             print(f"{path.name}: its faces are not a manifold: skipped", file=sys.stderr)
@@ -470,8 +483,11 @@ def main(argv: list[str] | None = None) -> int:
         ap.error("--clean-only and --noisy-only leave nothing to run")
     here = Path(__file__).resolve().parent
     noisy_dir = a.noisy_dir or (here / (".noisy" if a.seed == 0 else f".noisy-s{a.seed}"))
-    if a.folder and not a.noisy_dir:  # other meshes' copies apart from the shared data's (stems may repeat)
-        noisy_dir = here / ".noisy-folders" / f"s{a.seed}"
+    if a.folder and not a.noisy_dir:  # other meshes' copies apart from the shared data's, one cache per folder set
+        import hashlib
+
+        key = hashlib.sha1("\n".join(str(f.resolve()) for f in a.folder).encode()).hexdigest()[:10]
+        noisy_dir = here / ".noisy-folders" / f"{key}-s{a.seed}"
     print(HEADER, flush=True)
     rows: list[Row] = []
     only = set(a.only) if a.only else None
