@@ -133,9 +133,10 @@ class SceneModel:
             if self.layers["holes"].visible:
                 self.layers["holes"].visible = False
                 self.reset_notes.append("Holes of T_S")
+        self.selection.feature = None  # a feature of the last result (a re-extraction has its own)
         if not keep_view:
             self.selection.sample = self.selection.simplex = None
-            self.selection.face = self.selection.feature = None
+            self.selection.face = None
         if not (keep_view and same_space):
             self.tour.pause()
             self.tour.reset()
