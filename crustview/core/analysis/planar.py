@@ -228,7 +228,7 @@ def planar_holes(points: np.ndarray, feats: list, spacing: float, simplices: np.
     """The features, with every sure hole whose rim lies in a hyperplane uncertain.
 
     In a hyperplane: within :data:`PLANAR_RIM` of its least-squares one, RMS, or within :data:`PLANAR_MEDIAN`
-    of its least trimmed squares one, in the median (:func:`trimmed_offset`), with no surface of M_S across
+    of the plane of its nearer half, in the median (:func:`trimmed_offset`), with no surface of M_S across
     the disc (:func:`surface_in_disc`).
 
     Parameters
