@@ -201,5 +201,7 @@ def test_a_clicked_feature_is_highlighted_as_well_as_framed(qtbot, window):
     drawn = window.view.adapters["selection"]
     assert drawn.part.mesh.n_points == len(np.unique(hole.vertices)) == 102
     assert window.model.layers["selection"].count == 1 and window.plotter.camera.position != camera
+    said = window.info_panel.selection.text()  # Information ▸ Selection says what it is
+    assert "<b>hole</b>" in said and "102 samples" in said and "rim lies" in said
     sel.select_sample(0)
     assert sel.feature is None and drawn.part.mesh.n_points == 1

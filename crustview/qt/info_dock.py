@@ -274,6 +274,15 @@ class InfoPanel(QWidget):
             self._jump_to = step
         if sel.face is not None:
             parts.append(face_text(self.model, sel.face))
+        if sel.feature is not None:  # clicked in the list of uncertain features: what it is, where, how big
+            from ..scene.features import feature_words
+
+            f = sel.feature
+            where = ", ".join(f"{x:.4g}" for x in f.location)
+            parts.append(
+                f"<b>{escape(f.kind)}</b>, {f.size_spacings:.3g} spacings, at ({where}), "
+                f"{len(f.vertices)} samples<br>{escape(feature_words(f))}"
+            )
         self.selection.setText("<br><br>".join(parts) if parts else "Click a sample or a simplex in the view.")
         self.jump.setEnabled(self._jump_to is not None)
         self.jump.setText(
