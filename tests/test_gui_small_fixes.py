@@ -254,6 +254,14 @@ def test_a_long_status_message_ends_in_an_ellipsis_before_the_counts(qtbot, wind
     window.resize(1500, 800)
     qtbot.waitUntil(lambda: len(QStatusBar.currentMessage(bar)) > len(shown))
     assert bar.currentMessage() == long
+    # a permanent widget shown without a resize (the progress readout as a run starts): elided again
+    before = QStatusBar.currentMessage(bar)
+    window.status_progress.show()
+    window.status_progress.setMinimumWidth(300)
+    qtbot.waitUntil(lambda: QStatusBar.currentMessage(bar) != before)
+    shown = QStatusBar.currentMessage(bar)
+    assert bar.fontMetrics().horizontalAdvance(shown) <= window.status_progress.geometry().left()
+    window.status_progress.setMinimumWidth(0)
     # a menu's status tip goes through Qt's own showMessage, not the override: reported as Qt shows it
     QStatusBar.showMessage(bar, "Open a point file")
     assert bar.currentMessage() == "Open a point file"

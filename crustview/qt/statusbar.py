@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QEvent, QObject, Qt, QTimer
 from PySide6.QtWidgets import QStatusBar, QWidget
 
 #: Pixels kept between an elided message and the first permanent widget.
@@ -40,8 +40,22 @@ class ElidingStatusBar(QStatusBar):
         shown = super().currentMessage()
         return self._full if shown and shown == self._shown else shown
 
+    def addPermanentWidget(self, widget: QWidget, stretch: int = 0) -> None:  # noqa: N802 - Qt API
+        """Add ``widget``; the message is elided again whenever it shows, hides or changes size."""
+        super().addPermanentWidget(widget, stretch)
+        widget.installEventFilter(self)
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:  # noqa: N802 - Qt API
+        if event.type() in (QEvent.Type.Show, QEvent.Type.Hide, QEvent.Type.Resize):
+            QTimer.singleShot(0, self._reelide)  # once the layout has placed it
+        return False
+
     def resizeEvent(self, event) -> None:  # noqa: N802, ANN001 - Qt API
         super().resizeEvent(event)
+        self._reelide()
+
+    def _reelide(self) -> None:
+        """The shown message elided again to the room there is now (a status tip of Qt's is left alone)."""
         if not super().currentMessage() or super().currentMessage() != self._shown:
             return
         left = 0 if self._until is None else max(1, int(1000 * (self._until - time.monotonic())))
