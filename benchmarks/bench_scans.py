@@ -51,6 +51,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from _folders import folder_truth
 from scipy.spatial import cKDTree
 from scipy.spatial.distance import pdist
 
@@ -58,7 +59,6 @@ from crustview.core import reconstruct, reextract
 from crustview.core.analysis.compare import hausdorff
 from crustview.core.analysis.cotree import triangle_edges
 from crustview.core.analysis.topology import analyse, graph_components
-from crustview.core.errors import CrustviewError
 from crustview.io import read_mesh
 
 ROOT = Path(__file__).resolve().parents[2] / "shared"
@@ -145,7 +145,7 @@ def cases(
     as a scanner's does with distance.  With ``rotate``, every case is turned by a random rotation,
     scaled by a random factor between 1/100 and 100 and moved (numpy's draw ``seed``): the same objects in
     another pose and unit, which no result should notice.  ``folders`` replaces the shared data's two
-    folders (:func:`folder_truth` gives a folder without a ``truth.json`` its truth from the faces).
+    folders (:func:`_folders.folder_truth` gives a folder without a ``truth.json`` its truth from the faces).
     """
     out = []
     for folder in FOLDERS if folders is None else folders:
@@ -185,48 +185,6 @@ def cases(
                     noisy = noisy if keep is None else noisy[keep]
                     name = f"{stem}-n{round(100 * level):02d}{tag}"
                     out.append(Case(name, pose(noisy), true, level, betti, small, whole))
-    return out
-
-
-def folder_truth(folder: Path) -> dict:
-    """``folder``'s ``truth.json``, or, without one, the truth of each mesh in it from its own faces.
-
-    The faces' own topology: ``closed`` when every edge has two triangles and every vertex a disc of them
-    (crustview's ``analyse``), ``components`` and ``genus`` from its Z/2 Betti numbers (c, 2g, c), and
-    ``boundary_edges``; the table's columns need no more.  A mesh whose faces are not a manifold is
-    reported and left out: it has no genus to judge by.
-    """
-    if (folder / "truth.json").is_file():
-        return json.loads((folder / "truth.json").read_text())
-    out = {}
-    stems: set[str] = set()
-    for path in sorted(folder.iterdir()):
-        if path.suffix.lower() not in (".off", ".obj", ".ply", ".stl"):
-            continue
-        if path.stem in stems:  # the noisy copies are named by stem
-            print(f"{path.name}: another file has its stem: skipped", file=sys.stderr)
-            continue
-        try:
-            mesh = read_mesh(path)
-        except CrustviewError as err:
-            print(f"{path.name}: {err}: skipped", file=sys.stderr)
-            continue
-        if mesh is None:
-            print(f"{path.name}: no faces: skipped", file=sys.stderr)
-            continue
-        stems.add(path.stem)
-        top = analyse(np.asarray(mesh.simplices(2)), len(mesh.points), 2)
-        if top.nonmanifold_faces or top.singular_vertices:
-            print(f"{path.name}: its faces are not a manifold: skipped", file=sys.stderr)
-            continue
-        b = top.betti
-        out[path.name] = {
-            "points": len(mesh.points),
-            "closed": bool(top.closed_manifold),
-            "components": int(b[0]),
-            "genus": int(b[1]) // 2 if top.closed_manifold else None,
-            "boundary_edges": int(top.boundary_faces),
-        }
     return out
 
 
