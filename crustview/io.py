@@ -127,6 +127,8 @@ def read_points(path: str | os.PathLike, notes: list[str] | None = None, attribu
             attributes.update(found)
     else:
         data = _read_mesh(path, attributes)
+        if notes is not None and np.shape(data)[1:] == (2,):
+            notes.append(planar_note(path))
     points = _check_points(data, path)
     if attributes:
         from crustview.attributes import check
@@ -182,6 +184,14 @@ def read_mesh(path: str | os.PathLike):
     if mesh.n_cells == 0:
         return None
     return replace(mesh, points=_check_points(_drop_zero_z(mesh.points), path))
+
+
+def planar_note(path: Path) -> str:
+    """The note for a mesh-format file whose zero third coordinate was dropped (:func:`read_points`)."""
+    return (
+        f"{Path(path).name}: the third coordinate is 0 at every vertex, so its points are read as points in R^2 "
+        "(a curve there has d = 1)."
+    )
 
 
 def _drop_zero_z(points: np.ndarray) -> np.ndarray:

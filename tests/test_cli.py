@@ -518,3 +518,17 @@ def test_a_large_even_sample_says_first_how_long_it_takes(tmp_path, monkeypatch,
     assert cli.main(["sample", "circle", "-n", "200", "--method", "random", "-o", str(tmp_path / "b.npy")]) == 0
     assert cli.main(["sample", "circle", "-n", "50", "-o", str(tmp_path / "c.npy")]) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_a_flat_mesh_says_its_points_were_read_in_the_plane(capsys, tmp_path):
+    """A mesh whose z is 0 everywhere is read as points in R^2: the refusal of d = 2 says why k is 2."""
+    flat = tmp_path / "flat.obj"
+    grid = [(x, y) for x in range(4) for y in range(4)]
+    lines = [f"v {x} {y} 0" for x, y in grid]
+    lines += [f"f {4 * x + y + 1} {4 * x + y + 5} {4 * x + y + 2}" for x in range(3) for y in range(3)]
+    flat.write_text("\n".join(lines) + "\n")
+    proc = run_main(capsys, "reconstruct", flat, "-d", 2, "-o", tmp_path / "out.npz")
+    assert proc.returncode == 2
+    assert "third coordinate is 0 at every vertex" in proc.stderr and "R^2" in proc.stderr
+    assert "between 1 and k-1 = 1" in proc.stderr and "Traceback" not in proc.stderr
+    assert not (tmp_path / "out.npz").exists()

@@ -130,6 +130,8 @@ class FileActions:
             mesh = io.read_mesh(path)  # a mesh with faces: vertices are the sample, faces the truth
             read_notes: list[str] = []  # e.g. a text file's header line of column names
             points = mesh.points if mesh is not None else io.read_points(path, read_notes)
+            if mesh is not None and points.shape[1:] == (2,) and Path(path).suffix.lower() in io.MESH_SUFFIXES:
+                read_notes.append(io.planar_note(Path(path)))
             attributes = io.read_attributes(path)  # colours, intensity, normals (PLY and scanner formats)
             saved = io.read_run_parameters(path)
             origin = file_source(path)  # size and SHA-1 as read, for a session
@@ -190,8 +192,8 @@ class FileActions:
 
             try:
                 truth = MeshTruth(points, mesh.simplices(int(d)), name)
-            except CrustviewError as err:
-                self.show_error(str(err))
+            except CrustviewError as err:  # with what was read: a flat mesh's points are in R^2
+                self.show_error(" ".join([str(err), *read_notes]))
                 return False
         self.model.file_attributes = attributes
         self.input_path = path  # saving over it asks first
