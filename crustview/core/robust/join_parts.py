@@ -182,11 +182,16 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
             break
         contacts = _Contacts(points, surf, comp)
         b1 = _b1(surf, comp, n)
+        # per unit, the undecided real cells all of whose vertices are contact samples (the same for every
+        # piece: each piece's own are those among them with a vertex on it and one on another component)
+        open_cells = real & ~lab.inside & ~lab.outside
+        at_contact = {
+            unit: np.flatnonzero(open_cells & contacts.mask(unit)[corner].all(axis=1)) for unit in contacts.units
+        }
         join = None
         for cid in pieces:
             for unit in (*contacts.units, CHAIN):
                 how = "contact"
-                mine = comp[corner] == cid
                 if unit == CHAIN:
                     # the contact cells did not join it: the least confident chain of cells across the gap
                     how, unit = "chain", SAMPLING_RADIUS
@@ -196,16 +201,10 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
                         tree = cKDTree(points) if tree is None else tree
                         sel = _chain(ed, comp, cid, v, u, contacts.h, points, tree)
                 else:
-                    near = contacts.mask(unit)
-                    theirs = (comp[corner] >= 0) & ~mine
-                    sel = np.flatnonzero(
-                        real
-                        & ~lab.inside
-                        & ~lab.outside
-                        & near[corner].all(axis=1)
-                        & mine.any(axis=1)
-                        & theirs.any(axis=1)
-                    )
+                    cells = at_contact[unit]
+                    owner = comp[corner[cells]]
+                    mine = owner == cid
+                    sel = cells[mine.any(axis=1) & ((owner >= 0) & ~mine).any(axis=1)]
                 if len(sel) == 0:
                     continue
                 join = _trial(ed, local, sel, comp, len(ids), b1, points)
