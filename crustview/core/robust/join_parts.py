@@ -106,11 +106,15 @@ def _b1(faces: np.ndarray, comp: np.ndarray, n: int) -> int:
 class _Contacts:
     """The closest approach of every vertex of M_S to another component, in two units."""
 
-    def __init__(self, points: np.ndarray, faces: np.ndarray, comp: np.ndarray) -> None:
+    def __init__(self, points: np.ndarray, faces: np.ndarray, comp: np.ndarray, last: _Contacts | None = None) -> None:
         verts = np.flatnonzero(comp >= 0)
         h = local_spacing(points, faces)
-        k = min(len(verts), NEIGHBOURS)
-        dist, idx = cKDTree(points[verts]).query(points[verts], k=k)
+        if last is not None and np.array_equal(last.verts, verts):
+            dist, idx = last.near  # the same vertices as the round before: the same neighbours
+        else:
+            k = min(len(verts), NEIGHBOURS)
+            dist, idx = cKDTree(points[verts]).query(points[verts], k=k)
+        self.near = (dist, idx)
         other = comp[verts[idx]] != comp[verts][:, None]
         gap = np.where(other, dist, np.inf).min(axis=1)
         own = np.where(~other & (dist > 0), dist, np.inf).min(axis=1)
@@ -161,6 +165,7 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
     real = (simp < n).all(axis=1)
     corner = np.where(simp < n, simp, 0)
     tree = None  # a k-d tree of the samples, made when a chain is first looked for
+    contacts = None  # the round before's contacts (their neighbour lists are reused while M_S has the same vertices)
     while True:
         surf = lab.faces[ed.cut]
         if len(surf) == 0:
@@ -180,7 +185,7 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
         ]
         if not pieces:
             break
-        contacts = _Contacts(points, surf, comp)
+        contacts = _Contacts(points, surf, comp, contacts)
         b1 = _b1(surf, comp, n)
         # per unit, the undecided real cells all of whose vertices are contact samples (the same for every
         # piece: each piece's own are those among them with a vertex on it and one on another component)
