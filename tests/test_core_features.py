@@ -172,6 +172,46 @@ def test_disagreement_places_a_handle_where_the_two_differ():
     assert [x.kind for x in feats] == ["handle"] and feats[0].uncertain and feats[0].disputed
 
 
+def test_a_dispute_over_a_whole_surface_marks_its_middle_not_every_sample():
+    """Two triangulations of the same grid torus, the squares cut along opposite diagonals: every face
+    differs, so the differing faces say nothing local.  The handle's samples are those within REACH local
+    spacings of the middle (a new user's footbones dispute selected 1,388 of 2,154 samples)."""
+    from crustview.core.analysis.dispute import REACH
+
+    pts, tris = _torus_mesh(48, 16)
+    nv = 16
+    idx = lambda i, j: (i % 48) * nv + (j % nv)  # noqa: E731
+    flipped = np.array(
+        [
+            t
+            for i in range(48)
+            for j in range(nv)
+            for t in ((idx(i, j), idx(i + 1, j), idx(i, j + 1)), (idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)))
+        ]
+    )
+    (f,) = disagreement(pts, tris, flipped, (1, 2, 1), (1, 0, 1))
+    h = local_spacing(pts, tris)
+    assert f.kind == "handle" and f.disputed and 3 <= len(f.vertices) < len(pts) // 4
+    middle = pts[f.vertices]
+    reach = np.linalg.norm(middle[:, None] - middle[None], axis=2).max()
+    assert reach <= 2 * REACH * np.median(h) + 1e-9  # within REACH of one sample, in the group's median spacing
+
+
+def test_a_disputed_component_is_placed_where_the_parts_come_closest():
+    """Two grid tori side by side: where one answer has two components and the other one, the dispute is
+    the closest two vertices of different tori (brute force), its size their distance in local spacings."""
+    a, ta = _torus_mesh(24, 10)
+    b = a + np.array([2.9, 0.3, 0.1])
+    pts, tris = np.vstack([a, b]), np.vstack([ta, ta + len(a)])
+    (f,) = disagreement(pts, tris, tris, (2, 4, 2), (1, 4, 1))
+    d = np.linalg.norm(a[:, None] - b[None], axis=2)
+    i, j = np.unravel_index(np.argmin(d), d.shape)
+    assert f.kind == "component" and sorted(f.vertices.tolist()) == [i, len(a) + j]
+    assert np.allclose(f.location, (a[i] + b[j]) / 2)
+    h = local_spacing(pts, tris)
+    assert np.isclose(f.size_spacings, d[i, j] / np.median(h[[i, len(a) + j]]))
+
+
 def test_disagreement_of_two_open_results_names_the_extra_hole():
     """Two manifolds with boundary: a grid sheet (a disk) and the same sheet with one inner triangle
     missing (an annulus, b1 = 1).  They differ by a hole, not a handle: one uncertain hole, at the

@@ -124,14 +124,16 @@ class CameraControl:
     def frame_points(self, idx, around: float = 2.5) -> None:
         """Zoom the camera onto samples ``idx`` (keeps the view direction).
 
-        At least ``around`` median spacings are shown on each side of their centre.
+        At least ``around`` median spacings are shown on each side of their centre, and all of them: a set
+        wider than that fills the view (a box twice its size put a dispute spanning the whole foot three
+        times farther off than the reset view).
         """
         rec = self.model.rec
         if rec is None or len(idx) == 0:
             return
         p = self.model.projection.project(rec.points[np.asarray(idx)])
         lo, hi = p.min(axis=0), p.max(axis=0)
-        pad = max(float(np.max(hi - lo)), around * float(np.median(self.model.spacing)))
+        pad = max(0.5 * float(np.max(hi - lo)), around * float(np.median(self.model.spacing)))
         c = (lo + hi) / 2
         bounds = np.ravel(np.stack([c - pad, c + pad], axis=1))
         self.plotter.renderer.GetActiveCamera().SetWindowCenter(0.0, 0.0)
