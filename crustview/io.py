@@ -128,7 +128,7 @@ def read_points(path: str | os.PathLike, notes: list[str] | None = None, attribu
     else:
         data = _read_mesh(path, attributes)
         if notes is not None and np.shape(data)[1:] == (2,):
-            notes.append(planar_note(path))
+            notes.append(planar_note(path, faces=read_mesh(path) is None and _has_faces(path)))
     points = _check_points(data, path)
     if attributes:
         from crustview.attributes import check
@@ -183,15 +183,33 @@ def read_mesh(path: str | os.PathLike):
     mesh = _read(path)
     if mesh.n_cells == 0:
         return None
-    return replace(mesh, points=_check_points(_drop_zero_z(mesh.points), path))
+    points = _check_points(_drop_zero_z(mesh.points), path)
+    if min(block.shape[1] for block in mesh.cells) > points.shape[1]:
+        # faces of dimension k or more (a flat mesh's triangles, read in R^2): regions of the space, never the
+        # truth of a d-manifold with d < k; the file is a point sample (read_points says so in its notes)
+        return None
+    return replace(mesh, points=points)
 
 
-def planar_note(path: Path) -> str:
-    """The note for a mesh-format file whose zero third coordinate was dropped (:func:`read_points`)."""
-    return (
+def planar_note(path: Path, faces: bool = False) -> str:
+    """The note for a mesh-format file whose zero third coordinate was dropped (:func:`read_points`).
+
+    ``faces``: the file's faces are regions of that plane (triangles or polygons), not used as the truth.
+    """
+    note = (
         f"{Path(path).name}: the third coordinate is 0 at every vertex, so its points are read as points in R^2 "
-        "(a curve there has d = 1)."
+        "(a curve there has d = 1)"
     )
+    if faces:
+        note += "; its faces, regions of that plane, are not a curve's and are not used (its vertices are the sample)"
+    return note + "."
+
+
+def _has_faces(path: Path) -> bool:
+    """Whether a mesh-format file has any faces."""
+    from crustview.meshfiles import read_mesh as _read
+
+    return _read(path).n_cells > 0
 
 
 def _drop_zero_z(points: np.ndarray) -> np.ndarray:

@@ -532,3 +532,7 @@ def test_a_flat_mesh_says_its_points_were_read_in_the_plane(capsys, tmp_path):
     assert "third coordinate is 0 at every vertex" in proc.stderr and "R^2" in proc.stderr
     assert "between 1 and k-1 = 1" in proc.stderr and "Traceback" not in proc.stderr
     assert not (tmp_path / "out.npz").exists()
+    # its triangles are regions of the plane, no curve's truth: its vertices are reconstructed as a curve
+    proc = run_main(capsys, "reconstruct", flat, "-d", 1, "-o", tmp_path / "out.npz")
+    assert "faces, regions of that plane, are not a curve's and are not used" in proc.stderr + proc.stdout
+    assert "Cannot use the faces" not in proc.stderr and "Verdict:" in proc.stdout
