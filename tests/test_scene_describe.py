@@ -123,6 +123,26 @@ def test_step_words_read_well_for_boundary_steps_and_empty_replays():
     assert "Press →" in step_words(None, 0, 5)
 
 
+def test_step_0_of_a_labelled_run_says_m_s_starts_empty_and_label_cells_has_no_place():
+    """Where the paper's loop was abandoned the labelling path builds M_S from nothing: step 0 is not T_S (a new
+    user saw "the candidate complex T_S" over an empty view), and label-cells' τ is no place."""
+    from pathlib import Path
+
+    from crustview.core import reconstruct
+    from crustview.io import read_mesh
+    from crustview.scene.describe import step_words
+
+    points = read_mesh(Path(__file__).resolve().parents[1] / "resources" / "decimated-knight.off").points
+    ext = reconstruct(points, 2, resample=False).extraction
+    assert ext.steps[0].rule == "label-cells" and not ext.alive(0).any()
+    zero = step_words(None, 0, ext.n_steps, ext)
+    assert "M_S is empty" in zero and "labelled Delaunay cells" in zero and "candidate complex" not in zero
+    first = step_words(ext.steps[0], 1, ext.n_steps, ext)
+    assert "Label every Delaunay cell" in first and "τ" not in first
+    # a run of the paper's own loop still starts from T_S
+    assert "candidate complex T_S" in step_words(None, 0, 5)
+
+
 def test_a_simplex_is_named_by_the_number_the_steps_use(model):
     rec = model.rec
     ext = rec.extraction

@@ -417,7 +417,9 @@ class StepsPanel(QWidget):
         self.goto.setValue(i)
         self.goto.blockSignals(False)
         self.counter.setText(f"step {i} / {n}")
-        self.words.setText(step_words(player.current_step, i, n) if player.extraction else "No reconstruction yet.")
+        self.words.setText(
+            step_words(player.current_step, i, n, player.extraction) if player.extraction else "No reconstruction yet."
+        )
         # the selection model's signals stay on (the view repaints from them, so
         # exactly one row looks selected); a flag stops the echo to the player
         sm = self.table.selectionModel()

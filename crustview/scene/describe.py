@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.result import CANDIDATE_TESTS, Reconstruction
-from ..core.steps import Step
+from ..core.steps import Extraction, Step
 from .features import uncertain_features, uncertain_summary
 from .model import SceneModel
 from .quantities import POLE_INFINITE, POLE_NONE, hull_samples, pole_direction, pole_kinds
@@ -41,11 +41,30 @@ def fmt_tuple(t) -> str:
     return "(" + ", ".join(str(int(v)) for v in t) + ")"
 
 
-def step_words(step: Step | None, position: int, n_steps: int) -> str:
-    """One or two sentences about the step just applied at ``position``."""
+#: What a robust run that starts from an empty M_S builds it with, by its first step's rule.
+EMPTY_START = {
+    "label-cells": "the robust extension builds M_S from the labelled Delaunay cells (Steps: label-cells first)",
+    "seed-core": "the robust extension grows M_S from a seed (Steps: seed-core first)",
+    "seed": "the robust extension grows M_S from a seed (Steps: seed first)",
+}
+
+
+def step_words(step: Step | None, position: int, n_steps: int, extraction: Extraction | None = None) -> str:
+    """One or two sentences about the step just applied at ``position``.
+
+    ``extraction``: the run, for step 0 of a robust run that starts from an empty M_S (the paper's loop was
+    abandoned and the extension builds M_S anew), which is not T_S.
+    """
     if step is None:
         if n_steps == 0:
             return "Step 0 / 0: T_S already is a closed manifold, so Algorithm 3 had nothing to do; M_S = T_S."
+        first = extraction.steps[0].rule if extraction is not None and extraction.steps else None
+        if first in EMPTY_START and not extraction.alive(0).any():
+            return (
+                f"Step 0 / {n_steps}: M_S is empty: the paper's Algorithm 3 could not give a closed manifold "
+                f"through every sample, so {EMPTY_START[first]}; T_S is the layer of its own. Press → to apply "
+                "the first step."
+            )
         return f"Step 0 / {n_steps}: the candidate complex T_S before extraction. Press → to apply the first step."
     rule = {"prune-sharp": "Prune sharp/boundary face", "resolve-nonmanifold": "Resolve non-manifold face"}.get(
         step.rule, step.rule
@@ -59,9 +78,12 @@ def step_words(step: Step | None, position: int, n_steps: int) -> str:
             "grow-relaxed": "Grow across a boundary face (θ relaxed)",
             "fill-hole": "Fill a hole",
             "insert-sample": "Insert a left-out sample",
+            "label-cells": "Label every Delaunay cell inside or outside (M_S: the faces between the labels)",
         }
+        # label-cells labels every cell at once: its τ is no place
+        at = "" if step.rule == "label-cells" else f" at τ = {fmt_tuple(step.tau)}"
         return (
-            f"Step {position} / {n_steps} — {words.get(step.rule, step.rule)} at τ = {fmt_tuple(step.tau)}: added "
+            f"Step {position} / {n_steps} — {words.get(step.rule, step.rule)}{at}: added "
             f"{len(step.added)} simplex{'es' if len(step.added) != 1 else ''} "
             f"{fmt_tuple(step.added[:8])}{' …' if len(step.added) > 8 else ''}"
             + (f"; angle {deg(step.angle)}" if np.isfinite(step.angle) else "")
