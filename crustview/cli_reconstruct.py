@@ -461,9 +461,14 @@ def comparison_summary(c, name: str) -> str:
 
     h = c.hausdorff
     collapsed = f" ({c.collapsed_faces} collapsed by duplicate merging)" if c.collapsed_faces else ""
+    distance = (
+        f"Hausdorff distance {h.distance:.4g} ± {h.error_bound:.2g} "
+        "(sampled on grids over both complexes; the error bound is the grids' covering radius)"
+        if math.isfinite(h.distance)
+        else "no Hausdorff distance (M_S is empty)"
+    )
     return (
         f"Against the faces of {name}: {c.recovered} of {c.mesh_faces} mesh faces recovered "
         f"({100 * c.recovered_share:.1f}%){collapsed}, {c.extra} extra; mesh {top(c.mesh_topology)}; "
-        f"M_S {top(c.result_topology)}; Hausdorff distance {h.distance:.4g} ± {h.error_bound:.2g} "
-        "(sampled on grids over both complexes; the error bound is the grids' covering radius)."
+        f"M_S {top(c.result_topology)}; {distance}."
     )

@@ -536,3 +536,25 @@ def test_a_flat_mesh_says_its_points_were_read_in_the_plane(capsys, tmp_path):
     proc = run_main(capsys, "reconstruct", flat, "-d", 1, "-o", tmp_path / "out.npz")
     assert "faces, regions of that plane, are not a curve's and are not used" in proc.stderr + proc.stdout
     assert "Cannot use the faces" not in proc.stderr and "Verdict:" in proc.stdout
+
+
+def test_an_empty_paper_result_names_no_features_and_no_infinite_distance(capsys, tmp_path):
+    """The paper's pruning eats an open scan away: an empty M_S is FAILED, without 42 "uncertain components"
+    (every sample is left out of an empty result) or a Hausdorff distance of inf."""
+    report = tmp_path / "r.json"
+    proc = run_main(
+        capsys,
+        "reconstruct",
+        RESOURCES / "cow-head.off",
+        "-d",
+        2,
+        "--paper",
+        "-o",
+        tmp_path / "o.npz",
+        "--report",
+        report,
+    )
+    assert "0 2-simplices" in proc.stdout and "Verdict: FAILED" in proc.stdout
+    assert "uncertain:" not in proc.stdout and "inf" not in proc.stdout.replace("information", "")
+    assert "no Hausdorff distance (M_S is empty)" in proc.stdout
+    assert json.loads(report.read_text())["uncertain_features"] == []

@@ -76,11 +76,8 @@ def test_interpretation_and_verdict_of_a_torus_with_holes():
     rows = {a: b for a, b, _ in interpretation_rows(rec)}
     assert rows["boundary faces"] == "pruned (paper)"
     assert rows["extraction stopped"] == "empty"
-    # the samples an empty M_S does not reach are one uncertain part (analysis/missing.py)
-    assert verdict(rec) == (
-        "bad",
-        "M_S is NOT a closed manifold (extraction stopped: empty; uncertain: 0 handles, 0 holes, 1 component)",
-    )
+    # an empty M_S lacks the whole object, which is no uncertain feature (analysis/missing.py)
+    assert verdict(rec) == ("bad", "M_S is NOT a closed manifold (extraction stopped: empty)")
     kept = reextract(rec, "cocone-all", rec.theta, prune_boundary=False)
     rows = {a: b for a, b, _ in interpretation_rows(kept)}
     assert rows["candidate test"].startswith("cocone-all (every vertex)")

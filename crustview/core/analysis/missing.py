@@ -77,7 +77,8 @@ def left_out(points: np.ndarray, simplices: np.ndarray, d: int) -> list[Feature]
     used = np.zeros(n, bool)
     used[np.asarray(simplices, dtype=np.int64).ravel()] = True
     out_ids = np.flatnonzero(~used)
-    if len(out_ids) < d + 1 or n < 2:
+    if len(out_ids) < d + 1 or n < 2 or not used.any():
+        # an empty M_S lacks everything: no part of it is a feature (its verdict, FAILED, says so)
         return []
     # the unit: the surface's own spacing near each left-out sample, never below the sample's median
     # (not the sample's own nearest-neighbour distance: a lone outlier's is far, and would join it to anything)
