@@ -231,6 +231,12 @@ def reconstruct_file(
         say("note", f"{path.name}: -d auto chose {estimate.sentence()}")
     k = points.shape[1]
     truth = mesh.simplices(d) if mesh is not None and 1 <= d < k else None
+    truth_name = path.name
+    if mesh is None and 1 <= d < k:  # a result written with its mesh's faces is judged against them again
+        stored = _stored_mesh(path, d)
+        if stored is not None:
+            truth_name, truth = stored
+            say("note", f"{path.name}: judged against the faces of {truth_name} stored with it")
     note = cost_warning(k, d) if 1 <= d < k else None
     if note:
         say("warning", note)
@@ -254,14 +260,15 @@ def reconstruct_file(
         comparison = compare_to_mesh(rec, truth)
     extra = _report_extra(rec, attributes, estimate)
     progress("write", 0.0)
+    kept = None if truth is None else (truth_name, truth)  # stored with the result: reopened, it is judged again
     if report is None:
-        write_result(output, rec)
+        write_result(output, rec, mesh=kept)
     else:
         # the small report first: if either write fails, neither output changes (a failed command writes nothing)
         old = _previous(report)
         write_report(report, rec, comparison, extra=extra)
         try:
-            write_result(output, rec)
+            write_result(output, rec, mesh=kept)
         except BaseException:
             _put_back(report, old)
             raise
@@ -272,11 +279,20 @@ def reconstruct_file(
     say("summary", result_summary(rec, seconds, output))
     say("summary", extraction_summary(rec))
     if comparison is not None:
-        say("summary", comparison_summary(comparison, path.name))
+        say("summary", comparison_summary(comparison, truth_name))
     for line in _attribute_lines(extra):
         say("summary", line)
     say("summary", verdict_line(level, sentence, bool(rec.uncertain_features)))
     return summary_row(path, rec, seconds, output, report, estimate, level)
+
+
+def _stored_mesh(path: Path, d: int) -> tuple[str, Any] | None:
+    """The mesh truth stored in a result ``.npz`` (:mod:`crustview.resulttruth`) when it is for this ``d``."""
+    from crustview.io import read_run_parameters
+
+    saved = read_run_parameters(path)
+    stored = None if saved is None else saved.get("mesh")
+    return stored if stored is not None and stored[1].shape[1] == d + 1 else None
 
 
 def verdict_line(level: str, sentence: str, features: bool = False) -> str:

@@ -39,6 +39,7 @@ from crustview.core.errors import InputError
 from crustview.core.result import EXTRACTION_MODES
 from crustview.npyfiles import read_npy, read_npz
 from crustview.report import REPORT_CASCADES, holes_of_candidates, report_dict, write_report  # noqa: F401
+from crustview.resulttruth import builtin_arrays, builtin_of, mesh_arrays, mesh_of
 from crustview.textpoints import read_text_points
 
 if TYPE_CHECKING:
@@ -349,7 +350,12 @@ def write_points(path: str | os.PathLike, points: np.ndarray) -> None:
 
 
 def write_result(
-    path: str | os.PathLike, rec: Reconstruction, builtin: dict[str, Any] | None = None, *, compress: bool = False
+    path: str | os.PathLike,
+    rec: Reconstruction,
+    builtin: dict[str, Any] | None = None,
+    *,
+    compress: bool = False,
+    mesh: tuple[str, np.ndarray] | None = None,
 ) -> None:
     """Write a reconstruction.
 
@@ -371,6 +377,10 @@ def write_result(
         Only for a sample of a built-in manifold (``builtin`` given): its
         name and how it was drawn, so that a reopened result shows the true
         topology again.
+    ``truth_name``, ``truth_faces`` (f, d + 1)
+        Only for the vertices of a mesh (``mesh`` given): its file name and
+        faces on input rows, so that a reopened result is judged against them
+        again (:mod:`crustview.resulttruth`).
 
     ``.ply``, ``.off`` and ``.noff`` write the input points and M_S in any
     k and d (:mod:`crustview.meshfiles`; :func:`read_mesh` reads them back).
@@ -389,6 +399,9 @@ def write_result(
         Deflate the ``.npz`` members.  Off by default: the file is about 1.9x
         larger but written 40x faster (30,000 torus points: 5.8 MB in 0.01 s
         against 3.1 MB in 0.56 s), which keeps writing off the critical path.
+    mesh : (str, ndarray), optional
+        For the vertices of a mesh: its file name and faces as d-simplices on
+        input rows (stored in ``.npz`` only).
 
     Raises
     ------
@@ -417,7 +430,8 @@ def write_result(
                     theta=np.float64(rec.theta),
                     prune_boundary=np.bool_(rec.prune_boundary),
                     mode=np.str_(rec.mode),
-                    **_builtin_arrays(builtin),
+                    **builtin_arrays(builtin),
+                    **mesh_arrays(mesh, len(rec.input_points), rec.d),
                 )
         except OSError as err:
             raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
@@ -441,31 +455,6 @@ def write_result(
     _write_mesh(path, points, "triangle" if rec.d == 2 else "line", simplices)
 
 
-#: The keys of a built-in sample's description in a result ``.npz`` (after ``builtin_``) and their types.
-BUILTIN_FIELDS = {"n": int, "seed": int, "noise": float, "density": str, "method": str}
-
-
-def _builtin_arrays(builtin: dict[str, Any] | None) -> dict[str, np.ndarray]:
-    if not builtin:
-        return {}
-    out = {"builtin": np.str_(builtin["name"])}
-    for key, kind in BUILTIN_FIELDS.items():
-        value = builtin.get(key)
-        if value is not None:
-            out[f"builtin_{key}"] = np.str_(value) if kind is str else np.asarray(kind(value))
-    return out
-
-
-def _builtin_of(archive) -> dict[str, Any] | None:
-    if "builtin" not in archive:
-        return None
-    out: dict[str, Any] = {"name": str(archive["builtin"])}
-    for key, kind in BUILTIN_FIELDS.items():
-        if f"builtin_{key}" in archive:
-            out[key] = kind(archive[f"builtin_{key}"].item() if kind is not str else archive[f"builtin_{key}"])
-    return out
-
-
 def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
     """Parameters of the run saved in a result ``.npz``, or None for a plain point file.
 
@@ -480,7 +469,8 @@ def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
         and were made by the paper's Algorithm 3: ``mode`` is then
         ``"paper"``.  ``builtin`` is the built-in sample's description
         stored by :func:`write_result` (``name``, ``n``, ``seed``, ...), or
-        None.
+        None; ``mesh`` the mesh truth ``(file name, faces on input rows)``
+        stored with it, or None.
 
     Raises
     ------
@@ -501,8 +491,9 @@ def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
                 "prune_boundary": bool(archive["prune_boundary"]) if "prune_boundary" in archive else True,
                 "mode": str(archive["mode"]) if "mode" in archive else "paper",
                 "simplices": np.asarray(archive["simplices"], dtype=np.int64),
-                "builtin": _builtin_of(archive),
+                "builtin": builtin_of(archive),
             }
+            out["mesh"] = mesh_of(archive, len(archive["points"]), out["d"]) if "points" in archive else None
     except Exception as err:  # noqa: BLE001
         raise InputError(f"Cannot read '{path}' as a NumPy .npz archive ({_reason(err)}).") from None
     if out["mode"] not in EXTRACTION_MODES:

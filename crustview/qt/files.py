@@ -13,6 +13,7 @@ from PySide6.QtWidgets import QFileDialog, QMenu
 
 from ..core.analysis.dimension import estimate_dimension
 from ..core.errors import CrustviewError
+from ..scene.truth import MeshTruth
 from .dialogs import BuiltinDialog, ask_dimension, ask_overwrite_input
 
 MAX_RECENT = 8
@@ -187,9 +188,10 @@ class FileActions:
         truth = None
         if saved is not None and saved.get("builtin"):
             truth = builtin_truth(saved["builtin"], points)  # the expected topology comes back
+        stored = None if saved is None else saved.get("mesh")  # a mesh's faces written with the result
+        if mesh is None and stored is not None and stored[1].shape[1] == int(d) + 1:
+            truth = MeshTruth(points, stored[1], stored[0])
         if mesh is not None:
-            from ..scene.truth import MeshTruth
-
             try:
                 truth = MeshTruth(points, mesh.simplices(int(d)), name)
             except CrustviewError as err:  # with what was read: a flat mesh's points are in R^2
@@ -317,7 +319,9 @@ class FileActions:
                 self.statusBar().showMessage(f"Not saved: {path} is the input file.", 10000)
                 return False
         try:
-            io.write_result(path, self.model.rec, builtin=builtin_description(self.model.truth))
+            truth = self.model.truth
+            mesh = (truth.name, truth.faces) if isinstance(truth, MeshTruth) else None
+            io.write_result(path, self.model.rec, builtin=builtin_description(truth), mesh=mesh)
         except CrustviewError as err:
             self.show_error(str(err))
             return False

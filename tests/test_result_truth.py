@@ -1,0 +1,68 @@
+"""A result written from a mesh's vertices keeps the mesh's faces: reopened or reconstructed again, it is judged
+against them again (a new user reopened the foot bones' red WRONG result and saw it amber)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from crustview import io
+from crustview.core import reconstruct
+from crustview.core.samples.manifolds import get_manifold
+from crustview.meshfiles.off import write_off
+
+
+@pytest.fixture(scope="module")
+def holed_torus_mesh(tmp_path_factory):
+    """A torus sample whose 'mesh' is its own reconstruction less one face: the truth has a hole, so the
+    closed torus the vertices give is WRONG against it."""
+    points = get_manifold("torus").sample(800, seed=0).points
+    rec = reconstruct(points, 2, resample=False)
+    faces = np.asarray(rec.point_input)[np.asarray(rec.manifold)][1:]
+    path = tmp_path_factory.mktemp("truth") / "holed.off"
+    write_off(path, points, faces)
+    return path, points, faces
+
+
+def test_the_faces_go_into_the_npz_and_come_back(tmp_path, holed_torus_mesh):
+    _, points, faces = holed_torus_mesh
+    rec = reconstruct(points, 2, resample=False)
+    io.write_result(tmp_path / "r.npz", rec, mesh=("holed.off", faces))
+    saved = io.read_run_parameters(tmp_path / "r.npz")
+    name, back = saved["mesh"]
+    assert name == "holed.off" and np.array_equal(back, faces)
+    # faces that cannot be this result's truth (another d, rows beyond the points) are not stored
+    io.write_result(tmp_path / "bad.npz", rec, mesh=("x", faces[:, :2]))
+    io.write_result(tmp_path / "far.npz", rec, mesh=("x", faces + len(points)))
+    assert io.read_run_parameters(tmp_path / "bad.npz")["mesh"] is None
+    assert io.read_run_parameters(tmp_path / "far.npz")["mesh"] is None
+    io.write_result(tmp_path / "none.npz", rec)
+    assert io.read_run_parameters(tmp_path / "none.npz")["mesh"] is None
+
+
+def test_a_wrong_result_reconstructed_again_from_its_npz_is_still_wrong(capsys, tmp_path, holed_torus_mesh):
+    from crustview.__main__ import main
+
+    path, _, _ = holed_torus_mesh
+    assert main(["reconstruct", str(path), "-d", "2", "-o", str(tmp_path / "a.npz")]) == 0
+    first = capsys.readouterr().out
+    assert "Verdict: WRONG" in first
+    assert main(["reconstruct", str(tmp_path / "a.npz"), "-d", "2", "-o", str(tmp_path / "b.npz")]) == 0
+    out, err = capsys.readouterr()
+    assert "judged against the faces of holed.off stored with it" in out + err
+    assert "Against the faces of holed.off" in out and "Verdict: WRONG" in out
+
+
+@pytest.mark.gl
+def test_a_reopened_wrong_result_is_red(qtbot, window, tmp_path, holed_torus_mesh):
+    from crustview.qt.info_dock import BANNER_STYLE
+
+    path, _, _ = holed_torus_mesh
+    assert window.open_file(path, d=2)
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec is not None, timeout=60_000)
+    assert window.info_panel.banner.styleSheet() == BANNER_STYLE["bad"]
+    assert window.save_result(str(tmp_path / "saved.npz"), ask=False)
+    assert window.open_file(tmp_path / "saved.npz")
+    qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec is not None, timeout=60_000)
+    banner = window.info_panel.banner
+    assert banner.styleSheet() == BANNER_STYLE["bad"] and "WRONG" in banner.text()
