@@ -185,9 +185,9 @@ def read_mesh(path: str | os.PathLike):
     if mesh.n_cells == 0:
         return None
     points = _check_points(_drop_zero_z(mesh.points), path)
-    if min(block.shape[1] for block in mesh.cells) > points.shape[1]:
-        # faces of dimension k or more (a flat mesh's triangles, read in R^2): regions of the space, never the
-        # truth of a d-manifold with d < k; the file is a point sample (read_points says so in its notes)
+    if points.shape[1] == 2 and min(block.shape[1] for block in mesh.cells) >= 3:
+        # a flat mesh's triangles or polygons, read in R^2: regions of the plane, never the truth of a curve
+        # (the only d < k there); the file is a point sample (read_points says so in its notes)
         return None
     return replace(mesh, points=points)
 

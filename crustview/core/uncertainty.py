@@ -167,6 +167,7 @@ def result_features(
             + (" sampling radii) are" if len(below) > 1 else " sampling radii) is")
             + " shorter than any eps < 1 sample resolves (2 pi): noise or a bridge, "
             "below the sample's resolution (the JSON report lists them under removed_features)"
+            + _others_cut(feats, len(below))
         )
     if any(f.uncertain for f in feats):
         doubt = [f for f in feats if f.uncertain]
@@ -215,3 +216,11 @@ def _resampled(
         contacts=False,  # they add flags only; the check reads the Betti numbers and the handles' loops
     )
     return r.topology.betti, r.topology.closed_manifold, r.features, r.points
+
+
+def _others_cut(feats: list[Feature], sure: int) -> str:
+    """The handles cut-handle removed beside the ``sure`` ones: those in the band, listed as uncertain."""
+    band = sum(f.removed and f.uncertain and f.kind == "handle" and not f.disputed for f in feats)
+    if not band:
+        return ""
+    return f"; the other {band} it removed {'is' if band == 1 else 'are'} among the uncertain features"

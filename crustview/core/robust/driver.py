@@ -306,7 +306,7 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     keep.notes.insert(
         0,
         f"{note_paper}; the robust extension labelled the Delaunay cells ({_state(top_lab)}, Betti "
-        f"{top_lab.betti}, {top_lab.unused_samples} samples left out, {len(f_lab)} uncertain features) and grew "
+        f"{top_lab.betti}, {top_lab.unused_samples} samples left out, {_features(len(f_lab))}) and grew "
         f"M_S ({_state(top_gro)}, Betti {top_gro.betti}, {top_gro.unused_samples} left out, {len(f_gro)} "
         f"uncertain); the {why} result is kept",
     )
@@ -492,3 +492,8 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
             f"out (outliers or unreachable): {shown}"
         )
     return ext
+
+
+def _features(count: int) -> str:
+    """``count`` uncertain feature(s), in words."""
+    return f"{count} uncertain feature{'' if count == 1 else 's'}"
