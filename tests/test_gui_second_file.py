@@ -34,6 +34,7 @@ def test_a_second_file_shows_its_points_at_once_and_its_result_when_done(qtbot, 
     hud = window.view.hud.GetViewProps()
     assert all(not hud.GetItemAsObject(i).GetVisibility() for i in range(hud.GetNumberOfItems()))
     assert "3holes.off" in window.windowTitle() and "bumpy" not in window.windowTitle()
+    assert window.status_counts.text() == "n = 3596 · reconstructing…"  # not bumpy's n and M_S counts
     assert not window.info_panel.isEnabled() and not window.steps_panel.isEnabled()  # greyed: bumpy's
     assert window.info_panel.banner.isHidden()  # bumpy's verdict
     qtbot.waitUntil(lambda: not window.runner.busy and window.model.rec is not first, timeout=60_000)
@@ -44,6 +45,7 @@ def test_a_second_file_shows_its_points_at_once_and_its_result_when_done(qtbot, 
     # a third file whose run fails (every point the same: one line, no traceback): the result shown before it
     # comes back as it was, with its title, and the preview goes
     title = window.windowTitle()
+    counts = window.status_counts.text()
     camera = window.plotter.camera.position
     manifold = window.view.adapters["manifold"].part.actor
     # a file whose d cannot be estimated (4 distinct points) is refused in one line before anything moves
@@ -60,6 +62,7 @@ def test_a_second_file_shows_its_points_at_once_and_its_result_when_done(qtbot, 
     assert window.last_error and "coincide" in window.last_error
     assert window.plotter.actors.get("preview") is None
     assert manifold.GetVisibility() and window.windowTitle() == title and window.info_panel.isEnabled()
+    assert window.status_counts.text() == counts and counts.startswith("n = 3596")
     assert window.layers_panel.isEnabled() and window.plotter.camera.position == camera  # as it was shown
     assert window.model.layers["points"].count == 3596
     assert not window.info_panel.banner.isHidden()

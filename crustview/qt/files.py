@@ -255,8 +255,10 @@ class FileActions:
             "banner": not self.info_panel.banner.isHidden(),
             "camera": camera_state(self.plotter),
             "points": (points_layer.count, points_layer.total, points_layer.note),
+            "counts": self.status_counts.text(),
         }
         shelve(self.view)
+        self.status_counts.setText(f"n = {len(points)} · reconstructing…")  # not the last file's counts
         self.setWindowTitle(f"crustview — {name}: reconstructing…")
         for panel in (self.info_panel, self.steps_panel, self.layers_panel):  # what they show is set aside
             panel.setEnabled(False)

@@ -321,6 +321,8 @@ class RunActions:
         self.view.show_preview(None)
         self.info_panel.banner.setVisible(state.get("banner", True))
         self.setWindowTitle(state.get("title", "crustview"))
+        if "counts" in state:
+            self.status_counts.setText(state["counts"])
         points_layer = self.model.layers["points"]
         points_layer.count, points_layer.total, points_layer.note = state.get(
             "points", (points_layer.count, points_layer.total, points_layer.note)
