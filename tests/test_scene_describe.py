@@ -127,7 +127,7 @@ def test_step_0_of_a_labelled_run_says_m_s_starts_empty_and_label_cells_has_no_p
 
     from crustview.core import reconstruct
     from crustview.io import read_mesh
-    from crustview.scene.describe import step_words
+    from crustview.scene.describe import fmt_tuple, step_words, tau_text
 
     points = read_mesh(Path(__file__).resolve().parents[1] / "resources" / "decimated-knight.off").points
     ext = reconstruct(points, 2, resample=False).extraction
@@ -136,6 +136,7 @@ def test_step_0_of_a_labelled_run_says_m_s_starts_empty_and_label_cells_has_no_p
     assert "M_S is empty" in zero and "labelled Delaunay cells" in zero and "candidate complex" not in zero
     first = step_words(ext.steps[0], 1, ext.n_steps, ext)
     assert "Label every Delaunay cell" in first and "τ" not in first
+    assert tau_text(ext.steps[0]) == "—" and tau_text(ext.steps[1]) == fmt_tuple(ext.steps[1].tau)
     # a run of the paper's own loop still starts from T_S
     assert "candidate complex T_S" in step_words(None, 0, 5)
 

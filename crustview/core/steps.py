@@ -52,6 +52,9 @@ RULES = (
 )
 #: Rules that remove simplices (the paper's) and rules that add them (the extension's).
 REMOVING_RULES = (RULE_PRUNE, RULE_RESOLVE)
+#: Rules whose one step acts everywhere at once (every Delaunay cell labelled): their τ is only the first face
+#: they added, no place, and the viewer names and marks none.
+PLACELESS_RULES = (RULE_LABEL,)
 ADDING_RULES = (
     RULE_LABEL,
     RULE_REPAIR,

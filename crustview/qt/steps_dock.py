@@ -24,8 +24,8 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from ..core.steps import RULES
-from ..scene.describe import deg, fmt_tuple, step_words
+from ..core.steps import PLACELESS_RULES, RULES
+from ..scene.describe import deg, fmt_tuple, step_words, tau_text
 from ..scene.layers import STEP_COLORS
 from ..scene.model import SceneModel
 from .steady import SteadyLabel
@@ -125,7 +125,7 @@ class StepLog(QAbstractTableModel):
                 texts = self._rows[row] = (
                     str(s.index + 1),
                     RULE_SHORT.get(s.rule, s.rule),
-                    fmt_tuple(s.tau),
+                    tau_text(s),
                     _ids(s.kept),
                     _ids(s.removed),
                     _ids(s.added),
@@ -140,7 +140,7 @@ class StepLog(QAbstractTableModel):
             # the whole value, which a narrow column cuts ("res…", "(2782, 2819, …"), then the reason
             full = {
                 "rule": s.rule,
-                "τ": fmt_tuple(s.tau),
+                "τ": tau_text(s),
                 "kept": fmt_tuple(s.kept) if s.kept else "",
                 "removed": fmt_tuple(s.removed) if s.removed else "",
                 "added": fmt_tuple(s.added) if s.added else "",
@@ -341,7 +341,8 @@ class StepsPanel(QWidget):
         col = COLUMNS[index.column()]
         sel = self.model.selection
         if col == "τ":
-            sel.select_face(s.tau)
+            if s.rule not in PLACELESS_RULES:
+                sel.select_face(s.tau)
             return
         ids = {"kept": s.kept, "removed": s.removed, "added": s.added}.get(col, ())
         if not ids:

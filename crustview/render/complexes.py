@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.steps import PLACELESS_RULES
 from ..scene import geometry as geo
 from ..scene.coloring import coordinate_values
 from ..scene.layers import STEP_COLORS
@@ -387,7 +388,7 @@ class StepAdapter(LayerAdapter):
         added = np.array(s.added if s else (), dtype=np.int64)
         ids = np.concatenate([kept, removed, added])
         self.ids = ids
-        self.tau = np.array(s.tau if s else (), dtype=np.int64)
+        self.tau = np.array(s.tau if s and s.rule not in PLACELESS_RULES else (), dtype=np.int64)
         # only the step's own vertices are projected (a step is a few simplices; the sample may be 10^6)
         table = ext.simplices[ids]
         self.verts = np.unique(np.concatenate([table.ravel(), self.tau]))

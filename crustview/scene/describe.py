@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.result import CANDIDATE_TESTS, Reconstruction
-from ..core.steps import Extraction, Step
+from ..core.steps import PLACELESS_RULES, Extraction, Step
 from .features import uncertain_features, uncertain_summary
 from .model import SceneModel
 from .quantities import POLE_INFINITE, POLE_NONE, hull_samples, pole_direction, pole_kinds
@@ -41,6 +41,11 @@ def fmt_tuple(t) -> str:
     return "(" + ", ".join(str(int(v)) for v in t) + ")"
 
 
+def tau_text(step: Step) -> str:
+    """A step's τ for a table cell: "—" for a rule that acts everywhere at once (``PLACELESS_RULES``)."""
+    return "—" if step.rule in PLACELESS_RULES else fmt_tuple(step.tau)
+
+
 #: What a robust run that starts from an empty M_S builds it with, by its first step's rule.
 EMPTY_START = {
     "label-cells": "the robust extension builds M_S from the labelled Delaunay cells (Steps: label-cells first)",
@@ -62,7 +67,7 @@ def step_words(step: Step | None, position: int, n_steps: int, extraction: Extra
         if first in EMPTY_START and not extraction.alive(0).any():
             return (
                 f"Step 0 / {n_steps}: M_S is empty: the paper's Algorithm 3 could not give a closed manifold "
-                f"through every sample, so {EMPTY_START[first]}; T_S is the layer of its own. Press → to apply "
+                f"through every sample, so {EMPTY_START[first]}; T_S has a layer of its own. Press → to apply "
                 "the first step."
             )
         return f"Step 0 / {n_steps}: the candidate complex T_S before extraction. Press → to apply the first step."
@@ -80,8 +85,7 @@ def step_words(step: Step | None, position: int, n_steps: int, extraction: Extra
             "insert-sample": "Insert a left-out sample",
             "label-cells": "Label every Delaunay cell inside or outside (M_S: the faces between the labels)",
         }
-        # label-cells labels every cell at once: its τ is no place
-        at = "" if step.rule == "label-cells" else f" at τ = {fmt_tuple(step.tau)}"
+        at = "" if step.rule in PLACELESS_RULES else f" at τ = {fmt_tuple(step.tau)}"
         return (
             f"Step {position} / {n_steps} — {words.get(step.rule, step.rule)}{at}: added "
             f"{len(step.added)} simplex{'es' if len(step.added) != 1 else ''} "
