@@ -59,4 +59,6 @@ def judge(points: np.ndarray, betti: tuple[int, ...], noise: float, d: int = 2) 
     ok = bool(t.closed_manifold and tuple(t.betti) == tuple(betti) and used >= need * len(points) - 1e-9)
     u = rec.uncertain_features
     unc = tuple(sum(f.kind == k for f in u) for k in ("handle", "hole", "component"))
-    return Judged(ok, bool(u), tuple(t.betti), unc, used, seconds)  # type: ignore[arg-type]
+    # an empty M_S is no answer (FAILED) and names no features since session 32: flagged as it was before
+    flagged = bool(u) or t.n_simplices == 0
+    return Judged(ok, flagged, tuple(t.betti), unc, used, seconds)  # type: ignore[arg-type]

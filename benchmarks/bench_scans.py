@@ -116,8 +116,10 @@ class Row:
 
     @property
     def flagged(self) -> bool:
-        """The result says it may be wrong: uncertain features, or "NOT a closed manifold" for a closed truth."""
-        return sum(self.uncertain.values()) > 0 or (self.case.truth["closed"] and not self.closed)
+        """The result says it may be wrong: uncertain features, "NOT a closed manifold" for a closed truth, or an
+        empty M_S (no answer at all: its verdict is FAILED, and it names no features since session 32)."""
+        empty = self.interpolates and self.used == 0
+        return sum(self.uncertain.values()) > 0 or (self.case.truth["closed"] and not self.closed) or empty
 
 
 def cases(
