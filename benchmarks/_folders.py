@@ -37,7 +37,7 @@ def folder_truth(folder: Path) -> dict:
             print(f"{path.name}: {err}: skipped", file=sys.stderr)
             continue
         if mesh is None:
-            print(f"{path.name}: no faces: skipped", file=sys.stderr)
+            print(f"{path.name}: no faces of a surface in R^3 (none, or a flat mesh's): skipped", file=sys.stderr)
             continue
         stems.add(path.stem)
         top = analyse(np.asarray(mesh.simplices(2)), len(mesh.points), 2)

@@ -160,10 +160,10 @@ def cases(
             if only and stem not in only and fname not in only:
                 continue
             mesh = read_mesh(folder / fname)
-            pts = np.asarray(mesh.points, dtype=float)
-            if pts.shape[1] != 3:  # a flat mesh (z = 0 everywhere) is read as points in R^2: no surface in R^3
-                print(f"{fname}: its points are not in R^3 (k = {pts.shape[1]}): skipped", file=sys.stderr)
+            if mesh is None or np.shape(mesh.points)[1] != 3:  # a flat mesh is read as points in R^2: no surface
+                print(f"{fname}: no surface in R^3 (a flat mesh, or no faces): skipped", file=sys.stderr)
                 continue
+            pts = np.asarray(mesh.points, dtype=float)
             tris = np.asarray(mesh.simplices(2))
             true = truth[fname]
             tag = "" if subsample is None else f"-s{round(100 * subsample):02d}"

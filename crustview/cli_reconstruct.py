@@ -179,12 +179,13 @@ def _put_back(path: Path, old: bytes | None) -> None:
 # ---------------------------------------------------------------- one file
 def read_input(path: Path, notes: list[str]) -> tuple[Any, Any, dict]:
     """The mesh (or None), the points and the per-point attributes of an input file."""
-    from crustview.io import MESH_SUFFIXES, planar_note, read_attributes, read_mesh, read_points
+    from crustview.io import flat_note, read_attributes, read_mesh, read_points
 
     mesh = read_mesh(path)  # a mesh with faces: its vertices are the sample, its faces the truth
     if mesh is not None:
-        if mesh.points.shape[1:] == (2,) and path.suffix.lower() in MESH_SUFFIXES:
-            notes.append(planar_note(path))
+        note = flat_note(path, mesh.points)
+        if note:
+            notes.append(note)
         return mesh, mesh.points, read_attributes(path)
     attributes: dict = {}
     points = read_points(path, notes, attributes)
@@ -284,6 +285,12 @@ def reconstruct_file(
         say("summary", line)
     say("summary", verdict_line(level, sentence, bool(rec.uncertain_features)))
     return summary_row(path, rec, seconds, output, report, estimate, level)
+
+
+def _empty_side(c) -> str:
+    """Why a comparison has no Hausdorff distance: which of the two complexes is empty."""
+    empty = [what for what, t in (("M_S", c.result_topology), ("the mesh", c.mesh_topology)) if t.n_simplices == 0]
+    return " and ".join(empty) + (" is empty" if len(empty) == 1 else " are empty") if empty else "not measured"
 
 
 def _stored_mesh(path: Path, d: int) -> tuple[str, Any] | None:
@@ -481,7 +488,7 @@ def comparison_summary(c, name: str) -> str:
         f"Hausdorff distance {h.distance:.4g} ± {h.error_bound:.2g} "
         "(sampled on grids over both complexes; the error bound is the grids' covering radius)"
         if math.isfinite(h.distance)
-        else "no Hausdorff distance (M_S is empty)"
+        else f"no Hausdorff distance ({_empty_side(c)})"
     )
     return (
         f"Against the faces of {name}: {c.recovered} of {c.mesh_faces} mesh faces recovered "

@@ -86,7 +86,8 @@ def read_points(path: str | os.PathLike, notes: list[str] | None = None, attribu
         dropped so planar data written by :func:`write_points` reads back as 2-D.
     notes : list of str, optional
         Sentences about what was read other than points are appended here:
-        a text file's header line of column names.
+        a text file's header line of column names; a mesh read in R^2 because
+        its third coordinate is 0 everywhere (:func:`flat_note`).
     attributes : dict, optional
         Filled with the per-point ``colors``, ``intensity`` and ``normals``
         that the file holds (:mod:`crustview.attributes`; PLY and the
@@ -128,8 +129,9 @@ def read_points(path: str | os.PathLike, notes: list[str] | None = None, attribu
             attributes.update(found)
     else:
         data = _read_mesh(path, attributes)
-        if notes is not None and np.shape(data)[1:] == (2,):
-            notes.append(planar_note(path, faces=read_mesh(path) is None and _has_faces(path)))
+        note = flat_note(path, data) if notes is not None else None
+        if note:
+            notes.append(note)
     points = _check_points(data, path)
     if attributes:
         from crustview.attributes import check
@@ -160,6 +162,9 @@ def _read_mesh(path: Path, attributes: dict | None = None) -> np.ndarray:
 
 def read_mesh(path: str | os.PathLike):
     """Points and faces of a mesh file, or None when it has no faces or is not a mesh format.
+
+    Also None for a flat mesh whose triangles or polygons lie in R^2 once its zero third coordinate is dropped
+    (regions of the plane, no curve's truth: its vertices are a point sample, :func:`flat_note`).
 
     Returns
     -------
@@ -192,25 +197,27 @@ def read_mesh(path: str | os.PathLike):
     return replace(mesh, points=points)
 
 
-def planar_note(path: Path, faces: bool = False) -> str:
-    """The note for a mesh-format file whose zero third coordinate was dropped (:func:`read_points`).
+def flat_note(path: str | os.PathLike, points: np.ndarray) -> str | None:
+    """The note for a mesh-format file read in R^2 because its third coordinate is 0 everywhere, else None.
 
-    ``faces``: the file's faces are regions of that plane (triangles or polygons), not used as the truth.
+    Says too when its faces (triangles, polygons: regions of the plane) are not used (:func:`read_mesh`).
+    A file that is 2-D itself (an nOFF of dimension 2) gets none.
     """
-    note = (
-        f"{Path(path).name}: the third coordinate is 0 at every vertex, so its points are read as points in R^2 "
-        "(a curve there has d = 1)"
-    )
-    if faces:
-        note += "; its faces, regions of that plane, are not a curve's and are not used (its vertices are the sample)"
-    return note + "."
-
-
-def _has_faces(path: Path) -> bool:
-    """Whether a mesh-format file has any faces."""
+    path = Path(path)
+    if np.shape(points)[1:] != (2,) or path.suffix.lower() not in MESH_SUFFIXES:
+        return None
     from crustview.meshfiles import read_mesh as _read
 
-    return _read(path).n_cells > 0
+    raw = _read(path)
+    if np.shape(raw.points)[1:] != (3,):
+        return None
+    note = (
+        f"{path.name}: the third coordinate is 0 at every vertex, so its points are read as points in R^2 "
+        "(a curve there has d = 1)"
+    )
+    if raw.n_cells and min(block.shape[1] for block in raw.cells) >= 3:
+        note += "; its faces, regions of that plane, are not a curve's and are not used (its vertices are the sample)"
+    return note + "."
 
 
 def _drop_zero_z(points: np.ndarray) -> np.ndarray:

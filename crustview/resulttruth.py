@@ -48,18 +48,25 @@ def mesh_arrays(mesh: tuple[str, np.ndarray] | None, n_points: int, d: int) -> d
         return {}
     name, faces = mesh
     faces = np.asarray(faces, dtype=np.int64)
-    if faces.ndim != 2 or faces.shape[1] != d + 1 or (faces.size and (faces.min() < 0 or faces.max() >= n_points)):
+    if faces.ndim != 2 or faces.shape[1] != d + 1 or len(faces) == 0 or faces.min() < 0 or faces.max() >= n_points:
         return {}
     return {"truth_name": np.str_(name), "truth_faces": faces}
 
 
 def mesh_of(archive, n_points: int, d: int) -> tuple[str, np.ndarray] | None:
-    """The mesh truth ``(file name, faces)`` stored in an open ``.npz``, or None (also for faces that do not fit)."""
+    """The mesh truth ``(file name, faces)`` stored in an open ``.npz``, or None.
+
+    None too for members that are not a name and a non-empty integer face table on these points for this ``d``
+    (an old or altered archive still opens, without its truth).
+    """
     if "truth_faces" not in archive or "truth_name" not in archive:
         return None
-    faces = np.asarray(archive["truth_faces"])
-    if faces.dtype.kind not in "iu" or faces.ndim != 2 or faces.shape[1] != d + 1:
+    try:  # a member that is not what write_result stores is ignored, as faces that do not fit are
+        name, faces = archive["truth_name"], np.asarray(archive["truth_faces"])
+    except ValueError:  # e.g. an object array, which allow_pickle=False refuses
         return None
-    if faces.size and (faces.min() < 0 or faces.max() >= n_points):
+    if name.dtype.kind != "U" or name.ndim != 0 or faces.dtype.kind not in "iu" or faces.ndim != 2:
         return None
-    return str(archive["truth_name"]), faces.astype(np.int64)
+    if faces.shape[1] != d + 1 or len(faces) == 0 or faces.min() < 0 or faces.max() >= n_points:
+        return None
+    return str(name), faces.astype(np.int64)

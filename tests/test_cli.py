@@ -536,6 +536,15 @@ def test_a_flat_mesh_says_its_points_were_read_in_the_plane(capsys, tmp_path):
     proc = run_main(capsys, "reconstruct", flat, "-d", 1, "-o", tmp_path / "out.npz")
     assert "faces, regions of that plane, are not a curve's and are not used" in proc.stderr + proc.stdout
     assert "Cannot use the faces" not in proc.stderr and "Verdict:" in proc.stdout
+    # a file that is 2-D itself (an nOFF of dimension 2) had no third coordinate to drop: no such note
+    t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    ring = tmp_path / "ring.noff"
+    body = "".join(f"{np.cos(a):.6f} {np.sin(a):.6f}\n" for a in t) + "".join(
+        f"2 {i} {(i + 1) % 40}\n" for i in range(40)
+    )
+    ring.write_text(f"nOFF\n2\n40 40 0\n{body}")
+    proc = run_main(capsys, "reconstruct", ring, "-d", 1, "-o", tmp_path / "ring.npz")
+    assert proc.returncode == 0 and "third coordinate" not in proc.stdout + proc.stderr
 
 
 def test_an_empty_paper_result_names_no_features_and_no_infinite_distance(capsys, tmp_path):

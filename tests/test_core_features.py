@@ -212,6 +212,22 @@ def test_a_disputed_component_is_placed_where_the_parts_come_closest():
     assert np.isclose(f.size_spacings, d[i, j] / np.median(h[[i, len(a) + j]]))
 
 
+def test_a_disputed_component_is_where_the_other_result_joins_not_the_closest_pair():
+    """Three tori A, B, C, A and B closest; the other result joins B and C by one triangle: the dispute is at
+    B-C (a review found the closest pair A-B marked instead)."""
+    a, ta = _torus_mesh(24, 10)
+    n = len(a)
+    b, c = a + np.array([2.9, 0, 0]), a + np.array([6.0, 0, 0])
+    pts, kept = np.vstack([a, b, c]), np.vstack([ta, ta + n, ta + 2 * n])
+    d = np.linalg.norm(b[:, None] - c[None], axis=2)
+    i, j = np.unravel_index(np.argmin(d), d.shape)
+    k = next(v for v in next(t for t in ta if i in t) if v != i)
+    other = np.vstack([kept, [[n + i, 2 * n + j, n + k]]])
+    (f,) = disagreement(pts, kept, other, (3, 6, 3), (2, 6, 2))
+    assert f.kind == "component" and sorted((f.vertices // n).tolist()) == [1, 2]
+    assert np.allclose(f.location, (b[i] + c[j]) / 2)
+
+
 def test_disagreement_of_two_open_results_names_the_extra_hole():
     """Two manifolds with boundary: a grid sheet (a disk) and the same sheet with one inner triangle
     missing (an annulus, b1 = 1).  They differ by a hole, not a handle: one uncertain hole, at the

@@ -38,6 +38,26 @@ def test_the_faces_go_into_the_npz_and_come_back(tmp_path, holed_torus_mesh):
     assert io.read_run_parameters(tmp_path / "far.npz")["mesh"] is None
     io.write_result(tmp_path / "none.npz", rec)
     assert io.read_run_parameters(tmp_path / "none.npz")["mesh"] is None
+    io.write_result(tmp_path / "empty.npz", rec, mesh=("x", faces[:0]))
+    assert io.read_run_parameters(tmp_path / "empty.npz")["mesh"] is None
+
+
+def test_an_altered_truth_is_ignored_and_the_result_still_opens(tmp_path, holed_torus_mesh):
+    """Members that are not what write_result stores (an object array, an empty or float face table) leave the
+    result readable, without its truth."""
+    _, points, faces = holed_torus_mesh
+    rec = reconstruct(points, 2, resample=False)
+    io.write_result(tmp_path / "r.npz", rec)
+    with np.load(tmp_path / "r.npz") as archive:
+        members = dict(archive)
+    for name, table in (
+        (np.array(["x"], dtype=object), faces),
+        (np.str_("x"), np.zeros((0, 3), np.int64)),
+        (np.str_("x"), faces.astype(float)),
+    ):
+        np.savez(tmp_path / "bad.npz", **members, truth_name=name, truth_faces=table)
+        saved = io.read_run_parameters(tmp_path / "bad.npz")
+        assert saved is not None and saved["mesh"] is None and saved["d"] == 2
 
 
 def test_a_wrong_result_reconstructed_again_from_its_npz_is_still_wrong(capsys, tmp_path, holed_torus_mesh):

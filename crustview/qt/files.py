@@ -131,8 +131,9 @@ class FileActions:
             mesh = io.read_mesh(path)  # a mesh with faces: vertices are the sample, faces the truth
             read_notes: list[str] = []  # e.g. a text file's header line of column names
             points = mesh.points if mesh is not None else io.read_points(path, read_notes)
-            if mesh is not None and points.shape[1:] == (2,) and Path(path).suffix.lower() in io.MESH_SUFFIXES:
-                read_notes.append(io.planar_note(Path(path)))
+            flat = io.flat_note(path, points) if mesh is not None else None  # read_points notes the rest
+            if flat:
+                read_notes.append(flat)
             attributes = io.read_attributes(path)  # colours, intensity, normals (PLY and scanner formats)
             saved = io.read_run_parameters(path)
             origin = file_source(path)  # size and SHA-1 as read, for a session

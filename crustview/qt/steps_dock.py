@@ -176,7 +176,11 @@ class StepsPanel(QWidget):
             row.addWidget(b)
             return b
 
-        self.first = button(icon.SP_MediaSkipBackward, "First: the candidate complex T_S (Home)", player.first)
+        self.first = button(
+            icon.SP_MediaSkipBackward,
+            "First: step 0, T_S (or an empty M_S where the robust extension builds it) (Home)",
+            player.first,
+        )
         self.prev = button(icon.SP_MediaSeekBackward, "Previous step (Left)", player.prev)
         self.play = button(icon.SP_MediaPlay, "Play / pause (Space)", player.toggle)
         self.next = button(icon.SP_MediaSeekForward, "Next step (Right)", player.next)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.steps import PLACELESS_RULES
 from ..scene import geometry as geo
 from .fitting import fit_clear, text_block
 from .framing import frame_for, front_plane, place_camera
@@ -81,6 +82,8 @@ class CameraControl:
         """Look at ``step``'s tau from its open side and cut away the geometry in front (:mod:`.framing`)."""
         rec = self.model.rec
         if rec is None or step is None:
+            return
+        if step.rule in PLACELESS_RULES:  # one step everywhere (label-cells): no place to look at
             return
         ext = rec.extraction
         ids = list(step.kept) + list(step.removed) + list(step.added)

@@ -11,8 +11,8 @@ from ..core.steps import Extraction, Step
 class StepPlayer:
     """Position in the recorded extraction, with play/pause.
 
-    The position ``i`` runs from 0 (the candidate complex T_S, nothing done)
-    to ``n_steps`` (the final M_S).  At position ``i`` the complex shown is
+    The position ``i`` runs from 0 (the candidate complex T_S, nothing done; an empty M_S where the robust
+    extension builds it anew) to ``n_steps`` (the final M_S).  At position ``i`` the complex shown is
     ``extraction.alive(i)`` and the *current step* is ``steps[i - 1]``, the
     step that has just been applied (none at position 0).
 

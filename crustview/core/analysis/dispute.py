@@ -35,9 +35,9 @@ def disagreement(
     most.  One feature per differing count is placed there: a component when b_0 differs, a hole when the
     number of boundary loops does, a handle when twice the genus does (b_0 + b_1 - b_2 - holes, which is
     b_1 for closed surfaces).  A handle's or hole's samples are those of the group within :data:`REACH`
-    local spacings of its middle (:func:`_core`); a component's are the closest two vertices of different
-    components in the result that has more of them (where the other joins them), its size their distance
-    in local spacings.
+    local spacings of its middle (:func:`_core`), its size the whole group's span; a component's are the
+    closest two vertices of two components of the result that has more of them which the other result has
+    in one (where it joins them), its size their distance in local spacings.
     """
     d = kept.shape[1] - 1
     a = {tuple(sorted(r)) for r in np.asarray(kept).tolist()}
@@ -73,9 +73,9 @@ def disagreement(
     for kind, what, mine, theirs in counts:
         if mine != theirs:
             where, length, at = loc, size, verts
-            if kind == "component":  # where the result with more components has two closest together
-                split = kept if mine > theirs else other
-                gap = _closest_approach(points, split, local_spacing(points, split))
+            if kind == "component":  # where the other result joins two parts of the one with more
+                split, joined = (kept, other) if mine > theirs else (other, kept)
+                gap = _closest_approach(points, split, local_spacing(points, split), joined)
                 if gap is not None:
                     length, at = gap
                     where = points[at].mean(axis=0)
@@ -109,16 +109,31 @@ def _core(points: np.ndarray, verts: np.ndarray, h: np.ndarray) -> np.ndarray:
     return verts[np.linalg.norm(p - p[mid], axis=1) <= reach]
 
 
-def _closest_approach(points: np.ndarray, tris: np.ndarray, h: np.ndarray) -> tuple[float, np.ndarray] | None:
-    """The closest two vertices of different components of ``tris``: (their distance in local spacings, the pair)."""
+def _closest_approach(
+    points: np.ndarray, tris: np.ndarray, h: np.ndarray, joined: np.ndarray | None = None
+) -> tuple[float, np.ndarray] | None:
+    """The closest two vertices of different components of ``tris``: (their distance in local spacings, the pair).
+
+    With ``joined`` (a complex with fewer components), the pair is of two components that ``joined`` has in
+    one (where it joins them), when there is such a pair among the nearest vertices; else the closest of all.
+    """
     verts = np.unique(np.asarray(tris).ravel())
     if len(verts) < 2:
         return None
+    n = len(points)
     d = tris.shape[1] - 1
-    _, label = graph_components(len(points), np.c_[np.repeat(tris[:, 0], d), tris[:, 1:].ravel()])
+    _, label = graph_components(n, np.c_[np.repeat(tris[:, 0], d), tris[:, 1:].ravel()])
     k = min(len(verts), NEIGHBOURS)
     dist, idx = cKDTree(points[verts]).query(points[verts], k=k)
     other = label[verts[idx]] != label[verts][:, None]
+    if joined is not None and len(joined):
+        dj = joined.shape[1] - 1
+        _, together = graph_components(n, np.c_[np.repeat(joined[:, 0], dj), joined[:, 1:].ravel()])
+        inside = np.zeros(n, bool)
+        inside[np.asarray(joined).ravel()] = True
+        same = inside[verts[idx]] & inside[verts][:, None] & (together[verts[idx]] == together[verts][:, None])
+        if (other & same).any():
+            other = other & same
     gap = np.where(other, dist, np.inf)
     i, j = np.unravel_index(int(np.argmin(gap)), gap.shape)
     if not np.isfinite(gap[i, j]):

@@ -195,7 +195,7 @@ def features(
     simplices = np.asarray(simplices, dtype=np.int64).reshape(-1, d + 1)
     n = len(points)
     if len(simplices) == 0:
-        return [] if handles_only else left_out(points, simplices, d)  # an empty M_S reaches no sample
+        return []  # an empty M_S lacks everything, which no feature is (missing.left_out)
     h = local_spacing(points, simplices) if spacing is None else np.asarray(spacing, dtype=float)
     out = [] if handles_only else _components(points, simplices, h) + left_out(points, simplices, d)
     if d == 2:
