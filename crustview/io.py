@@ -37,6 +37,8 @@ import numpy as np
 from crustview.atomic import atomic_open, atomic_path
 from crustview.core.errors import InputError
 from crustview.core.result import EXTRACTION_MODES
+from crustview.meshfiles.flat import drop_zero_z
+from crustview.meshfiles.flat import flat_note as _flat_note
 from crustview.npyfiles import read_npy, read_npz
 from crustview.report import REPORT_CASCADES, holes_of_candidates, report_dict, write_report  # noqa: F401
 from crustview.resulttruth import builtin_arrays, builtin_of, mesh_arrays, mesh_of
@@ -152,7 +154,7 @@ def _read_mesh(path: Path, attributes: dict | None = None) -> np.ndarray:
     from crustview.meshfiles import read_mesh
 
     mesh = read_mesh(path)
-    points = _drop_zero_z(mesh.points)
+    points = drop_zero_z(mesh.points)
     if attributes is not None:
         attributes.update(mesh.attributes)
         if "normals" in attributes and attributes["normals"].shape[1] != points.shape[1]:
@@ -189,7 +191,7 @@ def read_mesh(path: str | os.PathLike):
     mesh = _read(path)
     if mesh.n_cells == 0:
         return None
-    points = _check_points(_drop_zero_z(mesh.points), path)
+    points = _check_points(drop_zero_z(mesh.points), path)
     if points.shape[1] == 2 and min(block.shape[1] for block in mesh.cells) >= 3:
         # a flat mesh's triangles or polygons, read in R^2: regions of the plane, never the truth of a curve
         # (the only d < k there); the file is a point sample (read_points says so in its notes)
@@ -198,33 +200,8 @@ def read_mesh(path: str | os.PathLike):
 
 
 def flat_note(path: str | os.PathLike, points: np.ndarray) -> str | None:
-    """The note for a mesh-format file read in R^2 because its third coordinate is 0 everywhere, else None.
-
-    Says too when its faces (triangles, polygons: regions of the plane) are not used (:func:`read_mesh`).
-    A file that is 2-D itself (an nOFF of dimension 2) gets none.
-    """
-    path = Path(path)
-    if np.shape(points)[1:] != (2,) or path.suffix.lower() not in MESH_SUFFIXES:
-        return None
-    from crustview.meshfiles import read_mesh as _read
-
-    raw = _read(path)
-    if np.shape(raw.points)[1:] != (3,):
-        return None
-    note = (
-        f"{path.name}: the third coordinate is 0 at every vertex, so its points are read as points in R^2 "
-        "(a curve there has d = 1)"
-    )
-    if raw.n_cells and min(block.shape[1] for block in raw.cells) >= 3:
-        note += "; its faces, regions of that plane, are not a curve's and are not used (its vertices are the sample)"
-    return note + "."
-
-
-def _drop_zero_z(points: np.ndarray) -> np.ndarray:
-    points = np.asarray(points)
-    if points.ndim == 2 and points.shape[1] == 3 and len(points) and not points[:, 2].any():
-        return points[:, :2]
-    return points
+    """:func:`crustview.meshfiles.flat.flat_note` for this module's mesh formats."""
+    return _flat_note(path, points, MESH_SUFFIXES)
 
 
 def _check_points(data: Any, path: Path) -> np.ndarray:
