@@ -242,16 +242,21 @@ def reconstruct_file(
     if note:
         say("warning", note)
     mode = "paper" if args.paper or args.keep_boundary else "robust"
-    rec = reconstruct(
-        points,
-        d,
-        test=args.test,
-        theta=math.radians(args.theta),
-        prune_boundary=not args.keep_boundary,
-        mode=mode,
-        progress=progress,
-        normals=getattr(args, "normals", "paper"),
-    )
+    try:
+        rec = reconstruct(
+            points,
+            d,
+            test=args.test,
+            theta=math.radians(args.theta),
+            prune_boundary=not args.keep_boundary,
+            mode=mode,
+            progress=progress,
+            normals=getattr(args, "normals", "paper"),
+        )
+    except InputError as err:  # the points of this file cannot be used: say which file
+        if path.name in str(err):
+            raise
+        raise InputError(f"{path.name}: {err}") from None
     seconds = time.perf_counter() - start
     comparison = None
     if truth is not None:
