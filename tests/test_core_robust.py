@@ -128,6 +128,51 @@ def _unit_sheet(m: int = 10) -> tuple[np.ndarray, list]:
     return sheet, tris
 
 
+def test_a_sample_too_far_is_not_searched_again_while_its_neighbourhood_stays_the_same():
+    """A column like the chain test's comes in one link a pass, so the passes repeat; a 3 x 3 patch 3 below the
+    sheet stays out in every one.  Its samples' nearest vertices and their simplices do not change, so their
+    search is skipped after the first pass, and everything comes out as when every pass searches again."""
+    from crustview.core.robust import insert_sample
+    from crustview.core.robust.patcher import Patcher
+
+    sheet, tris = _unit_sheet()
+    heights = np.cumsum([1.2, 1.3, 1.2, 1.3])[::-1]
+    column = np.c_[4.3 + 0.05 * np.sin(heights), 4.6 + 0.05 * np.cos(heights), heights]
+    # off the grid's symmetry lines: no two sheet vertices equally near (a tie may be ordered otherwise when the
+    # k-d tree is built again with more vertices, which changes a sample's nearest eight)
+    px, py = np.meshgrid([1.37, 2.41, 3.29], [5.43, 6.58, 7.36], indexing="ij")
+    patch = np.c_[px.ravel(), py.ravel(), np.full(9, -3.0)]
+    pts = np.vstack([sheet, column, patch])
+    searched: list[int] = []
+    nearest = insert_sample._nearest_triangle_face
+
+    def counting(points, x, cand):
+        searched.append(int(np.flatnonzero((points == x).all(axis=1))[0]))
+        return nearest(points, x, cand)
+
+    runs = []
+    for forget in (False, True):
+        searched.clear()
+        pt = Patcher(pts, tris, np.array(tris), 1.0)
+        if forget:  # the plain passes: nothing remembered between them
+            plain = pt._insert_pass
+            pt._insert_pass = lambda plain=plain, pt=pt: (pt.__dict__.pop("_far_before", None), plain())[1]
+        insert_sample._nearest_triangle_face = counting
+        try:
+            left = pt.insert_unused()
+        finally:
+            insert_sample._nearest_triangle_face = nearest
+        m = sorted(pt.simp[i] for i in range(len(pt.simp)) if pt.alive[i])
+        runs.append((sorted(left), m, [x for x in searched if x >= 104]))
+    (left, m, patch_searches), (left0, m0, patch_searches0) = runs
+    assert left == left0 == list(range(104, 113)) and m == m0
+    assert set(range(100, 104)) <= {v for s in m for v in s}
+    # four passes (the column's links): the patch searched in each without the memory; with it once, and again
+    # only where a link changed a nearest vertex's simplices (the patch's corner nearest the column)
+    assert len(patch_searches0) == 4 * 9 and sorted(set(patch_searches)) == list(range(104, 113))
+    assert patch_searches.count(104) == 1 and len(patch_searches) < len(patch_searches0) / 2
+
+
 def test_insertion_limit_is_the_local_spacing_of_the_surface_not_of_a_cluster():
     """A sheet sampled at spacing 1 in a run whose median spacing is 0.4 (denser elsewhere), and four
     samples 0.1 apart (a marching-cubes corner, a decimated mesh's tiny triangles) 1.5 above it: their

@@ -77,9 +77,18 @@ class SampleInsertion:
         ids = np.flatnonzero(used)
         tree = cKDTree(self.points[ids])
         left = []
+        # a sample found too far in an earlier pass, whose nearest vertices and their simplices are the same now,
+        # is as far now: its search is not repeated (a simplex's id always names the same simplex)
+        far = getattr(self, "_far_before", {})
+        self._far_before = {}
         for x in missing.tolist():
             _, near = tree.query(self.points[x], k=min(8, len(ids)))
             cand = {i for v in np.atleast_1d(near) for i in self._star(int(ids[v]))}
+            seen = (frozenset(ids[np.atleast_1d(near)].tolist()), frozenset(cand))
+            if far.get(x) == seen:
+                self._far_before[x] = seen
+                left.append(x)
+                continue
             best = None
             if cand and len(self.simp[next(iter(cand))]) == 3:
                 best = _nearest_triangle_face(self.points, self.points[x], [self.simp[i] for i in cand])
@@ -92,6 +101,7 @@ class SampleInsertion:
             local = float(np.median(self.nn[ids[np.atleast_1d(near)]]))
             limit = INSERT_MAX * max(self.spacing, float(self.nn[x]), local)
             if best is None or best[0] > limit:
+                self._far_before[x] = seen
                 left.append(x)
                 continue
             dist, tau = best
