@@ -57,6 +57,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
+from ..analysis.cotree import triangle_edges
 from ..analysis.features import LOOP_SUPPORTED, Feature, features
 from .label_repair import LabelEditor
 
@@ -170,15 +171,24 @@ class _Local:
 
 
 def _euler(faces: np.ndarray, n: int, region: np.ndarray | None = None) -> int:
-    """V - E + F of a triangle set; with ``region`` (a vertex mask), of its vertices and edges there only."""
+    """V - E + F of a triangle set; with ``region`` (a vertex mask), of its vertices and edges there only.
+
+    F counts every face either way.  The vertices and edges in the region are those of the faces that touch
+    it, so only those are listed; the whole set's edges come from the compiled edge table
+    (:func:`~crustview.core.analysis.cotree.triangle_edges`).  The same counts as sorting every edge.
+    """
     if len(faces) == 0:
         return 0
+    count = len(faces)
+    if region is None:
+        edges, _ = triangle_edges(faces)
+        return int(np.count_nonzero(np.bincount(faces.ravel(), minlength=n))) - len(edges) + count
+    faces = faces[region[faces].any(axis=1)]
     e = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [0, 2]]]), axis=1).astype(np.int64)
     vs = np.unique(faces)
-    if region is not None:
-        e = e[region[e[:, 0]] | region[e[:, 1]]]
-        vs = vs[region[vs]]
-    return len(vs) - len(np.unique(e[:, 0] * n + e[:, 1])) + len(faces)
+    e = e[region[e[:, 0]] | region[e[:, 1]]]
+    vs = vs[region[vs]]
+    return len(vs) - len(np.unique(e[:, 0] * n + e[:, 1])) + count
 
 
 def _components(faces: np.ndarray, n: int) -> int:
