@@ -291,3 +291,33 @@ def test_a_tunnel_the_loop_sets_miss_is_closed_by_a_ball():
     assert tuple(out.topology.betti) == (1, 0, 0)  # one boundary loop, no handle: the mesh's own
     assert any("a ball of" in s.reason for s in out.extraction.steps if s.rule == RULE_CUT)  # the log says how
     assert out.topology.unused_samples == 0
+
+
+def test_euler_counts_match_a_count_by_hand_with_and_without_a_region():
+    """cut-handle's V - E + F (the whole set's edges from the compiled table, a region's from the faces touching
+    it) against sets of Python tuples, on pieces of a grid torus, one triangle repeating a vertex included."""
+    from crustview.core.robust.cut_handle import _euler
+
+    nu, nv = 12, 8
+    idx = lambda i, j: (i % nu) * nv + (j % nv)  # noqa: E731
+    tris = np.array(
+        [
+            t
+            for i in range(nu)
+            for j in range(nv)
+            for t in ((idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)), (idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)))
+        ]
+    )
+    n = nu * nv
+    assert _euler(tris, n) == 0  # a torus
+    rng = np.random.default_rng(3)
+    for trial in range(40):
+        sub = tris[rng.random(len(tris)) < rng.uniform(0.1, 1.0)]
+        if trial % 5 == 0:
+            sub = np.vstack([sub, [[4, 4, 9]]])
+        region = rng.random(n) < 0.4 if trial % 2 else None
+        keep = (lambda v: True) if region is None else (lambda v: bool(region[v]))
+        verts = {int(v) for v in sub.ravel() if keep(v)}
+        edges = {tuple(sorted((int(a), int(b)))) for t in sub for a, b in ((t[0], t[1]), (t[1], t[2]), (t[0], t[2]))}
+        edges = {e for e in edges if keep(e[0]) or keep(e[1])}
+        assert _euler(sub, n, region) == len(verts) - len(edges) + len(sub)
