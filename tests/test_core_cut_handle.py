@@ -316,7 +316,11 @@ def test_euler_counts_match_a_count_by_hand_with_and_without_a_region():
         if trial % 5 == 0:
             sub = np.vstack([sub, [[4, 4, 9]]])
         region = rng.random(n) < 0.4 if trial % 2 else None
-        keep = (lambda v: True) if region is None else (lambda v: bool(region[v]))
+        inside = np.ones(n, bool) if region is None else region
+
+        def keep(v, inside=inside):
+            return bool(inside[v])
+
         verts = {int(v) for v in sub.ravel() if keep(v)}
         edges = {tuple(sorted((int(a), int(b)))) for t in sub for a, b in ((t[0], t[1]), (t[1], t[2]), (t[0], t[2]))}
         edges = {e for e in edges if keep(e[0]) or keep(e[1])}
