@@ -490,8 +490,8 @@ def comparison_summary(c, name: str) -> str:
     h = c.hausdorff
     collapsed = f" ({c.collapsed_faces} collapsed by duplicate merging)" if c.collapsed_faces else ""
     distance = (
-        f"Hausdorff distance {h.distance:.4g} ± {h.error_bound:.2g} "
-        "(sampled on grids over both complexes; the error bound is the grids' covering radius)"
+        f"Hausdorff distance {h.words()} (sampled on grids over both complexes, whose covering radius "
+        f"{h.error_bound:.2g} bounds the error)"
         if math.isfinite(h.distance)
         else f"no Hausdorff distance ({_empty_side(c)})"
     )

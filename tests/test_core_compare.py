@@ -129,3 +129,14 @@ def test_a_real_mesh_of_genus_three_against_itself():
     c = compare_complexes(mesh.points, faces, faces, 2)
     assert c.mesh_faces == 7200 and c.mesh_topology.betti == (1, 6, 1) and c.genus(c.mesh_topology) == 3
     assert c.hausdorff.distance == 0.0
+
+
+def test_a_hausdorff_estimate_coarser_than_its_value_is_said_as_an_upper_bound():
+    """A new user read "0.01175 ± 0.042" as a misprint: where the grids' covering radius exceeds the sampled
+    value, only the upper bound is said."""
+    from crustview.core.analysis.compare import HausdorffEstimate
+
+    assert HausdorffEstimate(0.01175, 0.01, 0.01175, 0.042, 0.01, (9, 9)).words() == "at most 0.0538"
+    assert HausdorffEstimate(1.5, 1.5, 1.0, 0.25, 0.1, (9, 9)).words() == "1.5 ± 0.25"
+    assert HausdorffEstimate(float("inf"), float("inf"), 0.0, 0.0, 0.0, (0, 0)).words() == "none (one side is empty)"
+    assert HausdorffEstimate(0.0, 0.0, 0.0, 0.01, 0.01, (9, 9)).words() == "0"

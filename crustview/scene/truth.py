@@ -64,7 +64,7 @@ def comparison_rows(c: MeshComparison) -> list[tuple[str, str, str]]:
         ("extra faces (not in mesh)", f"{c.extra:,}", ""),
         (
             "Hausdorff distance",
-            f"{h.distance:.4g} ± {h.error_bound:.2g}" if np.isfinite(h.distance) else "none",
+            h.words(),
             f"mesh→M_S {h.a_to_b:.3g}, M_S→mesh {h.b_to_a:.3g}" if np.isfinite(h.distance) else "one side is empty",
         ),
     ]

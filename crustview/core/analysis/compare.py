@@ -60,6 +60,20 @@ class HausdorffEstimate:
     step: float
     n_samples: tuple[int, int]
 
+    def words(self) -> str:
+        """The estimate as a reader should take it.
+
+        ``value ± bound``, or an upper bound where the grids are coarser than the value (a new user read
+        "0.01175 ± 0.042" as a misprint).
+        """
+        if not math.isfinite(self.distance):
+            return "none (one side is empty)"
+        if self.distance == 0:  # every grid point of each on the other: the same complex
+            return "0"
+        if self.error_bound > self.distance:
+            return f"at most {self.distance + self.error_bound:.3g}"
+        return f"{self.distance:.4g} ± {self.error_bound:.2g}"
+
 
 @dataclass(frozen=True)
 class MeshComparison:
