@@ -42,3 +42,21 @@ def test_a_step_on_the_underside_of_the_torus_is_seen_without_the_top_in_front(q
     window.view.reset_camera()
     assert window.view.clip_plane is None
     assert manifold.GetClippingPlanes() is None or manifold.GetClippingPlanes().GetNumberOfItems() == 0
+
+
+def _distance(window) -> float:
+    cam = window.plotter.camera
+    return float(np.linalg.norm(np.subtract(cam.position, cam.focal_point)))
+
+
+def test_framing_every_sample_stands_where_the_reset_view_does_and_a_few_closer(qtbot, window):
+    """A disputed feature spanning the whole foot bones stood the camera three times farther off than the reset
+    view (the box framed was twice the set); a set as wide as the object is now framed from about the reset
+    distance, and a few samples from much closer (with their context around them)."""
+    rec = load(qtbot, window)
+    window.view.reset_camera()
+    reset = _distance(window)
+    window.view.frame_points(np.arange(rec.n))
+    assert _distance(window) < 1.3 * reset
+    window.view.frame_points(np.arange(3))  # 2.5 spacings of context each side
+    assert _distance(window) < 0.5 * reset
