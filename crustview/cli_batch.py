@@ -95,7 +95,9 @@ def row_line(row: dict[str, Any]) -> str:
     """One printed row."""
     name = Path(row["file"]).name
     if row["status"] != "ok":
-        return f"{name}: FAILED: {row['error']}"
+        error = str(row["error"])
+        error = error[len(name) + 2 :] if error.startswith(f"{name}: ") else error  # named once
+        return f"{name}: FAILED: {error}"
     closed = "closed" if row["closed"] else "not closed"
     unc = row["uncertain_handles"] + row["uncertain_holes"] + row["uncertain_components"]
     return (

@@ -106,10 +106,12 @@ def run(args: argparse.Namespace) -> int:
         words = f"{len(diff.both)} simplices in both, {len(diff.only_a)} only in A, {len(diff.only_b)} only in B"
     else:
         words = "the two do not share vertices, so only the distance is compared"
+    same = diff.matched and not len(diff.only_a) and not len(diff.only_b)
+    distance = "0 (the same simplices)" if same else h.words()
     print(f"A = {a.label}: {len(a.simplices)} simplices; B = {b.label}: {len(b.simplices)} simplices")
     print(
-        f"{words}; Hausdorff distance {h.distance:.4g} ± {h.error_bound:.2g} (A to B {h.a_to_b:.4g}, "
-        f"B to A {h.b_to_a:.4g}; sampled on grids over both complexes, ± their covering radius)."
+        f"{words}; Hausdorff distance {distance} (A to B {h.a_to_b:.4g}, "
+        f"B to A {h.b_to_a:.4g}; sampled on grids over both complexes, ± their covering radius {h.error_bound:.2g})."
     )
     if args.json is not None:
         from crustview.atomic import write_text

@@ -489,12 +489,15 @@ def comparison_summary(c, name: str) -> str:
 
     h = c.hausdorff
     collapsed = f" ({c.collapsed_faces} collapsed by duplicate merging)" if c.collapsed_faces else ""
-    distance = (
-        f"Hausdorff distance {h.words()} (sampled on grids over both complexes, whose covering radius "
-        f"{h.error_bound:.2g} bounds the error)"
-        if math.isfinite(h.distance)
-        else f"no Hausdorff distance ({_empty_side(c)})"
-    )
+    if c.extra == 0 and c.recovered == c.mesh_faces and c.mesh_faces:
+        distance = "Hausdorff distance 0 (the same faces)"
+    elif math.isfinite(h.distance):
+        distance = (
+            f"Hausdorff distance {h.words()} (sampled on grids over both complexes, whose covering radius "
+            f"{h.error_bound:.2g} bounds the error)"
+        )
+    else:
+        distance = f"no Hausdorff distance ({_empty_side(c)})"
     return (
         f"Against the faces of {name}: {c.recovered} of {c.mesh_faces} mesh faces recovered "
         f"({100 * c.recovered_share:.1f}%){collapsed}, {c.extra} extra; mesh {top(c.mesh_topology)}; "

@@ -159,3 +159,17 @@ def test_compare_json_never_replaces_an_input_and_view_takes_d_auto(samples, tmp
     run = subprocess.run(_cmd("view", samples / "trefoil.csv", "-d", "auto"), capture_output=True, text=True, env=env)
     assert "-d auto chose d = 1 (a curve)" in run.stderr  # then no display here: one error line, exit 2
     assert run.returncode == 2 and run.stderr.strip().splitlines()[-1].startswith("crustview: error: no display")
+
+
+def test_a_failed_row_names_its_file_once():
+    """The error of a file's points names the file (for a single run); the batch line names it already."""
+    from crustview.cli_batch import row_line
+
+    row = {
+        "file": "/data/few.txt",
+        "status": "failed",
+        "error": "few.txt: need at least k + 2 = 5 points in R^3; got 3",
+    }
+    assert row_line(row) == "few.txt: FAILED: need at least k + 2 = 5 points in R^3; got 3"
+    row["error"] = "Cannot read '/data/few.txt': the file does not exist."
+    assert row_line(row) == "few.txt: FAILED: Cannot read '/data/few.txt': the file does not exist."

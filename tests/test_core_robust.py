@@ -459,3 +459,11 @@ def test_choose_puts_topology_doubts_before_samples_left_out():
     assert problems(NS(closed_manifold=True, unused_samples=9, boundary_faces=0), [object()] * 5) < problems(
         labelled, []
     )
+
+
+def test_six_samples_whose_labelling_gives_no_vertex_are_grown_without_an_error():
+    """Six points in R^3 (a reviewer's batch input): the labelling leaves M_S without a vertex, and the left-out
+    samples' search had no k-d tree to build ("zero-size array" before); the grown answer is used instead."""
+    pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 1], [2, 0, 1], [0, 2, 1]], float)
+    rec = reconstruct(pts, 2)
+    assert rec.topology.n_simplices > 0 and rec.topology.unused_samples == 0

@@ -63,16 +63,23 @@ class HausdorffEstimate:
     def words(self) -> str:
         """The estimate as a reader should take it.
 
-        ``value ± bound``, or an upper bound where the grids are coarser than the value (a new user read
-        "0.01175 ± 0.042" as a misprint).
+        ``value ± bound``, or, where the grids are coarser than the value (a sampled 0 included: a small fold
+        can hide between grid points), the upper bound rounded up (a new user read "0.01175 ± 0.042" as a
+        misprint); "none" when one side is empty.
         """
         if not math.isfinite(self.distance):
-            return "none (one side is empty)"
-        if self.distance == 0:  # every grid point of each on the other: the same complex
-            return "0"
-        if self.error_bound > self.distance:
-            return f"at most {self.distance + self.error_bound:.3g}"
+            return "none"
+        if self.error_bound >= self.distance:
+            return f"at most {_round_up(self.distance + self.error_bound)}"
         return f"{self.distance:.4g} ± {self.error_bound:.2g}"
+
+
+def _round_up(x: float, digits: int = 3) -> str:
+    """``x`` to ``digits`` significant digits, rounded up (an upper bound stays one)."""
+    if x <= 0 or not math.isfinite(x):
+        return f"{x:.{digits}g}"
+    unit = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
+    return f"{math.ceil(x / unit - 1e-9) * unit:.{digits}g}"
 
 
 @dataclass(frozen=True)

@@ -75,6 +75,8 @@ class SampleInsertion:
         if len(missing) == 0:
             return []
         ids = np.flatnonzero(used)
+        if len(ids) == 0:  # M_S has no vertex (a handful of samples): nothing to insert into
+            return missing.tolist()
         tree = cKDTree(self.points[ids])
         left = []
         # a sample found too far in an earlier pass, whose nearest vertices and their simplices are the same now,
