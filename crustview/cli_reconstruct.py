@@ -179,13 +179,10 @@ def _put_back(path: Path, old: bytes | None) -> None:
 # ---------------------------------------------------------------- one file
 def read_input(path: Path, notes: list[str]) -> tuple[Any, Any, dict]:
     """The mesh (or None), the points and the per-point attributes of an input file."""
-    from crustview.io import flat_note, read_attributes, read_mesh, read_points
+    from crustview.io import read_attributes, read_mesh, read_points
 
-    mesh = read_mesh(path)  # a mesh with faces: its vertices are the sample, its faces the truth
+    mesh = read_mesh(path, notes)  # a mesh with faces: its vertices are the sample, its faces the truth
     if mesh is not None:
-        note = flat_note(path, mesh.points)
-        if note:
-            notes.append(note)
         return mesh, mesh.points, read_attributes(path)
     attributes: dict = {}
     points = read_points(path, notes, attributes)

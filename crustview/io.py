@@ -37,8 +37,7 @@ import numpy as np
 from crustview.atomic import atomic_open, atomic_path
 from crustview.core.errors import InputError
 from crustview.core.result import EXTRACTION_MODES
-from crustview.meshfiles.flat import drop_zero_z
-from crustview.meshfiles.flat import flat_note as _flat_note
+from crustview.meshfiles.flat import drop_zero_z, flat_note
 from crustview.npyfiles import read_npy, read_npz
 from crustview.report import REPORT_CASCADES, holes_of_candidates, report_dict, write_report  # noqa: F401
 from crustview.resulttruth import builtin_arrays, builtin_of, mesh_arrays, mesh_of
@@ -89,7 +88,7 @@ def read_points(path: str | os.PathLike, notes: list[str] | None = None, attribu
     notes : list of str, optional
         Sentences about what was read other than points are appended here:
         a text file's header line of column names; a mesh read in R^2 because
-        its third coordinate is 0 everywhere (:func:`flat_note`).
+        its third coordinate is 0 everywhere (:func:`~crustview.meshfiles.flat.flat_note`).
     attributes : dict, optional
         Filled with the per-point ``colors``, ``intensity`` and ``normals``
         that the file holds (:mod:`crustview.attributes`; PLY and the
@@ -130,10 +129,7 @@ def read_points(path: str | os.PathLike, notes: list[str] | None = None, attribu
         if attributes is not None:
             attributes.update(found)
     else:
-        data = _read_mesh(path, attributes)
-        note = flat_note(path, data) if notes is not None else None
-        if note:
-            notes.append(note)
+        data = _read_mesh(path, attributes, notes)
     points = _check_points(data, path)
     if attributes:
         from crustview.attributes import check
@@ -150,10 +146,13 @@ def read_attributes(path: str | os.PathLike) -> dict:
     return attributes
 
 
-def _read_mesh(path: Path, attributes: dict | None = None) -> np.ndarray:
+def _read_mesh(path: Path, attributes: dict | None = None, notes: list[str] | None = None) -> np.ndarray:
     from crustview.meshfiles import read_mesh
 
     mesh = read_mesh(path)
+    note = flat_note(path, mesh) if notes is not None else None
+    if note:
+        notes.append(note)
     points = drop_zero_z(mesh.points)
     if attributes is not None:
         attributes.update(mesh.attributes)
@@ -162,11 +161,13 @@ def _read_mesh(path: Path, attributes: dict | None = None) -> np.ndarray:
     return points
 
 
-def read_mesh(path: str | os.PathLike):
+def read_mesh(path: str | os.PathLike, notes: list[str] | None = None):
     """Points and faces of a mesh file, or None when it has no faces or is not a mesh format.
 
     Also None for a flat mesh whose triangles or polygons lie in R^2 once its zero third coordinate is dropped
-    (regions of the plane, no curve's truth: its vertices are a point sample, :func:`flat_note`).
+    (regions of the plane, no curve's truth: its vertices are a point sample).  ``notes``: where a mesh is
+    returned, the note that its zero third coordinate was dropped is appended
+    (:func:`~crustview.meshfiles.flat.flat_note`; :func:`read_points` says it for a flat mesh it reads).
 
     Returns
     -------
@@ -196,12 +197,10 @@ def read_mesh(path: str | os.PathLike):
         # a flat mesh's triangles or polygons, read in R^2: regions of the plane, never the truth of a curve
         # (the only d < k there); the file is a point sample (read_points says so in its notes)
         return None
+    note = flat_note(path, mesh) if notes is not None else None
+    if note:
+        notes.append(note)
     return replace(mesh, points=points)
-
-
-def flat_note(path: str | os.PathLike, points: np.ndarray) -> str | None:
-    """:func:`crustview.meshfiles.flat.flat_note` for this module's mesh formats."""
-    return _flat_note(path, points, MESH_SUFFIXES)
 
 
 def _check_points(data: Any, path: Path) -> np.ndarray:

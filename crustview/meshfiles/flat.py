@@ -21,22 +21,17 @@ def drop_zero_z(points: np.ndarray) -> np.ndarray:
     return points
 
 
-def flat_note(path: str | os.PathLike, points: np.ndarray, suffixes: tuple[str, ...]) -> str | None:
-    """The note for a mesh file (a suffix in ``suffixes``) read in R^2 because its z is 0 everywhere, else None.
+def flat_note(path: str | os.PathLike, raw) -> str | None:
+    """The note for a mesh read in R^2 because its third coordinate is 0 everywhere, else None.
 
+    ``raw`` is the file's :class:`~crustview.meshfiles.mesh.MeshData` as read (its points before the drop).
     Says too when its faces (triangles, polygons: regions of the plane) are not used.  A file that is 2-D
     itself (an nOFF of dimension 2) gets none.
     """
-    path = Path(path)
-    if np.shape(points)[1:] != (2,) or path.suffix.lower() not in suffixes:
-        return None
-    from . import read_mesh
-
-    raw = read_mesh(path)
-    if np.shape(raw.points)[1:] != (3,):
+    if drop_zero_z(raw.points).shape[1:] != (2,) or np.shape(raw.points)[1:] != (3,):
         return None
     note = (
-        f"{path.name}: the third coordinate is 0 at every vertex, so its points are read as points in R^2 "
+        f"{Path(path).name}: the third coordinate is 0 at every vertex, so its points are read as points in R^2 "
         "(a curve there has d = 1)"
     )
     if raw.n_cells and min(block.shape[1] for block in raw.cells) >= 3:

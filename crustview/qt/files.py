@@ -128,12 +128,9 @@ class FileActions:
         if Path(path).parent.is_dir():  # the next dialog starts here, even when this file is refused
             self.settings.setValue("last_dir", str(Path(path).parent))
         try:
-            mesh = io.read_mesh(path)  # a mesh with faces: vertices are the sample, faces the truth
-            read_notes: list[str] = []  # e.g. a text file's header line of column names
+            read_notes: list[str] = []  # e.g. a text file's header line of column names, a flat mesh's z dropped
+            mesh = io.read_mesh(path, read_notes)  # a mesh with faces: vertices are the sample, faces the truth
             points = mesh.points if mesh is not None else io.read_points(path, read_notes)
-            flat = io.flat_note(path, points) if mesh is not None else None  # read_points notes the rest
-            if flat:
-                read_notes.append(flat)
             attributes = io.read_attributes(path)  # colours, intensity, normals (PLY and scanner formats)
             saved = io.read_run_parameters(path)
             origin = file_source(path)  # size and SHA-1 as read, for a session
