@@ -102,3 +102,28 @@ def test_step_table_tooltips_give_whole_values(qtbot, window):
     s = rec.extraction.steps[row]
     tip = log.data(log.index(row, 3), Qt.ItemDataRole.ToolTipRole)
     assert tip.startswith("kept: (" + ", ".join(str(int(v)) for v in s.kept) + ")") and s.reason in tip
+
+
+@pytest.mark.parametrize("size", [(1200, 800), (2400, 1300)])
+def test_the_window_opens_in_its_final_layout_before_its_first_frame(qtbot, tmp_path, size):
+    """Too narrow for the docks side by side: they are tabbed before the window is first drawn, not after.
+
+    Wide enough (2,400 px, where the view keeps over 60 % beside them): they stay side by side.
+    """
+    from PySide6.QtCore import QSettings
+
+    from crustview.qt.layout import VIEW_SHARE
+    from crustview.qt.window import MainWindow
+
+    win = MainWindow(settings=QSettings(str(tmp_path / "s.ini"), QSettings.Format.IniFormat))
+    qtbot.addWidget(win, before_close_func=lambda w: w.plotter.close())
+    win.resize(*size)
+    assert not win.compact  # nothing decided while it is hidden
+    win.show()  # no events processed yet: the first frame comes from the layout as it is now
+    narrow = size[0] < 2000
+    assert win.compact is narrow
+    assert win.view_share >= VIEW_SHARE - 0.02
+    qtbot.waitExposed(win)
+    qtbot.wait(50)
+    assert win.compact is narrow  # and the first layout is the one it keeps
+    win.runner.shutdown()

@@ -43,6 +43,13 @@ class DockLayout:
         if self.isVisible():
             QTimer.singleShot(0, self.keep_view_share)
 
+    def setVisible(self, visible: bool) -> None:  # noqa: N802 - Qt API
+        if visible and not self.isVisible():
+            # before the first paint: a window that opens too narrow for its docks side by side opens with
+            # them tabbed, not rearranged in front of the user after its first frame (and drawn again)
+            self._fit_docks()
+        super().setVisible(visible)
+
     def showEvent(self, event) -> None:  # noqa: N802 - Qt API
         super().showEvent(event)
         QTimer.singleShot(0, self.keep_view_share)
@@ -52,13 +59,19 @@ class DockLayout:
 
         Once collapsed, the column is sized again at every resize so the view keeps its share.
         """
-        if not self.isVisible():
-            return
+        if self.isVisible():
+            self._fit_docks()
+
+    def _fit_docks(self) -> None:
+        """:meth:`keep_view_share` at the window's present size, shown or not.
+
+        The layout gives a hidden window the same widths as a shown one (measured from 1,024 to 3,000 px).
+        """
+        self.layout().activate()  # the docks' real widths at this window size
         if self.compact:
             if self._set_wide(self.width() >= WIDE) or self.view_share < VIEW_SHARE - 0.02:
                 self._size_column()
             return
-        self.layout().activate()  # the docks' real widths at this window size
         if self.view_share < VIEW_SHARE:
             self.compact_docks()
 
