@@ -14,6 +14,10 @@ pytestmark = pytest.mark.skipif(topology._surface is None, reason="the compiled 
 RP2 = np.array(
     [[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5], [0, 5, 1], [1, 2, 4], [2, 3, 5], [3, 4, 1], [4, 5, 2], [5, 1, 3]]
 )
+#: The five-vertex Moebius band: triangles (i, i+1, i+2) mod 5; edges (i, i+1) inner, (i, i+2) its one rim.
+MOEBIUS = np.array([[i, (i + 1) % 5, (i + 2) % 5] for i in range(5)])
+#: An annulus of eight triangles: a ring 0-3 below, 4-7 above, no twist.
+ANNULUS = np.array([t for i in range(4) for t in ([i, (i + 1) % 4, i + 4], [(i + 1) % 4, (i + 1) % 4 + 4, i + 4])])
 
 
 def _general_closed(tris: np.ndarray, monkeypatch: pytest.MonkeyPatch) -> bool:
@@ -37,6 +41,8 @@ def _complexes(rng: np.random.Generator) -> list[tuple[str, np.ndarray, int]]:
         ("klein bottle", klein, 42),
         ("pinched octahedra", _pinched(), 11),
         ("disc", np.array([[0, 1, 2], [0, 2, 3]]), 6),
+        ("moebius band", MOEBIUS, 5),
+        ("annulus", ANNULUS, 8),
         ("shuffled rows and columns", rng.permuted(torus[rng.permutation(len(torus))], axis=1), 50),
         ("torus, klein bottle and octahedron apart", np.vstack([torus, klein + 42, OCTA + 84]), 95),
         # two tori glued along a grid circle would be non-manifold; glued at a vertex: pinched, two cycles
@@ -83,7 +89,15 @@ def test_known_answers_from_the_compiled_counts():
     assert not pinched.closed_manifold and pinched.singular_vertices == 1 and pinched.betti == (1, 0, 2)
     disc = _surface_report(np.array([[0, 1, 2], [0, 2, 3]]), 6)
     assert disc.boundary_faces == 4 and disc.unused_samples == 2 and disc.betti == (1, 0, 0)
-    assert disc.orientable is None and disc.messages[-1] == "2 of 6 samples are not vertices of the complex"
+    assert disc.orientable is True and disc.messages[-1] == "2 of 6 samples are not vertices of the complex"
+    # with a boundary: V - E + F = 5 - 10 + 5 and 8 - 16 + 8, one rim and two; only the band's half twist
+    # makes two triangles at an inner edge disagree
+    for tris, n, rims, orient in ((MOEBIUS, 5, 5, False), (ANNULUS, 8, 8, True)):
+        for rep in (_surface_report(tris, n), _analyse_general(tris, n, 2)):
+            assert rep.betti == (1, 1, 0) and rep.euler == 0 and rep.boundary_faces == rims
+            assert rep.orientable is orient
+    fin = _analyse_general(np.vstack([MOEBIUS, [[0, 1, 7]]]), 8, 2)  # an edge in three triangles
+    assert fin.nonmanifold_faces == 1 and fin.orientable is None
 
 
 def test_a_triangle_repeating_a_vertex_goes_to_the_general_code():

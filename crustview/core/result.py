@@ -141,7 +141,9 @@ class TopologyReport:
         Z/2 Betti numbers b_0..b_d.
     euler : int
     orientable : bool or None
-        None when the complex is not a closed pseudo-manifold.
+        Whether the simplices can be oriented consistently across every (d-1)-face they share (a
+        boundary face asks nothing: a disc is orientable, a Moebius band is not).  None when a
+        (d-1)-face lies in more than two simplices.
     components : int
     messages : list of str
         Sentences for the user (e.g. undersampling diagnosis).

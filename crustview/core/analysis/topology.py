@@ -181,7 +181,11 @@ def _shared_facets(pairs: tuple, dp1: int, exactly: int = 2) -> tuple[np.ndarray
 
 
 def orientable(simplices: np.ndarray, pairs: tuple | None = None) -> bool:
-    """Whether a closed pseudo-manifold admits a consistent orientation."""
+    """Whether a pure complex without non-manifold faces admits a consistent orientation.
+
+    Every facet in two simplices asks them to induce opposite orientations on it; a facet in one simplex
+    (boundary) asks nothing, so a disc or an annulus is orientable and a Moebius band is not.
+    """
     c, dp1 = simplices.shape
     pairs = pairs if pairs is not None else _facet_pairs(simplices)
     _, e1, e2 = _shared_facets(pairs, dp1)
@@ -330,7 +334,8 @@ def _surface_counts(triangles: np.ndarray) -> tuple[int, ...] | None:
     """``_surface.surface_report`` of a triangle complex, or None without the kernel or for a degenerate row.
 
     Returns (vertices, edges, boundary edges, non-manifold edges, components, closed dual components (-1 with
-    a non-manifold edge), pinched vertices and orientable (both -1 unless a closed pseudo-surface)).
+    a non-manifold edge), pinched vertices (-1 unless a closed pseudo-surface) and orientable (-1 with a
+    non-manifold edge)).
     """
     if _surface is None or len(triangles) == 0 or int(triangles.min()) < 0:
         return None
@@ -361,7 +366,7 @@ def _surface_report(triangles: np.ndarray, n_samples: int) -> TopologyReport | N
         nv,
         (comps, ne - (nv - comps) - (nf - closed_parts), closed_parts),
         nv - ne + nf,
-        bool(orient) if pseudo else None,
+        bool(orient) if orient >= 0 else None,
         comps,
     )
 
@@ -437,5 +442,5 @@ def _analyse_general(simplices: np.ndarray, n_samples: int, d: int) -> TopologyR
         else:
             ranks[j] = boundary_rank_gf2(faces[j], faces[j - 1])
     betti = tuple(len(faces[j]) - ranks[j] - ranks[j + 1] for j in range(d + 1))
-    orient = orientable(simplices, pairs) if pseudo else None
+    orient = orientable(simplices, pairs) if nonman == 0 else None
     return _report(len(simplices), boundary, nonman, len(sing), n_samples, nverts, betti, euler, orient, comps)

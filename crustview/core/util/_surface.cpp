@@ -8,9 +8,9 @@
 // (boundary) and in more than two (non-manifold), the components of the edge
 // graph; where no edge has more than two triangles, the components of the
 // dual graph (triangles joined across their shared edges) that have no
-// boundary edge (the rank of the top cycles); where every edge has exactly
-// two, the vertices whose link is not one circle and whether the surface can
-// be oriented.  Every number is an integer count, so the two ways agree
+// boundary edge (the rank of the top cycles) and whether the surface can be
+// oriented (across its edges of two triangles; boundary edges ask nothing);
+// where every edge has exactly two, the vertices whose link is not one circle.  Every number is an integer count, so the two ways agree
 // exactly; tests/test_core_topology_compiled.py compares them.
 //
 // Each vertex v sees its incident triangles (a CSR table by counting); the
@@ -174,8 +174,19 @@ Report report(i64 n, i64 f, const i64* rows) {
     out.top_cycles = 0;
     for (i64 t = 0; t < f; ++t)
         if (find(dual, t) == t && !open_root[t]) ++out.top_cycles;
+    // orientation, with or without boundary: a consistent sign for every triangle across its two-triangle edges
+    ParityForest sign(f);
+    bool ok = true;
+    for (const auto& [e1, e2] : pairs) {
+        const unsigned char rel = ((e1 % 3) + (e2 % 3)) % 2 == 1 ? 0 : 1;
+        if (!sign.relate(e1 / 3, e2 / 3, rel)) {
+            ok = false;
+            break;
+        }
+    }
+    out.orientable = ok ? 1 : 0;
     if (out.boundary > 0) return out;
-    // a closed pseudo-surface: links and orientation
+    // a closed pseudo-surface: its links
     out.singular = 0;
     std::vector<i64> local;  // the fans around v: local union-find over v's corners
     std::vector<std::pair<i64, i64>> around;  // (other vertex, local corner)
@@ -202,16 +213,6 @@ Report report(i64 n, i64 f, const i64* rows) {
         // the link's Euler characteristic (its vertices less its edges) and its connectedness
         if (distinct - deg != 0 || fans != 1) ++out.singular;
     }
-    ParityForest sign(f);
-    bool ok = true;
-    for (const auto& [e1, e2] : pairs) {
-        const unsigned char rel = ((e1 % 3) + (e2 % 3)) % 2 == 1 ? 0 : 1;
-        if (!sign.relate(e1 / 3, e2 / 3, rel)) {
-            ok = false;
-            break;
-        }
-    }
-    out.orientable = ok ? 1 : 0;
     return out;
 }
 
@@ -364,8 +365,8 @@ PyMethodDef methods[] = {
      "surface_report(n, rows) -> (vertices, edges, boundary, nonmanifold, components, top_cycles, "
      "singular, orientable) of the triangles in rows (int64, three per triangle, ids below n), or None where a "
      "triangle repeats a vertex or is listed twice; top_cycles is -1 "
-     "where an edge has more than two triangles, singular and orientable -1 where the surface is not a closed "
-     "pseudo-surface."},
+     "and orientable -1 where an edge has more than two triangles, singular -1 where the surface is not a "
+     "closed pseudo-surface."},
     {nullptr, nullptr, 0, nullptr},
 };
 
