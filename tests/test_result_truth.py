@@ -14,11 +14,14 @@ from crustview.meshfiles.off import write_off
 
 @pytest.fixture(scope="module")
 def holed_torus_mesh(tmp_path_factory):
-    """A torus sample whose 'mesh' is its own reconstruction less one face: the truth has a hole, so the
-    closed torus the vertices give is WRONG against it."""
+    """A torus sample whose 'mesh' is its own reconstruction less the faces at its 25 samples nearest one: the
+    truth has a hole many spacings around, so the closed torus the vertices give is WRONG against it (a
+    hole of one missing face is below the sample's resolution and judges nothing: test_mesh_judges.py)."""
     points = get_manifold("torus").sample(800, seed=0).points
     rec = reconstruct(points, 2, resample=False)
-    faces = np.asarray(rec.point_input)[np.asarray(rec.manifold)][1:]
+    faces = np.asarray(rec.point_input)[np.asarray(rec.manifold)]
+    near = np.argsort(np.linalg.norm(points - points[0], axis=1))[:25]
+    faces = faces[~np.isin(faces, near).any(axis=1)]
     path = tmp_path_factory.mktemp("truth") / "holed.off"
     write_off(path, points, faces)
     return path, points, faces

@@ -308,11 +308,54 @@ def truth_problems(rec: Reconstruction, truth=None) -> list[str]:
     mesh_cmp = getattr(truth, "comparison", None)
     if (
         mesh_cmp is not None
+        and _mesh_judges(mesh_cmp)
         and (t.closed_manifold or kept_open(rec))
         and tuple(t.betti) != tuple(mesh_cmp.mesh_topology.betti)
+        and not _up_to_unresolved(rec, mesh_cmp)
     ):
         problems.append(f"Betti {tuple(t.betti)} ≠ mesh {tuple(mesh_cmp.mesh_topology.betti)}")
     return problems
+
+
+def _mesh_judges(mesh_cmp) -> bool:
+    """Whether the file's mesh is a manifold (with or without boundary), whose Betti numbers can judge M_S.
+
+    A mesh with an edge in three faces or more, or a pinched vertex, is no surface: its Betti numbers
+    count what no manifold reconstruction can have (a new user's beetle.obj: 47 such edges).
+    """
+    m = mesh_cmp.mesh_topology
+    return m.nonmanifold_faces == 0 and m.singular_vertices == 0
+
+
+def _up_to_unresolved(rec: Reconstruction, mesh_cmp) -> bool:
+    """M_S has the Betti numbers of the mesh with its holes below the sample's resolution closed."""
+    u = getattr(mesh_cmp, "unresolved", None)
+    return u is not None and tuple(rec.topology.betti) == tuple(u.betti)
+
+
+def truth_notes(rec: Reconstruction, truth=None) -> list[str]:
+    """What the verdict adds about a file's mesh that cannot judge M_S as it stands (empty when it can).
+
+    The mesh is not a manifold, or M_S differs from it only by holes the sample cannot show
+    (:class:`~crustview.core.analysis.compare.UnresolvedHoles`): a mesh missing one triangle is open,
+    and a closed M_S through its vertices is as right as a sample of them allows.
+    """
+    mesh_cmp = getattr(truth, "comparison", None) if truth is not None else None
+    if mesh_cmp is None:
+        return []
+    m = mesh_cmp.mesh_topology
+    if not _mesh_judges(mesh_cmp):
+        what = []
+        if m.nonmanifold_faces:
+            many = m.nonmanifold_faces != 1
+            what.append(f"{m.nonmanifold_faces} edge{'s' if many else ''} in three faces or more")
+        if m.singular_vertices:
+            what.append(f"{m.singular_vertices} pinched vertex" + ("es" if m.singular_vertices != 1 else ""))
+        return [f"the file's mesh is not a manifold ({', '.join(what)}): its Betti numbers judge nothing"]
+    t = rec.topology
+    if (t.closed_manifold or kept_open(rec)) and tuple(t.betti) != tuple(m.betti) and _up_to_unresolved(rec, mesh_cmp):
+        return [f"it has the mesh's topology but for {mesh_cmp.unresolved.words()}"]
+    return []
 
 
 def verdict(rec: Reconstruction, truth=None) -> tuple[str, str]:
@@ -330,6 +373,12 @@ def verdict(rec: Reconstruction, truth=None) -> tuple[str, str]:
     but it is not the closed manifold the paper's guarantees are about.  In
     paper mode an open result stays "bad".
     """
+    level, text = _verdict(rec, truth)
+    return level, "; ".join([text, *truth_notes(rec, truth)])
+
+
+def _verdict(rec: Reconstruction, truth=None) -> tuple[str, str]:
+    """:func:`verdict` without the notes on a mesh that cannot judge (:func:`truth_notes`)."""
     t = rec.topology
     unc = uncertain_summary(uncertain_features(rec))
     problems = truth_problems(rec, truth)

@@ -83,6 +83,87 @@ def _round_up(x: float, digits: int = 3) -> str:
 
 
 @dataclass(frozen=True)
+class UnresolvedHoles:
+    """The holes of a mesh that no sample of its vertices can show, and the mesh with them closed.
+
+    A hole whose rim is shorter than :data:`~.features.LOOP_MIN` = 2 pi local sampling radii (a missing
+    triangle or two, a scanner's pinhole) is below the resolution of an eps = 1 sample: a reconstruction
+    from the vertices alone cannot tell it from surface, so the mesh's own Betti numbers hold such a
+    result to more than the sample says.  ``betti`` are the mesh's Betti numbers with a cone over each
+    such rim: what the sample can show.
+
+    Attributes
+    ----------
+    count : int
+        Boundary loops of the mesh shorter than LOOP_MIN local sampling radii.
+    longest : float
+        The longest of them, in local sampling radii.
+    edges : int
+        Their rim edges in all.
+    betti : tuple of int
+        The mesh's Z/2 Betti numbers with those holes closed.
+    """
+
+    count: int
+    longest: float
+    edges: int
+    betti: tuple[int, ...]
+
+    def words(self) -> str:
+        """E.g. "1 hole the sample cannot show (a rim of 3 edges, 1.2 sampling radii around)"."""
+        if self.count == 1:
+            return (
+                f"1 hole the sample cannot show (a rim of {self.edges} edges, {self.longest:.2g} sampling radii "
+                f"around; a sample resolves 2π)"
+            )
+        return (
+            f"{self.count} holes the sample cannot show (rims of {self.edges} edges in all, at most "
+            f"{self.longest:.2g} sampling radii around; a sample resolves 2π)"
+        )
+
+
+def unresolved_holes(points: np.ndarray, rows: np.ndarray, topology: TopologyReport) -> UnresolvedHoles | None:
+    """:class:`UnresolvedHoles` of a triangle mesh that is a surface with boundary; None where it has none.
+
+    Only a mesh without non-manifold edges is measured (its Betti numbers are a surface's).  The local
+    sampling radius is :func:`~.radii.local_spacing`'s on the mesh (what the features measure on M_S).
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from .cotree import triangle_edges
+    from .features import LOOP_MIN
+    from .radii import local_spacing
+
+    if rows.shape[1] != 3 or topology.boundary_faces == 0 or topology.nonmanifold_faces > 0:
+        return None
+    n = len(points)
+    edges, tri_edges = triangle_edges(rows)
+    count = np.bincount(tri_edges.ravel(), minlength=len(edges))
+    rim = edges[count == 1]
+    g = coo_matrix((np.ones(len(rim), np.int8), (rim[:, 0], rim[:, 1])), shape=(n, n))
+    _, label = connected_components(g, directed=False)
+    loop_of = label[rim[:, 0]]
+    h = local_spacing(points, rows)
+    length = np.linalg.norm(points[rim[:, 0]] - points[rim[:, 1]], axis=1)
+    loops = np.unique(loop_of)
+    size = np.array([length[loop_of == q].sum() / np.median(h[np.unique(rim[loop_of == q])]) for q in loops])
+    small = loops[size < LOOP_MIN]
+    if len(small) == 0:
+        return None
+    mine = np.isin(loop_of, small)
+    apex = n + np.searchsorted(small, loop_of[mine])
+    cone = np.c_[rim[mine], apex]
+    closed = analyse(np.vstack([rows, cone]).astype(np.int64), n + len(small), 2)
+    return UnresolvedHoles(
+        count=len(small),
+        longest=float(size[np.isin(loops, small)].max()),
+        edges=int(mine.sum()),
+        betti=tuple(int(b) for b in closed.betti),
+    )
+
+
+@dataclass(frozen=True)
 class MeshComparison:
     """M_S against a ground-truth mesh.
 
@@ -103,6 +184,8 @@ class MeshComparison:
         Closedness, Z/2 Betti numbers, orientability of each.
     hausdorff : HausdorffEstimate
         A = the mesh, B = M_S.
+    unresolved : UnresolvedHoles or None
+        The mesh's holes below the sample's resolution (a surface mesh with boundary only).
     """
 
     mesh_faces: int
@@ -113,6 +196,7 @@ class MeshComparison:
     mesh_topology: TopologyReport
     result_topology: TopologyReport
     hausdorff: HausdorffEstimate
+    unresolved: UnresolvedHoles | None = None
 
     @property
     def recovered_share(self) -> float:
@@ -156,6 +240,14 @@ class MeshComparison:
             "hausdorff_result_to_mesh": h.b_to_a,
             "hausdorff_error_bound": h.error_bound,
             "hausdorff_method": "sampled: barycentric grids on both complexes, nearest sample by k-d tree",
+            "mesh_holes_below_resolution": None
+            if self.unresolved is None
+            else {
+                "count": self.unresolved.count,
+                "rim_edges": self.unresolved.edges,
+                "longest_sampling_radii": self.unresolved.longest,
+                "betti_closed": list(self.unresolved.betti),
+            },
         }
 
 
@@ -315,15 +407,17 @@ def compare_complexes(
     mesh_rows = _row_set(np.asarray(mesh, dtype=np.int64).reshape(-1, d + 1))
     res_rows = _row_set(np.asarray(result, dtype=np.int64).reshape(-1, d + 1))
     common = _count_common(mesh_rows, res_rows)
+    mesh_top = analyse(mesh_rows, n, d)
     return MeshComparison(
         mesh_faces=len(mesh_rows),
         collapsed_faces=int(collapsed),
         result_faces=len(res_rows),
         recovered=common,
         extra=len(res_rows) - common,
-        mesh_topology=analyse(mesh_rows, n, d),
+        mesh_topology=mesh_top,
         result_topology=result_topology if result_topology is not None else analyse(res_rows, n, d),
         hausdorff=hausdorff(points, mesh_rows, res_rows, step=step),
+        unresolved=unresolved_holes(points, mesh_rows, mesh_top) if d == 2 else None,
     )
 
 
