@@ -269,3 +269,14 @@ def test_a_long_status_message_ends_in_an_ellipsis_before_the_counts(qtbot, wind
     assert QStatusBar.currentMessage(bar) == "short" == bar.currentMessage()
     bar.clearMessage()
     assert bar.currentMessage() == ""
+
+
+def test_an_error_about_a_files_points_names_the_file(qtbot, window, tmp_path):
+    """Five points in R^3 on a line: the run's error starts with the file's name, as the command line's does."""
+    path = tmp_path / "line.xyz"
+    path.write_text("".join(f"{t} {2 * t} {3 * t}\n" for t in range(5)))
+    assert window.open_file(path, d=2)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    assert window.model.rec is None
+    assert window.last_error.startswith("line.xyz: "), window.last_error
+    assert "1-dimensional" in window.last_error

@@ -55,6 +55,8 @@ def test_nearly_touching_spheres_are_amber_with_their_components_named(qtbot, wi
     assert "#e0a020" in _chunk_colour(window)  # amber, not green
     assert "uncertain" in window.run_panel.progress.format()
     assert any("not all of it is supported" in n for n in window.view.notes())
+    # the title names the shape with the doubt (a new user read a bare shape name there as the answer)
+    assert window.windowTitle().endswith("? (uncertain) (d = 2 in R^3)"), window.windowTitle()
     # every feature's reason is listed
     box = panel.features
     assert not box.isHidden() and box.list.count() == len(unc)
@@ -100,6 +102,7 @@ def test_clean_torus_is_green_without_uncertain_features(qtbot, window):
     assert window.info_panel.banner.styleSheet() == BANNER_STYLE["ok"]
     assert "#3a8f3a" in _chunk_colour(window)
     assert window.info_panel.features.isHidden()
+    assert window.windowTitle().endswith(": torus (d = 2 in R^3)"), window.windowTitle()
     assert not window.model.layers["uncertain"].visible and window.model.layers["uncertain"].count == 0
     # the verdict is over the 3-D view too, in green, whichever dock is in front
     from crustview.render.overlay import OK_COLOR
@@ -131,6 +134,7 @@ def test_footbones_show_amber(qtbot, window):
     assert wrong in window.info_panel.banner.text()
     assert window.view.notes()[0] == wrong
     assert "WRONG: Betti" in window.run_panel.progress.format()
+    assert "(WRONG) (d = 2 in R^3)" in window.windowTitle()
     table = window.info_panel.topology
     betti_row = next(r for r in range(table.rowCount()) if table.item(r, 0).text() == "Betti numbers (Z/2)")
     assert table.item(betti_row, 2).text() == "26, 0, 26"

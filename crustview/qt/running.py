@@ -278,11 +278,12 @@ class RunActions:
             verdict += f" ({unsure})"
             self.docks["info"].raise_()  # its tab, when the docks share one column: the list is there
         # the bar's colour is the verdict's over the view and in Information (describe.verdict): one verdict
-        ok = {"ok": True, "warn": "warn", "bad": False}[describe_verdict(rec, truth)[0]]
+        level = describe_verdict(rec, truth)[0]
+        ok = {"ok": True, "warn": "warn", "bad": False}[level]
         self.run_panel.show_idle(f"{rec.mode}: done in {sum(rec.timings.values()):.2f} s — {verdict}", ok=ok)
         message = (
-            f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} steps of "
-            f"{MODE_WORDS.get(rec.mode, rec.mode)}."
+            f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} "
+            f"step{'' if rec.extraction.n_steps == 1 else 's'} of {MODE_WORDS.get(rec.mode, rec.mode)}."
         )
         saved = pending.get("saved")
         if saved is not None:
@@ -301,7 +302,14 @@ class RunActions:
         if carried:
             message += " " + carried
         self.statusBar().showMessage(message, 20000)
-        self.setWindowTitle(f"crustview — {self.model.source}: {name_of(t, rec.d)} (d = {rec.d} in R^{rec.k})")
+        # the title names the shape as sure only where the verdict is (a new user read "homer-n30.xyz: torus"
+        # over an amber result as the answer)
+        shape = name_of(t, rec.d)
+        if level == "warn" and t.closed_manifold:
+            shape += "? (uncertain)"
+        elif problems:
+            shape += " (WRONG)"
+        self.setWindowTitle(f"crustview — {self.model.source}: {shape} (d = {rec.d} in R^{rec.k})")
         if pending.get("session") is not None:
             self.restore_view(*pending["session"])
 
@@ -332,6 +340,9 @@ class RunActions:
         self.view.render()
 
     def _job_failed(self, message: str) -> None:
+        source = str(self._pending.get("source", "") or "")
+        if source and source not in message:  # the command line names the file too ("onepoint.xyz: need ...")
+            message = f"{source}: {message}"
         self._put_back_shelved()
         self.run_panel.sync_prune()
         self.run_panel.show_idle("failed — previous result kept" if self.model.rec is not None else "failed", ok=False)

@@ -212,8 +212,9 @@ def kept_caps(points: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> 
                 True,
                 np.asarray(vs, np.int64),
                 f"a possible opening kept closed (rule open-cap): a cap of {len(vs)} samples, {size:.3g} "
-                f"spacings across, {q:.2g} times the faces around it, between CAP_RATIO ({CAP_RATIO:g}) and "
-                f"CAP_SURE ({CAP_SURE:g}): noise over a closed part makes such caps, and so may a small real "
+                f"spacings across, its faces {q:.2g} times the size of those around it: more than the {CAP_RATIO:g} a "
+                f"surface's sampling can change by over one radius, less than the {CAP_SURE:g} above which a cap "
+                "is surely over an opening; noise over a closed part makes such caps, and so may a small real "
                 "opening",
                 removed=True,
             )
@@ -414,9 +415,9 @@ def _labelled(
         notes.append(
             f"open-cap passed over {len(dense)} "
             + ("patches" if len(dense) > 1 else "patch")
-            + f" of big faces more than CAP_RATIO ({CAP_RATIO:g}) times the faces around "
+            + f" of big faces more than {CAP_RATIO:g} times the size of the faces around "
             + ("them" if len(dense) > 1 else "it")
-            + f" but at most CAP_TYPICAL ({CAP_TYPICAL:.3g}) times the median face of M_S ("
+            + f" but at most {CAP_TYPICAL:.3g} times the median face of M_S ("
             + ", ".join(f"{q:.2g} and {t:.2g}" for q, t in dense[:5])
             + (" ..." if len(dense) > 5 else "")
             + "): sampled as densely as the surface in general, beside an oversampled ring; not openings"

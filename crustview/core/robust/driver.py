@@ -308,7 +308,8 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
         f"{note_paper}; the robust extension labelled the Delaunay cells ({_state(top_lab)}, Betti "
         f"{top_lab.betti}, {top_lab.unused_samples} samples left out, {_features(len(f_lab))}) and grew "
         f"M_S ({_state(top_gro)}, Betti {top_gro.betti}, {top_gro.unused_samples} left out, {len(f_gro)} "
-        f"uncertain); the {why} result is kept",
+        f"uncertain); the {why} result is kept (the checks of the kept result, its contacts and a resample, "
+        "may find more uncertain features)",
     )
     if _disputed(t_keep, t_other, keep.features or [], n, labelled=keep is lab):
         keep.disputed = disagreement(points, m_keep, m_other, t_keep.betti, t_other.betti)
