@@ -164,3 +164,23 @@ def test_under_noise_a_chain_across_the_gap_joins_what_the_contact_cells_do_not(
     assert any("a chain of" in s.reason for s in joins)
     joined = [f for f in rec.features if f.removed and f.kind == "component"]
     assert len(joined) == len(joins) and all(f.uncertain and f.size_spacings < GAP_MIN for f in joined)
+
+
+def test_a_cancel_stops_join_parts_and_cut_handle_between_their_rounds(elk):
+    """Both rules check the caller's cancel (a new user's octopus ran on 13 s after Cancel): a set event
+    stops each at its first round, and a clear one changes nothing."""
+    import threading
+
+    from crustview.core.errors import Cancelled
+
+    rec, ed = _labelled(elk)
+    stop = threading.Event()
+    stop.set()
+    before = ed.lab.inside.copy()
+    with pytest.raises(Cancelled):
+        join_parts(ed, rec.points, cancel=stop)
+    with pytest.raises(Cancelled):
+        cut_handles(ed, rec.points, cancel=stop)
+    assert np.array_equal(ed.lab.inside, before)  # stopped before any relabelling
+    out = join_parts(ed, rec.points, cancel=threading.Event())
+    assert len(out.joins) >= 1

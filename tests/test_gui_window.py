@@ -1,6 +1,7 @@
 """The real main window under Xvfb, driven with qtbot."""
 
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -258,6 +259,33 @@ def test_cancel_stops_a_long_run(qtbot, window):
     assert not {"extraction", "topology"} & set(stages[clicked_at:])
     assert not window.runner.busy
     assert window.model.rec is rec
+    assert "cancelled" in window.run_panel.progress.format()
+    assert window.run_panel.run.isEnabled()
+
+
+@pytest.mark.timing
+@pytest.mark.fresh_runs  # needs a run long enough to act during it
+def test_cancel_during_the_robust_extraction_says_so_at_once_and_stops_soon(qtbot, window):
+    """A new user's octopus took 13 s to stop, its bar still at "manifold extraction 47 %" with Cancel live.
+
+    The casting's labelled path (cut-handle and join-parts, seconds of work) now checks between its
+    rounds: the bar says "cancelling…" at the click, Cancel takes no second press, and the run stops soon.
+    """
+    path = Path(__file__).parents[1] / "resources" / "casting.off"
+    fractions = []
+    window.runner.progress.connect(lambda s, f: fractions.append(f) if s == "extraction" else None)
+    assert window.open_file(path, d=2)
+    qtbot.waitUntil(lambda: any(f > 0.2 for f in fractions), timeout=60_000)  # inside the labelled path
+    assert window.runner.busy
+    t0 = time.monotonic()
+    window.run_panel.cancel.click()
+    assert window.run_panel.progress.format() == "cancelling…"
+    assert not window.run_panel.cancel.isEnabled() and not window.status_progress.cancel.isEnabled()
+    assert window.status_progress.isVisible()
+    with qtbot.waitSignal(window.runner.cancelled, timeout=15_000):
+        pass
+    assert time.monotonic() - t0 < 2.0
+    assert not window.runner.busy and window.model.rec is None
     assert "cancelled" in window.run_panel.progress.format()
     assert window.run_panel.run.isEnabled()
 

@@ -22,3 +22,9 @@ class QhullFailure(CrustviewError):
 
 class Cancelled(CrustviewError):
     """The caller asked the run to stop (``cancel.is_set()`` became true)."""
+
+
+def check_cancel(cancel: object | None) -> None:
+    """Raise :class:`Cancelled` when ``cancel`` (anything with ``is_set()``, e.g. a ``threading.Event``) is set."""
+    if cancel is not None and cancel.is_set():
+        raise Cancelled("reconstruction cancelled")

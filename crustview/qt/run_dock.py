@@ -182,6 +182,10 @@ class RunPanel(QWidget):
         self.progress.setValue(0)
         #: (stage words, when it started, when it last reported) while busy
         self._stage: tuple[str, float, float] | None = None
+        #: A job runs (its Cancel may already be pressed: then :attr:`cancelling`).
+        self.busy = False
+        #: Cancel was pressed and the job has not stopped yet (it stops at its next check).
+        self.cancelling = False
         self.stall_timer = QTimer(self)
         self.stall_timer.setInterval(250)
         self.stall_timer.timeout.connect(self._stalled)
@@ -197,6 +201,7 @@ class RunPanel(QWidget):
             w.setMinimumHeight(w.sizeHint().height())
         self.run.clicked.connect(self._request)
         self.cancel.clicked.connect(self.cancel_requested)
+        self.cancel_requested.connect(self._cancelling)  # the status bar's Cancel too
         self.theta.valueChanged.connect(self._theta_moved)
         self.test.currentTextChanged.connect(self._test_changed)
         self.prune.toggled.connect(self._prune_toggled)
@@ -317,6 +322,8 @@ class RunPanel(QWidget):
                 w.blockSignals(False)
 
     def set_busy(self, busy: bool, label: str = "") -> None:
+        self.busy = busy
+        self.cancelling = False
         self.run.setEnabled(not busy)
         self.prune.setEnabled(not busy and self.mode == "paper")
         self.extraction.setEnabled(not busy)
@@ -334,7 +341,19 @@ class RunPanel(QWidget):
             self.progress.setRange(0, 1000)
         self.progress_shown.emit()
 
+    def _cancelling(self) -> None:
+        """Cancel pressed: say so at once, and take no second press; the job stops at its next check."""
+        if not self.busy:
+            return
+        self.cancelling = True
+        self.cancel.setEnabled(False)
+        self.progress.setRange(0, 0)  # busy until the job has stopped
+        self.progress.setFormat("cancelling…")
+        self.progress_shown.emit()
+
     def show_progress(self, stage: str, fraction: float) -> None:
+        if self.cancelling:  # the reports still arriving are the stopping job's
+            return
         now = time.monotonic()
         words = STAGES.get(stage, stage)
         started = self._stage[1] if self._stage is not None and self._stage[0] == words else now
@@ -346,7 +365,7 @@ class RunPanel(QWidget):
 
     def _stalled(self) -> None:
         """A stage that reports nothing for a second still moves: a busy bar and its seconds so far."""
-        if self._stage is None:
+        if self._stage is None or self.cancelling:
             return
         words, started, last = self._stage
         now = time.monotonic()

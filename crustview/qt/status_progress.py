@@ -38,16 +38,17 @@ class StatusProgress(QWidget):
         self.setVisible(False)
 
     def follow(self) -> None:
-        """Copy the panel's bar; visible while its Cancel button is enabled (a job runs)."""
+        """Copy the panel's bar; visible while a job runs (its Cancel pressed or not)."""
         src = self.panel.progress
         self.bar.setRange(src.minimum(), src.maximum())
         self.bar.setValue(src.value())
         self.bar.setFormat(src.format())
         self.bar.setToolTip(src.format())
-        if self.panel.cancel.isEnabled() != self.isVisible():
+        self.cancel.setEnabled(not self.panel.cancelling)
+        if self.panel.busy != self.isVisible():
             # at the next turn of the event loop: showing it lays the window out again, which must
             # not happen inside the call that starts the job (nor once per progress report)
             QTimer.singleShot(0, self._show_if_busy)
 
     def _show_if_busy(self) -> None:
-        self.setVisible(self.panel.cancel.isEnabled())
+        self.setVisible(self.panel.busy)

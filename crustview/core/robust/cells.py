@@ -38,6 +38,7 @@ import numpy as np
 
 from ..analysis.features import LOOP_MIN, enclosing_radii
 from ..analysis.topology import is_closed_manifold
+from ..errors import check_cancel
 from ..steps import RULE_CUT, RULE_JOIN, RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
 from .cut_handle import Cut, cut_handles
 from .grow import SIZE_MAX, size_ratio
@@ -231,6 +232,7 @@ def extract_by_labels(
     candidates: np.ndarray,
     spacing: float,
     progress: Callable[[float], None] | None = None,
+    cancel: object | None = None,
 ) -> Extraction:
     """M_S from a labelling of the Delaunay cells, with its repairs recorded as steps.
 
@@ -252,6 +254,9 @@ def extract_by_labels(
         Median nearest-neighbour distance.
     progress : callable(fraction), optional
         Called between the rules, with fractions of the whole path.
+    cancel : object with ``is_set()``, optional
+        Checked between the rules and within the long ones (``cut-handle``, ``join-parts``): when set,
+        :class:`~crustview.core.errors.Cancelled` is raised.
 
     Returns
     -------
@@ -260,15 +265,20 @@ def extract_by_labels(
     """
     lab = Labelling(points, delaunay_points, simplices, centres)
     inside0 = lab.inside.copy()
-    report = progress or (lambda f: None)
-    ext = _labelled(points, delaunay_points, lab, faces, candidates, spacing, report, frozenset())
+    told = progress or (lambda f: None)
+
+    def report(fraction: float) -> None:
+        told(fraction)
+        check_cancel(cancel)
+
+    ext = _labelled(points, delaunay_points, lab, faces, candidates, spacing, report, frozenset(), cancel)
     # samples left out where sculpt-sample's size bound held some back (which changes what the later rules do,
     # not only for those): run again with the held ones sculpted through their least confident cell, as before
     # the bound (every sample a vertex comes first)
     free = frozenset(ext.sculpt_held) if ext.left_samples else frozenset()  # type: ignore[attr-defined]
     if free:
         lab.inside[:] = inside0
-        ext = _labelled(points, delaunay_points, lab, faces, candidates, spacing, report, free)
+        ext = _labelled(points, delaunay_points, lab, faces, candidates, spacing, report, free, cancel)
     return ext
 
 
@@ -281,6 +291,7 @@ def _labelled(
     spacing: float,
     report: Callable[[float], None],
     free: frozenset,
+    cancel: object | None = None,
 ) -> Extraction:
     """One run of the labelled path on ``lab`` (its labels as the labelling left them); see :func:`extract_by_labels`.
 
@@ -326,10 +337,10 @@ def _labelled(
             "label, so M_S runs through the sample (Boissonnat's sculpting)",
         )
     report(0.65)
-    handles = cut_handles(ed, points)
+    handles = cut_handles(ed, points, cancel)
     for c in handles.cuts:
         _log_cut(log, lab, c)
-    joined = join_parts(ed, points)
+    joined = join_parts(ed, points, cancel)
     for j in joined.joins:
         log.step(
             RULE_JOIN,

@@ -59,6 +59,7 @@ from scipy.sparse.csgraph import connected_components
 
 from ..analysis.cotree import triangle_edges
 from ..analysis.features import LOOP_SUPPORTED, Feature, features
+from ..errors import check_cancel
 from .label_repair import LabelEditor
 
 #: Rounds of the rule: the loops of a short basis change once a handle is cut, so the features are
@@ -236,7 +237,7 @@ def _balls(ed: LabelEditor, loop: list[int], points: np.ndarray) -> list[np.ndar
     return [cells[far <= f * radius] for f in BALL_RADII]
 
 
-def cut_handles(ed: LabelEditor, points: np.ndarray) -> CutHandles:
+def cut_handles(ed: LabelEditor, points: np.ndarray, cancel: object | None = None) -> CutHandles:
     """Apply ``cut-handle`` to the labelling in ``ed`` (changed in place).
 
     Parameters
@@ -259,6 +260,7 @@ def cut_handles(ed: LabelEditor, points: np.ndarray) -> CutHandles:
     ed.cut = lab.cut()
     local = _Local(ed)
     for rnd in range(HANDLE_ROUNDS + 1):
+        check_cancel(cancel)
         surf = lab.faces[ed.cut]
         # no handle at all (chi = 2 b0: every closed genus-0 part, e.g. most scans): nothing to measure
         if len(surf) == 0 or _euler(surf, n) == 2 * _components(surf, n):
@@ -275,6 +277,7 @@ def cut_handles(ed: LabelEditor, points: np.ndarray) -> CutHandles:
         for feat in short:
             if len(feat.vertices) < 3:
                 continue
+            check_cancel(cancel)
             cut = _try(ed, local, feat, n, b0, points)
             if cut is not None:
                 out.cuts.append(cut)

@@ -253,7 +253,13 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     report(0.05)
     # the labelling path takes the first half of the bar, the growing path (when it runs) the rest
     lab = extract_by_labels(
-        points, *cells, faces, np.sort(tset, axis=1), spacing, progress=lambda f: report(0.05 + 0.45 * f)
+        points,
+        *cells,
+        faces,
+        np.sort(tset, axis=1),
+        spacing,
+        progress=lambda f: report(0.05 + 0.45 * f),
+        cancel=cancel,
     )
     if cancel is not None and cancel.is_set():
         raise Cancelled("reconstruction cancelled")

@@ -48,6 +48,7 @@ from scipy.sparse.csgraph import connected_components, dijkstra
 from scipy.spatial import cKDTree
 
 from ..analysis.features import GAP_MIN, Feature, local_spacing
+from ..errors import check_cancel
 from .cut_handle import LOCAL_ROUNDS, Cut, _euler, _Local, _was_on, cut_handles
 from .drop_stray import STRAY_MAX, STRAY_SHARE
 from .label_repair import LabelEditor
@@ -141,7 +142,7 @@ class _Contacts:
         return float(rel[i]), int(self.verts[i]), int(self.partner[i])
 
 
-def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
+def join_parts(ed: LabelEditor, points: np.ndarray, cancel: object | None = None) -> JoinParts:
     """Apply ``join-parts`` to the labelling in ``ed`` (changed in place).
 
     Parameters
@@ -167,6 +168,7 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
     tree = None  # a k-d tree of the samples, made when a chain is first looked for
     contacts = None  # the round before's contacts (their neighbour lists are reused while M_S has the same vertices)
     while True:
+        check_cancel(cancel)
         surf = lab.faces[ed.cut]
         if len(surf) == 0:
             break
@@ -196,6 +198,7 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
         join = None
         for cid in pieces:
             for unit in (*contacts.units, CHAIN):
+                check_cancel(cancel)
                 how = "contact"
                 if unit == CHAIN:
                     # the contact cells did not join it: the least confident chain of cells across the gap
@@ -212,7 +215,7 @@ def join_parts(ed: LabelEditor, points: np.ndarray) -> JoinParts:
                     sel = cells[mine.any(axis=1) & ((owner >= 0) & ~mine).any(axis=1)]
                 if len(sel) == 0:
                     continue
-                join = _trial(ed, local, sel, comp, len(ids), b1, points)
+                join = _trial(ed, local, sel, comp, len(ids), b1, points, cancel)
                 if join is not None:
                     gap, v, u = contacts.closest(np.flatnonzero(comp == cid), unit)
                     size = int((comp == cid).sum())
@@ -307,7 +310,14 @@ def _chain(
 
 
 def _trial(
-    ed: LabelEditor, local: _Local, sel: np.ndarray, comp: np.ndarray, b0: int, b1: int, points: np.ndarray
+    ed: LabelEditor,
+    local: _Local,
+    sel: np.ndarray,
+    comp: np.ndarray,
+    b0: int,
+    b1: int,
+    points: np.ndarray,
+    cancel: object | None = None,
 ) -> Join | None:
     """Give ``sel`` the inside label, repair around it and judge; the join, or None (labels restored)."""
     lab = ed.lab
@@ -342,7 +352,7 @@ def _trial(
         removed, added = changed[cut0[changed]], changed[ed.cut[changed]]
         if _b1(surf, now, n) > b1:
             # a long contact joined in two places leaves a tunnel between them: cut-handle's to judge
-            cuts = cut_handles(ed, points).cuts
+            cuts = cut_handles(ed, points, cancel).cuts
             surf = lab.faces[ed.cut]
             after = _vertex_components(surf, n)
             ok = (
