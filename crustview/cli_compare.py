@@ -3,7 +3,8 @@
 An operand is a file, optionally followed by ``@key=value,...``:
 
 * a saved result ``.npz``: its M_S;
-* a mesh file with faces (``.off``, ``.ply``, ``.obj`` ...): its faces;
+* a mesh file with faces (``.off``, ``.ply``, ``.obj`` ...): its faces (d from them: polygons a
+  surface, segments a curve);
 * a point file: M_S of a reconstruction (``d`` is needed: ``-d`` or ``@d=2``);
 * any of them with ``@test=literal``, ``@theta=30`` (degrees), ``@mode=paper``
   or ``@d=2``: M_S of the file's points reconstructed with those settings
@@ -50,6 +51,14 @@ def parse_operand(text: str) -> tuple[Path, dict]:
     return Path(path), opts
 
 
+def _mesh_d(mesh) -> int | None:
+    """The dimension a mesh's faces say: polygons of three vertices or more a surface, segments a curve."""
+    sizes = {int(block.shape[1]) for block in mesh.cells if len(block)}
+    if sizes and min(sizes) >= 3:
+        return 2
+    return 1 if sizes == {2} else None
+
+
 def load_operand(text: str, d: int | None) -> Operand:
     """Read (and if asked, reconstruct) one operand; see the module docstring."""
     from .core import reconstruct
@@ -61,7 +70,7 @@ def load_operand(text: str, d: int | None) -> Operand:
     params = read_run_parameters(path)
     mesh = read_mesh(path) if params is None else None
     points = mesh.points if mesh is not None else read_points(path)
-    dd = opts.get("d") or (params["d"] if params else None) or d
+    dd = opts.get("d") or (params["d"] if params else None) or d or (_mesh_d(mesh) if mesh is not None else None)
     if dd is None:
         raise InputError(f"give d for '{path.name}' (-d N or {path.name}@d=N)")
     if params is not None and not opts:

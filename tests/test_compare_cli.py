@@ -80,3 +80,24 @@ def test_cli_compare_errors_are_one_line(tmp_path, capsys):
     np.save(tmp_path / "p.npy", np.random.default_rng(0).normal(size=(30, 3)))
     assert main(["compare", f"{tmp_path / 'p.npy'}@colour=red", f"{tmp_path / 'p.npy'}"]) == 2
     assert "@test=" in capsys.readouterr().err
+
+
+def test_cli_compare_takes_d_from_a_meshs_faces(tmp_path, capsys):
+    """A result against the triangle mesh it came from: the mesh's faces say d = 2 (a new user was asked for
+    it); a point file still needs it, in one line."""
+    from crustview.__main__ import main
+    from crustview.core import reconstruct
+    from crustview.core.samples.manifolds import get_manifold
+    from crustview.io import write_result
+    from crustview.meshfiles.off import write_off
+
+    s = get_manifold("sphere").sample(300, seed=1)
+    rec = reconstruct(s.points, 2)
+    write_result(tmp_path / "s.npz", rec)
+    write_off(tmp_path / "m.off", s.points, rec.manifold_input_simplices())
+    assert main(["compare", str(tmp_path / "s.npz"), str(tmp_path / "m.off")]) == 0
+    out = capsys.readouterr().out
+    assert "m.off (mesh faces)" in out and f"{len(rec.manifold)} simplices in both, 0 only in A" in out
+    np.savetxt(tmp_path / "p.xyz", s.points)
+    assert main(["compare", str(tmp_path / "p.xyz"), str(tmp_path / "m.off")]) == 2
+    assert "give d for 'p.xyz'" in capsys.readouterr().err

@@ -138,6 +138,9 @@ def test_a_hausdorff_estimate_coarser_than_its_value_is_said_as_an_upper_bound()
 
     assert HausdorffEstimate(0.01175, 0.01, 0.01175, 0.042, 0.01, (9, 9)).words() == "at most 0.0538"
     assert HausdorffEstimate(1.5, 1.5, 1.0, 0.25, 0.1, (9, 9)).words() == "1.5 ± 0.25"
+    # a bound of half the value or more says little beside it: the bound alone
+    assert HausdorffEstimate(0.09458, 0.09458, 0.05, 0.093, 0.01, (9, 9)).words() == "at most 0.188"
+    assert HausdorffEstimate(0.2, 0.2, 0.1, 0.099, 0.01, (9, 9)).words() == "0.2 ± 0.099"
     assert HausdorffEstimate(float("inf"), float("inf"), 0.0, 0.0, 0.0, (0, 0)).words() == "none"
     # a sampled 0 is no proof of the same complex (a small fold hides between grid points): the bound, rounded up
     assert HausdorffEstimate(0.0, 0.0, 0.0, 0.01, 0.01, (9, 9)).words() == "at most 0.01"

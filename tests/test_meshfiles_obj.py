@@ -64,7 +64,8 @@ def test_vertex_colours_are_attributes(tmp_path):
     "text, fragment",
     [
         (SQUARE + "f 1 2 0\n", "vertex index 0"),
-        (SQUARE + "f 1 2 9\n", "refers to vertex 8 but the file has 4 vertices"),
+        (SQUARE + "f 1 2 9\n", "refers to vertex 9 but the file has 4 vertices (numbered 1 to 4 in OBJ)"),
+        ("f 1 2 3\n", "it has faces but no vertices"),
         (SQUARE + "f -1 -2 -5\n", "goes back past the first vertex"),
         (SQUARE + "f 1 2\n", "at least three vertices"),
         (SQUARE + "f 1 two 3\n", "'two' is not a vertex index"),

@@ -90,5 +90,13 @@ def _blocks(polys: list[list[int]] | list[np.ndarray]) -> list[np.ndarray]:
 def _check_indices(cells: list[np.ndarray], n: int, path: Path) -> None:
     for block in cells:
         if len(block) and (block.min() < 0 or block.max() >= n):
-            bad = block[(block < 0) | (block >= n)][0]
-            raise _bad(path, f"a face refers to vertex {int(bad)} but the file has {n} vertices (indices 0 to {n - 1})")
+            bad = int(block[(block < 0) | (block >= n)][0])
+            if n == 0:
+                raise _bad(path, "it has faces but no vertices")
+            # an OBJ file counts its vertices from 1: its own numbers, as its author wrote them
+            base = 1 if path.suffix.lower() == ".obj" else 0
+            raise _bad(
+                path,
+                f"a face refers to vertex {bad + base} but the file has {n} vertices "
+                f"(numbered {base} to {n - 1 + base}{' in OBJ' if base else ''})",
+            )

@@ -63,13 +63,13 @@ class HausdorffEstimate:
     def words(self) -> str:
         """The estimate as a reader should take it.
 
-        ``value ± bound``, or, where the grids are coarser than the value (a sampled 0 included: a small fold
+        ``value ± bound``, or, where the bound is half the value or more (a sampled 0 included: a small fold
         can hide between grid points), the upper bound rounded up (a new user read "0.01175 ± 0.042" as a
-        misprint); "none" when one side is empty.
+        misprint, and another "0.0092 ± 0.0102" as saying nothing); "none" when one side is empty.
         """
         if not math.isfinite(self.distance):
             return "none"
-        if self.error_bound >= self.distance:
+        if 2 * self.error_bound >= self.distance:
             return f"at most {_round_up(self.distance + self.error_bound)}"
         return f"{self.distance:.4g} ± {self.error_bound:.2g}"
 
