@@ -81,6 +81,8 @@ def parse_steps(text: str | None, total: int) -> tuple[int, int]:
     hi = hi + total if hi < 0 else hi
     if hi < lo:
         raise ValueError(f"--steps {text}: the range is empty (the extraction has {total} steps)")
+    if lo > total:  # clipped, it would be the last step alone: said, not drawn as if asked for
+        raise ValueError(f"--steps {text} starts after the last step: the extraction has {total} steps")
     return max(0, min(lo, total)), max(0, min(hi, total))
 
 
@@ -170,6 +172,7 @@ class OffscreenScene:
         self.band = CAPTION_LINES * CAPTION_PX + 6
         self.plotter = pv.Plotter(off_screen=True, window_size=[size[0], max(size[1] - self.band, 16)])
         self.view = SceneView(model, self.plotter)
+        self.view.in_window = False  # no docks or sliders to point at in a file
         # the legend's line spacing is a share of the height: keep its font inside it on small frames
         self.view.legend.font_size = max(8, min(13, int(0.032 * (size[1] - self.band) * 0.8)))
         self.view.legend.entries = []

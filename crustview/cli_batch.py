@@ -91,6 +91,17 @@ def _failed(path: Path, error: str, start: float) -> dict[str, Any]:
     return row
 
 
+def _show(show, row: dict[str, Any], lines: list[str]) -> None:
+    """A file's row, and for a failed one the notes read before it failed.
+
+    Why a file's z = 0 made d = 2 impossible says the note, not the error.
+    """
+    show(row_line(row))
+    if row["status"] != "ok":
+        for line in lines:
+            show(f"  {line}")
+
+
 def row_line(row: dict[str, Any]) -> str:
     """One printed row."""
     name = Path(row["file"]).name
@@ -130,7 +141,11 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("with --out-dir give no -o or --report: each file's result and report are named after it")
     if args.jobs < 1:
         raise InputError(f"-j needs a positive number of processes, got {args.jobs}")
-    args.out_dir.mkdir(parents=True, exist_ok=True)
+    try:
+        args.out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        reason = err.strerror or type(err).__name__
+        raise InputError(f"Cannot make the folder '{args.out_dir}' for the results ({reason}).") from None
     names = output_names(list(args.input), args.out_dir)
     summary = [args.out_dir / "summary.csv", args.out_dir / "summary.json"]
     check_outputs(list(args.input), [p for pair in names for p in pair] + summary, args.force)
@@ -140,8 +155,8 @@ def run(args: argparse.Namespace) -> int:
         show = (lambda line: None) if args.quiet else bar.print
         if args.jobs == 1:
             for i, (path, (out, rep)) in enumerate(zip(args.input, names)):
-                rows[i], _ = _job(path, out, rep, args)
-                show(row_line(rows[i]))
+                rows[i], lines = _job(path, out, rep, args)
+                _show(show, rows[i], lines)
                 bar.advance(path.name)
         else:
             pool = ProcessPoolExecutor(max_workers=min(args.jobs, len(names)), initializer=_worker_ignores_ctrl_c)
@@ -155,8 +170,8 @@ def run(args: argparse.Namespace) -> int:
                         done, _ = wait(pending, return_when=FIRST_COMPLETED)
                         for fut in done:
                             i = pending.pop(fut)
-                            rows[i], _ = fut.result()
-                            show(row_line(rows[i]))
+                            rows[i], lines = fut.result()
+                            _show(show, rows[i], lines)
                             bar.advance(Path(rows[i]["file"]).name)
                 except BaseException:  # Ctrl-C: stop the workers now (their unnamed temporary files vanish)
                     for process in list(getattr(pool, "_processes", {}).values()):

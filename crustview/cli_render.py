@@ -249,6 +249,19 @@ def framed_replay(scene, plan):
         yield scene.frame(step_caption(model, i) + "\n" + note)
 
 
+def _check_output(source: Path, output: Path, kind: str) -> None:
+    """Refuse, in one line, an output the animation could not be written to (a missing or read-only folder).
+
+    A folder of frames that does not exist yet is made by the writer: its parent is checked.
+    """
+    from .cli_reconstruct import check_outputs
+
+    out = Path(output)
+    if kind == "folder" and out.is_dir():
+        out = out / "frame-00000.png"  # its frames go inside it
+    check_outputs([Path(str(source).split("@", 1)[0])], [out], False, hint=False)
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``crustview render``; returns the exit status."""
     from .animation import (
@@ -268,6 +281,7 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as err:
         raise InputError(str(err)) from None
     size = even_size(args.size) if kind == "mp4" else args.size
+    _check_output(args.input, args.output, kind)  # before the reconstruction: not after minutes of work
     t0 = time.perf_counter()
     from .session import is_session_path
 

@@ -26,6 +26,22 @@ def test_parse_steps():
         parse_steps("20:10", 40)
     with pytest.raises(ValueError):
         parse_steps("7", 40)
+    with pytest.raises(ValueError, match="starts after the last step: the extraction has 4 steps"):
+        parse_steps("100:200", 4)  # was clipped to the last step alone, silently
+    assert parse_steps("4:200", 4) == (4, 4)  # the last step itself, asked for
+
+
+def test_render_checks_its_output_before_the_reconstruction(tmp_path, capsys):
+    """A missing folder, or an output named like the input, is refused in one line before any work."""
+    from crustview.__main__ import main
+
+    src = tmp_path / "s.npy"
+    np.save(src, np.random.default_rng(0).normal(size=(200, 3)))
+    assert main(["render", str(src), "-d", "2", "--tour", "-o", str(tmp_path / "missing" / "a.gif")]) == 2
+    err = capsys.readouterr().err
+    assert "Cannot write" in err and "does not exist" in err and "reconstructed" not in err
+    assert main(["render", str(src), "-d", "2", "--tour", "-o", str(tmp_path / "missing" / "deeper" / "frames")]) == 2
+    assert "reconstructed" not in capsys.readouterr().err
 
 
 def test_output_kind(tmp_path):
@@ -102,3 +118,30 @@ def test_render_reports_bad_arguments_in_one_line(tmp_path, capsys):
     assert "use .gif, .mp4 or a folder" in capsys.readouterr().err
     assert main(["render", "circle", "--replay", "--steps", "9:2", "-o", str(tmp_path / "x.gif")]) == 2
     assert "range is empty" in capsys.readouterr().err
+
+
+def test_a_rendered_file_points_at_no_window_part():
+    """The window's notes send the reader to its Information panel and its rotation sliders; a rendered
+    file has neither (a new user found "— see Information" in a GIF)."""
+    from pathlib import Path
+
+    from crustview.animation import OffscreenScene
+    from crustview.core import reconstruct
+    from crustview.io import read_points
+    from crustview.scene.model import SceneModel
+
+    rec = reconstruct(read_points(Path(__file__).parents[1] / "resources" / "decimated-knight.off"), 2)
+    assert rec.uncertain_features  # an amber verdict: the one whose second line pointed at the panel
+    model = SceneModel()
+    model.set_reconstruction(rec, source="knight")
+    scene = OffscreenScene(model, (320, 240))
+    try:
+        notes = scene.view.notes()
+        assert notes and not any("see Information" in n for n in notes), notes
+        assert any("(uncertain" in n for n in notes)
+        model.projection.source = "grand tour"
+        scene.view.update_basis_text()
+        text = scene.view.basis_text.GetText(0)
+        assert text.startswith("view axes: grand tour\n") and "sliders" not in text, text
+    finally:
+        scene.close()

@@ -173,3 +173,21 @@ def test_a_failed_row_names_its_file_once():
     assert row_line(row) == "few.txt: FAILED: need at least k + 2 = 5 points in R^3; got 3"
     row["error"] = "Cannot read '/data/few.txt': the file does not exist."
     assert row_line(row) == "few.txt: FAILED: Cannot read '/data/few.txt': the file does not exist."
+
+
+def test_a_failed_file_in_a_batch_says_the_note_that_explains_it(samples, tmp_path, capsys):
+    """A flat OBJ (z = 0) among others: its FAILED line is followed by the note that its points were read in
+    R^2 (a new user's batch said only "d must be between 1 and k-1 = 1")."""
+    from crustview.__main__ import main
+
+    flat = tmp_path / "flat.obj"
+    grid = [(x, y) for x in range(4) for y in range(4)]
+    flat.write_text("\n".join(f"v {x} {y} 0" for x, y in grid) + "\n")
+    code = main(["reconstruct", str(flat), str(samples / "sphere.xyz"), "-d", "2", "--out-dir", str(tmp_path / "o")])
+    out = capsys.readouterr()
+    text = out.out + out.err
+    assert code == 1
+    lines = text.splitlines()
+    i = next(i for i, line in enumerate(lines) if line.startswith("flat.obj: FAILED: "))
+    assert "third coordinate is 0" in lines[i + 1] and lines[i + 1].startswith("  note: ")
+    assert any(line.startswith("sphere.xyz: ") and "FAILED" not in line for line in lines)

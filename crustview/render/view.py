@@ -8,6 +8,7 @@ import pyvista as pv
 from ..scene.describe import verdict
 from ..scene.layers import CASCADE_COLOR, COMPARE_COLORS, STEP_COLORS
 from ..scene.model import SceneModel
+from ..scene.projection import TOUR_SLIDERS as WINDOW_ONLY
 from ..scene.subset import even_subset
 from .base import NAN_COLOR, LayerAdapter
 from .compare import CompareAdapter
@@ -73,6 +74,8 @@ class SceneView(CameraControl):
         self.clip_plane = None
         #: View the data with its Y axis up instead of Z (View ▸ Y axis up).
         self.y_up = False
+        #: Drawn in the window (its notes may point at its docks and sliders); False for rendered files.
+        self.in_window = True
         plotter.set_background(BACKGROUND[0], top=BACKGROUND[1])
         # one headlight instead of pyvista's five-light kit: software GL (the usual case here)
         # shades every pixel once per light, and a frame of a large M_S is fill-bound
@@ -496,6 +499,8 @@ class SceneView(CameraControl):
         else:
             head, _, rest = words.partition(" (")
             rest = "(" + rest if rest else ""
+        if not self.in_window:  # a rendered file has no Information panel to point at
+            return [head, rest] + thinned if rest else [head] + thinned
         return [head, (rest + " — see Information") if rest else "see Information"] + thinned
 
     def update_basis_text(self) -> None:
@@ -504,5 +509,6 @@ class SceneView(CameraControl):
             text = "2-D data shown flat: X = x1, Y = x2"
         else:
             lab = p.axis_labels()
-            text = f"view axes: {p.description}\nX = {lab[0]}    Y = {lab[1]}    Z = {lab[2]}"
+            where = p.description if self.in_window else p.description.replace(WINDOW_ONLY, "")
+            text = f"view axes: {where}\nX = {lab[0]}    Y = {lab[1]}    Z = {lab[2]}"
         self.basis_text.SetText(0, text)

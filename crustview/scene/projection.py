@@ -9,6 +9,9 @@ from __future__ import annotations
 import numpy as np
 from psygnal import Signal
 
+#: What the grand tour's description adds in the window (its angles are there to read and move).
+TOUR_SLIDERS = " (its angles are on the rotation sliders)"
+
 
 def _orthonormal_columns(basis: np.ndarray, k: int) -> np.ndarray:
     """Validate a ``(k, 3)`` basis and re-orthonormalise its non-zero columns."""
@@ -217,7 +220,7 @@ class Projection:
     def description(self) -> str:
         """The base of the projection, and the planes it is rotated in (for labels)."""
         if self.source == "grand tour":
-            return "grand tour (its angles are on the rotation sliders)"
+            return "grand tour" + TOUR_SLIDERS
         planes = [f"x{i + 1}-x{j + 1}" for (i, j), a in sorted(self._angles.items()) if a]
         return self.source + (", rotated in " + ", ".join(planes) if planes else "")
 
