@@ -355,7 +355,9 @@ class FileActions:
             with atomic_path(path) as tmp:  # a failed write leaves an earlier screenshot as it was
                 iio.imwrite(tmp, img, extension=".png")
         except Exception as err:  # noqa: BLE001 - e.g. no OpenGL context
-            self.show_error(f"Cannot save the screenshot: {err}.")
+            from ..io import _reason
+
+            self.show_error(f"Cannot save the screenshot '{path}': {_reason(err)}.")
             return False
         self.settings.setValue("last_dir", str(Path(path).parent))
         self.statusBar().showMessage(f"Saved {path}", 5000)
