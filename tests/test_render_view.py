@@ -193,3 +193,20 @@ def test_d3_boundary_triangles_with_shrink(s3_run):
         assert np.allclose(p2.reshape(-1, 4, 3), c + (p1.reshape(-1, 4, 3) - c) * 0.5 / 0.8)
     finally:
         plotter.close()
+
+
+def test_a_note_longer_than_the_view_is_wide_wraps_and_rewraps_when_it_widens(scene):
+    """A verdict with a note on the file's mesh ran off the right edge of a 726-px view; now the notes wrap
+    to the view's width, and again before the next frame once that width changed."""
+    _, view, plotter = scene
+    legend = view.legend
+    long = "M_S is a closed manifold through every sample; it has the mesh's topology but for 1 hole " * 2
+    legend.set([("Samples", "#222222")], [long, "short"])
+    notes = [a.GetInput() for a in legend.actors if a.GetTextProperty().GetBold()]
+    assert len(notes) >= 4 and notes[-1].strip() == "short"
+    assert " ".join(n.strip() for n in notes[:-1]) == long.strip()
+    assert all(len(n.strip()) <= legend._chars() for n in notes)
+    plotter.window_size = (2400, 300)
+    plotter.ren_win.Render()  # a frame: the view's observer re-wraps first
+    wide = [a.GetInput() for a in legend.actors if a.GetTextProperty().GetBold()]
+    assert len(wide) == 2 and wide[0].strip() == long.strip()

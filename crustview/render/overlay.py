@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import textwrap
+
 import pyvista as pv
 from vtkmodules.vtkRenderingCore import vtkCoordinate, vtkTextActor
 
@@ -57,10 +59,15 @@ class Legend:
         through Algorithm 3 changes one or two lines of the legend at a time.
         """
         state = list(entries) + [(n, note_color) for n in notes]
-        if state == self.entries:
+        budget = self._chars()
+        if state == self.entries and budget == getattr(self, "_budget", None):
             return
         self.entries = state
+        self._budget = budget
+        self._args = (list(entries), list(notes), note_color)
         self.notes = list(notes)
+        # a note longer than the view is wide goes on over lines of its own (a verdict was cut off at the edge)
+        notes = [part for note in notes for part in (textwrap.wrap(note, budget) if budget else [note]) or [note]]
         lines: list[tuple[str, str, float, float, bool, str | None]] = []  # text, colour, y, x, bold, swatch
         for j, note in enumerate(notes):
             lines.append((" " + note + " ", note_color, 0.965 - 0.032 * j, 8, True, None))
@@ -81,6 +88,21 @@ class Legend:
                 self.renderer.AddViewProp(a)
                 self.actors.append(a)
         self._shown = lines
+
+    def refit(self) -> None:
+        """Wrap the notes again if the view's width changed since they were set (cheap when it did not)."""
+        args = getattr(self, "_args", None)
+        if args is not None and self._chars() != self._budget:
+            self.set(*args)
+
+    def _chars(self) -> int | None:
+        """How many characters of a bold note fit across the renderer (None before it has a size)."""
+        width = self.renderer.GetSize()[0] if hasattr(self.renderer, "GetSize") else 0
+        if width <= 0:
+            return None
+        # a bold sans character is about 0.55 of the font size wide (measured here: 74 in 505 px at 13); the
+        # note's 8 px margin and its padding spaces aside
+        return max(30, int((width - 24) / (0.55 * self.font_size)))
 
     def _restyle(
         self, a: vtkTextActor, text: str, color, y: float, x_px: float, bold: bool, swatch: str | None

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pyvista as pv
 
-from ..scene.describe import verdict
+from ..scene.describe import truth_notes, verdict
 from ..scene.layers import CASCADE_COLOR, COMPARE_COLORS, STEP_COLORS
 from ..scene.model import SceneModel
 from ..scene.projection import TOUR_SLIDERS as WINDOW_ONLY
@@ -97,6 +97,8 @@ class SceneView(CameraControl):
         self._stale: set[LayerAdapter] = set()
         self.hud = self._hud()
         self.legend = Legend(plotter, renderer=self.hud)
+        # the notes wrap to the view's width: again before a frame whenever that width changed
+        plotter.ren_win.AddObserver("StartEvent", lambda *_: self.legend.refit())
         self._to_hud(self.adapters["holes"].label_actor)  # the holes' sizes over the geometry
         self._built_for: int | None = None
         #: Whether the camera was last framed on a stereographic view.
@@ -486,10 +488,16 @@ class SceneView(CameraControl):
         # layers drawn as a subset say so over the view, too
         thinned = [layer.note for layer in self.model.layers.values() if layer.visible and layer.note]
         level, words = verdict(rec, self.model.truth)
+        # what the verdict says of a mesh that cannot judge M_S: a line of its own (one line was cut off)
+        mesh_notes = truth_notes(rec, self.model.truth)
+        suffix = "".join(f"; {n}" for n in mesh_notes)
+        if suffix and words.endswith(suffix):
+            words = words[: -len(suffix)]
+        about_mesh = [n[0].upper() + n[1:] for n in mesh_notes]
         if level == "ok":
             # the verdict is over the view whatever the dock shows (Steps is in front after a run)
             what = "every part" if rec.d == 1 else "every handle, hole and part"
-            return [f"{words} — {what} supported by the sample"] + thinned
+            return [f"{words} — {what} supported by the sample", *about_mesh] + thinned
         # two lines: the verdict, and its bracket (the uncertain features, or why); a mismatch's Betti tuples stay whole
         if " (uncertain" in words:
             head, rest = words.split(" (uncertain", 1)
@@ -500,8 +508,8 @@ class SceneView(CameraControl):
             head, _, rest = words.partition(" (")
             rest = "(" + rest if rest else ""
         if not self.in_window:  # a rendered file has no Information panel to point at
-            return [head, rest] + thinned if rest else [head] + thinned
-        return [head, (rest + " — see Information") if rest else "see Information"] + thinned
+            return [head, *([rest] if rest else []), *about_mesh] + thinned
+        return [head, (rest + " — see Information") if rest else "see Information", *about_mesh] + thinned
 
     def update_basis_text(self) -> None:
         p = self.model.projection

@@ -110,15 +110,15 @@ class UnresolvedHoles:
     betti: tuple[int, ...]
 
     def words(self) -> str:
-        """E.g. "1 hole the sample cannot show (a rim of 3 edges, 1.2 sampling radii around)"."""
+        """E.g. "1 hole the sample cannot show (a rim of 3 edges, 1.2 sampling radii around, under ...)"."""
         if self.count == 1:
             return (
                 f"1 hole the sample cannot show (a rim of {self.edges} edges, {self.longest:.2g} sampling radii "
-                f"around; a sample resolves 2π)"
+                f"around, under the 2 pi a sample resolves)"
             )
         return (
             f"{self.count} holes the sample cannot show (rims of {self.edges} edges in all, at most "
-            f"{self.longest:.2g} sampling radii around; a sample resolves 2π)"
+            f"{self.longest:.2g} sampling radii around, under the 2 pi a sample resolves)"
         )
 
 
