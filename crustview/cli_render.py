@@ -250,16 +250,25 @@ def framed_replay(scene, plan):
 
 
 def _check_output(source: Path, output: Path, kind: str) -> None:
-    """Refuse, in one line, an output the animation could not be written to (a missing or read-only folder).
+    """Refuse, in one line and before the reconstruction, an output the animation could not be written to.
 
-    A folder of frames that does not exist yet is made by the writer: its parent is checked.
+    The writer makes missing folders (a GIF's, or a folder of frames and its parents), so a missing folder
+    is fine; the nearest folder that exists must take a file, and the output must not be the input.
     """
-    from .cli_reconstruct import check_outputs
+    from .cli_reconstruct import _probe_folder, _same_file
 
     out = Path(output)
-    if kind == "folder" and out.is_dir():
-        out = out / "frame-00000.png"  # its frames go inside it
-    check_outputs([Path(str(source).split("@", 1)[0])], [out], False, hint=False)
+    if kind != "folder" and out.is_dir():
+        raise InputError(f"Cannot write '{out}': it is a folder.")
+    folder = out if kind == "folder" else out.parent
+    folder = folder if str(folder) else Path(".")
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    if not folder.is_dir():
+        raise InputError(f"Cannot write '{out}': '{folder}' is not a folder.")
+    _probe_folder(out, folder)
+    if _same_file(out, Path(str(source).split("@", 1)[0])):
+        raise InputError(f"Refusing to write over the input file '{source}' (output '{out}'): choose another name.")
 
 
 def run(args: argparse.Namespace) -> int:

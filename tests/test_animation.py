@@ -32,16 +32,32 @@ def test_parse_steps():
 
 
 def test_render_checks_its_output_before_the_reconstruction(tmp_path, capsys):
-    """A missing folder, or an output named like the input, is refused in one line before any work."""
+    """A folder that is a file, or the input itself, is refused in one line before any work; missing folders
+    are made by the writer, as before (a reviewer caught a first version that refused them)."""
     from crustview.__main__ import main
 
     src = tmp_path / "s.npy"
     np.save(src, np.random.default_rng(0).normal(size=(200, 3)))
-    assert main(["render", str(src), "-d", "2", "--tour", "-o", str(tmp_path / "missing" / "a.gif")]) == 2
+    (tmp_path / "afile").write_text("x")
+    assert main(["render", str(src), "-d", "2", "--tour", "-o", str(tmp_path / "afile" / "a.gif")]) == 2
     err = capsys.readouterr().err
-    assert "Cannot write" in err and "does not exist" in err and "reconstructed" not in err
-    assert main(["render", str(src), "-d", "2", "--tour", "-o", str(tmp_path / "missing" / "deeper" / "frames")]) == 2
-    assert "reconstructed" not in capsys.readouterr().err
+    assert "Cannot write" in err and "is not a folder" in err and "reconstructed" not in err
+    assert main(["render", str(src), "-d", "2", "--tour", "-o", str(tmp_path / "s.gif")]) == 0
+    capsys.readouterr()
+    gif = tmp_path / "s.gif"
+    assert main(["render", str(gif), "-d", "2", "--tour", "-o", str(gif)]) == 2
+    assert "Refusing to write over the input" in capsys.readouterr().err
+
+
+def test_render_makes_missing_folders_for_its_output(tmp_path, capsys):
+    from crustview.__main__ import main
+
+    out = tmp_path / "new" / "sub" / "a.gif"
+    assert main(["render", "circle", "--tour", "--frames", "4", "--size", "160x120", "-o", str(out)]) == 0
+    assert out.is_file()
+    frames = tmp_path / "other" / "deeper" / "frames"
+    assert main(["render", "circle", "--tour", "--frames", "3", "--size", "160x120", "-o", str(frames)]) == 0
+    assert len(list(frames.glob("*.png"))) == 3
 
 
 def test_output_kind(tmp_path):

@@ -353,7 +353,7 @@ def test_open_cap_passes_over_a_patch_no_larger_than_the_surface_in_general():
     rec = reconstruct(pts, 2)
     assert rec.topology.closed_manifold and rec.topology.betti == (1, 0, 1) and rec.topology.unused_samples == 0
     assert not [f for f in rec.uncertain_features if f.kind == "hole"]
-    assert any("CAP_TYPICAL" in note for note in rec.extraction.notes)
+    assert any("times the median face of M_S" in note for note in rec.extraction.notes)
     saved = cells.CAP_TYPICAL
     try:
         cells.CAP_TYPICAL = 0.0

@@ -328,9 +328,9 @@ def _mesh_judges(mesh_cmp) -> bool:
 
 
 def _up_to_unresolved(rec: Reconstruction, mesh_cmp) -> bool:
-    """M_S has the Betti numbers of the mesh with its holes below the sample's resolution closed."""
+    """M_S has the Betti numbers of the mesh with some of its holes below the sample's resolution closed."""
     u = getattr(mesh_cmp, "unresolved", None)
-    return u is not None and tuple(rec.topology.betti) == tuple(u.betti)
+    return u is not None and u.allows(tuple(rec.topology.betti))
 
 
 def truth_notes(rec: Reconstruction, truth=None) -> list[str]:
@@ -364,7 +364,9 @@ def verdict(rec: Reconstruction, truth=None) -> tuple[str, str]:
     "bad": M_S contradicts the known truth (:func:`truth_problems`: a built-in's, or the file's own
     mesh's Betti numbers), whatever else holds -- the viewer never calls a result that the file's own
     faces show wrong merely unsure; or M_S is no closed manifold (paper mode).
-    "warn": closed but skipping samples, an open surface (robust), or uncertain features.
+    "warn": closed but skipping samples, an open surface (robust), or uncertain features; or a file's
+    mesh that cannot judge M_S, or that M_S matches only with holes the sample cannot show closed
+    (:func:`truth_notes`: said after the verdict).
 
     A closed manifold through every sample is "ok" only when the sample
     supports every handle, hole and component of it (``rec.uncertain_features``).
@@ -374,7 +376,10 @@ def verdict(rec: Reconstruction, truth=None) -> tuple[str, str]:
     paper mode an open result stays "bad".
     """
     level, text = _verdict(rec, truth)
-    return level, "; ".join([text, *truth_notes(rec, truth)])
+    notes = truth_notes(rec, truth)
+    # a mesh that cannot judge, or that M_S matches only up to holes the sample cannot show, leaves the
+    # result unconfirmed: never "sure" beside a known truth it does not match
+    return ("warn" if notes and level == "ok" else level), "; ".join([text, *notes])
 
 
 def _verdict(rec: Reconstruction, truth=None) -> tuple[str, str]:

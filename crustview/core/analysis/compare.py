@@ -27,6 +27,7 @@ from scipy.spatial import cKDTree
 
 from ..errors import InputError
 from ..result import TopologyReport
+from .meshholes import UnresolvedHoles, unresolved_holes
 from .topology import analyse
 
 #: Dense samples per complex at most (the step grows to stay below it).
@@ -80,87 +81,6 @@ def _round_up(x: float, digits: int = 3) -> str:
         return f"{x:.{digits}g}"
     unit = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
     return f"{math.ceil(x / unit - 1e-9) * unit:.{digits}g}"
-
-
-@dataclass(frozen=True)
-class UnresolvedHoles:
-    """The holes of a mesh that no sample of its vertices can show, and the mesh with them closed.
-
-    A hole whose rim is shorter than :data:`~.features.LOOP_MIN` = 2 pi local sampling radii (a missing
-    triangle or two, a scanner's pinhole) is below the resolution of an eps = 1 sample: a reconstruction
-    from the vertices alone cannot tell it from surface, so the mesh's own Betti numbers hold such a
-    result to more than the sample says.  ``betti`` are the mesh's Betti numbers with a cone over each
-    such rim: what the sample can show.
-
-    Attributes
-    ----------
-    count : int
-        Boundary loops of the mesh shorter than LOOP_MIN local sampling radii.
-    longest : float
-        The longest of them, in local sampling radii.
-    edges : int
-        Their rim edges in all.
-    betti : tuple of int
-        The mesh's Z/2 Betti numbers with those holes closed.
-    """
-
-    count: int
-    longest: float
-    edges: int
-    betti: tuple[int, ...]
-
-    def words(self) -> str:
-        """E.g. "1 hole the sample cannot show (a rim of 3 edges, 1.2 sampling radii around, under ...)"."""
-        if self.count == 1:
-            return (
-                f"1 hole the sample cannot show (a rim of {self.edges} edges, {self.longest:.2g} sampling radii "
-                f"around, under the 2 pi a sample resolves)"
-            )
-        return (
-            f"{self.count} holes the sample cannot show (rims of {self.edges} edges in all, at most "
-            f"{self.longest:.2g} sampling radii around, under the 2 pi a sample resolves)"
-        )
-
-
-def unresolved_holes(points: np.ndarray, rows: np.ndarray, topology: TopologyReport) -> UnresolvedHoles | None:
-    """:class:`UnresolvedHoles` of a triangle mesh that is a surface with boundary; None where it has none.
-
-    Only a mesh without non-manifold edges is measured (its Betti numbers are a surface's).  The local
-    sampling radius is :func:`~.radii.local_spacing`'s on the mesh (what the features measure on M_S).
-    """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    from .cotree import triangle_edges
-    from .features import LOOP_MIN
-    from .radii import local_spacing
-
-    if rows.shape[1] != 3 or topology.boundary_faces == 0 or topology.nonmanifold_faces > 0:
-        return None
-    n = len(points)
-    edges, tri_edges = triangle_edges(rows)
-    count = np.bincount(tri_edges.ravel(), minlength=len(edges))
-    rim = edges[count == 1]
-    g = coo_matrix((np.ones(len(rim), np.int8), (rim[:, 0], rim[:, 1])), shape=(n, n))
-    _, label = connected_components(g, directed=False)
-    loop_of = label[rim[:, 0]]
-    h = local_spacing(points, rows)
-    length = np.linalg.norm(points[rim[:, 0]] - points[rim[:, 1]], axis=1)
-    loops = np.unique(loop_of)
-    size = np.array([length[loop_of == q].sum() / np.median(h[np.unique(rim[loop_of == q])]) for q in loops])
-    small = loops[size < LOOP_MIN]
-    if len(small) == 0:
-        return None
-    mine = np.isin(loop_of, small)
-    apex = n + np.searchsorted(small, loop_of[mine])
-    cone = np.c_[rim[mine], apex]
-    closed = analyse(np.vstack([rows, cone]).astype(np.int64), n + len(small), 2)
-    return UnresolvedHoles(
-        count=len(small),
-        longest=float(size[np.isin(loops, small)].max()),
-        edges=int(mine.sum()),
-        betti=tuple(int(b) for b in closed.betti),
-    )
 
 
 @dataclass(frozen=True)
