@@ -160,7 +160,7 @@ def s3_sliced(app, win) -> None:
 
 def projective_plane(app, win) -> None:
     """The projective plane in R^4, M_S coloured by its 4th coordinate (the one the view drops)."""
-    from crustview.core.manifolds import projective_plane_points
+    from crustview.core.samples.manifolds import projective_plane_points
 
     win.start_reconstruction(projective_plane_points(), 2, source="projective plane in R^4 (n = 1000)")
     wait(app, win)
