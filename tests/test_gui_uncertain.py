@@ -157,6 +157,7 @@ def test_an_open_scan_kept_open_is_amber_and_names_its_hole(qtbot, window):
     assert not rec.topology.closed_manifold and rec.topology.unused_samples == 0
     assert "#e0a020" in _chunk_colour(window)  # amber
     assert "surface with boundary (1 hole)" in window.run_panel.progress.format()
+    assert window.windowTitle().endswith("camelhead.off: surface with boundary (1 hole) (d = 2 in R^3)")
     assert window.info_panel.banner.styleSheet() == BANNER_STYLE["warn"]
     assert "surface with boundary through every sample (1 hole" in window.info_panel.banner.text()
 

@@ -305,10 +305,12 @@ class RunActions:
         # the title names the shape as sure only where the verdict is (a new user read "homer-n30.xyz: torus"
         # over an amber result as the answer)
         shape = name_of(t, rec.d)
-        if level == "warn" and t.closed_manifold:
-            shape += "? (uncertain)"
-        elif problems:
+        if is_open:  # an open scan's openings kept open: say what it is, not only what it is not
+            shape = f"{'open curve' if rec.d == 1 else 'surface with boundary'} ({boundary_words(rec)})"
+        if problems:
             shape += " (WRONG)"
+        elif level == "warn" and t.closed_manifold:
+            shape += "? (uncertain)"
         self.setWindowTitle(f"crustview — {self.model.source}: {shape} (d = {rec.d} in R^{rec.k})")
         if pending.get("session") is not None:
             self.restore_view(*pending["session"])
