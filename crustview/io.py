@@ -413,6 +413,7 @@ def write_result(
                     theta=np.float64(rec.theta),
                     prune_boundary=np.bool_(rec.prune_boundary),
                     mode=np.str_(rec.mode),
+                    normals_method=np.str_(getattr(rec, "normals_method", "paper")),
                     **builtin_arrays(builtin),
                     **mesh_arrays(mesh, len(rec.input_points), rec.d),
                 )
@@ -444,9 +445,9 @@ def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
     Returns
     -------
     dict or None
-        ``d``, ``test``, ``theta`` (radians), ``prune_boundary``, ``mode`` and
-        ``simplices`` (M_S in input rows) when ``path`` is a result written by
-        :func:`write_result`; reconstructing its points with these
+        ``d``, ``test``, ``theta`` (radians), ``prune_boundary``, ``mode``, ``normals`` (the planes'
+        method: ``"paper"`` for results saved without it) and ``simplices`` (M_S in input rows) when
+        ``path`` is a result written by :func:`write_result`; reconstructing its points with these
         parameters gives the same M_S (the pipeline is deterministic).
         Results saved before the robust extraction existed have no ``mode``
         and were made by the paper's Algorithm 3: ``mode`` is then
@@ -473,12 +474,20 @@ def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
                 "theta": float(archive["theta"]),
                 "prune_boundary": bool(archive["prune_boundary"]) if "prune_boundary" in archive else True,
                 "mode": str(archive["mode"]) if "mode" in archive else "paper",
+                # the normal planes it was made with (Algorithm 1's before session 33 stored the choice)
+                "normals": str(archive["normals_method"]) if "normals_method" in archive else "paper",
                 "simplices": np.asarray(archive["simplices"], dtype=np.int64),
                 "builtin": builtin_of(archive),
             }
             out["mesh"] = mesh_of(archive, len(archive["points"]), out["d"]) if "points" in archive else None
     except Exception as err:  # noqa: BLE001
         raise InputError(f"Cannot read '{path}' as a NumPy .npz archive ({_reason(err)}).") from None
+    from crustview.core.reconstruct import NORMAL_METHODS
+
+    if out["normals"] not in NORMAL_METHODS:
+        raise InputError(
+            f"Cannot use '{path}': its normals {out['normals']!r} are not one of {', '.join(NORMAL_METHODS)}."
+        )
     if out["mode"] not in EXTRACTION_MODES:
         raise InputError(
             f"Cannot use '{path}': its extraction mode {out['mode']!r} is not one of {', '.join(EXTRACTION_MODES)}."

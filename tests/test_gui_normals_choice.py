@@ -70,3 +70,24 @@ def test_a_session_keeps_the_normals(qtbot, window, tmp_path):
     wait_idle(qtbot, window)
     assert window.model.rec.normals_method == "smoothed" and window.run_panel.normals_method == "smoothed"
     _choose(window, "paper")
+
+
+def test_a_saved_result_reopens_with_its_own_planes(qtbot, window, tmp_path):
+    """A result made with smoothed normals and saved reopened with Algorithm 1's planes (a new user's
+    fertility), whatever the window had chosen: the .npz now stores its planes and the run follows them."""
+    from crustview.core import reconstruct
+    from crustview.core.samples.manifolds import get_manifold
+    from crustview.io import read_run_parameters, write_result
+
+    points = get_manifold("sphere").sample(300, seed=2).points
+    rec = reconstruct(points, 2, normals="smoothed")
+    path = tmp_path / "s.npz"
+    write_result(path, rec)
+    assert read_run_parameters(path)["normals"] == "smoothed"
+    assert window.run_panel.normals_method == "paper"
+    assert window.open_file(path)
+    wait_idle(qtbot, window)
+    assert window.model.rec.normals_method == "smoothed" and window.run_panel.normals_method == "smoothed"
+    assert "Same M_S as saved" in window.statusBar().currentMessage()
+    assert "Kept from the last file" not in window.statusBar().currentMessage()
+    _choose(window, "paper")

@@ -87,3 +87,22 @@ def test_a_hidden_layer_shows_no_stale_count(qtbot, window):
     row.visible.click()
     alive = int(np.count_nonzero(rec.extraction.alive(5)))
     assert layer.count == alive and row.count.text() == f"{alive:,}"
+
+
+def test_a_kept_test_and_angle_are_named_and_a_rerun_of_the_same_data_keeps_nothing(qtbot, window):
+    """A new user's torus came out WRONG under the literal test at 30 degrees kept from the last built-in,
+    and nothing said so; and pressing Reconstruct on the same file with smoothed normals said they were
+    "kept from the last file"."""
+    load(qtbot, window, "sphere")
+    run = window.run_panel
+    run.test.setCurrentText("literal")
+    run.theta.setValue(60)  # half-degree steps: 30 degrees
+    load(qtbot, window, "torus")
+    assert window.model.rec.test == "literal"
+    message = window.statusBar().currentMessage()
+    assert "Kept from the last file: the literal test, θ = 30.0° (Run panel)." in message, message
+    run.normals.setCurrentIndex(run.normals.findData("smoothed"))
+    run.run.click()  # the same data again, with the planes chosen for it
+    wait_idle(qtbot, window)
+    assert window.model.rec.normals_method == "smoothed"
+    assert "Kept from the last file" not in window.statusBar().currentMessage()

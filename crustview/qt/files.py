@@ -155,6 +155,7 @@ class FileActions:
             # a saved result: redo its run (deterministic), no question; a d given
             # on top changes only d
             params = {"test": saved["test"], "theta": saved["theta"], "prune_boundary": saved["prune_boundary"]}
+            params["normals"] = saved.get("normals", "paper")  # its own planes, whatever the Run panel has
             if saved.get("mode") is not None:  # "paper" for files saved before the robust extraction
                 params["mode"] = str(saved["mode"])
             if d is None:

@@ -75,18 +75,24 @@ class RunActions:
         prune_boundary: bool | None = None,
         mode: str | None = None,
         origin=None,
+        new_data: bool = True,
+        normals: str | None = None,
     ) -> bool:
-        """Reconstruct ``points`` in the worker; ``origin`` is where they came from (for sessions)."""
+        """Reconstruct ``points`` in the worker; ``origin`` is where they came from (for sessions).
+
+        ``new_data`` False: the shown data again (the Run panel's Reconstruct), whose settings were chosen for it.
+        """
+        kept_run = self._kept_run(test, theta) if new_data else None
         test = test or self.run_panel.test.currentText()
         theta = self.run_panel.theta_radians if theta is None else theta
         if prune_boundary is None:
             self._default_prune()
         prune = self.run_panel.prune.isChecked() if prune_boundary is None else bool(prune_boundary)
-        kept_mode = self._kept_mode(mode)
+        kept_mode = self._kept_mode(mode) and new_data
         mode = mode or self.run_panel.mode
 
         run = {"test": test, "theta": theta, "prune_boundary": prune, "mode": mode}
-        run["normals"] = self.run_panel.normals_method
+        run["normals"] = normals or self.run_panel.normals_method
 
         def job(progress, cancel):
             rec = reconstruct(points, d, progress=progress, cancel=cancel, **run)
@@ -107,7 +113,8 @@ class RunActions:
             keep_view=False,
             origin=origin,
             kept_mode=kept_mode,
-            kept_normals=self._kept_normals(),
+            kept_normals=self._kept_normals() and new_data and normals is None,
+            kept_run=kept_run,
         )
 
     def load_builtin(
@@ -133,6 +140,7 @@ class RunActions:
             return False
         n = n or m.default_n
         self._default_prune()
+        kept_run = self._kept_run(test, theta)
         test = test or self.run_panel.test.currentText()
         theta = self.run_panel.theta_radians if theta is None else float(theta)
         prune = self.run_panel.prune.isChecked() if prune_boundary is None else bool(prune_boundary)
@@ -162,11 +170,28 @@ class RunActions:
             origin=BuiltinSource(name, int(n), int(seed)),
             kept_mode=kept_mode,
             kept_normals=self._kept_normals(),
+            kept_run=kept_run,
         )
 
     def _kept_mode(self, mode: str | None) -> bool:
         """Whether new data runs in the paper's mode only because the last one did (said when it is shown)."""
         return mode is None and self.run_panel.mode == "paper" and self.model.rec is not None
+
+    def _kept_run(self, test: str | None, theta: float | None) -> str | None:
+        """The candidate test and angle new data takes from the Run panel where they are not the paper's (in words).
+
+        A new user's torus came out WRONG under the literal test at 30 degrees kept from the last file, and
+        nothing said so.
+        """
+        if self.model.rec is None:
+            return None
+        words = []
+        if test is None and self.run_panel.test.currentText() != "cocone":
+            words.append(f"the {self.run_panel.test.currentText()} test")
+        degrees = float(np.degrees(self.run_panel.theta_radians))
+        if theta is None and abs(degrees - 22.5) > 0.01:
+            words.append(f"θ = {degrees:.1f}°")
+        return ", ".join(words) or None
 
     def _kept_normals(self) -> bool:
         """Whether new data runs with smoothed normals because they were chosen for the last one."""
@@ -184,6 +209,8 @@ class RunActions:
             words.append("Kept from the last file: the paper's Algorithm 3 (Run panel ▸ extraction).")
         if pending.get("kept_normals"):
             words.append("Kept from the last file: smoothed normals (Run panel ▸ normals).")
+        if pending.get("kept_run"):
+            words.append(f"Kept from the last file: {pending['kept_run']} (Run panel).")
         return " ".join(words)
 
     def _default_prune(self) -> None:
@@ -231,6 +258,7 @@ class RunActions:
                 theta=theta,
                 prune_boundary=prune,
                 origin=self.origin,
+                new_data=False,
             )
 
     def _job_done(self, result) -> None:
