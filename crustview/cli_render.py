@@ -338,7 +338,11 @@ def run(args: argparse.Namespace) -> int:
                 model.layers["step"].visible = False
             total = args.frames or int(round(8 * args.fps))
             frames = scene.tour(total, args.fps)
-        written = write_frames(args.output, frames, total, args.fps, text_progress(sys.stderr, "rendering"))
+        from .cli_progress import wants_bar
+
+        # a bar on a terminal only: piped or redirected, stderr keeps the lines that say something
+        bar = text_progress(sys.stderr, "rendering") if wants_bar(sys.stderr) else None
+        written = write_frames(args.output, frames, total, args.fps, bar)
     finally:
         scene.close()
     secs = time.perf_counter() - t1

@@ -55,6 +55,7 @@ def test_render_makes_missing_folders_for_its_output(tmp_path, capsys):
     out = tmp_path / "new" / "sub" / "a.gif"
     assert main(["render", "circle", "--tour", "--frames", "4", "--size", "160x120", "-o", str(out)]) == 0
     assert out.is_file()
+    assert "rendering [" not in capsys.readouterr().err  # no bar when stderr is no terminal (a new user's log)
     frames = tmp_path / "other" / "deeper" / "frames"
     assert main(["render", "circle", "--tour", "--frames", "3", "--size", "160x120", "-o", str(frames)]) == 0
     assert len(list(frames.glob("*.png"))) == 3
@@ -98,9 +99,12 @@ def _run_cli(args, capsys):
 
 
 def test_render_replay_gif_has_the_planned_frames_and_differs_between_steps(tmp_path, capsys, monkeypatch):
+    import sys
+
     import imageio.v3 as iio
 
     monkeypatch.delenv("DISPLAY", raising=False)  # headless: EGL, no X server
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)  # as on a terminal: the bar is drawn
     out = tmp_path / "c.gif"
     got = _run_cli(["render", "torus", "--replay", "-o", str(out), "--frames", "5", "--size", "200x160"], capsys)
     frames = iio.imread(out, index=None)

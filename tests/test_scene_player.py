@@ -123,3 +123,25 @@ def test_a_reextraction_keeps_the_step_or_the_end_never_a_clamped_last_step(toru
     m.player.last()
     m.set_reconstruction(other, truth=sample, keep_view=True)
     assert m.player.position == n_other
+
+
+def test_a_switch_between_the_papers_steps_and_the_extensions_lands_on_the_result():
+    """From the middle of a paper-mode replay to the robust extension (another sequence of steps): its
+    end, the final M_S, not its step 0 (an empty M_S under a green verdict, a new user saw)."""
+    from pathlib import Path
+
+    from crustview.core import reconstruct, reextract
+    from crustview.io import read_points
+
+    pts = read_points(Path(__file__).parents[1] / "resources" / "horse-quads.obj")
+    paper = reconstruct(pts, 2, mode="paper")
+    robust = reextract(paper, paper.test, paper.theta, mode="robust")
+    assert robust.extraction.steps[0].rule == "label-cells"  # the extension's own steps
+    m = SceneModel()
+    m.set_reconstruction(paper)
+    m.player.set_step(paper.extraction.n_steps // 2)
+    m.set_reconstruction(robust, keep_view=True)
+    assert m.player.position == robust.extraction.n_steps
+    m.player.set_step(0)
+    m.set_reconstruction(paper, keep_view=True)  # and back: the paper's run from its end too
+    assert m.player.position == paper.extraction.n_steps

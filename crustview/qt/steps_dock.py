@@ -208,7 +208,10 @@ class StepsPanel(QWidget):
         self.goto.valueChanged.connect(player.set_step)
         row3.addWidget(self.goto)
         self.only_rule = QCheckBox("Play only the rule below", self)
-        self.only_rule.setToolTip("Playback and the step buttons' run visit only steps of the chosen rule")
+        self.only_rule.setToolTip(
+            "Playback visits only steps of the chosen rule; ← and → still go one step at a time "
+            "(Next of rule jumps to the next step of it)"
+        )
         self.only_rule.toggled.connect(self._rule_filter)
         row3.addWidget(self.only_rule, 1)
         lay.addLayout(row3)

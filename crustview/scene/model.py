@@ -227,9 +227,13 @@ class SceneModel:
 
         The same step if the new run has it, its end if the old one was at its
         end (showing M_S), else step 0 (never a clamped, arbitrary last step).
+        Where one of the two runs is the paper's loop and the other the robust
+        extension's (other rules, another sequence of steps): its end (the
+        extension's step 0 may be an empty M_S, once shown under a green verdict
+        after a switch from the middle of a paper-mode replay).
         """
         old, n_old, n_new = self.player.position, self.player.n_steps, rec.extraction.n_steps
-        if old == n_old and old > 0:
+        if (old == n_old and old > 0) or (self.rec is not None and _paper_steps(self.rec) != _paper_steps(rec)):
             return n_new
         return old if old <= n_new else 0
 
@@ -485,3 +489,10 @@ class SceneModel:
         assert self.rec is not None
         row = self.rec.candidates.faces[face_row]
         return int(geo.find_rows(self.rec.extraction.simplices, row[None])[0])
+
+
+def _paper_steps(rec: Reconstruction) -> bool:
+    """Whether every step of ``rec`` is one of the paper's Algorithm 3 (pruning and resolving)."""
+    from ..core.steps import RULE_PRUNE, RULE_RESOLVE
+
+    return all(s.rule in (RULE_PRUNE, RULE_RESOLVE) for s in rec.extraction.steps)
