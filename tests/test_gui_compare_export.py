@@ -49,6 +49,7 @@ def test_compare_with_another_test_through_the_dialog_and_frame_a_listed_simplex
     assert len(ref.only_a) + len(ref.only_b) > 0
     text = panel.label.text()
     assert f"{len(ref.only_a):,} only in A" in text and f"{len(ref.only_b):,} only in B" in text
+    assert f"Hausdorff distance {c.diff.hausdorff.words()} (" in text  # as `crustview compare` says it
     listed = [panel.list.item(i) for i in range(panel.list.count()) if panel.list.item(i).data(0x0100)]
     assert len(listed) == min(len(ref.only_a), 250) + min(len(ref.only_b), 250)
     # the layer: three parts with both / only A / only B triangles

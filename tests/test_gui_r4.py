@@ -108,8 +108,11 @@ def test_stereographic_view_of_the_clifford_torus(qtbot, window):
     # the Clifford torus |x12| = |x34| becomes a torus of revolution about the view's z axis:
     # the distance from that axis is spread out, not constant as in the linear view's annulus
     assert np.ptp(np.hypot(got[:, 0], got[:, 1])) > 1.5 * np.ptp(np.hypot(linear[:, 0], linear[:, 1]))
+    # the caption says the drawn coordinates are no longer the linear combinations alone
+    assert window.view.basis_text.GetText(0).startswith("view axes: stereographic, each axis times r / (r - h)")
     window.projection_panel.stereo.setChecked(False)
     assert np.allclose(m.projection.project(rec.points), linear)
+    assert "stereographic" not in window.view.basis_text.GetText(0)
 
 
 def test_rotation_sliders_show_their_angle(qtbot, window):

@@ -100,9 +100,9 @@ class Legend:
         width = self.renderer.GetSize()[0] if hasattr(self.renderer, "GetSize") else 0
         if width <= 0:
             return None
-        # a bold sans character is about 0.55 of the font size wide (measured here: 74 in 505 px at 13); the
-        # note's 8 px margin and its padding spaces aside
-        return max(30, int((width - 24) / (0.55 * self.font_size)))
+        # a bold sans character is about 0.51 of the font size wide (measured here: 93 in 620 px at 13): 0.53
+        # leaves room for wider letters; the note's 8 px margin and its padding spaces aside
+        return max(30, int((width - 24) / (0.53 * self.font_size)))
 
     def _restyle(
         self, a: vtkTextActor, text: str, color, y: float, x_px: float, bold: bool, swatch: str | None

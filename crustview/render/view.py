@@ -509,6 +509,8 @@ class SceneView(CameraControl):
             rest = "(" + rest if rest else ""
         if not self.in_window:  # a rendered file has no Information panel to point at
             return [head, *([rest] if rest else []), *about_mesh] + thinned
+        if not rest and about_mesh:  # the note on the mesh is the why: no line sending the reader elsewhere
+            return [head, *about_mesh] + thinned
         return [head, (rest + " — see Information") if rest else "see Information", *about_mesh] + thinned
 
     def update_basis_text(self) -> None:
@@ -519,4 +521,9 @@ class SceneView(CameraControl):
             lab = p.axis_labels()
             where = p.description if self.in_window else p.description.replace(WINDOW_ONLY, "")
             text = f"view axes: {where}\nX = {lab[0]}    Y = {lab[1]}    Z = {lab[2]}"
+            if p.stereographic:  # the axes are the numerators only: say what the drawn coordinates are
+                text = (
+                    f"view axes: stereographic, each axis times r / (r - h), h along the hidden direction, "
+                    f"r = {p.stereo_radius:.3g} ({where})\nX = {lab[0]}    Y = {lab[1]}    Z = {lab[2]}"
+                )
         self.basis_text.SetText(0, text)

@@ -50,9 +50,11 @@ class Comparison:
     def summary(self) -> str:
         """Counts and distance in one or two plain sentences."""
         d, h = self.diff, self.diff.hausdorff
+        # the command line's words (`crustview compare`): the value, or the bound where the grids are coarse
+        same = d.matched and not len(d.only_a) and not len(d.only_b)
         dist = (
-            f"Hausdorff distance {h.distance:.4g} (A to B {h.a_to_b:.4g}, B to A {h.b_to_a:.4g}; "
-            f"sampled, within {h.error_bound:.2g})."
+            f"Hausdorff distance {'0 (the same simplices)' if same else h.words()} (A to B {h.a_to_b:.4g}, "
+            f"B to A {h.b_to_a:.4g}; sampled, within {h.error_bound:.2g})."
         )
         if not d.matched:
             return "A and B do not share vertices, so only their distance is compared: " + dist
