@@ -74,6 +74,12 @@ def test_menus_offer_only_what_applies(qtbot, window):
     wait_idle(qtbot, window)
     rules = _items(window.steps_panel.rule)
     assert rules and set(rules) <= {"prune-sharp", "resolve-nonmanifold"}, rules
+    assert window.steps_panel.to_rule.isEnabled()
+    # a run of no steps (T_S is M_S already) has no rule to offer (a new user was offered all 16)
+    rec = load(qtbot, window, "trefoil")
+    assert rec.extraction.n_steps == 0
+    steps = window.steps_panel
+    assert _items(steps.rule) == [] and not steps.to_rule.isEnabled() and not steps.only_rule.isEnabled()
 
 
 def test_a_hidden_layer_shows_no_stale_count(qtbot, window):

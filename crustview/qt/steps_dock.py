@@ -321,15 +321,18 @@ class StepsPanel(QWidget):
         # offer a rule this run applied: a robust run has no prune-sharp step, a paper run no grow
         ext = self.model.player.extraction
         present = {st.rule for st in ext.steps} if ext is not None else set()
-        offered = [r for r in RULES if r in present] or list(RULES)  # only rules this run applied
+        offered = [r for r in RULES if r in present]  # only rules this run applied (none: T_S was M_S)
         if [self.rule.itemText(i) for i in range(self.rule.count())] != offered:
             current = self.rule.currentText()
             self.rule.blockSignals(True)
             self.rule.clear()
             self.rule.addItems(offered)
-            self.rule.setCurrentText(current if current in offered else offered[0])
+            if offered:
+                self.rule.setCurrentText(current if current in offered else offered[0])
             self.rule.blockSignals(False)
-            self._rule_filter(self.only_rule.isChecked())
+            self._rule_filter(self.only_rule.isChecked() and bool(offered))
+        for w in (self.rule, self.to_rule, self.only_rule):  # a run of no steps has no rule to go to
+            w.setEnabled(bool(offered))
         self.sync(self.model.player.position)
 
     def _row_selected(self, current, _previous) -> None:
