@@ -5,11 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pyvista as pv
 
-from ..scene.describe import truth_notes, verdict
+from ..scene.describe import verdict
 from ..scene.layers import CASCADE_COLOR, COMPARE_COLORS, STEP_COLORS
 from ..scene.model import SceneModel
 from ..scene.projection import TOUR_SLIDERS as WINDOW_ONLY
 from ..scene.subset import even_subset
+from ..scene.viewnotes import view_notes
 from .base import NAN_COLOR, LayerAdapter
 from .compare import CompareAdapter
 from .complexes import (
@@ -481,37 +482,8 @@ class SceneView(CameraControl):
         self.legend.set(self.legend_entries(), self.notes(), color)
 
     def notes(self) -> list[str]:
-        """Lines above the legend: M_S is not a closed manifold through every sample; layers drawn thinned."""
-        rec = self.model.rec
-        if rec is None:
-            return []
-        # layers drawn as a subset say so over the view, too
-        thinned = [layer.note for layer in self.model.layers.values() if layer.visible and layer.note]
-        level, words = verdict(rec, self.model.truth)
-        # what the verdict says of a mesh that cannot judge M_S: a line of its own (one line was cut off)
-        mesh_notes = truth_notes(rec, self.model.truth)
-        suffix = "".join(f"; {n}" for n in mesh_notes)
-        if suffix and words.endswith(suffix):
-            words = words[: -len(suffix)]
-        about_mesh = [n[0].upper() + n[1:] for n in mesh_notes]
-        if level == "ok":
-            # the verdict is over the view whatever the dock shows (Steps is in front after a run)
-            what = "every part" if rec.d == 1 else "every handle, hole and part"
-            return [f"{words} — {what} supported by the sample", *about_mesh] + thinned
-        # two lines: the verdict, and its bracket (the uncertain features, or why); a mismatch's Betti tuples stay whole
-        if " (uncertain" in words:
-            head, rest = words.split(" (uncertain", 1)
-            rest = "(uncertain" + rest
-        elif words.startswith("M_S is WRONG"):
-            head, rest = words, ""
-        else:
-            head, _, rest = words.partition(" (")
-            rest = "(" + rest if rest else ""
-        if not self.in_window:  # a rendered file has no Information panel to point at
-            return [head, *([rest] if rest else []), *about_mesh] + thinned
-        if not rest and about_mesh:  # the note on the mesh is the why: no line sending the reader elsewhere
-            return [head, *about_mesh] + thinned
-        return [head, (rest + " — see Information") if rest else "see Information", *about_mesh] + thinned
+        """Lines above the legend (:func:`~crustview.scene.viewnotes.view_notes`)."""
+        return view_notes(self.model, self.in_window)
 
     def update_basis_text(self) -> None:
         p = self.model.projection
