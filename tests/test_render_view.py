@@ -210,3 +210,21 @@ def test_a_note_longer_than_the_view_is_wide_wraps_and_rewraps_when_it_widens(sc
     plotter.ren_win.Render()  # a frame: the view's observer re-wraps first
     wide = [a.GetInput() for a in legend.actors if a.GetTextProperty().GetBold()]
     assert len(wide) == 2 and wide[0].strip() == long.strip()
+
+
+def test_legend_lines_do_not_overlap_on_a_small_export():
+    """At 240 pixels high the legend's 3.2 % line step was 7.7 px for an 8-point font: the lines overlapped
+    in a new user's 320 x 240 GIF.  The step is now at least 1.3 times the font."""
+    from crustview.render.overlay import Legend
+
+    plotter = pv.Plotter(off_screen=True, window_size=(320, 240))
+    try:
+        legend = Legend(plotter, font_size=8)
+        legend.set([("Samples", "#222222"), ("M_S", "#e0b070"), ("Normal planes", "#22aaaa")], ["a note"])
+        ys = sorted(
+            {a.GetPositionCoordinate().GetReferenceCoordinate().GetValue()[1] for a in legend.actors}, reverse=True
+        )
+        gaps = np.diff(ys) * -240
+        assert len(ys) == 4 and gaps.min() >= 1.3 * 8 - 1e-6, gaps
+    finally:
+        plotter.close()

@@ -69,11 +69,12 @@ class Legend:
         # a note longer than the view is wide goes on over lines of its own (a verdict was cut off at the edge)
         notes = [part for note in notes for part in (textwrap.wrap(note, budget) if budget else [note]) or [note]]
         lines: list[tuple[str, str, float, float, bool, str | None]] = []  # text, colour, y, x, bold, swatch
+        step = self._line_step()
         for j, note in enumerate(notes):
-            lines.append((" " + note + " ", note_color, 0.965 - 0.032 * j, 8, True, None))
+            lines.append((" " + note + " ", note_color, 0.965 - step * j, 8, True, None))
         top = len(notes) + (0.3 if notes else 0)
         for j, (label, color) in enumerate(entries):
-            y = 0.965 - 0.032 * (j + top)
+            y = 0.965 - step * (j + top)
             lines.append(("   ", "#222222", y, 8, False, color))
             lines.append((" " + label + " ", "#222222", y, 8 + self.font_size * 1.4, False, None))
         while len(self.actors) > len(lines):
@@ -94,6 +95,15 @@ class Legend:
         args = getattr(self, "_args", None)
         if args is not None and self._chars() != self._budget:
             self.set(*args)
+
+    def _line_step(self) -> float:
+        """The height of a line, as a share of the renderer's.
+
+        3.2 %, or more where that is less than the font needs (a 240-pixel export drew its legend lines
+        over each other).
+        """
+        height = self.renderer.GetSize()[1] if hasattr(self.renderer, "GetSize") else 0
+        return max(0.032, 1.3 * self.font_size / height) if height > 0 else 0.032
 
     def _chars(self) -> int | None:
         """How many characters of a bold note fit across the renderer (None before it has a size)."""
