@@ -126,9 +126,11 @@ def load(source: str, d: int | None, mode: str | None, run: dict | None = None, 
     mesh = read_mesh(path) if params is None else None
     points = mesh.points if mesh is not None else read_points(path)
     kwargs = {}
-    if params is not None:
+    if params is not None:  # a saved result: its own run (test, angle, pruning, mode, normal planes)
         d = d or params["d"]
         kwargs = {"test": params["test"], "theta": params["theta"], "prune_boundary": params["prune_boundary"]}
+        kwargs["normals"] = params.get("normals", "paper")
+        mode = mode or params["mode"]
     kwargs.update(run)
     if d is None:
         raise InputError(f"give the intrinsic dimension with -d for '{path.name}'")

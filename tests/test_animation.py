@@ -165,3 +165,23 @@ def test_a_rendered_file_points_at_no_window_part():
         assert text.startswith("view axes: grand tour\n") and "sliders" not in text, text
     finally:
         scene.close()
+
+
+def test_render_redoes_a_saved_results_own_run(tmp_path):
+    """A saved result rendered again runs with its own mode and normal planes, as the window reopens it
+    (a reviewer found `render` taking the default mode and Algorithm 1's planes)."""
+    from crustview.cli_render import load
+    from crustview.core import reconstruct
+    from crustview.core.samples.manifolds import get_manifold
+    from crustview.io import write_result
+
+    points = get_manifold("sphere").sample(300, seed=3).points
+    rec = reconstruct(points, 2, mode="paper", normals="smoothed")
+    write_result(tmp_path / "r.npz", rec)
+    again, _, _ = load(str(tmp_path / "r.npz"), None, None, {})
+    assert (again.mode, again.normals_method) == ("paper", "smoothed")
+    assert np.array_equal(
+        np.sort(again.manifold_input_simplices(), axis=1), np.sort(rec.manifold_input_simplices(), axis=1)
+    )
+    other, _, _ = load(str(tmp_path / "r.npz"), None, "robust", {})  # --mode on top still wins
+    assert other.mode == "robust"

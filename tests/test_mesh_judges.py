@@ -87,3 +87,40 @@ def test_two_pinholes_that_share_a_vertex_are_two_rims_and_any_of_them_may_be_cl
     assert (u.count, u.edges) == (2, 6) and u.betti == (1, 0, 1)
     assert all(u.allows(b) for b in ((1, 1, 0), (1, 0, 0), (1, 0, 1))) and not u.allows((1, 1, 1))
     assert level == "warn" and "2 holes the sample cannot show" in text, text
+
+
+def test_a_pinhole_at_a_visible_holes_rim_is_measured_on_its_own(bumpy):
+    """All six triangles at a vertex removed make a hole of about 9 sampling radii, which a sample shows;
+    pinholes touching its rim were averaged with it (a reviewer's case: three of them made the closed,
+    wrong result amber, and one of them made a possible answer WRONG).  Each hole is now its own cycle."""
+    tris, rec = bumpy
+    v = int(np.bincount(tris.ravel()).argmax())
+    fan = np.flatnonzero((tris == v).any(axis=1))
+    rim = np.unique(tris[fan])
+    rim = rim[rim != v]
+    # a triangle outside the fan with an edge on its rim: removing it adds a pinhole that touches the hole
+    touching = [
+        t for t in range(len(tris)) if t not in fan and np.isin(tris[t], rim).sum() == 1 and not (tris[t] == v).any()
+    ][:3]
+    one = _judged(rec, _pinholes(tris, rec, [*fan, touching[0]]))
+    assert one[0].unresolved is not None and one[0].unresolved.count == 1  # the pinhole, not the fan's hole
+    assert one[0].unresolved.allows((1, 0, 0)) and not one[0].unresolved.allows((1, 0, 1))
+    assert one[1][0] == "bad"  # closed: the visible hole says it is wrong
+    three = _judged(rec, _pinholes(tris, rec, [*fan, *touching]))
+    assert three[1][0] == "bad", three[1]
+
+
+def test_a_pinched_mesh_with_a_boundary_judges_nothing():
+    """Two octahedra sharing one vertex, one of them missing a triangle: the topology report counts pinches
+    on closed complexes only, so a pinhole anywhere made the pinched mesh judge (a reviewer's case)."""
+    from test_core_extraction import OCTA
+
+    from crustview.core.analysis.meshholes import pinched_vertices
+
+    other = OCTA + 5
+    other[other == 5] = 0
+    wedge = np.vstack([OCTA, other])
+    assert pinched_vertices(wedge, 11) == 1
+    assert pinched_vertices(wedge[1:], 11) == 1  # open now, still two sheets at vertex 0
+    assert pinched_vertices(np.array([[0, 1, 2], [0, 3, 4]]), 5) == 0  # a bow tie: two open fans, one sheet
+    assert pinched_vertices(OCTA[1:], 6) == 0

@@ -324,7 +324,7 @@ def _mesh_judges(mesh_cmp) -> bool:
     count what no manifold reconstruction can have (a new user's beetle.obj: 47 such edges).
     """
     m = mesh_cmp.mesh_topology
-    return m.nonmanifold_faces == 0 and m.singular_vertices == 0
+    return m.nonmanifold_faces == 0 and m.singular_vertices == 0 and getattr(mesh_cmp, "mesh_pinched", 0) == 0
 
 
 def _up_to_unresolved(rec: Reconstruction, mesh_cmp) -> bool:
@@ -349,8 +349,9 @@ def truth_notes(rec: Reconstruction, truth=None) -> list[str]:
         if m.nonmanifold_faces:
             many = m.nonmanifold_faces != 1
             what.append(f"{m.nonmanifold_faces} edge{'s' if many else ''} in three faces or more")
-        if m.singular_vertices:
-            what.append(f"{m.singular_vertices} pinched vertex" + ("es" if m.singular_vertices != 1 else ""))
+        pinched = m.singular_vertices or getattr(mesh_cmp, "mesh_pinched", 0)
+        if pinched:
+            what.append(f"{pinched} pinched vertex" + ("es" if pinched != 1 else ""))
         return [f"the file's mesh is not a manifold ({', '.join(what)}): its Betti numbers judge nothing"]
     t = rec.topology
     if (t.closed_manifold or kept_open(rec)) and tuple(t.betti) != tuple(m.betti) and _up_to_unresolved(rec, mesh_cmp):

@@ -27,7 +27,7 @@ from scipy.spatial import cKDTree
 
 from ..errors import InputError
 from ..result import TopologyReport
-from .meshholes import UnresolvedHoles, unresolved_holes
+from .meshholes import UnresolvedHoles, pinched_vertices, unresolved_holes
 from .topology import analyse
 
 #: Dense samples per complex at most (the step grows to stay below it).
@@ -106,6 +106,9 @@ class MeshComparison:
         A = the mesh, B = M_S.
     unresolved : UnresolvedHoles or None
         The mesh's holes below the sample's resolution (a surface mesh with boundary only).
+    mesh_pinched : int
+        Vertices where two sheets of the mesh meet (:func:`.meshholes.pinched_vertices`; the topology
+        report counts them on closed meshes only): such a mesh is no manifold.
     """
 
     mesh_faces: int
@@ -117,6 +120,7 @@ class MeshComparison:
     result_topology: TopologyReport
     hausdorff: HausdorffEstimate
     unresolved: UnresolvedHoles | None = None
+    mesh_pinched: int = 0
 
     @property
     def recovered_share(self) -> float:
@@ -328,6 +332,9 @@ def compare_complexes(
     res_rows = _row_set(np.asarray(result, dtype=np.int64).reshape(-1, d + 1))
     common = _count_common(mesh_rows, res_rows)
     mesh_top = analyse(mesh_rows, n, d)
+    # on a mesh with boundary the report does not count pinches: two sheets at a vertex, no manifold
+    surface_with_boundary = d == 2 and mesh_top.boundary_faces > 0 and mesh_top.nonmanifold_faces == 0
+    pinched = pinched_vertices(mesh_rows, n) if surface_with_boundary else 0
     return MeshComparison(
         mesh_faces=len(mesh_rows),
         collapsed_faces=int(collapsed),
@@ -337,7 +344,8 @@ def compare_complexes(
         mesh_topology=mesh_top,
         result_topology=result_topology if result_topology is not None else analyse(res_rows, n, d),
         hausdorff=hausdorff(points, mesh_rows, res_rows, step=step),
-        unresolved=unresolved_holes(points, mesh_rows, mesh_top) if d == 2 else None,
+        unresolved=unresolved_holes(points, mesh_rows, mesh_top) if d == 2 and not pinched else None,
+        mesh_pinched=pinched,
     )
 
 

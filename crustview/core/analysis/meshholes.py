@@ -2,13 +2,16 @@
 
 A file's mesh judges the reconstruction of its vertices (:mod:`.compare`), but only as far as a sample
 can show.  A hole whose rim is shorter than :data:`~.features.LOOP_MIN` = 2 pi local sampling radii (a
-missing triangle or two, a scanner's pinhole) is below the resolution of an eps = 1 sample: no
+missing triangle, a scanner's pinhole; two adjacent missing triangles already measure about 2 pi) is
+below the resolution of an eps = 1 sample: no
 reconstruction from the vertices alone can tell it from surface.  Each such hole may be closed or open in
 a right answer, so the mesh admits every Betti vector it has with any set of them capped.
 
 A rim is a piece of the boundary's edge graph; a piece of E edges on V vertices holds E - V + 1 holes
-(two pinholes that share a vertex: two holes of three edges, not one of six), each measured by the
-piece's length over that count.  Capping holes of one connected surface
+(two pinholes that share a vertex: two holes of three edges, not one of six), each measured on its own:
+a shortest basis of the piece's cycles (a pinhole at a large opening's rim is its own three edges).  A
+pinch (two sheets of the mesh at a vertex, :func:`pinched_vertices`) makes the mesh no manifold: it is
+then not measured, and judges nothing.  Capping holes of one connected surface
 lowers b1 by one each, except the last hole of a component, which closes it: b1 then stays and b2 gains
 one (Z/2 coefficients, orientable or not: b1 = 1 - chi for a connected surface with boundary).
 """
@@ -20,6 +23,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..result import TopologyReport
+
+#: Rim pieces of more edges than this are not split into holes (each edge's cycle is a shortest-path
+#: search on the piece): left whole, they count as no small hole, so the mesh judges as it stands.
+MAX_PIECE = 400
 
 
 @dataclass(frozen=True)
@@ -81,6 +88,95 @@ class UnresolvedHoles:
         )
 
 
+def pinched_vertices(rows: np.ndarray, n: int) -> int:
+    """How many vertices of a triangle mesh are where two sheets meet: no manifold, with or without boundary.
+
+    Such a vertex has a fan of triangles closed around it and another fan there too.  Holes that touch at
+    a vertex leave it two *open* fans, each ending at the holes' rims: one sheet with missing triangles, not
+    a pinch (the topology report counts pinches on closed complexes only).
+    """
+    from .cotree import triangle_edges
+    from .topology import graph_components
+
+    f = len(rows)
+    if f == 0:
+        return 0
+    edges, tri_edges = triangle_edges(rows)
+    count = np.bincount(tri_edges.ravel(), minlength=len(edges))
+    # corner t * 3 + p (vertex rows[t, p] of triangle t); corners of one vertex joined across the edges
+    # at it that two triangles share: the fans
+    flat = tri_edges.ravel()
+    order = np.argsort(flat, kind="stable")
+    shared = np.flatnonzero(count == 2)
+    starts = np.searchsorted(flat[order], shared)
+    t1, t2 = order[starts] // 3, order[starts + 1] // 3
+
+    def corner(t: np.ndarray, v: np.ndarray) -> np.ndarray:
+        return t * 3 + np.argmax(rows[t] == v[:, None], axis=1)
+
+    u, w = edges[shared, 0], edges[shared, 1]
+    links = np.concatenate([np.c_[corner(t1, u), corner(t2, u)], np.c_[corner(t1, w), corner(t2, w)]])
+    _, fan = graph_components(3 * f, links)
+    vert = rows.ravel()
+    # a fan is open where an edge of one triangle only leaves its vertex
+    rim = np.flatnonzero(count == 1)
+    rs = np.searchsorted(flat[order], rim)
+    tr = order[rs] // 3
+    open_fan = np.zeros(fan.max() + 1, bool)
+    open_fan[fan[corner(tr, edges[rim, 0])]] = True
+    open_fan[fan[corner(tr, edges[rim, 1])]] = True
+    pairs = np.unique(np.c_[vert, fan], axis=0)  # (vertex, fan) once each
+    fans = np.bincount(pairs[:, 0], minlength=n)
+    closed = np.bincount(pairs[:, 0], weights=~open_fan[pairs[:, 1]], minlength=n)
+    return int(((fans >= 2) & (closed >= 1)).sum())
+
+
+def _piece_holes(edge_ids: np.ndarray, ends: np.ndarray, length: np.ndarray, holes: int) -> list[np.ndarray]:
+    """The holes of a rim piece of ``holes`` > 1 cycles: a shortest basis of its cycles (as ``edge_ids``).
+
+    ``ends`` are the piece's edges (vertex pairs), ``length`` every rim edge's length.  Each edge's cycle
+    is the edge and the shortest path between its ends without it; the shortest independent ones (over
+    Z/2) are the holes: a pinhole touching a large opening is its own 3 edges, not an average with the
+    opening (a reviewer's case).
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import dijkstra
+
+    _, local = np.unique(ends, return_inverse=True)
+    local = local.reshape(-1, 2)
+    m, k = int(local.max()) + 1, len(edge_ids)
+    w = length[edge_ids]
+    which = {frozenset((int(a), int(b))): j for j, (a, b) in enumerate(local.tolist())}
+    candidates = set()
+    for i in range(k):
+        keep = np.arange(k) != i
+        g = coo_matrix((w[keep], (local[keep, 0], local[keep, 1])), shape=(m, m)).tocsr()
+        dist, pred = dijkstra(g, directed=False, indices=int(local[i, 0]), return_predecessors=True)
+        a, b = int(local[i, 0]), int(local[i, 1])
+        if not np.isfinite(dist[b]):
+            continue
+        cyc, x = [i], b
+        while x != a:  # parallel edges aside (a triangle mesh's rim has none), the path's edges by their ends
+            y = int(pred[x])
+            cyc.append(which[frozenset((x, y))])
+            x = y
+        candidates.add((float(dist[b] + w[i]), tuple(sorted(cyc))))
+    basis: dict[int, int] = {}
+    chosen: list[np.ndarray] = []
+    for _, cyc in sorted(candidates):
+        vec = sum(1 << j for j in cyc)
+        while vec:
+            top = vec.bit_length() - 1
+            if top not in basis:
+                basis[top] = vec
+                chosen.append(edge_ids[list(cyc)])
+                break
+            vec ^= basis[top]
+        if len(chosen) == holes:
+            break
+    return chosen
+
+
 def unresolved_holes(points: np.ndarray, rows: np.ndarray, topology: TopologyReport) -> UnresolvedHoles | None:
     """:class:`UnresolvedHoles` of a triangle mesh that is a surface with boundary; None where it has none.
 
@@ -111,29 +207,39 @@ def unresolved_holes(points: np.ndarray, rows: np.ndarray, topology: TopologyRep
     holes = np.maximum(n_edges - n_verts + 1, 1)
     h = local_spacing(points, rows)
     length = np.linalg.norm(points[rim[:, 0]] - points[rim[:, 1]], axis=1)
-    h_piece = np.bincount(np.searchsorted(pieces, label[verts]), weights=h[verts], minlength=len(pieces)) / n_verts
-    size = np.bincount(piece, weights=length, minlength=len(pieces)) / holes / h_piece  # a hole's rim, on average
-    small = np.flatnonzero(size < LOOP_MIN)
+    # every hole on its own: a piece that is one cycle is one hole; a piece of several, a shortest basis of
+    # its cycles (up to MAX_PIECE edges; a larger piece, rare, is left whole, so it counts as no small hole)
+    by_piece = np.argsort(piece, kind="stable")
+    bounds = np.searchsorted(piece[by_piece], np.arange(len(pieces) + 1))
+    hole_edges: list[np.ndarray] = []
+    for q in range(len(pieces)):
+        mine = by_piece[bounds[q] : bounds[q + 1]]
+        if holes[q] == 1 or len(mine) > MAX_PIECE:
+            hole_edges.append(mine)
+        else:
+            hole_edges.extend(_piece_holes(mine, rim[mine], length, int(holes[q])))
+    sizes = np.array([length[e].sum() / np.median(h[np.unique(rim[e])]) for e in hole_edges])
+    many = [len(e) > MAX_PIECE for e in hole_edges]
+    small = np.flatnonzero((sizes < LOOP_MIN) & ~np.asarray(many, bool))
     if len(small) == 0:
         return None
-    # every small piece with a cone of its own, for the Betti numbers with all of them closed
-    mine = np.isin(piece, small)
-    cone = np.c_[rim[mine], n + np.searchsorted(small, piece[mine])]
+    # every small hole with a cone of its own, for the Betti numbers with all of them closed
+    cone = np.concatenate([np.c_[rim[hole_edges[i]], np.full(len(hole_edges[i]), n + j)] for j, i in enumerate(small)])
     closed = tuple(int(b) for b in analyse(np.vstack([rows, cone]).astype(np.int64), n + len(small), 2).betti)
     # what closing them can do, component by component of the mesh (see UnresolvedHoles.allows)
     _, comp = graph_components(n, edges)
-    comp_of = comp[rim[np.unique(piece, return_index=True)[1], 0]]
-    is_small = np.zeros(len(pieces), bool)
+    comp_of = np.array([comp[rim[e[0], 0]] for e in hole_edges])
+    is_small = np.zeros(len(hole_edges), bool)
     is_small[small] = True
-    all_holes = np.bincount(comp_of, weights=holes).astype(np.int64)
-    tiny = np.bincount(comp_of, weights=holes * is_small, minlength=len(all_holes)).astype(np.int64)
+    all_holes = np.bincount(comp_of).astype(np.int64)
+    tiny = np.bincount(comp_of, weights=is_small, minlength=len(all_holes)).astype(np.int64)
     with_holes = all_holes > 0
     most = int(np.minimum(tiny, all_holes - 1)[with_holes].sum())
     closable = with_holes & (tiny == all_holes)
     return UnresolvedHoles(
-        count=int(holes[small].sum()),
-        longest=float(size[small].max()),
-        edges=int(n_edges[small].sum()),
+        count=len(small),
+        longest=float(sizes[small].max()),
+        edges=int(sum(len(hole_edges[i]) for i in small)),
         betti=closed,
         mesh_betti=tuple(int(b) for b in topology.betti),
         closing=tuple(int(c) for c in np.sort(all_holes[closable] - 1)),
