@@ -228,3 +228,13 @@ def test_legend_lines_do_not_overlap_on_a_small_export():
         assert len(ys) == 4 and gaps.min() >= 1.3 * 8 - 1e-6, gaps
     finally:
         plotter.close()
+
+
+def test_notes_wrap_at_spaces_and_keep_betti_tuples_whole():
+    from crustview.render.overlay import _wrap
+
+    text = "M_S is WRONG: Betti (1, 4, 1) ≠ mesh (26, 0, 26) (uncertain: 2 handles, 0 holes, 14 components)"
+    lines = _wrap(text, 30)
+    assert " ".join(lines) == text and all(len(x) <= 30 for x in lines)
+    assert any(x.endswith("(1, 4, 1)") for x in lines) and any("(26, 0, 26)" in x for x in lines)
+    assert _wrap("a-b-c-d-e-f-g", 3) == ["a-b-c-d-e-f-g"]  # no break at hyphens

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-import textwrap
+import re
 
 import pyvista as pv
 from vtkmodules.vtkRenderingCore import vtkCoordinate, vtkTextActor
@@ -60,16 +60,20 @@ class Legend:
         """
         state = list(entries) + [(n, note_color) for n in notes]
         budget = self._chars()
-        if state == self.entries and budget == getattr(self, "_budget", None):
+        if (
+            state == self.entries
+            and budget == getattr(self, "_budget", None)
+            and self._line_step() == getattr(self, "_step", None)
+        ):
             return
         self.entries = state
         self._budget = budget
         self._args = (list(entries), list(notes), note_color)
         self.notes = list(notes)
         # a note longer than the view is wide goes on over lines of its own (a verdict was cut off at the edge)
-        notes = [part for note in notes for part in (textwrap.wrap(note, budget) if budget else [note]) or [note]]
+        notes = [part for note in notes for part in (_wrap(note, budget) if budget else [note]) or [note]]
         lines: list[tuple[str, str, float, float, bool, str | None]] = []  # text, colour, y, x, bold, swatch
-        step = self._line_step()
+        step = self._step = self._line_step()
         for j, note in enumerate(notes):
             lines.append((" " + note + " ", note_color, 0.965 - step * j, 8, True, None))
         top = len(notes) + (0.3 if notes else 0)
@@ -93,7 +97,7 @@ class Legend:
     def refit(self) -> None:
         """Wrap the notes again if the view's width changed since they were set (cheap when it did not)."""
         args = getattr(self, "_args", None)
-        if args is not None and self._chars() != self._budget:
+        if args is not None and (self._chars() != self._budget or self._line_step() != self._step):
             self.set(*args)
 
     def _line_step(self) -> float:
@@ -129,3 +133,20 @@ class Legend:
             tp.SetBackgroundOpacity(1.0)
         a.GetPositionCoordinate().GetReferenceCoordinate().SetValue(0.0, y)
         a.GetPositionCoordinate().SetValue(x_px, 0.0)
+
+
+def _wrap(text: str, width: int) -> list[str]:
+    """``text`` in lines of at most ``width`` characters, broken at spaces only.
+
+    A tuple like "(1, 0, 0)" is never split (a reviewer saw "≠ mesh (1," end a line); a word longer than
+    the width stands alone.
+    """
+    lines: list[str] = []
+    line = ""
+    for token in re.findall(r"\([\d, ]+\)\S*|\S+", text):
+        if line and len(line) + 1 + len(token) > width:
+            lines.append(line)
+            line = token
+        else:
+            line = f"{line} {token}" if line else token
+    return lines + [line] if line else lines
