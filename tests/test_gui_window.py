@@ -263,7 +263,6 @@ def test_cancel_stops_a_long_run(qtbot, window):
     assert window.run_panel.run.isEnabled()
 
 
-@pytest.mark.timing
 @pytest.mark.fresh_runs  # needs a run long enough to act during it
 def test_cancel_during_the_robust_extraction_says_so_at_once_and_stops_soon(qtbot, window):
     """A new user's octopus took 13 s to stop, its bar still at "manifold extraction 47 %" with Cancel live.
