@@ -192,9 +192,10 @@ def test_a_clicked_feature_is_highlighted_as_well_as_framed(qtbot, window):
     rec = window.model.rec
     (hole,) = [f for f in rec.uncertain_features if f.kind == "hole"]
     # the banner's line counts only what is in doubt, in words ("1 hole", not "0 handles, 1 holes, ...")
-    assert "the sample does not support every feature of M_S: 1 hole uncertain (see uncertain_features)" in (
-        rec.topology.messages
-    )
+    assert (
+        "the sample does not support every feature of M_S: 1 hole uncertain (each listed with where it is: the "
+        "report's uncertain_features, the window's Uncertain features)"
+    ) in rec.topology.messages
     panel = window.info_panel.features
     window.docks["info"].raise_()
     qtbot.waitUntil(lambda: panel.list.isVisible() and panel.list.count() == 1)

@@ -177,7 +177,8 @@ def result_features(
             if (c := sum(f.kind == kind for f in doubt))
         ]
         topo.messages.append(
-            f"the sample does not support every feature of M_S: {', '.join(named)} uncertain (see uncertain_features)"
+            f"the sample does not support every feature of M_S: {', '.join(named)} uncertain (each listed with "
+            "where it is: the report's uncertain_features, the window's Uncertain features)"
         )
     return feats
 

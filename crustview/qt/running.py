@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import cost_warning, reconstruct, reextract
-from ..scene.describe import boundary_words, kept_open, truth_problems
+from ..scene.describe import boundary_words, kept_open, truth_notes, truth_problems
 from ..scene.describe import verdict as describe_verdict
 from ..scene.features import uncertain_features, uncertain_summary
 from ..scene.shapes import name_of
@@ -309,8 +309,11 @@ class RunActions:
         level = describe_verdict(rec, truth)[0]
         ok = {"ok": True, "warn": "warn", "bad": False}[level]
         self.run_panel.show_idle(f"{rec.mode}: done in {sum(rec.timings.values()):.2f} s — {verdict}", ok=ok)
+        # what the verdict says of the file's mesh (amber without a feature of M_S to list: say why here too)
+        about_mesh = "".join(f"; {n}" for n in truth_notes(rec, truth))
+        betti = "" if problems else f"; Betti {t.betti}"  # a WRONG already names both Betti tuples
         message = (
-            f"{self.model.source}: {verdict}; Betti {t.betti}; {rec.extraction.n_steps} "
+            f"{self.model.source}: {verdict}{about_mesh}{betti}; {rec.extraction.n_steps} "
             f"step{'' if rec.extraction.n_steps == 1 else 's'} of {MODE_WORDS.get(rec.mode, rec.mode)}."
         )
         saved = pending.get("saved")
