@@ -60,6 +60,7 @@ def test_nearly_touching_spheres_are_amber_with_their_components_named(qtbot, wi
     # every feature's reason is listed
     box = panel.features
     assert not box.isHidden() and box.list.count() == len(unc)
+    assert "counted by its loops" not in box.summary.text()  # components only: no word on handles
     assert all(f.reason in box.list.item(i).text() for i, f in enumerate(unc))
 
 
@@ -142,6 +143,8 @@ def test_footbones_show_amber(qtbot, window):
     assert "uncertain: " in window.run_panel.progress.format()
     assert window.info_panel.features.list.count() == len(rec.uncertain_features)
     assert window.model.layers["uncertain"].visible
+    # handles are counted by their loops (a new user read "2 handles" beside a torus as two): said where listed
+    assert "A handle is counted by its loops" in window.info_panel.features.summary.text()
 
 
 def test_an_open_scan_kept_open_is_amber_and_names_its_hole(qtbot, window):

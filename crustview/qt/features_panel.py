@@ -54,6 +54,11 @@ class FeaturesPanel(QGroupBox):
             escape(uncertain_summary(self.features))
             + ": each is below what the sample can resolve, so M_S may be wrong there (a false bridge, "
             "a missing piece, a gap taken for a hole). Click one to frame it."
+            + (
+                " A handle is counted by its loops: one handle of a surface has two (b1 = 2 g)."
+                if any(f.kind == "handle" for f in self.features)
+                else ""
+            )
         )
         for i, f in enumerate(self.features):
             words = feature_words(f, i)
