@@ -10,7 +10,7 @@ import numpy as np
 
 from .analysis.topology import analyse
 from .delaunay.triangulation import backend_label, bounding_points, circumcenters, delaunay
-from .errors import Cancelled, InputError
+from .errors import InputError, check_cancel
 from .paper import candidates as cand
 from .paper.candidates import SCORE_LIMIT
 from .paper.extraction import extract
@@ -29,12 +29,7 @@ ProgressFn = Callable[[str, float], None]
 def _next_stage(cancel: object | None) -> None:
     """Between stages: hand freed memory back (the next peak starts from what is held), check cancel."""
     release_free_memory()
-    _check(cancel)
-
-
-def _check(cancel: object | None) -> None:
-    if cancel is not None and cancel.is_set():
-        raise Cancelled("reconstruction cancelled")
+    check_cancel(cancel)
 
 
 def _validate_params(test: str, theta: float, mode: str = "robust") -> float:
@@ -172,7 +167,7 @@ def reconstruct(
         simplices, neighbors = delaunay(prep.work, bounds, neighbors=True)
     else:
         simplices, neighbors = delaunay(prep.work, bounds), None
-    _check(cancel)  # a cancel during the triangulation stops here, before the listing starts
+    check_cancel(cancel)  # a cancel during the triangulation stops here, before the listing starts
     # Algorithm 2's face lists need only the simplices: listed on the other core while the circumcentres
     # are computed and during Algorithm 1
     listing = start_in_background(cand.enumerate_faces, simplices, n, d, neighbors=neighbors)
@@ -220,7 +215,7 @@ def reconstruct(
         cptr,
         csimp,
         simplices=simplices,
-        progress=lambda f: (report("candidates", f), _check(cancel)),
+        progress=lambda f: (report("candidates", f), check_cancel(cancel)),
         minimum=low,
     )
     del cptr, csimp  # the dual cells' incidences: the largest temporaries of the run

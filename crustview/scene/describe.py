@@ -376,11 +376,17 @@ def verdict(rec: Reconstruction, truth=None) -> tuple[str, str]:
     but it is not the closed manifold the paper's guarantees are about.  In
     paper mode an open result stays "bad".
     """
+    level, text, notes = verdict_parts(rec, truth)
+    return level, "; ".join([text, *notes])
+
+
+def verdict_parts(rec: Reconstruction, truth=None) -> tuple[str, str, list[str]]:
+    """:func:`verdict` as (level, the sentence on M_S, :func:`truth_notes`), for who lays them out apart."""
     level, text = _verdict(rec, truth)
     notes = truth_notes(rec, truth)
     # a mesh that cannot judge, or that M_S matches only up to holes the sample cannot show, leaves the
     # result unconfirmed: never "sure" beside a known truth it does not match
-    return ("warn" if notes and level == "ok" else level), "; ".join([text, *notes])
+    return ("warn" if notes and level == "ok" else level), text, notes
 
 
 def _verdict(rec: Reconstruction, truth=None) -> tuple[str, str]:

@@ -6,7 +6,7 @@ the window and in rendered files.
 
 from __future__ import annotations
 
-from .describe import truth_notes, verdict
+from .describe import verdict_parts
 
 
 def view_notes(model, in_window: bool = True) -> list[str]:
@@ -19,12 +19,8 @@ def view_notes(model, in_window: bool = True) -> list[str]:
         return []
     # layers drawn as a subset say so over the view, too
     thinned = [layer.note for layer in model.layers.values() if layer.visible and layer.note]
-    level, words = verdict(rec, model.truth)
+    level, words, mesh_notes = verdict_parts(rec, model.truth)
     # what the verdict says of a mesh that cannot judge M_S: a line of its own (one line was cut off)
-    mesh_notes = truth_notes(rec, model.truth)
-    suffix = "".join(f"; {n}" for n in mesh_notes)
-    if suffix and words.endswith(suffix):
-        words = words[: -len(suffix)]
     about_mesh = [n[0].upper() + n[1:] for n in mesh_notes]
     if level == "ok":
         # the verdict is over the view whatever the dock shows (Steps is in front after a run)

@@ -83,7 +83,7 @@ import numpy as np
 
 from ..analysis.features import LOOP_MIN, features
 from ..analysis.topology import analyse
-from ..errors import Cancelled
+from ..errors import check_cancel
 from ..paper.extraction import extract
 from ..steps import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
 from ..util.parallel import start_in_background
@@ -261,8 +261,7 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
         progress=lambda f: report(0.05 + 0.45 * f),
         cancel=cancel,
     )
-    if cancel is not None and cancel.is_set():
-        raise Cancelled("reconstruction cancelled")
+    check_cancel(cancel)
     m_lab = lab.complex_at(lab.n_steps)
     top_lab = analyse(m_lab, n, d)
     # a hole open-cap made beside a sure opening from a cap under CAP_SURE times its ring is uncertain
@@ -372,8 +371,7 @@ def _grow_and_patch(points, prepared, spacing, cancel, progress) -> Extraction:
             gr.grow(rule_of, cancel, progress)
             if not gr.seed():
                 break
-    if cancel is not None and cancel.is_set():
-        raise Cancelled("reconstruction cancelled")
+    check_cancel(cancel)
     grown = np.array([f for f, *_ in gr.log], dtype=np.int64)
     pt = Patcher(
         points,
