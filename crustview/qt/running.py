@@ -262,6 +262,11 @@ class RunActions:
             )
 
     def _job_done(self, result) -> None:
+        # the model's events for a new result each ask for a frame: one is drawn, at the end (render.frames)
+        with self.view.held():
+            self._show_result(result)
+
+    def _show_result(self, result) -> None:
         pending = self._pending
         for panel in (self.info_panel, self.steps_panel, self.layers_panel):  # greyed while a preview was shown
             panel.setEnabled(True)

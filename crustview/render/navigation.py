@@ -42,7 +42,10 @@ class CameraControl:
         # aspect of the window (no extra zoom, which cut off the top of tall parts)
         self.plotter.reset_camera(bounds=bounds)
         if not flat:
-            # then the data's image moves clear of the legend, the caption and the colour bars
+            # then the data's image moves clear of the legend, the caption and the colour bars (the legend laid out
+            # for the view's width now: inside a batch of edits no frame has done it yet, see render.frames)
+            if hasattr(self, "legend"):
+                self.legend.refit()
             fit_clear(self.plotter.renderer, p, self.text_blocks())
 
     def text_blocks(self) -> list:

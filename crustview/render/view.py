@@ -21,6 +21,7 @@ from .complexes import (
     SliceAdapter,
     StepAdapter,
 )
+from .frames import FrameGate
 from .diagnosis import CascadeAdapter, HolesAdapter, OrientationAdapter, UncertainAdapter
 from .inspect import SelectionAdapter, VoronoiAdapter
 from .lod import LevelOfDetail
@@ -66,6 +67,9 @@ class SceneView(CameraControl):
     def __init__(self, model: SceneModel, plotter) -> None:
         self.model = model
         self.plotter = plotter
+        #: The plotter's renders go through it: :meth:`held` batches draw one frame (see :mod:`.frames`).
+        self.frames = FrameGate(plotter)
+        self.held = self.frames.held
         self.auto_render = True
         #: Asks the GUI toolkit for one repaint soon (set by the window); None renders at once.
         #: Step changes use it: many in one frame cost one render, and the widget's paint
@@ -211,6 +215,9 @@ class SceneView(CameraControl):
         """Render soon, once, however many changes come before the next frame."""
         if not self.auto_render:
             return
+        if self.frames.holding:
+            self.frames.owed = True  # the batch's frame draws it
+            return
         if self.schedule_render is None:
             self.plotter.render()
         else:
@@ -251,8 +258,12 @@ class SceneView(CameraControl):
         """Draw raw input points (first three coordinates, centred) before any result exists.
 
         Used while the dimension is asked and the first reconstruction runs,
-        so the window is never empty; ``None`` removes the preview.
+        so the window is never empty; ``None`` removes the preview.  One frame (see :mod:`.frames`).
         """
+        with self.held():
+            self._preview(points)
+
+    def _preview(self, points: np.ndarray | None) -> None:
         if points is None:
             if self.plotter.actors.get("preview") is not None:
                 self.plotter.remove_actor("preview", render=False)
@@ -294,6 +305,10 @@ class SceneView(CameraControl):
         self.render()
 
     def on_reconstruction(self) -> None:
+        with self.held():  # one frame for the layers, the overlays and the camera
+            self._on_reconstruction()
+
+    def _on_reconstruction(self) -> None:
         rec = self.model.rec
         if rec is None:
             return
