@@ -68,6 +68,8 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
             self.plotter.clear_events_for_key(key)
         self.view = SceneView(self.model, self.plotter)
         self.view.schedule_render = lambda: QWidget.update(self.plotter)
+        # the widget's paint renders the scene: a render asked for is a paint asked for (render.frames)
+        self.view.frames.paint = self.view.schedule_render
         self.step_detail = StepDetail(self.view, self.model.player, self)  # thinned frames while stepping
         self.points: np.ndarray | None = None
         #: Where the shown data came from: a FileSource, a BuiltinSource or None (arrays).

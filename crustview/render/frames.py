@@ -14,6 +14,17 @@ outermost ``held`` draws it once when it ends (also when the batch raised, so
 the picture is never left behind the model).  Outside a batch it renders at
 once, as before.
 
+In the window a frame is better not drawn at all where the widget paints
+anyway: pyvistaqt's widget renders the scene again in every paint, and a
+render of its own schedules that paint, so each frame asked for was drawn
+twice (counted on the GUI tests: 527 renders asked for, 413 paints).  With
+:attr:`FrameGate.paint` set (the window sets it to the widget's ``update``),
+a frame is *asked of the widget*: Qt paints once, at the next turn of its
+event loop, however many frames were asked before it.  Reading pixels back
+would then read the last painted frame: the gate also stands in front of the
+plotter's ``screenshot``, which draws the frame first (the tests read every
+picture they judge through it, as the window's export does).
+
 Nothing here imports Qt: the window decides which of its actions are batches.
 """
 
@@ -40,7 +51,18 @@ class FrameGate:
         self.owed = False
         #: Frames drawn through the gate (for tests and benchmarks).
         self.frames = 0
+        #: Asks a GUI toolkit to repaint soon (its paint draws the frame); None draws at once.
+        self.paint: Callable[[], object] | None = None
         plotter.render = self.render
+        shot = getattr(plotter, "screenshot", None)
+        if shot is not None:
+
+            def screenshot(*args, **kwargs) -> object:
+                if self.paint is not None:  # a paint asked for may not have run: the picture as the model is now
+                    self.draw_now()
+                return shot(*args, **kwargs)
+
+            plotter.screenshot = screenshot
 
     @property
     def holding(self) -> bool:
@@ -53,7 +75,17 @@ class FrameGate:
             self.owed = True
             return None
         self.frames += 1
+        if self.paint is not None:
+            return self.paint()
         return self._draw(*args, **kwargs)
+
+    def draw_now(self) -> None:
+        """Draw a frame at once, even where the toolkit paints (before reading something a frame computes)."""
+        if self._depth:
+            self.owed = True
+            return
+        self.frames += 1
+        self._draw()
 
     @contextmanager
     def held(self) -> Iterator[None]:

@@ -21,8 +21,8 @@ from .complexes import (
     SliceAdapter,
     StepAdapter,
 )
-from .frames import FrameGate
 from .diagnosis import CascadeAdapter, HolesAdapter, OrientationAdapter, UncertainAdapter
+from .frames import FrameGate
 from .inspect import SelectionAdapter, VoronoiAdapter
 from .lod import LevelOfDetail
 from .navigation import CameraControl
