@@ -36,7 +36,8 @@ setup(
             sources=["crustview/core/delaunay/_delaunay3.cpp"],
             depends=["crustview/core/delaunay/_cgal_buffers.h"],
             language="c++",
-            extra_compile_args=FLAGS,
+            extra_compile_args=[*FLAGS, "-pthread"],  # the cells and their neighbours written on two threads
+            extra_link_args=["-pthread"],
             libraries=["gmp", "mpfr"],
             optional=True,
         ),
@@ -137,7 +138,8 @@ setup(
             depends=["crustview/core/delaunay/_cgal_buffers.h"],
             include_dirs=["/usr/include/eigen3"],
             language="c++",
-            extra_compile_args=FLAGS,
+            extra_compile_args=[*FLAGS, "-pthread"],  # the cells and their neighbours written on two threads
+            extra_link_args=["-pthread"],
             libraries=["gmp", "mpfr"],
             optional=True,
         ),

@@ -16,6 +16,8 @@
 #include <cstdint>
 #include <exception>
 #include <string>
+#include <system_error>
+#include <thread>
 
 namespace crustview {
 
@@ -60,7 +62,11 @@ std::string run_without_gil(Work work) {
 
 // The extension functions' result tuple.  write_cells(char*, zero) and
 // write_neighbours(char*, zero) fill per_cell numbers per cell, of the type of
-// zero; they run without the GIL.  free_all() releases CGAL's memory.
+// zero; they run without the GIL, and at the same time on two threads when
+// both are asked for: write_cells reads only the vertices' numbers and
+// write_neighbours writes only the cells' (both walk the cells read-only), so
+// neither sees the other's writes (300,000 torus points: the two passes took
+// 0.14 s and 0.28 s one after the other).  free_all() releases CGAL's memory.
 template <typename WriteCells, typename WriteNeighbours, typename Free>
 PyObject* cells_result(int dimension, std::int64_t vertices, Py_ssize_t cells, int per_cell, bool wide,
                        bool want_neighbours, WriteCells write_cells, WriteNeighbours write_neighbours,
@@ -69,12 +75,6 @@ PyObject* cells_result(int dimension, std::int64_t vertices, Py_ssize_t cells, i
     PyObject* out = PyByteArray_FromStringAndSize(nullptr, cells * per_cell * item);
     if (out == nullptr) {
         return nullptr;
-    }
-    if (cells > 0) {
-        char* dst = PyByteArray_AS_STRING(out);
-        Py_BEGIN_ALLOW_THREADS
-        with_index_type(wide, [&](auto zero) { write_cells(dst, zero); });
-        Py_END_ALLOW_THREADS
     }
     const bool wide_cells = static_cast<std::int64_t>(cells) >= (std::int64_t(1) << 31);
     const Py_ssize_t nitem = wide_cells ? 8 : 4;
@@ -87,9 +87,26 @@ PyObject* cells_result(int dimension, std::int64_t vertices, Py_ssize_t cells, i
             Py_DECREF(out);
             return nullptr;
         }
-        char* dst = PyByteArray_AS_STRING(nbrs);
+    }
+    if (cells > 0) {
+        char* dst = PyByteArray_AS_STRING(out);
+        char* ndst = nbrs == Py_None ? nullptr : PyByteArray_AS_STRING(nbrs);
         Py_BEGIN_ALLOW_THREADS
-        with_index_type(wide_cells, [&](auto zero) { write_neighbours(dst, zero); });
+        auto cells_pass = [&] { with_index_type(wide, [&](auto zero) { write_cells(dst, zero); }); };
+        std::thread other;
+        if (ndst != nullptr) {
+            try {
+                other = std::thread(cells_pass);
+            } catch (const std::system_error&) {  // no thread to be had: one pass after the other
+                cells_pass();
+            }
+            with_index_type(wide_cells, [&](auto zero) { write_neighbours(ndst, zero); });
+        } else {
+            cells_pass();
+        }
+        if (other.joinable()) {
+            other.join();
+        }
         Py_END_ALLOW_THREADS
     }
     {
