@@ -230,3 +230,20 @@ def test_circumcentres_with_room_after_them_are_the_same_centres():
     plain = circumcenters(work, simp)
     roomy = circumcenters(work, simp, spare=300)
     assert roomy.tobytes() == plain.tobytes() and roomy.base.shape == (len(simp) + 300, 3)
+
+
+def test_the_samples_come_in_spatial_order_whether_or_not_points_merged():
+    """prepare_points reuses the merging's k-d tree for the spatial order where nothing merged: the same
+    numbering as a tree of its own (and, with copies, the order of the merged points)."""
+    from crustview.core.prepare import prescale, spatial_order
+
+    rng = np.random.default_rng(8)
+    pts = rng.normal(size=(2000, 3))
+    unit = prescale(pts)
+    prep = prepare_points(pts, 2)
+    assert len(prep.points) == 2000
+    assert np.array_equal(prep.point_input, spatial_order(pts / unit))
+    with_copies = np.vstack([pts, pts[:25]])
+    prep2 = prepare_points(with_copies, 2)
+    assert len(prep2.points) == 2000
+    assert np.array_equal(prep2.point_input, spatial_order(pts / unit))  # the copies' first rows, same order

@@ -232,7 +232,22 @@ def merge_duplicates(pts: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarra
     spacing : float
         Median nearest-neighbour distance among distinct points.
     """
-    tree = cKDTree(pts)
+    return _merged(_spatial_tree(pts), tol)
+
+
+def _spatial_tree(pts: np.ndarray) -> cKDTree:
+    """The k-d tree of :func:`spatial_order` (leaves of SPATIAL_LEAF points, split at sliding midpoints).
+
+    :func:`merge_duplicates` asks its distances of the same tree: they do not depend on the tree's shape, and
+    this one builds in half the time of scipy's default balanced tree (300,000 torus points: 0.06 s against
+    0.11 s), and where nothing merges its leaf order is the spatial order, without a second tree.
+    """
+    return cKDTree(pts, leafsize=SPATIAL_LEAF, balanced_tree=False, compact_nodes=False)
+
+
+def _merged(tree: cKDTree, tol: float) -> tuple[np.ndarray, np.ndarray, float]:
+    """:func:`merge_duplicates` on ``tree``'s points."""
+    pts = tree.data
     # median NN distance ignoring exact duplicates: the nearest other point,
     # and for points with an exact copy the nearest positive distance among 7
     first_pos = nearest_other(tree)
@@ -270,8 +285,7 @@ def spatial_order(pts: np.ndarray) -> np.ndarray:
     """
     if len(pts) <= SPATIAL_LEAF:
         return np.arange(len(pts))
-    tree = cKDTree(pts, leafsize=SPATIAL_LEAF, balanced_tree=False, compact_nodes=False)
-    return np.asarray(tree.indices, dtype=np.int64)
+    return np.asarray(_spatial_tree(pts).indices, dtype=np.int64)
 
 
 def prepare_points(
@@ -306,9 +320,17 @@ def prepare_points(
     pts = validate(points, d)
     n_in, k = pts.shape
     unit = prescale(pts)  # exact power of two; everything below works on pts / unit
-    input_index, point_input, spacing = merge_duplicates(pts / unit, merge_tol)
+    tree = _spatial_tree(pts / unit)
+    input_index, point_input, spacing = _merged(tree, merge_tol)
     spacing *= unit
-    order = spatial_order(pts[point_input] / unit)  # order[i]: sample i's rank by first appearance
+    # order[i]: sample i's rank by first appearance; where nothing merged, the same tree's leaves give it
+    merged = len(point_input) < n_in
+    order = (
+        spatial_order(pts[point_input] / unit)
+        if merged or n_in <= SPATIAL_LEAF
+        else np.asarray(tree.indices, dtype=np.int64)
+    )
+    del tree
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
     input_index = rank[input_index]
