@@ -60,54 +60,19 @@ def test_a_batch_that_raised_still_draws_what_it_owed():
 pv = pytest.importorskip("pyvista")
 
 
-@pytest.fixture()
-def view_and_counter():
+def _drawing_view():
+    """A SceneView on an off-screen plotter that draws every render asked for (pyvista draws nothing before
+    its first screenshot or show), and a list that gets an entry per frame VTK draws."""
     from crustview.render import SceneView
     from crustview.scene import SceneModel
 
     model = SceneModel()
     plotter = pv.Plotter(off_screen=True, window_size=(400, 300))
     view = SceneView(model, plotter)
-    drawn = []
-    real = view.frames._draw
-    view.frames._draw = lambda *a, **k: (drawn.append(1), real(*a, **k))[1]
-    yield model, view, plotter, drawn
-    plotter.close()
-
-
-def test_a_new_result_draws_one_frame_and_the_same_picture(view_and_counter, torus_run):
-    model, view, plotter, drawn = view_and_counter
-    rec, sample = torus_run
-    with view.held():  # as the window shows a finished run (running._job_done)
-        model.set_reconstruction(rec, truth=sample, source="torus")
-    # the layers shown and styled, the overlays, the camera's reset (pyvista's own render calls too): one frame
-    assert len(drawn) == 1
-    batched = plotter.screenshot(return_img=True)
-    # the same edits with a frame for every render asked for give the same picture (the legend's layout and the
-    # camera's fit do not depend on a frame drawn between them)
-    other = pv.Plotter(off_screen=True, window_size=(400, 300))
-    from crustview.render import SceneView
-    from crustview.scene import SceneModel
-
-    m2 = SceneModel()
-    v2 = SceneView(m2, other)
-    v2.frames.held = _no_batch  # every render asked for is drawn at once, as before the gate
-    v2.held = _no_batch
-    m2.set_reconstruction(rec, truth=sample, source="torus")
-    assert v2.frames.frames > 1  # it did ask for several
-    each = other.screenshot(return_img=True)
-    other.close()
-    assert batched.shape == each.shape
-    assert np.abs(batched.astype(int) - each.astype(int)).max() == 0
-
-
-def test_the_raw_points_preview_and_a_result_on_its_own_draw_one_frame_each(view_and_counter, torus_run):
-    model, view, _, drawn = view_and_counter
-    view.show_preview(torus_run[1].points)  # the first access to the camera renders in pyvista: owed, not drawn
-    assert len(drawn) == 1
-    model.rec = torus_run[0]
-    view.on_reconstruction()  # without the window's batch: the view's own handler is one batch
-    assert len(drawn) == 2
+    plotter.screenshot(return_img=True)
+    drawn: list = []
+    plotter.ren_win.AddObserver("StartEvent", lambda *_: drawn.append(1))
+    return model, view, plotter, drawn
 
 
 def _no_batch():
@@ -115,3 +80,34 @@ def _no_batch():
     from contextlib import nullcontext
 
     return nullcontext()
+
+
+def test_a_new_result_draws_one_frame_and_the_same_picture(torus_run):
+    rec, sample = torus_run
+    model, view, plotter, drawn = _drawing_view()
+    with view.held():  # as the window shows a finished run (running._job_done)
+        model.set_reconstruction(rec, truth=sample, source="torus")
+    # the layers shown and styled, the overlays, the camera's reset (pyvista's own render calls too): one frame
+    assert len(drawn) == 1
+    batched = plotter.screenshot(return_img=True)
+    # the same edits with a frame drawn for every render asked for give the same picture (the legend's layout
+    # and the camera's fit do not depend on a frame drawn between them)
+    m2, v2, other, drawn2 = _drawing_view()
+    v2.held = _no_batch  # every render asked for is drawn at once, as before the gate
+    m2.set_reconstruction(rec, truth=sample, source="torus")
+    assert len(drawn2) > 3  # it did draw several
+    each = other.screenshot(return_img=True)
+    plotter.close()
+    other.close()
+    assert batched.shape == each.shape
+    assert np.abs(batched.astype(int) - each.astype(int)).max() == 0
+
+
+def test_the_raw_points_preview_and_a_result_on_its_own_draw_one_frame_each(torus_run):
+    model, view, plotter, drawn = _drawing_view()
+    view.show_preview(torus_run[1].points)  # the first access to the camera renders in pyvista: owed, not drawn
+    assert len(drawn) == 1
+    model.rec = torus_run[0]
+    view.on_reconstruction()  # without the window's batch: the view's own handler is one batch
+    assert len(drawn) == 2
+    plotter.close()

@@ -22,8 +22,11 @@ twice (counted on the GUI tests: 527 renders asked for, 413 paints).  With
 a frame is *asked of the widget*: Qt paints once, at the next turn of its
 event loop, however many frames were asked before it.  Reading pixels back
 would then read the last painted frame: the gate also stands in front of the
-plotter's ``screenshot``, which draws the frame first (the tests read every
-picture they judge through it, as the window's export does).
+plotter's ``screenshot``, which draws the frame first where a paint asked for
+has not run yet (:attr:`FrameGate.stale`) or a batch is open, and draws at
+once any render the screenshot itself asks for (at another window size); a
+settled view is read as painted, without a frame.  The tests read every
+picture they judge through it, as the window's export does.
 
 Nothing here imports Qt: the window decides which of its actions are batches.
 """
@@ -53,14 +56,27 @@ class FrameGate:
         self.frames = 0
         #: Asks a GUI toolkit to repaint soon (its paint draws the frame); None draws at once.
         self.paint: Callable[[], object] | None = None
+        #: A paint was asked for and no frame was drawn since (any render, a paint's too, ends it).
+        self.stale = False
+        ren_win = getattr(plotter, "ren_win", None)
+        if ren_win is not None:
+            ren_win.AddObserver("EndEvent", lambda *_: setattr(self, "stale", False))
         plotter.render = self.render
         shot = getattr(plotter, "screenshot", None)
         if shot is not None:
 
             def screenshot(*args, **kwargs) -> object:
-                if self.paint is not None:  # a paint asked for may not have run: the picture as the model is now
+                if self.paint is None:
+                    return shot(*args, **kwargs)
+                # the picture as the model is now, even inside a batch: a paint asked for may not have run
+                if self.stale or self._depth:
                     self.draw_now()
-                return shot(*args, **kwargs)
+                # and renders the screenshot itself asks for (at another window size, say) are drawn at once
+                paint, self.paint = self.paint, None
+                try:
+                    return shot(*args, **kwargs)
+                finally:
+                    self.paint = paint
 
             plotter.screenshot = screenshot
 
@@ -76,14 +92,15 @@ class FrameGate:
             return None
         self.frames += 1
         if self.paint is not None:
+            self.stale = True
             return self.paint()
         return self._draw(*args, **kwargs)
 
     def draw_now(self) -> None:
-        """Draw a frame at once, even where the toolkit paints (before reading something a frame computes)."""
-        if self._depth:
-            self.owed = True
-            return
+        """Draw a frame at once, even inside a batch or where the toolkit paints (before reading pixels back).
+
+        A batch's owed frame is still drawn at its end (edits after this one may follow).
+        """
         self.frames += 1
         self._draw()
 
