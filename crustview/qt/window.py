@@ -67,9 +67,9 @@ class MainWindow(DockLayout, SessionActions, ExportActions, FileActions, RunActi
         for key in ("q", "e", "v"):  # VTK/pyvista would quit or change style on these keys
             self.plotter.clear_events_for_key(key)
         self.view = SceneView(self.model, self.plotter)
-        self.view.schedule_render = lambda: QWidget.update(self.plotter)
-        # the widget's paint renders the scene: a render asked for is a paint asked for (render.frames)
-        self.view.frames.paint = self.view.schedule_render
+        # the widget's paint renders the scene: a render asked for is a paint asked for (render.frames); many
+        # changes before the next paint (steps while playing) cost one frame
+        self.view.frames.paint = lambda: QWidget.update(self.plotter)
         self.step_detail = StepDetail(self.view, self.model.player, self)  # thinned frames while stepping
         self.points: np.ndarray | None = None
         #: Where the shown data came from: a FileSource, a BuiltinSource or None (arrays).

@@ -109,7 +109,7 @@ class CameraControl:
         place_camera(cam, frame)
         self.set_clip(front_plane(frame))
         self.plotter.renderer.ResetCameraClippingRange()
-        self.request_render()
+        self.render()
 
     def set_clip(self, plane) -> None:
         """Clip every scene actor (not the overlay) by ``plane``; None removes the clip."""

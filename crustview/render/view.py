@@ -71,10 +71,6 @@ class SceneView(CameraControl):
         self.frames = FrameGate(plotter)
         self.held = self.frames.held
         self.auto_render = True
-        #: Asks the GUI toolkit for one repaint soon (set by the window); None renders at once.
-        #: Step changes use it: many in one frame cost one render, and the widget's paint
-        #: renders anyway, so an immediate render would be a second, wasted one.
-        self.schedule_render = None
         #: The plane cutting away what lies in front of a framed step (None: no cut).
         self.clip_plane = None
         #: View the data with its Y axis up instead of Z (View ▸ Y axis up).
@@ -199,7 +195,7 @@ class SceneView(CameraControl):
     def end_lod(self) -> None:
         """Draw every part whole again (one render, if anything was thinned)."""
         if self.lod.end():
-            self.request_render()
+            self.render()
 
     # -- helpers -------------------------------------------------------------
     @property
@@ -208,20 +204,11 @@ class SceneView(CameraControl):
         return self.model.rec is not None and self._built_for == id(self.model.rec)
 
     def render(self) -> None:
+        """A frame of the current picture, through :attr:`frames`: owed inside a batch, a paint asked for in the
+        window (many changes before the next paint cost one frame), else drawn at once.
+        """
         if self.auto_render:
             self.plotter.render()
-
-    def request_render(self) -> None:
-        """Render soon, once, however many changes come before the next frame."""
-        if not self.auto_render:
-            return
-        if self.frames.holding:
-            self.frames.owed = True  # the batch's frame draws it
-            return
-        if self.schedule_render is None:
-            self.plotter.render()
-        else:
-            self.schedule_render()
 
     def _on_visible(self, a: LayerAdapter) -> None:
         self.lod.end()  # a thinned copy must not outlive its layer's visibility
@@ -358,7 +345,7 @@ class SceneView(CameraControl):
         if self.lod.active:
             self.lod.begin(self._shown_parts())  # re-thin what the step changed
         self.update_legend()
-        self.request_render()
+        self.render()
 
     def on_selection(self) -> None:
         if not self.ready:
