@@ -204,8 +204,10 @@ class SceneView(CameraControl):
         return self.model.rec is not None and self._built_for == id(self.model.rec)
 
     def render(self) -> None:
-        """A frame of the current picture, through :attr:`frames`: owed inside a batch, a paint asked for in the
-        window (many changes before the next paint cost one frame), else drawn at once.
+        """A frame of the current picture, through :attr:`frames` (see :mod:`.frames`).
+
+        Owed inside a batch, a paint asked for in the window (many changes before the next paint cost one
+        frame), else drawn at once.
         """
         if self.auto_render:
             self.plotter.render()
