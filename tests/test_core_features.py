@@ -667,3 +667,28 @@ def test_the_features_measured_beside_the_analysis_are_those_measured_after_it()
     for f, g in zip(rec.features, after):
         assert (f.kind, f.size_spacings, f.uncertain) == (g.kind, g.size_spacings, g.uncertain)
         assert np.array_equal(f.location, g.location * scale)
+
+
+def test_a_missing_tetrahedron_of_a_3_sphere_is_an_uncertain_hole():
+    """The boundary of a 4-simplex (five tetrahedra, a 3-sphere) less one: one hole of four faces, sqrt 6 across."""
+    pts = np.vstack([np.eye(4), np.full((1, 4), (1 - math.sqrt(5)) / 4)])  # a regular 4-simplex
+    tets = np.array([[j for j in range(5) if j != i] for i in range(5)])
+    assert [f for f in features(pts, tets, 3) if f.kind == "hole"] == []
+    (hole,) = [f for f in features(pts, tets[1:], 3) if f.kind == "hole"]
+    assert hole.uncertain and sorted(hole.vertices.tolist()) == [1, 2, 3, 4]
+    # span 2 R = a sqrt(3/2) (R the regular tetrahedron's circumradius), h = a / 2 (half its longest edge)
+    assert "4 boundary faces" in hole.reason and math.isclose(hole.size_spacings, math.sqrt(6))
+
+
+def test_holes_of_a_3_manifold_small_and_large(s3_run):
+    """S^3 from 600 samples: closed, no hole; a cavity one tetrahedron wide is uncertain, a hemisphere cut away sure."""
+    rec, _ = s3_run
+    ms = rec.manifold
+    assert rec.topology.closed_manifold and [f for f in features(rec.points, ms, 3) if f.kind == "hole"] == []
+    (small,) = [f for f in features(rec.points, ms[1:], 3) if f.kind == "hole"]
+    assert small.uncertain and len(small.vertices) == 4
+    centre = rec.points[ms].mean(axis=1)
+    cut = ms[centre[:, 0] > 0]  # half of S^3 away: one hole, its rim the great 2-sphere x = 0, two radii across
+    (big,) = [f for f in features(rec.points, cut, 3) if f.kind == "hole"]
+    assert not big.uncertain and big.size_spacings > 4
+    assert abs(big.location[0]) < 0.2 and np.linalg.norm(rec.points[big.vertices], axis=1).min() > 0.5

@@ -171,8 +171,8 @@ def features(
     simplices : ndarray of shape (s, d + 1)
         M_S.
     d : int
-        Its dimension.  Handles and holes are found for d = 2; components in
-        every dimension (a curve's gaps: :func:`.gaps.curve_gaps`).
+        Its dimension.  Handles are found for d = 2, holes for d >= 2 (:func:`.solidholes.holes_of_solids`
+        for d >= 3), components in every dimension (a curve's gaps: :func:`.gaps.curve_gaps`).
     spacing : ndarray of shape (n,), optional
         Local spacing per sample (default: nearest-neighbour distances).
     tighten_loops : bool
@@ -205,6 +205,10 @@ def features(
             out += _holes(points, edges, count, h)
         if not no_loops(simplices, edges, tri_edges, count, n):
             out += _handles(points, simplices, edges, tri_edges, count, h, n, tighten_loops)
+    elif d >= 3 and not handles_only:
+        from .solidholes import holes_of_solids  # it builds on this module's Feature and bounds
+
+        out += holes_of_solids(points, simplices, h)
     return out
 
 

@@ -193,7 +193,9 @@ class ConeFill:
         closed = True
         faces = [tuple(f) for f in hole]
         for part in parts_sharing(faces, len(faces[0]) - 1):
-            closed = _is_sphere(part) and self._cone(part, why) and closed
+            # where no cone fits, the Delaunay faces on the part's own samples that bound it (fill_chain.py)
+            done = (_is_sphere(part) and self._cone(part, why)) or self._chain(part, why)
+            closed = done and closed
         return closed
 
     def _cone(self, faces: list[Simplex], why: str) -> bool:

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from .complex import EditableComplex
 from .drop_stray import DropStray
+from .fill_chain import ChainFill
 from .fill_cone import ConeFill
 from .fill_hole import FillHole
 from .insert_sample import SampleInsertion
@@ -31,7 +32,7 @@ from .insert_sample import SampleInsertion
 PATCH_ROUNDS = 5
 
 
-class Patcher(FillHole, ConeFill, DropStray, SampleInsertion, EditableComplex):
+class Patcher(FillHole, ConeFill, ChainFill, DropStray, SampleInsertion, EditableComplex):
     """M_S as an :class:`~.complex.EditableComplex`, with the rules of the last phase as methods."""
 
     def settle(self) -> list[int]:
