@@ -59,3 +59,14 @@ def test_a_disputed_handle_is_a_marker_not_a_loop_through_its_region():
     loop = Feature("handle", np.zeros(3), 9.0, True, np.array([0, 2, 1, 3]), "a loop")
     pts, lines, markers = feature_lines(_rec(), [loop])
     assert len(lines) == 4 and len(markers) == 0
+
+
+def test_a_hole_of_a_3_manifold_is_drawn_as_the_edges_of_its_boundary_faces():
+    """The 3-sphere of a 4-simplex's boundary less the tetrahedron (1 2 3 4): its hole's four faces, six edges."""
+    pts4 = np.vstack([np.eye(4), np.full((1, 4), -0.3)])
+    tets = np.array([[j for j in range(5) if j != i] for i in range(1, 5)])  # every tetrahedron but (1, 2, 3, 4)
+    rec = SimpleNamespace(points=pts4, manifold=tets, d=3)
+    hole = Feature("hole", pts4[1:].mean(axis=0), 2.0, True, np.array([1, 2, 3, 4]), "one missing tetrahedron")
+    pts, lines, markers = feature_lines(rec, [hole])
+    want = {tuple(sorted(map(tuple, pts4[[a, b]].round(6).tolist()))) for a in range(1, 5) for b in range(a + 1, 5)}
+    assert _edges(pts, lines) == want and len(markers) == 0

@@ -46,8 +46,9 @@ def feature_lines(rec, feats: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]
 
     ``points`` (m, k) are the drawn vertices, ``lines`` (e, 2) index them:
     a handle's loop (closed), a hole's rim (the boundary edges of M_S on its
-    samples; for a cap ``open-cap`` kept closed, which has none, the outline
-    of the faces of M_S on its samples) and a component's closest pair.
+    samples; for a 3-manifold the edges of its boundary faces; for a cap
+    ``open-cap`` kept closed, which has none, the outline of the faces of M_S
+    on its samples) and a component's closest pair.
     ``markers`` (c,) index the points drawn as big dots: each component's
     closest approach, each feature's location when it has no vertices (or,
     for a disputed feature, no loop or rim: the region two results differ in).
@@ -71,7 +72,10 @@ def feature_lines(rec, feats: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]
             if rim is None:
                 faces, inc = geo.facets(np.asarray(rec.manifold, dtype=np.int64).reshape(-1, rec.d + 1))
                 rim = faces[np.bincount(inc.ravel(), minlength=len(faces)) == 1]
-            mine = rim[np.isin(rim, vs).all(axis=1)] if rim.shape[1] == 2 else np.zeros((0, 2), np.int64)
+            mine = rim[np.isin(rim, vs).all(axis=1)]
+            if rim.shape[1] > 2:  # a 3-manifold's hole: the edges of its boundary faces (a sphere's wireframe)
+                cols = [mine[:, [a, b]] for a in range(rim.shape[1]) for b in range(a + 1, rim.shape[1])]
+                mine = np.unique(np.sort(np.vstack(cols), axis=1), axis=0) if len(mine) else np.zeros((0, 2), np.int64)
             if not len(mine) and getattr(f, "removed", False) and rim.shape[1] == 2:
                 mine = _cap_outline(np.asarray(rec.manifold, dtype=np.int64), vs)
             if len(mine):
