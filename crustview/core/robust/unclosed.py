@@ -1,0 +1,75 @@
+"""Holes the robust extension's own rule calls gaps but could not close: uncertain, whatever their size.
+
+Why
+---
+``fill-hole`` (:mod:`.fill_hole`) takes a hole of at most FILL_MAX_FACES boundary faces and at most
+FILL_MAX_SPAN sample spacings across for an undersampling gap and closes it; larger holes are real
+openings.  Where it fails (no Delaunay face, ear, cone or chain fits: the complex is folded there) the
+hole stays, and the features (:mod:`crustview.core.analysis.features`) measure it like any other:
+above HOLE_SUPPORTED = 4 spacings it is a *sure* opening.  S^3 in R^4 with noise of 3 % of its reach
+kept a hole of 24 faces 4.9 spacings across that way: the result said "open", with no doubt, of a
+closed sample.  But the extension's own rule had called that hole a gap: its openness is a failure of
+the extension, not something the sample shows.
+
+The rule
+--------
+In a robust result that is not the paper's own, a hole the features call sure is made *uncertain* when
+fill-hole's own bounds call it a gap (measured as fill-hole measures: its boundary faces, and the
+largest distance between two of its samples over the larger of their mean nearest-neighbour distance
+and the median one), unless ``open-cap`` kept it open as a real opening (the labelled path's
+``opened``).  No new constant: the bounds are fill-hole's.  The check never changes M_S.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+from scipy.spatial.distance import pdist
+
+from ..analysis.features import Feature
+from ..paper.facets import facet_structure
+from ..util.nearest import nearest_distances
+from .fill_hole import FILL_MAX_FACES, FILL_MAX_SPAN
+
+
+def unclosed_gaps(points: np.ndarray, manifold: np.ndarray, feats: list[Feature], openings: list) -> list[Feature]:
+    """``feats`` with each sure hole that fill-hole's bounds call a gap made uncertain (module docstring).
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, k)
+    manifold : ndarray of shape (s, d + 1)
+        M_S, d >= 2.
+    feats : list of Feature
+    openings : list of (ndarray of int, float)
+        The openings ``open-cap`` kept open (their samples first); a hole on their samples stays as it is.
+    """
+    sure = [i for i, f in enumerate(feats) if f.kind == "hole" and not f.uncertain and not f.removed]
+    if not sure or len(manifold) == 0:
+        return feats
+    simplices = np.asarray(manifold, dtype=np.int64)
+    faces, facet_of, _, _ = facet_structure(simplices)
+    rim = faces[np.bincount(facet_of.ravel(), minlength=len(faces)) == 1]
+    nn = nearest_distances(points)
+    median = float(np.median(nn[nn > 0])) if (nn > 0).any() else 1.0
+    opened = [set(np.asarray(o[0]).tolist()) for o in openings]
+    out = list(feats)
+    for i in sure:
+        f = feats[i]
+        vs = np.asarray(f.vertices, dtype=np.int64)
+        if len(vs) < 2 or any(o.intersection(vs.tolist()) for o in opened):
+            continue
+        n_faces = int(np.isin(rim, vs).all(axis=1).sum())
+        local = max(float(nn[vs].mean()), median)
+        span = float(pdist(points[vs]).max()) / local
+        if 0 < n_faces <= FILL_MAX_FACES and span <= FILL_MAX_SPAN:
+            out[i] = replace(
+                f,
+                uncertain=True,
+                reason=f"{f.reason} (the extension's fill-hole takes a hole of {n_faces} boundary faces "
+                f"{span:.3g} spacings across for a sampling gap, at most {FILL_MAX_FACES} faces and "
+                f"{FILL_MAX_SPAN:g} spacings, and could not close it: M_S is folded there, and the opening "
+                "may be the extension's, not the object's)",
+            )
+    return out

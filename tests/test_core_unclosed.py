@@ -1,0 +1,45 @@
+"""A hole fill-hole's own bounds call a gap, left open, is uncertain (robust/unclosed.py), on a grid by hand."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from crustview.core.analysis.features import features
+from crustview.core.robust.fill_hole import FILL_MAX_FACES
+from crustview.core.robust.unclosed import unclosed_gaps
+
+
+def _sheet_with_hole(size: int = 30, radius: float = 2.5) -> tuple[np.ndarray, np.ndarray]:
+    """A unit grid of size x size squares, two triangles each, less those within ``radius`` of its middle."""
+    ij = np.array([(i, j) for j in range(size + 1) for i in range(size + 1)], dtype=float)
+    pts = np.c_[ij, np.zeros(len(ij))]
+    v = lambda i, j: j * (size + 1) + i  # noqa: E731
+    tris = []
+    for j in range(size):
+        for i in range(size):
+            tris += [(v(i, j), v(i + 1, j), v(i + 1, j + 1)), (v(i, j), v(i + 1, j + 1), v(i, j + 1))]
+    tris = np.array(tris)
+    middle = np.linalg.norm(pts[tris].mean(axis=1)[:, :2] - size / 2, axis=1)
+    return pts, tris[middle > radius]
+
+
+def test_a_sure_hole_within_fill_holes_bounds_is_uncertain_and_the_outer_rim_is_not() -> None:
+    pts, tris = _sheet_with_hole()
+    holes = [f for f in features(pts, tris, 2) if f.kind == "hole"]
+    assert len(holes) == 2 and not any(f.uncertain for f in holes)  # both sure by their size
+    inner = min(holes, key=lambda f: f.size_spacings)
+    assert inner.size_spacings > 4 and len(inner.vertices) <= FILL_MAX_FACES  # a rim loop: as many edges
+    out = unclosed_gaps(pts, tris, holes, [])
+    flagged = [f for f in out if f.uncertain]
+    assert len(flagged) == 1 and np.allclose(flagged[0].location, inner.location)
+    assert "could not close it" in flagged[0].reason
+    # the outer rim (120 edges, 30 spacings across) is beyond fill-hole's bounds: a real boundary, still sure
+    assert not next(f for f in out if f is not flagged[0]).uncertain
+
+
+def test_an_opening_open_cap_kept_open_stays_sure() -> None:
+    pts, tris = _sheet_with_hole()
+    holes = [f for f in features(pts, tris, 2) if f.kind == "hole"]
+    inner = min(holes, key=lambda f: f.size_spacings)
+    out = unclosed_gaps(pts, tris, holes, [(inner.vertices[:3], 10.0)])
+    assert not any(f.uncertain for f in out)
