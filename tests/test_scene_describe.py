@@ -210,3 +210,25 @@ def test_a_result_that_contradicts_the_files_own_mesh_is_wrong_in_every_verdict(
     assert result_verdict(rec, other.comparison) == ("wrong", words)
     assert report_dict(rec, other.comparison)["verdict"] == {"level": "wrong", "text": words}
     assert result_verdict(rec) == ("sure", "M_S is a closed manifold through every sample")
+
+
+def test_a_noisy_3_sphere_left_open_is_named_a_3_manifold_with_uncertain_holes():
+    """S^3 with noise of 3 % of its reach (the issue's built-in variant): the robust result is open, and says so.
+
+    Before session 35 its holes were not listed (features measured holes of surfaces only) and the verdict
+    called it "a surface with boundary ... an open scan?"; each hole is now an uncertain feature (below 4
+    spacings, or a gap fill-hole could not close), and the shape is named by its dimension.
+    """
+    from crustview.core import reconstruct
+    from crustview.core.samples.manifolds import get_manifold
+
+    m = get_manifold("s3")
+    s = m.sample(m.default_n, seed=5).points
+    pts = s + np.random.default_rng(305).normal(scale=0.03, size=s.shape)  # reach 1: 3 %
+    rec = reconstruct(pts, 3)
+    assert not rec.topology.closed_manifold and rec.topology.boundary_faces > 0
+    holes = [f for f in rec.features if f.kind == "hole"]
+    assert holes and all(f.uncertain for f in holes)
+    level, text = verdict(rec)
+    assert level == "warn" and "3-manifold with boundary" in text and "open scan" not in text
+    assert f"uncertain: 0 handles, {len(holes)} holes" in text

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core import cost_warning, reconstruct, reextract
-from ..scene.describe import boundary_words, kept_open, truth_notes, truth_problems
+from ..scene.describe import boundary_words, kept_open, open_shape, truth_notes, truth_problems
 from ..scene.describe import verdict as describe_verdict
 from ..scene.features import uncertain_features, uncertain_summary
 from ..scene.shapes import name_of
@@ -295,7 +295,7 @@ class RunActions:
         verdict = (
             "closed manifold"
             if t.closed_manifold
-            else f"{'open curve' if rec.d == 1 else 'surface with boundary'} ({boundary_words(rec)})"
+            else f"{open_shape(rec.d)} ({boundary_words(rec)})"
             if is_open
             else f"NOT a closed manifold ({rec.extraction.stopped})"
         )
@@ -342,7 +342,7 @@ class RunActions:
         # over an amber result as the answer)
         shape = name_of(t, rec.d)
         if is_open:  # an open scan's openings kept open: say what it is, not only what it is not
-            shape = f"{'open curve' if rec.d == 1 else 'surface with boundary'} ({boundary_words(rec)})"
+            shape = f"{open_shape(rec.d)} ({boundary_words(rec)})"
         if problems:
             shape += " (WRONG)"
         elif level == "warn" and t.closed_manifold:

@@ -281,6 +281,11 @@ def kept_open(rec: Reconstruction) -> bool:
     return rec.mode == "robust" and not t.closed_manifold and open_surface(t)
 
 
+def open_shape(d: int) -> str:
+    """What a manifold with boundary of dimension ``d`` is called: "open curve", "surface with boundary", ..."""
+    return {1: "open curve", 2: "surface with boundary"}.get(d, f"{d}-manifold with boundary")
+
+
 def boundary_words(rec: Reconstruction) -> str:
     """The boundary in words: "1 hole", "3 holes" (the hole features), or the boundary face count."""
     # not caps kept closed (removed), nor where two answers differ by a hole (disputed: a place, not a hole)
@@ -406,8 +411,9 @@ def _verdict(rec: Reconstruction, truth=None) -> tuple[str, str]:
     if kept_open(rec):
         # the robust extension keeps real openings open (an open scan): a surface with boundary through
         # every sample is a possible right answer, not a failure -- but not the paper's closed manifold
-        what = "an open curve" if rec.d == 1 else "a surface with boundary"
-        return "warn", f"M_S is {what} through every sample ({boundary_words(rec)}: an open scan?" + (
+        what = f"a{'n' if rec.d == 1 else ''} {open_shape(rec.d)}"
+        hint = ": an open scan?" if rec.d <= 2 else ""  # a scan is a curve or a surface
+        return "warn", f"M_S is {what} through every sample ({boundary_words(rec)}{hint}" + (
             f"; {unc})" if unc else ")"
         )
     why = f"extraction stopped: {rec.extraction.stopped}" + (f"; {unc}" if unc else "")
