@@ -67,9 +67,9 @@ def unclosed_gaps(points: np.ndarray, manifold: np.ndarray, feats: list[Feature]
             out[i] = replace(
                 f,
                 uncertain=True,
-                reason=f"{f.reason} (the extension's fill-hole takes a hole of {n_faces} boundary faces "
-                f"{span:.3g} spacings across for a sampling gap, at most {FILL_MAX_FACES} faces and "
-                f"{FILL_MAX_SPAN:g} spacings, and could not close it: M_S is folded there, and the opening "
+                reason=f"{f.reason} (by fill-hole's own measure, {n_faces} faces and {span:.3g} nearest-neighbour "
+                f"spacings across, within its bounds for a sampling gap, {FILL_MAX_FACES} faces and "
+                f"{FILL_MAX_SPAN:g} spacings; it could not close it: M_S is folded there, and the opening "
                 "may be the extension's, not the object's)",
             )
     return out
