@@ -24,6 +24,7 @@ from .analysis.planar import planar_holes
 from .analysis.resample import Resampled, resample_check
 from .prepare import DEFAULT_JOGGLE
 from .result import Reconstruction, TopologyReport
+from .robust.closed_caps import paper_caps
 from .robust.unclosed import unclosed_gaps
 from .steps import RULE_PRUNE, RULE_RESOLVE, Extraction
 from .util.parallel import start_in_background
@@ -128,6 +129,9 @@ def result_features(
         # piece sampled only at its ends (analysis/gaps.py)
         gaps = curve_gaps(rec.points / scale, manifold)
         feats += straight_gaps([replace(f, location=f.location * scale) for f in gaps])
+    if mode == "paper" and (rec.k, rec.d) == (3, 2) and topo.closed_manifold:
+        # the paper's loop closes every opening: its caps, measured as open-cap measures them (robust/closed_caps.py)
+        feats += [replace(f, location=f.location * scale) for f in paper_caps(rec.points / scale, manifold)]
     if mode == "robust" and rec.d >= 2 and _beyond(counts):
         # a hole fill-hole's own bounds call a gap, left open where it could not close it (robust/unclosed.py)
         feats = unclosed_gaps(rec.points, manifold, feats, getattr(ext, "opened", []))

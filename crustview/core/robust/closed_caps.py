@@ -1,0 +1,75 @@
+"""Caps over possible openings in a closed result of the paper's loop: the same measure ``open-cap`` uses.
+
+Why
+---
+The paper's Algorithm 3 reconstructs closed manifolds: on an open scan its M_S, when it closes at all,
+spans every opening with a cap of large faces (the owl's open base: a closed surface of genus 0, judged
+wrong, with no uncertain feature in the paper mode's table).  The robust extension measures such caps
+(``open-cap``, :mod:`.cells`): a patch of at least OPEN_MIN_FACES faces each larger than SIZE_MAX local
+spacings, whose largest face is more than CAP_RATIO times the faces around it (more than an eps-sample's
+sampling radius can change over one radius) and more than CAP_TYPICAL times the faces of M_S in general,
+spans a part of space where the sample shows no surface.
+
+The rule
+--------
+A closed M_S of the paper mode (its own loop; the paper's result is never changed) gets one uncertain
+``hole`` feature per such cap, marked ``removed`` as a cap ``open-cap`` keeps closed is (a possible
+opening that is not a hole of M_S), at the cap's samples.  No new constant: the bounds are open-cap's.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..analysis.features import Feature
+from ..analysis.radii import enclosing_radii
+from ..util.nearest import nearest_distances
+from .cells import CAP_RATIO, CAP_TYPICAL, cap_patches, cap_ratios, typical_ratios
+from .grow import SIZE_MAX, size_ratio
+
+
+def paper_caps(points: np.ndarray, triangles: np.ndarray) -> list[Feature]:
+    """Uncertain, removed ``hole`` features for the caps of a closed surface M_S (see the module docstring).
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, 3)
+    triangles : ndarray of shape (t, 3)
+        A closed M_S in R^3.
+    """
+    faces = np.asarray(triangles, dtype=np.int64)
+    if len(faces) == 0:
+        return []
+    patches = cap_patches(faces, size_ratio(points, faces) > SIZE_MAX, len(points))
+    if not patches:
+        return []
+    radii = enclosing_radii(points, faces)
+    ratios = cap_ratios(faces, patches, points, radii)
+    typical = typical_ratios(faces, patches, radii)
+    nn = nearest_distances(points)
+    out = []
+    for p, q, t in zip(patches, ratios, typical, strict=True):
+        if q <= CAP_RATIO or t <= CAP_TYPICAL:
+            continue
+        vs = np.unique(faces[p])
+        pts = points[vs]
+        span = float(np.max(np.linalg.norm(pts - pts.mean(axis=0), axis=1)) * 2)
+        h = float(np.median(nn[vs]))
+        size = span / h if h > 0 else math.inf
+        out.append(
+            Feature(
+                "hole",
+                pts.mean(axis=0),
+                size,
+                True,
+                vs,
+                f"a possible opening the paper's loop closed: a cap of {len(p)} faces on {len(vs)} samples, "
+                f"{size:.3g} spacings across, its faces {q:.2g} times the size of those around it (more than the "
+                f"{CAP_RATIO:g} a surface's sampling can change by over one radius): the sample shows no surface "
+                "there, and Algorithm 3 closes every opening",
+                removed=True,
+            )
+        )
+    return out

@@ -1,0 +1,28 @@
+"""The paper's loop closes every opening; its caps are named as possible openings (robust/closed_caps.py)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from crustview.core import reconstruct
+from crustview.core.samples.manifolds import get_manifold
+from crustview.core.steps import RULE_PRUNE, RULE_RESOLVE
+
+
+def test_the_cap_over_a_cut_sphere_is_a_possible_opening_and_the_whole_sphere_has_none() -> None:
+    """The unit sphere's even sample cut at z = 0.5 (745 of 1,000 samples): the paper's loop gives a closed
+    genus-0 surface through every sample, its cap spanning the cut; the paper mode now says so."""
+    m = get_manifold("sphere")
+    pts = m.sample(1000, seed=0).points
+    whole = reconstruct(pts, 2, mode="paper")
+    assert whole.topology.closed_manifold and whole.uncertain_features == []
+    cut = pts[pts[:, 2] < 0.5]
+    rec = reconstruct(cut, 2, mode="paper")
+    t = rec.topology
+    assert t.closed_manifold and t.unused_samples == 0 and t.betti == (1, 0, 1)  # the paper's answer, unchanged
+    assert set(rec.extraction.counts_by_rule()) <= {RULE_PRUNE, RULE_RESOLVE}
+    (cap,) = rec.uncertain_features
+    assert cap.kind == "hole" and cap.removed and "possible opening" in cap.reason
+    # at the cut: its samples lie near z = 0.5, around the disc the cut leaves (radius sqrt(0.75) = 0.87)
+    assert abs(cap.location[2] - 0.5) < 0.1 and np.hypot(*cap.location[:2]) < 0.2
+    assert cap.size_spacings > 10  # the disc's diameter, 1.7, over the sample's spacing, about 0.1
