@@ -26,3 +26,14 @@ def test_the_cap_over_a_cut_sphere_is_a_possible_opening_and_the_whole_sphere_ha
     # at the cut: its samples lie near z = 0.5, around the disc the cut leaves (radius sqrt(0.75) = 0.87)
     assert abs(cap.location[2] - 0.5) < 0.1 and np.hypot(*cap.location[:2]) < 0.2
     assert cap.size_spacings > 10  # the disc's diameter, 1.7, over the sample's spacing, about 0.1
+
+
+def test_the_default_mode_returns_the_papers_cut_sphere_and_names_its_cap() -> None:
+    """Robust mode returns the paper's closed result unchanged (the issue's rule), and no longer as sure."""
+    m = get_manifold("sphere")
+    pts = m.sample(1000, seed=0).points
+    cut = pts[pts[:, 2] < 0.5]
+    paper, robust = reconstruct(cut, 2, mode="paper"), reconstruct(cut, 2)
+    assert np.array_equal(np.sort(paper.manifold, axis=1), np.sort(robust.manifold, axis=1))
+    assert [f.kind for f in robust.uncertain_features] == ["hole"]
+    assert "possible opening" in robust.uncertain_features[0].reason

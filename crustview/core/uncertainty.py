@@ -88,6 +88,14 @@ def result_features(
         adjacency = None if lab is None or lab.simplices is not rec.delaunay_simplices else (lab.a, lab.b, lab.faces)
         ahead = (rec.k, rec.d) == (3, 2) and topo.betti[1] > 0
         voids = start_in_background(enclosure_voids, *cells, rec.n, adjacency) if ahead else None
+    # the paper's loop closes every opening: a closed result of its own (either mode) gets its caps named,
+    # measured as open-cap measures them (robust/closed_caps.py); before waiting on the features measured
+    # on the other core, so that the two overlap
+    caps = (
+        paper_caps(rec.points / scale, manifold)
+        if (rec.k, rec.d) == (3, 2) and topo.closed_manifold and not _beyond(counts)
+        else []
+    )
     # the robust driver began measuring the paper's own result while it analysed it (the same call)
     if ext.features is not None:
         measured = ext.features
@@ -129,9 +137,7 @@ def result_features(
         # piece sampled only at its ends (analysis/gaps.py)
         gaps = curve_gaps(rec.points / scale, manifold)
         feats += straight_gaps([replace(f, location=f.location * scale) for f in gaps])
-    if mode == "paper" and (rec.k, rec.d) == (3, 2) and topo.closed_manifold:
-        # the paper's loop closes every opening: its caps, measured as open-cap measures them (robust/closed_caps.py)
-        feats += [replace(f, location=f.location * scale) for f in paper_caps(rec.points / scale, manifold)]
+    feats += [replace(f, location=f.location * scale) for f in caps]
     if mode == "robust" and rec.d >= 2 and _beyond(counts):
         # a hole fill-hole's own bounds call a gap, left open where it could not close it (robust/unclosed.py)
         feats = unclosed_gaps(rec.points, manifold, feats, getattr(ext, "opened", []))

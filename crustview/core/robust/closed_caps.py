@@ -1,4 +1,4 @@
-"""Caps over possible openings in a closed result of the paper's loop: the same measure ``open-cap`` uses.
+"""Caps over possible openings in a closed result of the paper's loop: the measure ``open-cap`` uses.
 
 Why
 ---
@@ -12,8 +12,10 @@ spans a part of space where the sample shows no surface.
 
 The rule
 --------
-A closed M_S of the paper mode (its own loop; the paper's result is never changed) gets one uncertain
-``hole`` feature per such cap, marked ``removed`` as a cap ``open-cap`` keeps closed is (a possible
+A closed M_S of the paper's own loop, in either mode (the robust mode returns the paper's result
+unchanged whenever it is a closed manifold through every sample: the unit sphere's sample cut at
+z = 0.5 came out that way, green, an open object called closed for sure), gets one uncertain ``hole``
+feature per such cap, marked ``removed`` as a cap ``open-cap`` keeps closed is (a possible
 opening that is not a hole of M_S), at the cap's samples.  No new constant: the bounds are open-cap's.
 """
 
