@@ -5,7 +5,9 @@ give the smallest radius of curvature, distant ones half the narrowest bottlenec
 circles, the trefoil's strands), taken here over the pairs of a dense sample with its own tangent spaces
 (``Sample.tangents``).  Checked against the analytic values: sphere 1.000 (1), ellipse 0.250
 (b^2 / a = 0.25), torus 0.450 (its tube radius), the Clifford torus 0.707 (1 / sqrt 2), S^3 1.000, the
-unit circle 0.989 (1; its sampled tangents are 1 % off).  ``bench_variants.py`` prints the values it uses.
+unit circle 1.000 (1).  Pairs closer than CLOSE of the sample's size are left out: their
+|v|^2 - |v along T|^2 loses its digits to cancellation (a pair 2e-7 apart gave the circle 0.989).
+``bench_variants.py`` prints the values it uses.
 
 Run: ``python benchmarks/_reach.py`` prints every built-in's estimate.
 """
@@ -19,6 +21,8 @@ from crustview.core.samples.manifolds import MANIFOLDS, get_manifold
 #: Points of the dense sample by the manifold's dimension (curves, surfaces, 3-manifolds): pairs are
 #: examined all against all, in blocks.
 DENSE = {1: 4000, 2: 6000, 3: 8000}
+#: Pairs closer than this fraction of the sample's bounding-box size are not used (see the module docstring).
+CLOSE = 1e-4
 
 
 def reach(name: str, seed: int = 0) -> float:
@@ -26,6 +30,7 @@ def reach(name: str, seed: int = 0) -> float:
     m = get_manifold(name)
     s = m.sample(DENSE[m.d], seed=seed, method="random")
     p, t = s.points, s.tangents  # t: (n, k, d), orthonormal columns
+    close2 = (CLOSE * float(np.ptp(p, axis=0).max())) ** 2
     best = np.inf
     for i0 in range(0, len(p), 256):
         x, tx = p[i0 : i0 + 256], t[i0 : i0 + 256]
@@ -34,7 +39,8 @@ def reach(name: str, seed: int = 0) -> float:
         normal2 = np.maximum((v * v).sum(-1) - (along * along).sum(-1), 0.0)
         length2 = (v * v).sum(-1)
         with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(normal2 > 1e-18 * np.maximum(length2, 1e-300), length2 / (2 * np.sqrt(normal2)), np.inf)
+            ok = (length2 > close2) & (normal2 > 0)
+            ratio = np.where(ok, length2 / (2 * np.sqrt(normal2)), np.inf)
         best = min(best, float(ratio.min()))
     return best
 

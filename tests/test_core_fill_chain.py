@@ -47,15 +47,35 @@ def test_a_hole_of_two_spheres_sharing_an_edge_is_closed_by_the_faces_that_bound
     assert any("Delaunay faces on its own samples that bound it" in entry[-1] for entry in pt.log)
 
 
-def test_the_chain_closes_a_sphere_no_cone_fits_and_adds_nothing_where_none_bounds_it() -> None:
+def test_the_chain_closes_a_two_tetrahedron_hole_and_adds_nothing_where_the_faces_are_not_offered() -> None:
     pts, tets = _cross_polytope()
     gone = [(0, 2, 4, 6), (0, 2, 4, 7)]  # two tetrahedra sharing a face: a hole of 6 faces, a sphere
     pt = Patcher(pts, [t for t in tets if t not in gone], np.array(tets), 1.0)
     (hole,) = pt.holes()
     assert pt._chain([tuple(f) for f in hole], "test hole") and _alive(pt) == sorted(tets)
-    # the same hole with only one of the two tetrahedra offered: no chain of them bounds it, nothing is added
+    # the same hole with one of the two tetrahedra not offered: three of its faces have no candidate, nothing is added
     pt = Patcher(pts, [t for t in tets if t not in gone], np.array([t for t in tets if t != gone[1]]), 1.0)
     before = _alive(pt)
     (hole,) = pt.holes()
     assert not pt._chain([tuple(f) for f in hole], "test hole")
     assert _alive(pt) == before and pt.log == []
+
+
+def test_fill_cone_falls_back_to_the_chain_where_the_hole_is_no_sphere() -> None:
+    """The hook in ``ConeFill._fill_cone``: two spheres sharing an edge get no cone, and the chain closes them."""
+    pts, tets = _cross_polytope()
+    gone = [(0, 2, 4, 6), (0, 2, 5, 7)]
+    pt = Patcher(pts, [t for t in tets if t not in gone], np.array(tets), 1.0)
+    (hole,) = pt.holes()
+    assert pt._fill_cone([tuple(f) for f in hole], "test hole")
+    assert _alive(pt) == sorted(tets) and all("bound it" in entry[-1] for entry in pt.log)
+
+
+def test_the_chain_leaves_an_opening_open_cap_kept_alone() -> None:
+    """A hole whose faces open-cap kept open (``keep_open``) is a real opening: no chain closes it."""
+    pts, tets = _cross_polytope()
+    gone = [(0, 2, 4, 6), (0, 2, 5, 7)]
+    pt = Patcher(pts, [t for t in tets if t not in gone], np.array(tets), 1.0)
+    (hole,) = pt.holes()
+    pt.keep_open = frozenset(pt.boundary())
+    assert not pt._chain([tuple(f) for f in hole], "test hole") and pt.log == []

@@ -29,7 +29,7 @@ def test_a_sure_hole_within_fill_holes_bounds_is_uncertain_and_the_outer_rim_is_
     assert len(holes) == 2 and not any(f.uncertain for f in holes)  # both sure by their size
     inner = min(holes, key=lambda f: f.size_spacings)
     assert inner.size_spacings > 4 and len(inner.vertices) <= FILL_MAX_FACES  # a rim loop: as many edges
-    out = unclosed_gaps(pts, tris, holes, [])
+    out = unclosed_gaps(pts, tris, holes, [], 1.0)
     flagged = [f for f in out if f.uncertain]
     assert len(flagged) == 1 and np.allclose(flagged[0].location, inner.location)
     assert "could not close it" in flagged[0].reason and "within its bounds" in flagged[0].reason
@@ -41,5 +41,5 @@ def test_an_opening_open_cap_kept_open_stays_sure() -> None:
     pts, tris = _sheet_with_hole()
     holes = [f for f in features(pts, tris, 2) if f.kind == "hole"]
     inner = min(holes, key=lambda f: f.size_spacings)
-    out = unclosed_gaps(pts, tris, holes, [(inner.vertices[:3], 10.0)])
+    out = unclosed_gaps(pts, tris, holes, [(inner.vertices[:3], 10.0)], 1.0)
     assert not any(f.uncertain for f in out)

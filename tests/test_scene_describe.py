@@ -212,14 +212,16 @@ def test_a_result_that_contradicts_the_files_own_mesh_is_wrong_in_every_verdict(
     assert result_verdict(rec) == ("sure", "M_S is a closed manifold through every sample")
 
 
-def test_a_noisy_3_sphere_left_open_is_named_a_3_manifold_with_uncertain_holes():
+def test_a_noisy_3_sphere_left_open_says_so_and_names_its_holes():
     """S^3 with noise of 3 % of its reach (the issue's built-in variant): the robust result is open, and says so.
 
     Before session 35 its holes were not listed (features measured holes of surfaces only) and the verdict
-    called it "a surface with boundary ... an open scan?"; each hole is now an uncertain feature (below 4
-    spacings, or a gap fill-hole could not close), and the shape is named by its dimension.
+    called it "a surface with boundary ... an open scan?".  Each hole is now an uncertain feature (below 4
+    spacings, or a gap fill-hole could not close); and since 9 of its rim samples have links that are no
+    disc (annuli), it is no manifold with boundary either: NOT a closed manifold, in red.
     """
     from crustview.core import reconstruct
+    from crustview.core.analysis.solidholes import pinched_rim_vertices
     from crustview.core.samples.manifolds import get_manifold
 
     m = get_manifold("s3")
@@ -229,6 +231,31 @@ def test_a_noisy_3_sphere_left_open_is_named_a_3_manifold_with_uncertain_holes()
     assert not rec.topology.closed_manifold and rec.topology.boundary_faces > 0
     holes = [f for f in rec.features if f.kind == "hole"]
     assert holes and all(f.uncertain for f in holes)
+    assert len(pinched_rim_vertices(rec.manifold)) > 0
     level, text = verdict(rec)
-    assert level == "warn" and "3-manifold with boundary" in text and "open scan" not in text
+    assert level == "bad" and "NOT a closed manifold" in text and "surface" not in text
     assert f"uncertain: 0 handles, {len(holes)} holes" in text
+
+
+def test_a_3_sphere_less_one_tetrahedron_is_a_3_manifold_with_boundary(s3_run):
+    """The clean S^3 less one tetrahedron: every rim sample's link its old 2-sphere less a triangle, a disc.
+
+    Named by its dimension.  (Keeping the simplices whose centroid has x > 0 instead pinches 6 rim samples,
+    whose links are no discs: no manifold, which :func:`pinched_rim_vertices` finds.)
+    """
+    from dataclasses import replace
+
+    from crustview.core.analysis.features import features
+    from crustview.core.analysis.solidholes import pinched_rim_vertices
+    from crustview.core.analysis.topology import analyse
+
+    rec, _ = s3_run
+    ms = np.asarray(rec.manifold)
+    assert len(pinched_rim_vertices(ms[rec.points[ms].mean(axis=1)[:, 0] > 0])) > 0
+    half = ms[1:]
+    assert len(pinched_rim_vertices(half)) == 0
+    top = analyse(half, rec.n, 3)
+    ball = replace(rec, manifold=half, topology=top, features=features(rec.points, half, 3))
+    level, text = verdict(ball)
+    assert level == "warn" and "M_S is a 3-manifold with boundary through every sample (1 hole" in text
+    assert "open scan" not in text

@@ -140,10 +140,11 @@ def result_features(
     feats += [replace(f, location=f.location * scale) for f in caps]
     if mode == "robust" and rec.d >= 2 and _beyond(counts):
         # a hole fill-hole's own bounds call a gap, left open where it could not close it (robust/unclosed.py)
-        feats = unclosed_gaps(rec.points, manifold, feats, getattr(ext, "opened", []))
-    if mode == "robust" and rec.k - rec.d == 1 and rec.d >= 2 and _beyond(counts):
+        feats = unclosed_gaps(rec.points, manifold, feats, getattr(ext, "opened", []), rec.spacing)
+    if mode == "robust" and (rec.k, rec.d) == (3, 2) and _beyond(counts):
         # a sure hole over a planar rim: a planar cut, or a flat face sampled only on its outline (CAD,
-        # decimation); the sample does not tell them apart (analysis/planar.py)
+        # decimation); the sample does not tell them apart (analysis/planar.py).  Surfaces only: a 3-manifold's
+        # rim, a 2-sphere, always lies in a hyperplane of R^4, and scans are surfaces
         feats = planar_holes(rec.points, feats, rec.spacing, manifold)
     if contacts and mode == "robust" and (rec.k, rec.d) == (3, 2) and _beyond(counts):
         # parts held together only by faces that stand across the normals: a contact no rule decided

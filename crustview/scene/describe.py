@@ -260,7 +260,7 @@ def interpretation_rows(rec: Reconstruction) -> list[tuple[str, str, str]]:
 
 
 def open_surface(t) -> bool:
-    """A surface with boundary through every sample: boundary faces, no face in more than two simplices.
+    """A manifold with boundary through every sample: boundary faces, no face in more than two simplices.
 
     (Pinched vertices are counted only on complexes without boundary, by
     :func:`~crustview.core.analysis.topology.analyse`; the robust extension
@@ -276,9 +276,20 @@ def open_surface(t) -> bool:
 
 
 def kept_open(rec: Reconstruction) -> bool:
-    """A robust result that is a surface with boundary through every sample (:func:`open_surface`)."""
+    """A robust result that is a manifold with boundary through every sample (:func:`open_surface`).
+
+    For d >= 3 also every boundary sample's link a disc
+    (:func:`~crustview.core.analysis.solidholes.pinched_rim_vertices`): the report counts pinched vertices
+    on closed complexes only, and a noisy S^3 left open had rim samples whose links were annuli.
+    """
     t = rec.topology
-    return rec.mode == "robust" and not t.closed_manifold and open_surface(t)
+    if rec.mode != "robust" or t.closed_manifold or not open_surface(t):
+        return False
+    if rec.d >= 3:
+        from ..core.analysis.solidholes import pinched_rim_vertices
+
+        return len(pinched_rim_vertices(np.asarray(rec.manifold))) == 0
+    return True
 
 
 def open_shape(d: int) -> str:

@@ -72,7 +72,7 @@ def feature_lines(rec, feats: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]
             if rim is None:
                 faces, inc = geo.facets(np.asarray(rec.manifold, dtype=np.int64).reshape(-1, rec.d + 1))
                 rim = faces[np.bincount(inc.ravel(), minlength=len(faces)) == 1]
-            mine = rim[np.isin(rim, vs).all(axis=1)]
+            mine = rim[np.isin(rim, vs).all(axis=1)] if rim.shape[1] >= 2 else np.zeros((0, 2), np.int64)
             if rim.shape[1] > 2:  # a 3-manifold's hole: the edges of its boundary faces (a sphere's wireframe)
                 cols = [mine[:, [a, b]] for a in range(rim.shape[1]) for b in range(a + 1, rim.shape[1])]
                 mine = np.unique(np.sort(np.vstack(cols), axis=1), axis=0) if len(mine) else np.zeros((0, 2), np.int64)

@@ -17,13 +17,14 @@ can bound it: a set X of them whose boundary (mod 2) is the hole.  Over Z/2 this
 number", solved by Gaussian elimination (each face's row a Python integer, a bit per candidate).  A
 candidate may only use faces that are the hole's own (each in one simplex of M_S now) or in no simplex of
 M_S; among the system's solutions (the particular one plus up to :data:`CHAIN_KERNEL` independent closed
-chains of candidates) the smallest that gives each new inner face exactly two simplices, keeps every
-simplex orientable with its neighbours (codimension 1) and every sample's link unpinched is kept; if none
-does, nothing is added.  No fold limit applies: the hole is one that ``fill-hole`` closes anyway (at most
-FILL_MAX_FACES faces and FILL_MAX_SPAN spacings), and the Delaunay faces on its own samples are the
-restricted-Delaunay answer there, as the surfaces' first try (:meth:`.fill_hole.FillHole._fill_delaunay`)
-is.  Its steps are ``fill-hole`` steps; the methods are mixed into
-:class:`crustview.core.robust.patcher.Patcher`.
+chains of candidates) the smallest that gives each new inner face exactly two simplices, adds no inner
+edge the complex already has (a second ring of simplices around it), keeps every simplex orientable with
+its neighbours (codimension 1) and every sample's link unpinched is kept; if none does, nothing is added.
+No fold limit applies: the hole must be one that ``fill-hole`` takes for a gap (at most FILL_MAX_FACES
+faces and FILL_MAX_SPAN spacings, checked again here since an erosion widens holes, and no opening
+``open-cap`` kept), and the Delaunay faces on its own samples are the restricted-Delaunay answer there,
+as the surfaces' first try (:meth:`.fill_hole.FillHole._fill_delaunay`) is.  Its steps are ``fill-hole``
+steps; the methods are mixed into :class:`crustview.core.robust.patcher.Patcher`.
 """
 
 from __future__ import annotations
@@ -31,15 +32,19 @@ from __future__ import annotations
 import itertools
 import math
 
+from scipy.spatial.distance import pdist
+
 from .complex import Simplex, _facets
+from .fill_hole import FILL_MAX_FACES, FILL_MAX_SPAN
 
 #: Largest number of candidate simplices for the Z/2 system (a hole of at most FILL_MAX_FACES = 50 faces
 #: has far fewer Delaunay d-faces on its samples; a bound on the work, not a tuned value).
 CHAIN_MAX = 400
-#: Independent closed chains of candidates combined with the particular solution: 2^4 = 16 tries at most.
-#: A closed chain on a hole's own samples is a whole small sphere of Delaunay faces (the five tetrahedra of
-#: a 4-simplex's boundary); a few cover every hole met, and each try is cheap.
-CHAIN_KERNEL = 4
+#: Independent closed chains of candidates combined with the particular solution: 2^8 = 256 tries at most
+#: (a bound on the work, no tuned value).  A closed chain on a hole's own samples is a whole small sphere of
+#: Delaunay faces (the five tetrahedra of a 4-simplex's boundary); an octahedral hole of 6 samples already has
+#: 5 of them, and a try that fails the face counts costs a few dictionary lookups.
+CHAIN_KERNEL = 8
 
 
 def _solve_gf2(rows: list[int], rhs: list[int], ncols: int) -> tuple[int, list[int]] | None:
@@ -85,6 +90,14 @@ class ChainFill:
         """Close the hole ``faces`` by Delaunay d-faces on its samples that bound it; False if none fits."""
         verts = {v for f in faces for v in f}
         hole = set(faces)
+        # only a hole fill-hole itself takes for a gap (the erosion widens holes past its bounds), never
+        # an opening open-cap kept (the module docstring's reason for no fold limit holds only there)
+        if len(faces) > FILL_MAX_FACES or (self.keep_open and not hole.isdisjoint(self.keep_open)):
+            return False
+        p = self.points[sorted(verts)]
+        local = max(float(self.nn[sorted(verts)].mean()), self.spacing)
+        if len(p) > 1 and float(pdist(p).max()) > FILL_MAX_SPAN * local:
+            return False
         cand: set[Simplex] = set()
         for v in verts:
             for fi in self.vfaces[self.vptr[v] : self.vptr[v + 1]]:
@@ -133,6 +146,13 @@ class ChainFill:
                 count[f] = count.get(f, 0) + 1
         if any(c != (1 if f in hole else 2) for f, c in count.items()):
             return False
+        # a new edge inside the chain (on no hole face) that the complex already has would get a second ring
+        # of simplices around it, pinching its ends (the cone refuses the same, fill_cone.py)
+        rim_edges = {e for f in hole for e in itertools.combinations(f, 2)}
+        inner = {e for s in chosen for e in itertools.combinations(s, 2)} - rim_edges
+        for a, b in inner:
+            if any(b in self.simp[i] for i in self._star(a)):
+                return False
         mark = len(self.log)
         left = list(chosen)
         while left:  # each simplex next to one already there: orientations propagate from the rim

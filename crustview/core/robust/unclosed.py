@@ -16,7 +16,7 @@ The rule
 In a robust result that is not the paper's own, a hole the features call sure is made *uncertain* when
 fill-hole's own bounds call it a gap (measured as fill-hole measures: its boundary faces, and the
 largest distance between two of its samples over the larger of their mean nearest-neighbour distance
-and the median one), unless ``open-cap`` kept it open as a real opening (the labelled path's
+and the sample's median one), unless ``open-cap`` kept it open as a real opening (the labelled path's
 ``opened``).  No new constant: the bounds are fill-hole's.  The check never changes M_S.
 """
 
@@ -25,15 +25,17 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
+from scipy.spatial import cKDTree
 from scipy.spatial.distance import pdist
 
 from ..analysis.features import Feature
 from ..paper.facets import facet_structure
-from ..util.nearest import nearest_distances
 from .fill_hole import FILL_MAX_FACES, FILL_MAX_SPAN
 
 
-def unclosed_gaps(points: np.ndarray, manifold: np.ndarray, feats: list[Feature], openings: list) -> list[Feature]:
+def unclosed_gaps(
+    points: np.ndarray, manifold: np.ndarray, feats: list[Feature], openings: list, spacing: float
+) -> list[Feature]:
     """``feats`` with each sure hole that fill-hole's bounds call a gap made uncertain (module docstring).
 
     Parameters
@@ -44,32 +46,45 @@ def unclosed_gaps(points: np.ndarray, manifold: np.ndarray, feats: list[Feature]
     feats : list of Feature
     openings : list of (ndarray of int, float)
         The openings ``open-cap`` kept open (their samples first); a hole on their samples stays as it is.
+    spacing : float
+        The sample's median nearest-neighbour distance (fill-hole's ``spacing``).
     """
-    sure = [i for i, f in enumerate(feats) if f.kind == "hole" and not f.uncertain and not f.removed]
+    opened = [set(np.asarray(o[0]).tolist()) for o in openings]
+    # the openings open-cap kept are real boundary: only the other sure holes are measured
+    sure = [
+        i
+        for i, f in enumerate(feats)
+        if f.kind == "hole"
+        and not f.uncertain
+        and not f.removed
+        and len(f.vertices) >= 2
+        and not any(o.intersection(np.asarray(f.vertices).tolist()) for o in opened)
+    ]
     if not sure or len(manifold) == 0:
         return feats
     simplices = np.asarray(manifold, dtype=np.int64)
     faces, facet_of, _, _ = facet_structure(simplices)
     rim = faces[np.bincount(facet_of.ravel(), minlength=len(faces)) == 1]
-    nn = nearest_distances(points)
-    median = float(np.median(nn[nn > 0])) if (nn > 0).any() else 1.0
-    opened = [set(np.asarray(o[0]).tolist()) for o in openings]
+    tree = None
     out = list(feats)
     for i in sure:
         f = feats[i]
         vs = np.asarray(f.vertices, dtype=np.int64)
-        if len(vs) < 2 or any(o.intersection(vs.tolist()) for o in opened):
-            continue
         n_faces = int(np.isin(rim, vs).all(axis=1).sum())
-        local = max(float(nn[vs].mean()), median)
+        if not 0 < n_faces <= FILL_MAX_FACES:  # counted first: a long rim is a real opening, and pdist is quadratic
+            continue
+        if tree is None:
+            tree = cKDTree(points)
+        nn = tree.query(points[vs], k=2)[0][:, 1]
+        local = max(float(nn.mean()), spacing)
         span = float(pdist(points[vs]).max()) / local
-        if 0 < n_faces <= FILL_MAX_FACES and span <= FILL_MAX_SPAN:
+        if span <= FILL_MAX_SPAN:
             out[i] = replace(
                 f,
                 uncertain=True,
                 reason=f"{f.reason} (by fill-hole's own measure, {n_faces} faces and {span:.3g} nearest-neighbour "
                 f"spacings across, within its bounds for a sampling gap, {FILL_MAX_FACES} faces and "
-                f"{FILL_MAX_SPAN:g} spacings; it could not close it: M_S is folded there, and the opening "
-                "may be the extension's, not the object's)",
+                f"{FILL_MAX_SPAN:g} spacings; it could not close it (a fold of M_S there, or no closing its rules "
+                "try): the opening may be the extension's, not the object's)",
             )
     return out
