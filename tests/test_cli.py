@@ -69,7 +69,7 @@ def get_points(name, n):
         ("vector.npy", 1, ["vector.npy", "2-D"]),  # wrong shape
         ("nan.csv", 1, ["nan.csv", "NaN"]),
         ("plane.npy", 2, ["between 1 and k-1", "got d = 2"]),  # d out of range: d = k
-        ("few.txt", 2, ["few.txt: need at least k + 2 = 5 points", "got 3"]),  # fewer than k + 2 samples: which file
+        ("few.txt", 2, ["few.txt: too few points: 3", "need at least 5"]),  # fewer than k + 2 samples: which file
     ],
 )
 def test_reconstruct_bad_input_is_one_line(bad_files, tmp_path, file, d, fragments):

@@ -168,9 +168,9 @@ def test_a_failed_row_names_its_file_once():
     row = {
         "file": "/data/few.txt",
         "status": "failed",
-        "error": "few.txt: need at least k + 2 = 5 points in R^3; got 3",
+        "error": "few.txt: too few points: 3; points in R^3 need at least 5 (k + 2) for a reconstruction",
     }
-    assert row_line(row) == "few.txt: FAILED: need at least k + 2 = 5 points in R^3; got 3"
+    assert row_line(row) == "few.txt: FAILED: too few points: 3; points in R^3 need at least 5 (k + 2) for a reconstruction"
     row["error"] = "Cannot read '/data/few.txt': the file does not exist."
     assert row_line(row) == "few.txt: FAILED: Cannot read '/data/few.txt': the file does not exist."
 

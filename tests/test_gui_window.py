@@ -224,7 +224,7 @@ def test_bad_file_shows_error_and_keeps_previous_result(qtbot, window, tmp_path)
     assert window.open_file(few, d=2)
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=30_000)
     assert window.last_error and "Traceback" not in window.last_error
-    assert "at least k + 2 = 5 points" in window.last_error
+    assert "need at least 5 (k + 2)" in window.last_error
     assert window.error_box.isVisible()
     assert window.model.rec is rec and window.model.player.position == 3
     assert window.view.adapters["manifold"].part.n_cells == cells

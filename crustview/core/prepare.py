@@ -186,7 +186,7 @@ def validate(points: np.ndarray, d: int) -> np.ndarray:
             "counting from 0); remove them"
         )
     if n < k + 2:
-        raise InputError(f"need at least k + 2 = {k + 2} points in R^{k}; got {n}")
+        raise InputError(f"too few points: {n}; points in R^{k} need at least {k + 2} (k + 2) for a reconstruction")
     return pts
 
 

@@ -13,7 +13,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from ..paper.facets import facet_structure
+from ..util.rows import unique_rows
 from .features import HOLE_SUPPORTED, LOOP_MIN, Feature
 
 
@@ -33,8 +33,7 @@ def holes_of_solids(points: np.ndarray, simplices: np.ndarray, h: np.ndarray) ->
     n = len(points)
     if len(simplices) == 0 or w < 4:
         return []
-    faces, facet_of, _, _ = facet_structure(simplices)
-    rim = faces[np.bincount(facet_of.ravel(), minlength=len(faces)) == 1]
+    rim = rim_faces(simplices)
     if len(rim) == 0:
         return []
     # the faces of one hole share vertices: each face's vertices joined to its first
@@ -61,6 +60,14 @@ def holes_of_solids(points: np.ndarray, simplices: np.ndarray, h: np.ndarray) ->
     return result
 
 
+def rim_faces(simplices: np.ndarray) -> np.ndarray:
+    """The (d - 1)-faces in exactly one simplex of a pure d-complex, as sorted rows."""
+    srt = np.sort(np.asarray(simplices, dtype=np.int64), axis=1)
+    w = srt.shape[1]
+    faces, inverse = unique_rows(np.concatenate([np.delete(srt, j, axis=1) for j in range(w)]))
+    return faces[np.bincount(inverse, minlength=len(faces)) == 1]
+
+
 def pinched_rim_vertices(simplices: np.ndarray) -> np.ndarray:
     """The samples on the boundary of a d-complex, d >= 3, whose link is not a disc: where it is no manifold.
 
@@ -74,8 +81,7 @@ def pinched_rim_vertices(simplices: np.ndarray) -> np.ndarray:
     w = simplices.shape[1] if simplices.ndim == 2 else 0
     if len(simplices) == 0 or w < 4:
         return np.zeros(0, np.int64)
-    faces, facet_of, _, _ = facet_structure(simplices)
-    rim = faces[np.bincount(facet_of.ravel(), minlength=len(faces)) == 1]
+    rim = rim_faces(simplices)
     bad = []
     for v in np.unique(rim).tolist():
         link = [tuple(x for x in s if x != v) for s in simplices[(simplices == v).any(axis=1)].tolist()]
