@@ -170,7 +170,8 @@ def test_a_failed_row_names_its_file_once():
         "status": "failed",
         "error": "few.txt: too few points: 3; points in R^3 need at least 5 (k + 2) for a reconstruction",
     }
-    assert row_line(row) == "few.txt: FAILED: too few points: 3; points in R^3 need at least 5 (k + 2) for a reconstruction"
+    want = "few.txt: FAILED: too few points: 3; points in R^3 need at least 5 (k + 2) for a reconstruction"
+    assert row_line(row) == want
     row["error"] = "Cannot read '/data/few.txt': the file does not exist."
     assert row_line(row) == "few.txt: FAILED: Cannot read '/data/few.txt': the file does not exist."
 
