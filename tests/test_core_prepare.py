@@ -23,7 +23,7 @@ def circle(n, k=2, offset=0.0):
     [
         (np.array([[0.0, 0.0], [1.0, np.nan], [2, 2], [3, 1], [0, 3]]), 1, "NaN"),
         (np.array([[0.0, 0.0], [1.0, np.inf], [2, 2], [3, 1], [0, 3]]), 1, "NaN or infinity"),
-        (np.zeros((3, 2)), 1, "at least k \\+ 2 = 4"),
+        (np.zeros((3, 2)), 1, r"too few points: 3; points in R\^2 need at least 4 \(k \+ 2\)"),
         (circle(20), 0, "between 1 and k-1"),
         (circle(20), 2, "between 1 and k-1"),
         (circle(20)[:, :1], 1, "at least 2 coordinates"),
