@@ -37,3 +37,18 @@ def test_the_default_mode_returns_the_papers_cut_sphere_and_names_its_cap() -> N
     assert np.array_equal(np.sort(paper.manifold, axis=1), np.sort(robust.manifold, axis=1))
     assert [f.kind for f in robust.uncertain_features] == ["hole"]
     assert "possible opening" in robust.uncertain_features[0].reason
+
+
+def test_ring_ratios_are_cap_ratios_computed_near_the_patches() -> None:
+    """The i.i.d. torus's closed surface has many small patches of big faces: the same ratios either way."""
+    from crustview.core.robust.cells import cap_patches, cap_ratios
+    from crustview.core.robust.closed_caps import ring_ratios
+    from crustview.core.robust.grow import SIZE_MAX, size_ratio
+
+    m = get_manifold("torus")
+    rec = reconstruct(m.sample(20_000, seed=0, method="random").points, 2, resample=False)
+    faces = np.asarray(rec.manifold, dtype=np.int64)
+    patches = cap_patches(faces, size_ratio(rec.points, faces) > SIZE_MAX, rec.n)
+    assert len(patches) >= 5
+    assert ring_ratios(faces, patches, rec.points) == cap_ratios(faces, patches, rec.points)
+    assert rec.uncertain_features == []  # a closed torus, sampled i.i.d.: no cap over CAP_RATIO

@@ -6,17 +6,20 @@ The paper's Algorithm 3 reconstructs closed manifolds: on an open scan its M_S, 
 spans every opening with a cap of large faces (the owl's open base: a closed surface of genus 0, judged
 wrong, with no uncertain feature in the paper mode's table).  The robust extension measures such caps
 (``open-cap``, :mod:`.cells`): a patch of at least OPEN_MIN_FACES faces each larger than SIZE_MAX local
-spacings, whose largest face is more than CAP_RATIO times the faces around it (more than an eps-sample's
-sampling radius can change over one radius) and more than CAP_TYPICAL times the faces of M_S in general,
-spans a part of space where the sample shows no surface.
+spacings, whose largest face is many times the faces around it and more than CAP_TYPICAL times the faces of
+M_S in general, spans a part of space where the sample shows no surface.
 
 The rule
 --------
 A closed M_S of the paper's own loop, in either mode (the robust mode returns the paper's result
 unchanged whenever it is a closed manifold through every sample: the unit sphere's sample cut at
 z = 0.5 came out that way, green, an open object called closed for sure), gets one uncertain ``hole``
-feature per such cap, marked ``removed`` as a cap ``open-cap`` keeps closed is (a possible
-opening that is not a hole of M_S), at the cap's samples.  No new constant: the bounds are open-cap's.
+feature per cap over :data:`~.cells.CAP_SURE` = 6 times the faces around it (open-cap's bound for a cap
+surely over an opening; and over CAP_TYPICAL times the faces of M_S in general), marked ``removed`` as a
+cap ``open-cap`` keeps closed is (a possible opening that is not a hole of M_S), at the cap's samples.
+Caps between CAP_RATIO and CAP_SURE are what an uneven sample makes over a closed surface: the i.i.d.
+torus of 20,000 and 100,000 samples has caps of 3.08-3.43 (of 15 and 75 patches of big faces), the cut
+sphere's measures 10.9, the owl's open base 58.2.  No new constant: the bounds are open-cap's.
 """
 
 from __future__ import annotations
@@ -28,7 +31,7 @@ import numpy as np
 from ..analysis.features import Feature
 from ..analysis.radii import enclosing_radii
 from ..util.nearest import nearest_distances
-from .cells import CAP_RATIO, CAP_TYPICAL, cap_patches, cap_ratios, typical_ratios
+from .cells import CAP_SURE, CAP_TYPICAL, cap_patches, typical_ratios
 from .grow import SIZE_MAX, size_ratio
 
 
@@ -47,13 +50,15 @@ def paper_caps(points: np.ndarray, triangles: np.ndarray) -> list[Feature]:
     patches = cap_patches(faces, size_ratio(points, faces) > SIZE_MAX, len(points))
     if not patches:
         return []
+    ratios = ring_ratios(faces, patches, points)
+    if max(ratios) <= CAP_SURE:
+        return []
     radii = enclosing_radii(points, faces)
-    ratios = cap_ratios(faces, patches, points, radii)
     typical = typical_ratios(faces, patches, radii)
     nn = nearest_distances(points)
     out = []
     for p, q, t in zip(patches, ratios, typical, strict=True):
-        if q <= CAP_RATIO or t <= CAP_TYPICAL:
+        if q <= CAP_SURE or t <= CAP_TYPICAL:
             continue
         vs = np.unique(faces[p])
         pts = points[vs]
@@ -69,9 +74,31 @@ def paper_caps(points: np.ndarray, triangles: np.ndarray) -> list[Feature]:
                 vs,
                 f"a possible opening the paper's loop closed: a cap of {len(p)} faces on {len(vs)} samples, "
                 f"{size:.3g} spacings across, its faces {q:.2g} times the size of those around it (more than the "
-                f"{CAP_RATIO:g} a surface's sampling can change by over one radius): the sample shows no surface "
-                "there, and Algorithm 3 closes every opening",
+                f"{CAP_SURE:g} above which open-cap takes a cap for one over an opening): the sample shows no "
+                "surface there, and Algorithm 3 closes every opening",
                 removed=True,
             )
         )
+    return out
+
+
+def ring_ratios(faces: np.ndarray, patches: list[np.ndarray], points: np.ndarray) -> list[float]:
+    """:func:`.cells.cap_ratios`' values, with the enclosing radii of the faces near the patches only.
+
+    An i.i.d. sample's closed surface has hundreds of small patches of big faces (232 on a 300,000-sample
+    torus, all under CAP_RATIO), and cap_ratios' pass over every face per patch took 2.5 s there.
+    """
+    if not patches:
+        return []
+    near = np.isin(faces, np.unique(np.concatenate([faces[p].ravel() for p in patches]))).any(axis=1)
+    local = np.flatnonzero(near)
+    where = np.full(len(faces), -1, np.int64)
+    where[local] = np.arange(len(local))
+    r_local = enclosing_radii(points, faces[local])
+    out = []
+    for p in patches:
+        inside = np.zeros(len(local), bool)
+        inside[where[p]] = True
+        ring = np.isin(faces[local], np.unique(faces[p])).any(axis=1) & ~inside
+        out.append(float(r_local[inside].max()) / float(np.median(r_local[ring])) if ring.any() else math.inf)
     return out
