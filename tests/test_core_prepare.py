@@ -247,3 +247,20 @@ def test_the_samples_come_in_spatial_order_whether_or_not_points_merged():
     prep2 = prepare_points(with_copies, 2)
     assert len(prep2.points) == 2000
     assert np.array_equal(prep2.point_input, spatial_order(pts / unit))  # the copies' first rows, same order
+
+
+def test_the_merging_distances_are_the_samples_nearest_distances_bit_for_bit():
+    """``PreparedPoints.nearest``: the merging's own tree query, reused by the later stages (not re-measured)."""
+    from scipy.spatial import cKDTree
+
+    from crustview.core.prepare import prescale
+    from crustview.core.samples.manifolds import get_manifold
+
+    pts = get_manifold("torus").sample(3000, seed=0, method="random").points * 3.7
+    prep = prepare_points(pts, 2)
+    ref = cKDTree(prep.points).query(prep.points, k=2)[0][:, 1]
+    assert prep.nearest is not None and np.array_equal(prep.nearest, ref)
+    unit = prescale(prep.points)
+    assert np.array_equal(prep.nearest / unit, cKDTree(prep.points / unit).query(prep.points / unit, k=2)[0][:, 1])
+    doubled = np.vstack([pts, pts[:10]])  # ten exact copies merge: the merged set's distances were not measured
+    assert prepare_points(doubled, 2).nearest is None

@@ -71,6 +71,10 @@ class PreparedPoints:
         Median nearest-neighbour distance of the samples, input units.
     joggle : float
         Joggle size in input units.
+    nearest : ndarray of shape (n,) or None
+        Each sample's distance to its nearest other sample, input units, as the merging measured it
+        (``nearest_distances(points)``'s values, bit for bit: the same tree query, scaled by a power of two);
+        None where samples merged (the merged set's distances were not measured).
     """
 
     points: np.ndarray
@@ -82,6 +86,7 @@ class PreparedPoints:
     work: np.ndarray
     spacing: float
     joggle: float
+    nearest: np.ndarray | None = None
 
     @property
     def r(self) -> int:
@@ -232,7 +237,7 @@ def merge_duplicates(pts: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarra
     spacing : float
         Median nearest-neighbour distance among distinct points.
     """
-    return _merged(_spatial_tree(pts), tol)
+    return _merged(_spatial_tree(pts), tol)[:3]
 
 
 def _spatial_tree(pts: np.ndarray) -> cKDTree:
@@ -245,8 +250,8 @@ def _spatial_tree(pts: np.ndarray) -> cKDTree:
     return cKDTree(pts, leafsize=SPATIAL_LEAF, balanced_tree=False, compact_nodes=False)
 
 
-def _merged(tree: cKDTree, tol: float) -> tuple[np.ndarray, np.ndarray, float]:
-    """:func:`merge_duplicates` on ``tree``'s points."""
+def _merged(tree: cKDTree, tol: float) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
+    """:func:`merge_duplicates` on ``tree``'s points, and each point's nearest-other distance (in its units)."""
     pts = tree.data
     # median NN distance ignoring exact duplicates: the nearest other point,
     # and for points with an exact copy the nearest positive distance among 7
@@ -262,7 +267,7 @@ def _merged(tree: cKDTree, tol: float) -> tuple[np.ndarray, np.ndarray, float]:
     n = len(pts)
     if len(pairs) == 0:
         idx = np.arange(n)
-        return idx, idx.copy(), spacing
+        return idx, idx.copy(), spacing, first_pos
     graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
     _, labels = connected_components(graph, directed=False)
     # renumber groups by first appearance
@@ -272,7 +277,7 @@ def _merged(tree: cKDTree, tol: float) -> tuple[np.ndarray, np.ndarray, float]:
     rank[order] = np.arange(len(order))
     input_index = rank[labels]
     point_input = np.sort(first)
-    return input_index, point_input, spacing
+    return input_index, point_input, spacing, first_pos
 
 
 def spatial_order(pts: np.ndarray) -> np.ndarray:
@@ -321,7 +326,7 @@ def prepare_points(
     n_in, k = pts.shape
     unit = prescale(pts)  # exact power of two; everything below works on pts / unit
     tree = _spatial_tree(pts / unit)
-    input_index, point_input, spacing = _merged(tree, merge_tol)
+    input_index, point_input, spacing, first_pos = _merged(tree, merge_tol)
     spacing *= unit
     # order[i]: sample i's rank by first appearance; where nothing merged, the same tree's leaves give it
     merged = len(point_input) < n_in
@@ -375,4 +380,6 @@ def prepare_points(
         work=work,
         spacing=spacing,
         joggle=jog,
+        # where nothing merged, the merging's own distances are those of the samples (in the new order)
+        nearest=None if merged else first_pos[point_input] * unit,
     )

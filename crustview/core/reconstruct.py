@@ -21,6 +21,7 @@ from .robust.driver import extract_robust
 from .robust.smooth_normals import smoothed_normals
 from .uncertainty import result_features
 from .util.memory import gc_paused, release_free_memory
+from .util.nearest import remember
 from .util.parallel import start_in_background
 
 ProgressFn = Callable[[str, float], None]
@@ -154,6 +155,12 @@ def reconstruct(
     t0 = time.perf_counter()
     report("prepare", 0.0)
     prep = prepare_points(points, d, joggle=joggle)
+    if prep.nearest is not None:
+        # the merging measured every sample's nearest-neighbour distance: the later stages, which ask for
+        # them of the samples and of the samples rescaled by reextract's power of two, take them from here
+        unit = prescale(prep.points)
+        remember(prep.points, prep.nearest)
+        remember(prep.points / unit, prep.nearest / unit)
     n, k = prep.points.shape
     r = prep.r
     timings["prepare"] = time.perf_counter() - t0
