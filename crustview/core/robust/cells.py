@@ -168,6 +168,21 @@ def weak_openings(feats: list, openings: list[tuple[np.ndarray, float]], how: st
     return out
 
 
+def cap_hole(points: np.ndarray, vs: np.ndarray, nn: np.ndarray, why: Callable[[float], str]):  # noqa: ANN201
+    """A cap as an uncertain, removed ``hole`` feature at its samples ``vs``; ``why(size)`` gives the reason.
+
+    Its size is the span of its samples (as for a hole's rim) over their median nearest-neighbour distance:
+    a rim's local spacing, the enclosing cover of M_S, would be inflated by the cap's own large faces.
+    """
+    from ..analysis.features import Feature
+
+    p = points[vs]
+    span = float(np.max(np.linalg.norm(p - p.mean(axis=0), axis=1)) * 2)
+    h = float(np.median(nn[vs]))
+    size = span / h if h > 0 else math.inf
+    return Feature("hole", p.mean(axis=0), size, True, np.asarray(vs, np.int64), why(size), removed=True)
+
+
 def kept_caps(points: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> list:
     """The caps ``open-cap`` kept closed, as uncertain holes (removed features: not holes of M_S).
 
@@ -193,7 +208,6 @@ def kept_caps(points: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> 
         (as for a hole's rim) over their median nearest-neighbour distance: a rim's local spacing, the
         enclosing cover of M_S, would be inflated here by the cap's own large faces.
     """
-    from ..analysis.features import Feature
     from ..util.nearest import nearest_distances
 
     if not caps_kept:
@@ -201,23 +215,18 @@ def kept_caps(points: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> 
     nn = nearest_distances(points)
     out = []
     for vs, q in caps_kept:
-        p = points[vs]
-        span = float(np.max(np.linalg.norm(p - p.mean(axis=0), axis=1)) * 2)
-        h = float(np.median(nn[vs]))
-        size = span / h if h > 0 else math.inf
         out.append(
-            Feature(
-                "hole",
-                p.mean(axis=0),
-                size,
-                True,
-                np.asarray(vs, np.int64),
-                f"a possible opening kept closed (rule open-cap): a cap of {len(vs)} samples, {size:.3g} "
-                f"spacings across, its faces {q:.2g} times the size of those around it: more than the {CAP_RATIO:g} a "
-                f"surface's sampling can change by over one radius, less than the {CAP_SURE:g} above which a cap "
-                "is surely over an opening; noise over a closed part makes such caps, and so may a small real "
-                "opening",
-                removed=True,
+            cap_hole(
+                points,
+                vs,
+                nn,
+                lambda size, vs=vs, q=q: (
+                    f"a possible opening kept closed (rule open-cap): a cap of {len(vs)} "
+                    f"samples, {size:.3g} spacings across, its faces {q:.2g} times the size of those around it: more "
+                    f"than the {CAP_RATIO:g} a surface's sampling can change by over one radius, less than the "
+                    f"{CAP_SURE:g} above which a cap is surely over an opening; noise over a closed part makes such "
+                    "caps, and so may a small real opening"
+                ),
             )
         )
     return out

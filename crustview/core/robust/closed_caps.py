@@ -31,7 +31,7 @@ import numpy as np
 from ..analysis.features import Feature
 from ..analysis.radii import enclosing_radii
 from ..util.nearest import nearest_distances
-from .cells import CAP_SURE, CAP_TYPICAL, cap_patches, typical_ratios
+from .cells import CAP_SURE, CAP_TYPICAL, cap_hole, cap_patches, typical_ratios
 from .grow import SIZE_MAX, size_ratio
 
 
@@ -61,22 +61,17 @@ def paper_caps(points: np.ndarray, triangles: np.ndarray) -> list[Feature]:
         if q <= CAP_SURE or t <= CAP_TYPICAL:
             continue
         vs = np.unique(faces[p])
-        pts = points[vs]
-        span = float(np.max(np.linalg.norm(pts - pts.mean(axis=0), axis=1)) * 2)
-        h = float(np.median(nn[vs]))
-        size = span / h if h > 0 else math.inf
         out.append(
-            Feature(
-                "hole",
-                pts.mean(axis=0),
-                size,
-                True,
+            cap_hole(
+                points,
                 vs,
-                f"a possible opening the paper's loop closed: a cap of {len(p)} faces on {len(vs)} samples, "
-                f"{size:.3g} spacings across, its faces {q:.2g} times the size of those around it (more than the "
-                f"{CAP_SURE:g} above which open-cap takes a cap for one over an opening): the sample shows no "
-                "surface there, and Algorithm 3 closes every opening",
-                removed=True,
+                nn,
+                lambda size, p=p, vs=vs, q=q: (
+                    f"a possible opening the paper's loop closed: a cap of {len(p)} "
+                    f"faces on {len(vs)} samples, {size:.3g} spacings across, its faces {q:.2g} times the size of "
+                    f"those around it (more than the {CAP_SURE:g} above which open-cap takes a cap for one over an "
+                    "opening): the sample shows no surface there, and Algorithm 3 closes every opening"
+                ),
             )
         )
     return out
