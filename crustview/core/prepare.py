@@ -73,8 +73,9 @@ class PreparedPoints:
         Joggle size in input units.
     nearest : ndarray of shape (n,) or None
         Each sample's distance to its nearest other sample, input units, as the merging measured it
-        (``nearest_distances(points)``'s values, bit for bit: the same tree query, scaled by a power of two);
-        None where samples merged (the merged set's distances were not measured).
+        (``nearest_distances(points)``'s values, bit for bit wherever squared distances neither overflow nor
+        underflow: the same tree query, on the points scaled by a power of two, scaled back); None where
+        samples merged (the merged set's distances were not measured).
     """
 
     points: np.ndarray
