@@ -14,10 +14,12 @@ the extension, not something the sample shows.
 The rule
 --------
 In a robust result that is not the paper's own, a hole the features call sure is made *uncertain* when
-fill-hole's own bounds call it a gap (measured as fill-hole measures: its boundary faces, and the
-largest distance between two of its samples over the larger of their mean nearest-neighbour distance
-and the sample's median one), unless ``open-cap`` kept it open as a real opening (the labelled path's
-``opened``).  No new constant: the bounds are fill-hole's.  The check never changes M_S.
+fill-hole's own bounds call it a gap, measured as fill-hole measures: its boundary faces (for d >= 3 only
+as a bound on the work, FILL_MAX_FACES squared: the face bound is a surface's rim loop's, and a
+3-manifold's rim is a sphere, whose faces grow with the square of its span), and the largest distance
+between two of its samples over the larger of their mean nearest-neighbour distance and the sample's
+median one; unless ``open-cap`` kept it open as a real opening (the labelled path's ``opened``).  No new
+constant: the bounds are fill-hole's.  The check never changes M_S.
 """
 
 from __future__ import annotations
@@ -63,6 +65,7 @@ def unclosed_gaps(
     if not sure or len(manifold) == 0:
         return feats
     simplices = np.asarray(manifold, dtype=np.int64)
+    d = simplices.shape[1] - 1
     faces, facet_of, _, _ = facet_structure(simplices)
     rim = faces[np.bincount(facet_of.ravel(), minlength=len(faces)) == 1]
     tree = None
@@ -71,7 +74,11 @@ def unclosed_gaps(
         f = feats[i]
         vs = np.asarray(f.vertices, dtype=np.int64)
         n_faces = int(np.isin(rim, vs).all(axis=1).sum())
-        if not 0 < n_faces <= FILL_MAX_FACES:  # counted first: a long rim is a real opening, and pdist is quadratic
+        # counted first: a long rim is a real opening, and pdist is quadratic.  The face bound is a surface's
+        # (50 rim edges: a loop some 16 spacings across); a 3-manifold's rim is a sphere whose face count grows
+        # with the square of its span (S^3 at 3 % of its reach, 1,200 samples: a hole of 156 faces 6.5
+        # spacings across, reported sure), so there the span bound alone decides, with a bound on the work
+        if n_faces == 0 or n_faces > (FILL_MAX_FACES if d == 2 else FILL_MAX_FACES**2):
             continue
         if tree is None:
             tree = cKDTree(points)
@@ -83,8 +90,14 @@ def unclosed_gaps(
                 f,
                 uncertain=True,
                 reason=f"{f.reason} (by fill-hole's own measure, {n_faces} faces and {span:.3g} nearest-neighbour "
-                f"spacings across, within its bounds for a sampling gap, {FILL_MAX_FACES} faces and "
-                f"{FILL_MAX_SPAN:g} spacings; it could not close it (a fold of M_S there, or no closing its rules "
-                "try): the opening may be the extension's, not the object's)",
+                + (
+                    f"spacings across, within its bounds for a sampling gap, {FILL_MAX_FACES} faces and "
+                    f"{FILL_MAX_SPAN:g} spacings; it could not close it (a fold of M_S there, or no closing its "
+                    "rules try)"
+                    if n_faces <= FILL_MAX_FACES
+                    else f"spacings across, within the {FILL_MAX_SPAN:g} it takes for a sampling gap; its rim of "
+                    "more faces than it closes"
+                )
+                + ": the opening may be the extension's, not the object's)",
             )
     return out
