@@ -39,10 +39,11 @@ def test_the_default_mode_returns_the_papers_cut_sphere_and_names_its_cap() -> N
     assert "possible opening" in robust.uncertain_features[0].reason
 
 
-def test_ring_ratios_are_cap_ratios_computed_near_the_patches() -> None:
-    """The i.i.d. torus's closed surface has many small patches of big faces: the same ratios either way."""
+def test_cap_ratios_near_the_patches_are_the_ratios_by_definition() -> None:
+    """The i.i.d. torus's closed surface has many small patches of big faces: each patch's ratio, sought among
+    the faces near the patches only, is the definition's (every face sharing a vertex, over all faces)."""
+    from crustview.core.analysis.radii import enclosing_radii
     from crustview.core.robust.cells import cap_patches, cap_ratios
-    from crustview.core.robust.closed_caps import ring_ratios
     from crustview.core.robust.grow import SIZE_MAX, size_ratio
 
     m = get_manifold("torus")
@@ -50,5 +51,12 @@ def test_ring_ratios_are_cap_ratios_computed_near_the_patches() -> None:
     faces = np.asarray(rec.manifold, dtype=np.int64)
     patches = cap_patches(faces, size_ratio(rec.points, faces) > SIZE_MAX, rec.n)
     assert len(patches) >= 5
-    assert ring_ratios(faces, patches, rec.points) == cap_ratios(faces, patches, rec.points)
-    assert rec.uncertain_features == []  # a closed torus, sampled i.i.d.: no cap over CAP_RATIO
+    radii = enclosing_radii(rec.points, faces)
+    want = []
+    for p in patches:  # the definition, over every face
+        ring = np.isin(faces, faces[p]).any(axis=1)
+        ring[p] = False
+        want.append(float(radii[p].max()) / float(np.median(radii[ring])))
+    assert cap_ratios(faces, patches, rec.points, radii) == want  # the labelled path's call: bit for bit
+    assert cap_ratios(faces, patches, rec.points) == want  # radii of the near faces only (no degenerate face)
+    assert rec.uncertain_features == []  # a closed torus, sampled i.i.d.: no cap over CAP_SURE

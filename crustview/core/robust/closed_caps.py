@@ -24,14 +24,12 @@ sphere's measures 10.9, the owl's open base 58.2.  No new constant: the bounds a
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..analysis.features import Feature
 from ..analysis.radii import enclosing_radii
 from ..util.nearest import nearest_distances
-from .cells import CAP_SURE, CAP_TYPICAL, cap_hole, cap_patches, typical_ratios
+from .cells import CAP_SURE, CAP_TYPICAL, cap_hole, cap_patches, cap_ratios, typical_ratios
 from .grow import SIZE_MAX, size_ratio
 
 
@@ -50,7 +48,7 @@ def paper_caps(points: np.ndarray, triangles: np.ndarray) -> list[Feature]:
     patches = cap_patches(faces, size_ratio(points, faces) > SIZE_MAX, len(points))
     if not patches:
         return []
-    ratios = ring_ratios(faces, patches, points)
+    ratios = cap_ratios(faces, patches, points)  # radii near the patches only
     if max(ratios) <= CAP_SURE:
         return []
     radii = enclosing_radii(points, faces)
@@ -74,29 +72,4 @@ def paper_caps(points: np.ndarray, triangles: np.ndarray) -> list[Feature]:
                 ),
             )
         )
-    return out
-
-
-def ring_ratios(faces: np.ndarray, patches: list[np.ndarray], points: np.ndarray) -> list[float]:
-    """:func:`.cells.cap_ratios`' values (to rounding), with the enclosing radii of the faces near the patches only.
-
-    The same values bit for bit unless some face of M_S is degenerate: ``circumradii`` then solves every face
-    of its batch by pseudo-inverse, and the two batches differ (by about 1e-15, relative).
-
-    An i.i.d. sample's closed surface has hundreds of small patches of big faces (232 on a 300,000-sample
-    torus, all under CAP_RATIO), and cap_ratios' pass over every face per patch took 2.5 s there.
-    """
-    if not patches:
-        return []
-    near = np.isin(faces, np.unique(np.concatenate([faces[p].ravel() for p in patches]))).any(axis=1)
-    local = np.flatnonzero(near)
-    where = np.full(len(faces), -1, np.int64)
-    where[local] = np.arange(len(local))
-    r_local = enclosing_radii(points, faces[local])
-    out = []
-    for p in patches:
-        inside = np.zeros(len(local), bool)
-        inside[where[p]] = True
-        ring = np.isin(faces[local], np.unique(faces[p])).any(axis=1) & ~inside
-        out.append(float(r_local[inside].max()) / float(np.median(r_local[ring])) if ring.any() else math.inf)
     return out

@@ -32,10 +32,8 @@ from __future__ import annotations
 import itertools
 import math
 
-from scipy.spatial.distance import pdist
-
 from .complex import Simplex, _facets
-from .fill_hole import FILL_MAX_FACES, FILL_MAX_SPAN
+from .fill_hole import FILL_MAX_FACES, FILL_MAX_SPAN, gap_span
 
 #: Largest number of candidate simplices for the Z/2 system (a hole of at most FILL_MAX_FACES = 50 faces
 #: has far fewer Delaunay d-faces on its samples; a bound on the work, not a tuned value).
@@ -94,9 +92,8 @@ class ChainFill:
         # an opening open-cap kept (the module docstring's reason for no fold limit holds only there)
         if len(faces) > FILL_MAX_FACES or (self.keep_open and not hole.isdisjoint(self.keep_open)):
             return False
-        p = self.points[sorted(verts)]
-        local = max(float(self.nn[sorted(verts)].mean()), self.spacing)
-        if len(p) > 1 and float(pdist(p).max()) > FILL_MAX_SPAN * local:
+        span, local = gap_span(self.points, sorted(verts), self.nn, self.spacing)
+        if span > FILL_MAX_SPAN * local:
             return False
         cand: set[Simplex] = set()
         for v in verts:

@@ -42,6 +42,16 @@ SLIT_MAX_WIDTH = 4.0
 COS_EAR = 0.9
 
 
+def gap_span(points: np.ndarray, verts: list[int], nn: np.ndarray, spacing: float) -> tuple[float, float]:
+    """A hole's span as ``fill-hole`` measures it: the largest distance between two of its samples, and its unit.
+
+    The unit is the larger of the samples' mean nearest-neighbour distance (``nn`` of every sample) and the
+    sample's median one (``spacing``); a hole is a gap when the span is at most FILL_MAX_SPAN units.
+    """
+    span = float(pdist(points[verts]).max()) if len(verts) > 1 else 0.0  # compiled: holes of hundreds of vertices
+    return span, max(float(nn[verts].mean()), spacing)
+
+
 class FillHole:
     """``fill-hole`` for :class:`~.patcher.Patcher` (see the module docstring)."""
 
@@ -62,9 +72,7 @@ class FillHole:
         if opening and len(hole[0]) != 2:
             return False
         verts = sorted({v for f in hole for v in f})
-        p = self.points[verts]
-        span = float(pdist(p).max()) if len(verts) > 1 else 0.0  # compiled: holes of hundreds of vertices
-        local = max(float(self.nn[verts].mean()), self.spacing)
+        span, local = gap_span(self.points, verts, self.nn, self.spacing)
         if len(hole[0]) == 1:  # curves: the ends of all paths, joined in pairs below
             self._join_ends(hole, "gap between two ends of the curve")
             return all(len(self.at(f)) != 1 for f in hole)

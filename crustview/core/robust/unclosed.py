@@ -27,12 +27,11 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
-from scipy.spatial import cKDTree
-from scipy.spatial.distance import pdist
 
 from ..analysis.features import Feature
 from ..paper.facets import facet_structure
-from .fill_hole import FILL_MAX_FACES, FILL_MAX_SPAN
+from ..util.nearest import nearest_distances
+from .fill_hole import FILL_MAX_FACES, FILL_MAX_SPAN, gap_span
 
 
 def unclosed_gaps(
@@ -68,7 +67,7 @@ def unclosed_gaps(
     d = simplices.shape[1] - 1
     faces, facet_of, _, _ = facet_structure(simplices)
     rim = faces[np.bincount(facet_of.ravel(), minlength=len(faces)) == 1]
-    tree = None
+    nn = None
     out = list(feats)
     for i in sure:
         f = feats[i]
@@ -80,11 +79,10 @@ def unclosed_gaps(
         # spacings across, reported sure), so there the span bound alone decides, with a bound on the work
         if n_faces == 0 or n_faces > (FILL_MAX_FACES if d == 2 else FILL_MAX_FACES**2):
             continue
-        if tree is None:
-            tree = cKDTree(points)
-        nn = tree.query(points[vs], k=2)[0][:, 1]
-        local = max(float(nn.mean()), spacing)
-        span = float(pdist(points[vs]).max()) / local
+        if nn is None:
+            nn = nearest_distances(points)  # the merging's, where nothing merged (reconstruct kept them)
+        span, local = gap_span(points, vs, nn, spacing)
+        span /= local
         if span <= FILL_MAX_SPAN:
             out[i] = replace(
                 f,
