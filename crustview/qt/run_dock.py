@@ -126,9 +126,10 @@ class RunPanel(QWidget):
             self.extraction.addItem(MODE_LABELS.get(m, m), m)
         self.extraction.setToolTip(
             "<p><b>robust</b> (default): the paper's Algorithm 3, and where it cannot give a closed "
-            "manifold through every sample, an extension: for a surface in R³ the Delaunay cells are "
-            "labelled inside or outside (label-cells, repair-vertex, sculpt-sample, cut-handle, join-parts, "
-            "open-cap), "
+            "manifold through every sample, an extension: for a hypersurface (a surface in R³, a "
+            "3-manifold in R⁴, ...) the Delaunay cells are "
+            "labelled inside or outside (label-cells, repair-vertex, sculpt-sample; in R³ also cut-handle, "
+            "join-parts, open-cap), "
             "and M_S is also grown across boundaries (seed, grow, grow-relaxed, fill-hole, drop-stray, "
             "insert-sample) where the labelling leaves doubt; elsewhere it is grown. "
             "The result is identical whenever the "

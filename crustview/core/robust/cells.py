@@ -40,9 +40,9 @@ from ..analysis.features import LOOP_MIN, enclosing_radii
 from ..analysis.topology import is_closed_manifold
 from ..errors import check_cancel
 from ..steps import RULE_CUT, RULE_JOIN, RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
-from .cut_handle import Cut, cut_handles
+from .cut_handle import Cut, CutHandles, cut_handles
 from .grow import SIZE_MAX, size_ratio
-from .join_parts import join_parts
+from .join_parts import JoinParts, join_parts
 from .label_repair import LabelEditor
 from .labelling import Labelling, oriented
 from .patcher import Patcher
@@ -240,6 +240,11 @@ def kept_caps(points: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> 
     return out
 
 
+#: What cut-handle and join-parts do off R^3 (nothing; see :func:`_labelled`).
+_NO_CUTS = CutHandles()
+_NO_JOINS = JoinParts()
+
+
 def extract_by_labels(
     points: np.ndarray,
     delaunay_points: np.ndarray,
@@ -354,10 +359,14 @@ def _labelled(
             "label, so M_S runs through the sample (Boissonnat's sculpting)",
         )
     report(0.65)
-    handles = cut_handles(ed, points, cancel)
+    # cut-handle, join-parts and open-cap measure a surface's loops, parts and caps: in R^3 only.  A
+    # hypersurface in R^k, k >= 4 (a 3-manifold in R^4), is labelled, repaired and sculpted as above and
+    # settled below; its holes and handles are measured by the report (see module docstring)
+    surface = points.shape[1] == 3
+    handles = cut_handles(ed, points, cancel) if surface else _NO_CUTS
     for c in handles.cuts:
         _log_cut(log, lab, c)
-    joined = join_parts(ed, points, cancel)
+    joined = join_parts(ed, points, cancel) if surface else _NO_JOINS
     for j in joined.joins:
         log.step(
             RULE_JOIN,
@@ -382,7 +391,7 @@ def _labelled(
     now = lab.faces[cut]
     orient = oriented(now, inner, lab.simplices, delaunay_points)
     pt = Patcher(points, list(map(tuple, now.tolist())), faces, spacing, orient=orient.tolist(), orientable=True)
-    examined = cap_patches(now, size_ratio(points, now) > SIZE_MAX, n)
+    examined = cap_patches(now, size_ratio(points, now) > SIZE_MAX, n) if surface else []
     radii = enclosing_radii(points, now) if examined else np.zeros(0)
     ratios = cap_ratios(now, examined, points, radii)
     typical = typical_ratios(now, examined, radii)

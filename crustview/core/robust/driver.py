@@ -19,15 +19,17 @@ The extension
    lost its last simplex the paper can no longer succeed, and the loop is
    abandoned there (``stop_when_sample_lost``); so is a sample that has no
    simplex in T_S at all.
-2. **Surfaces in R^3: labelling the Delaunay cells** (:mod:`.cells`,
+2. **Hypersurfaces of dimension d >= 2: labelling the Delaunay cells** (surfaces in R^3,
+   3-manifolds in R^4, ...; :mod:`.cells`,
    :mod:`.labelling`, :mod:`.label_repair`): every Delaunay cell inside or
    outside by its ball (``label-cells``), M_S the faces between the two,
    made a manifold through every sample (``repair-vertex``,
-   ``sculpt-sample``), with the caps over real openings removed
+   ``sculpt-sample``), with, in R^3, the caps over real openings removed
    (``open-cap``).  :func:`choose` keeps it, or the growing path's result
    (3.) where that one has fewer problems, and reports the two as disputed
-   where both are closed and differ.
-3. **Growing a manifold instead of pruning one** (every other dimension; the direction the paper's
+   where both are closed and differ.  Curves in the plane are grown (3.):
+   the growing path gets every built-in curve variant right.
+3. **Growing a manifold instead of pruning one** (every other case; the direction the paper's
    closing section names: Cocone's "walk on the outer boundary").  The
    walk starts from the largest piece of the *manifold core* of T_S, the
    faces it would take without a choice, added in one step (rule
@@ -126,8 +128,8 @@ def extract_robust(
         Median nearest-neighbour distance of the samples (for hole sizes).
     cells : (delaunay_points, simplices, centres), optional
         The Delaunay k-cells (over the samples and the bounding points) and
-        their circumcentres.  Given for surfaces in R^3, where the labelling
-        path (:mod:`.cells`) runs before the growing one.  Or a function that
+        their circumcentres.  Given for hypersurfaces; for those of dimension
+        d >= 2 the labelling path (:mod:`.cells`) runs before the growing one.  Or a function that
         returns them, called only where the paper's loop fails (rescaled
         copies of the Voronoi vertices take 118 MB at 300,000 samples).
     cancel, progress
@@ -191,7 +193,7 @@ def extract_robust(
         missing = int((~covered).sum())
         note_paper = f"{missing} samples are in no simplex of T_S, so the paper's Algorithm 3 cannot succeed"
         holes = None
-    if cells is not None and d1 == 3 and points.shape[1] == 3:
+    if cells is not None and d1 == points.shape[1] and d1 >= 3:  # surfaces in R^3, 3-manifolds in R^4, ...
         cells = cells() if callable(cells) else cells
         ext = choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progress, note_paper)
     else:

@@ -21,8 +21,8 @@ non-manifold edge.
   the sample, and since the sample was not on it, this keeps a manifold (the
   sculpting rule of Boissonnat, 1984: a cell with one face on the boundary
   may be removed when its opposite vertex is not on the boundary).  The
-  least confident such cell goes, of those whose three new faces (the cell's
-  faces through the sample) are no larger than
+  least confident such cell goes, of those whose new faces (the cell's
+  faces through the sample, three in R^3) are no larger than
   :data:`~.grow.SIZE_MAX` local spacings (circumradius over the mean spacing
   of their vertices, :func:`face_sizes`; a vertex's spacing the larger of its
   nearest-neighbour distance and the largest enclosing radius of the faces of
@@ -48,6 +48,8 @@ record the faces each step removes and adds.
 """
 
 from __future__ import annotations
+
+from itertools import combinations
 
 import numpy as np
 from scipy.sparse import coo_matrix, csr_matrix
@@ -258,11 +260,14 @@ class LabelEditor:
         return steps
 
     def _fits(self, v: int, c: int, unit: np.ndarray) -> bool:
-        """Whether cell ``c``'s three faces through sample ``v`` are at most SIZE_MAX local spacings (``unit``)."""
+        """Whether cell ``c``'s faces through sample ``v`` are at most SIZE_MAX local spacings (``unit``).
+
+        A k-cell has k faces through each of its vertices (three triangles in R^3).
+        """
         lab = self.lab
         rest = [int(u) for u in lab.simplices[c].tolist() if u != v]
-        tris = np.array([[v, rest[0], rest[1]], [v, rest[0], rest[2]], [v, rest[1], rest[2]]])
-        return bool((face_sizes(lab.points, unit, tris) <= SIZE_MAX).all())
+        through = np.array([[v, *other] for other in combinations(rest, len(rest) - 1)], dtype=np.int64)
+        return bool((face_sizes(lab.points, unit, through) <= SIZE_MAX).all())
 
     def _unit(self) -> np.ndarray:
         """Each sample's spacing for :meth:`_fits`.
