@@ -88,3 +88,19 @@ def test_sculpt_sizes_every_face_of_a_cell_through_the_sample():
         unit = np.full(k + 1, np.sqrt(k - 1) / 2 / SIZE_MAX * 0.99)
         assert not ed._fits(0, 0, unit)
         assert ed._fits(0, 0, unit * 1.02 / 0.99)
+
+
+def test_pinches_no_star_shows_are_repaired_around_their_ridges():
+    """S^3 with noise of 8 % of its reach, i.i.d. (draw 3): the labelled M_S pinched around triangles in four or
+    more of its tetrahedra while every vertex's star had one piece of each label (the link of a vertex in R^4
+    is a 3-sphere: two pieces can touch along an edge of it and be joined elsewhere), and at vertices whose
+    link was no sphere.  ``repair-vertex`` now flips the less confident runs of cells around such a ridge,
+    and carves such a vertex's star for ``sculpt-sample`` to bring it back: closed, through every sample.
+    """
+    from crustview.core.samples.manifolds import get_manifold
+
+    s = get_manifold("s3").sample(2000, seed=3, method="random").points
+    rec = reconstruct(s + np.random.default_rng(103).normal(scale=0.08, size=s.shape), 3)
+    assert _right(rec, (1, 0, 0, 1))
+    ridges = [st for st in rec.extraction.steps if st.rule == "repair-vertex" and len(st.tau) == 3]
+    assert ridges and all("ridge" in st.reason for st in ridges)

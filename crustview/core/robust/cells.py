@@ -347,6 +347,18 @@ def _labelled(
             f"M_S pinched at sample {v}; {len(cells)} less confident cells of its star took the other label "
             f"(confidence {float(lab.confidence[cells].max()):.2f} or less)",
         )
+    # in R^k, k >= 4, M_S can also pinch around a ridge while every vertex's star passes (LabelEditor.repair_ridges)
+    for tau, cells, removed, added in ed.repair_ridges() if points.shape[1] >= 4 else []:
+        where = f"sample {tau[0]}" if len(tau) == 1 else f"the ridge {tau}, in more than two faces of M_S,"
+        log.step(
+            RULE_REPAIR,
+            tau,
+            lab.faces[added],
+            lab.faces[removed],
+            math.nan,
+            f"M_S pinched at {where}; {len(cells)} less confident cells around it took the other label "
+            f"(confidence {float(lab.confidence[cells].max()):.2f} or less)",
+        )
     report(0.6)
     for v, _cells, removed, added in ed.sculpt(free):
         log.step(

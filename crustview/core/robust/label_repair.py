@@ -259,6 +259,79 @@ class LabelEditor:
             todo = sorted(again)
         return steps
 
+    def repair_ridges(self) -> list[tuple[tuple[int, ...], np.ndarray, np.ndarray, np.ndarray]]:
+        """``repair-vertex`` where M_S pinches in R^k, k >= 4, unseen by the star pieces: (place, cells, removed, added).
+
+        In R^3 a pinch always shows at a vertex: the link of a vertex is a 2-sphere, and two pieces of one
+        label that touch at a point of it are two pieces.  In R^k, k >= 4, the link is a (k-1)-sphere, and
+        the vertex test can pass where M_S is no manifold:
+
+        * around a ridge (a (k-2)-face in more than two faces of M_S: in and out alternate around it) the
+          pieces touch while joined elsewhere in the star.  The cells around the ridge form a ring; as at
+          a vertex, the most confident run of each label stays and the other runs take the other label;
+        * at a vertex whose star has one piece of each label but whose link in M_S (their interface) is no
+          sphere.  Its star takes the label of its more confident side, so it leaves M_S, and
+          ``sculpt-sample`` brings it back through one cell (Boissonnat's rule, which keeps a manifold).
+
+        Rounds of both, with the vertex repair (:meth:`repair`) after each, until nothing pinches or
+        :data:`REPAIR_ROUNDS` rounds have run.
+        """
+        from ..analysis.topology import all_faces, singular_vertices
+
+        lab = self.lab
+        steps: list[tuple[tuple[int, ...], np.ndarray, np.ndarray, np.ndarray]] = []
+        for _ in range(REPAIR_ROUNDS):
+            faces = lab.faces[self.cut]
+            if len(faces) == 0 or faces.shape[1] < 4:
+                break
+            # the rows are sorted, so each ridge (a column dropped) is too
+            ridges = np.concatenate([np.delete(faces, j, axis=1) for j in range(faces.shape[1])])
+            uniq, count = np.unique(ridges, axis=0, return_counts=True)
+            bad = uniq[count > 2]
+            before = len(steps)
+            touched = np.zeros(lab.m, bool)
+            for r in bad.tolist():
+                cells = self.star(r[0])
+                for v in r[1:]:
+                    cells = np.intersect1d(cells, self.star(v), assume_unique=True)
+                if touched[cells].any():
+                    continue  # its ring changed in this round: looked at again in the next
+                piece = self._ring_pieces(cells)
+                n_p = int(piece.max()) + 1
+                is_in = np.zeros(n_p, bool)
+                is_in[piece] = lab.inside[cells]
+                weight = np.bincount(piece, weights=lab.confidence[cells], minlength=n_p)
+                keep = [int(c[np.argmax(weight[c])]) for c in (np.flatnonzero(is_in), np.flatnonzero(~is_in)) if len(c)]
+                flipped = cells[~np.isin(piece, keep) & ~lab.outside[cells]]
+                if len(flipped):
+                    touched[cells] = True
+                    steps.append((tuple(r), flipped, *self.flip(flipped)))
+            if len(bad) == 0:
+                for v in singular_vertices(faces, all_faces(faces)).tolist():
+                    cells = self.star(v)
+                    cells = cells[~lab.outside[cells]]
+                    side = lab.inside[cells]
+                    if touched[cells].any() or side.all() or not side.any():
+                        continue
+                    conf = lab.confidence[cells]
+                    flipped = cells[side != (conf[side].sum() >= conf[~side].sum())]
+                    touched[cells] = True
+                    steps.append(((int(v),), flipped, *self.flip(flipped)))
+            steps.extend(((int(v),), c, rem, add) for v, c, rem, add in self.repair())
+            if len(steps) == before:
+                break
+        return steps
+
+    def _ring_pieces(self, cells: np.ndarray) -> np.ndarray:
+        """The runs of one label among the cells around a ridge (joined through the faces they share)."""
+        lab = self.lab
+        fs = self.faces_of(cells)
+        fs = fs[np.isin(lab.a[fs], cells) & np.isin(lab.b[fs], cells)]
+        fs = fs[lab.inside[lab.a[fs]] == lab.inside[lab.b[fs]]]
+        pos = np.searchsorted(cells, np.r_[lab.a[fs], lab.b[fs]])
+        g = coo_matrix((np.ones(len(fs), np.int8), (pos[: len(fs)], pos[len(fs) :])), shape=(len(cells),) * 2)
+        return connected_components(g, directed=False)[1].astype(np.int64)
+
     def _fits(self, v: int, c: int, unit: np.ndarray) -> bool:
         """Whether cell ``c``'s faces through sample ``v`` are at most SIZE_MAX local spacings (``unit``).
 
