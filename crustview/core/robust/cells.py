@@ -337,27 +337,18 @@ def _labelled(
     ed = LabelEditor(lab)
     # the vertex test of repair-vertex costs a pass over every cell corner: only when something pinches
     pinched = not is_closed_manifold(surf, surf.shape[1] - 1)
-    for v, cells, removed, added in ed.repair() if pinched else []:
-        log.step(
-            RULE_REPAIR,
-            (int(v),),
-            lab.faces[added],
-            lab.faces[removed],
-            math.nan,
-            f"M_S pinched at sample {v}; {len(cells)} less confident cells of its star took the other label "
-            f"(confidence {float(lab.confidence[cells].max()):.2f} or less)",
-        )
-    # in R^k, k >= 4, M_S can also pinch around a ridge while every vertex's star passes (LabelEditor.repair_ridges)
-    for tau, cells, removed, added in ed.repair_ridges() if points.shape[1] >= 4 else []:
-        where = f"sample {tau[0]}" if len(tau) == 1 else f"the ridge {tau}, in more than two faces of M_S,"
+    repairs = [((int(v),), c, rem, add) for v, c, rem, add in ed.repair()] if pinched else []
+    # in R^k, k >= 4, M_S can also pinch where every star has one piece of each label (LabelEditor.repair_ridges)
+    for tau, cells, removed, added in repairs + (ed.repair_ridges() if points.shape[1] >= 4 else []):
         log.step(
             RULE_REPAIR,
             tau,
             lab.faces[added],
             lab.faces[removed],
             math.nan,
-            f"M_S pinched at {where}; {len(cells)} less confident cells around it took the other label "
-            f"(confidence {float(lab.confidence[cells].max()):.2f} or less)",
+            f"M_S pinched at {f'sample {tau[0]}' if len(tau) == 1 else f'the ridge {tau}'}; {len(cells)} less "
+            f"confident cells around it took the other label (confidence {float(lab.confidence[cells].max()):.2f} "
+            "or less)",
         )
     report(0.6)
     for v, _cells, removed, added in ed.sculpt(free):

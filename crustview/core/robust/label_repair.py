@@ -260,7 +260,7 @@ class LabelEditor:
         return steps
 
     def repair_ridges(self) -> list[tuple[tuple[int, ...], np.ndarray, np.ndarray, np.ndarray]]:
-        """``repair-vertex`` where M_S pinches in R^k, k >= 4, unseen by the star pieces: (place, cells, removed, added).
+        """``repair-vertex`` where M_S pinches in R^k, k >= 4, unseen by star pieces: (place, cells, removed, added).
 
         In R^3 a pinch always shows at a vertex: the link of a vertex is a 2-sphere, and two pieces of one
         label that touch at a point of it are two pieces.  In R^k, k >= 4, the link is a (k-1)-sphere, and
