@@ -388,6 +388,11 @@ def _labelled(
         )
         for c in j.cuts:
             _log_cut(log, lab, c)
+    # a join changes the loops around it (the elk at 0.1 h, draw 50: a handle's loop 7.1 radii before its
+    # part was joined, 4.7 after): cut-handle judges the joined surface again
+    after = cut_handles(ed, points, cancel) if joined.joins else _NO_CUTS
+    for c in after.cuts:
+        _log_cut(log, lab, c)
     # the rest edits M_S face by face
     cut = ed.cut
     inner = np.where(lab.inside[lab.a[cut]], lab.a[cut], lab.b[cut])
@@ -477,7 +482,11 @@ def _labelled(
             + "): the sample does not tell noise from a small opening there; each is an uncertain hole"
         )
     ext.removed_features = (
-        handles.removed + [c.feature for j in joined.joins for c in j.cuts] + joined.removed + closed_caps
+        handles.removed
+        + [c.feature for j in joined.joins for c in j.cuts]
+        + after.removed
+        + joined.removed
+        + closed_caps
     )
     ext.openings = len(patches)  # type: ignore[attr-defined]
     ext.opened = opened  # type: ignore[attr-defined]
