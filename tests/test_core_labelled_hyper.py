@@ -116,3 +116,15 @@ def test_a_noisy_4_sphere_in_r5_is_labelled_closed():
     rec = reconstruct(pts + rng.normal(scale=0.03, size=pts.shape), 4)
     assert _right(rec, (1, 0, 0, 0, 1))
     assert rec.extraction.counts_by_rule()["label-cells"]["steps"] == 1
+
+
+def test_two_rings_that_undo_each_others_repair_are_pinned():
+    """S^3 with noise of 6 % of its reach (even, draw 1): the repairs around two ridges flipped the same cells
+    there and back for all REPAIR_ROUNDS, and one triangle stayed in four tetrahedra of M_S.  A cell flipped
+    PING_PONG times keeps its label (as in R^3's vertex repair): closed, through every sample.
+    """
+    from crustview.core.samples.manifolds import get_manifold
+
+    s = get_manifold("s3").sample(2000, seed=1).points
+    rec = reconstruct(s + np.random.default_rng(101).normal(scale=0.06, size=s.shape), 3)
+    assert _right(rec, (1, 0, 0, 1))
