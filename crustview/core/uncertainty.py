@@ -21,7 +21,7 @@ from .analysis.enclosures import enclosure_voids, joined_objects
 from .analysis.features import LOOP_MIN, Feature, features
 from .analysis.gaps import curve_gaps, straight_gaps
 from .analysis.planar import planar_holes
-from .analysis.resample import Resampled, resample_check
+from .analysis.resample import Resampled, resample_betti, resample_check
 from .prepare import DEFAULT_JOGGLE
 from .result import Reconstruction, TopologyReport
 from .robust.closed_caps import paper_caps
@@ -172,6 +172,17 @@ def result_features(
         )
         if said:
             topo.messages.append(f"{said} ({time.perf_counter() - t1:.1f} s)")
+    solid = rec.d >= 3 and rec.k == rec.d + 1 and rec.subspace_dim == rec.k  # the labelled 3-manifolds and up
+    if resample and mode == "robust" and solid and topo.closed_manifold and _beyond(counts):
+        t1 = time.perf_counter()
+        found, said = resample_betti(
+            rec.points / scale,
+            manifold,
+            topo.betti,
+            lambda sub: _resampled_complex(sub * scale, rec, test, theta, cancel, report, scale),
+        )
+        feats += [replace(f, location=f.location * scale) for f in found]
+        topo.messages.append(f"{said} ({time.perf_counter() - t1:.1f} s)")
     below = [f for f in feats if f.removed and not f.uncertain]
     if below:
         topo.messages.append(
@@ -211,6 +222,28 @@ def _resampled(
     sub: np.ndarray, rec: Reconstruction, test: str, theta: float, cancel: object | None, report: Callable
 ) -> Resampled:
     """The reconstruction of some of the samples, the same way (``resample-check``'s run, without the check)."""
+    r = _rerun(sub, rec, test, theta, cancel, report)
+    return r.topology.betti, r.topology.closed_manifold, r.features, r.points
+
+
+def _resampled_complex(
+    sub: np.ndarray,
+    rec: Reconstruction,
+    test: str,
+    theta: float,
+    cancel: object | None,
+    report: Callable,
+    scale: float,
+) -> tuple[tuple[int, ...], bool, np.ndarray, np.ndarray]:
+    """:func:`_resampled`'s run, giving M_S and its samples (divided by ``scale``, as the caller's)."""
+    r = _rerun(sub, rec, test, theta, cancel, report)
+    return r.topology.betti, r.topology.closed_manifold, r.manifold, r.points / scale
+
+
+def _rerun(
+    sub: np.ndarray, rec: Reconstruction, test: str, theta: float, cancel: object | None, report: Callable
+) -> Reconstruction:
+    """``resample-check``'s own reconstruction of the kept samples, the way ``rec`` was made, without the check."""
 
     def progress(stage: str, frac: float) -> None:
         i = _STAGES.index(stage) if stage in _STAGES else len(_STAGES) - 1
@@ -218,7 +251,7 @@ def _resampled(
 
     from .reconstruct import reconstruct  # the check's own run (imported here: that module imports this one)
 
-    r = reconstruct(
+    return reconstruct(
         sub,
         rec.d,
         test=test,
@@ -231,7 +264,6 @@ def _resampled(
         resample=False,
         contacts=False,  # they add flags only; the check reads the Betti numbers and the handles' loops
     )
-    return r.topology.betti, r.topology.closed_manifold, r.features, r.points
 
 
 def _others_cut(feats: list[Feature], sure: int) -> str:
