@@ -353,8 +353,8 @@ def test_the_joined_surface_is_judged_again():
     """The elk at 0.1 h, noise draw 50: join-parts joined four parts, and a handle's loop, 7.1 radii tightened
     before (the band cut-handle leaves to the report), measured 4.7 once its part was joined.
 
-    cut-handle now runs again on the joined surface (after every join), and cuts it: the elk's genus 1
-    (it was 2, flagged).  Its cut comes after the last join in the step log, and the result replays to it.
+    cut-handle now runs once more on the joined surface, after the joins, and cuts it: the elk's genus 1
+    (it was 2, flagged).  Its cut is logged after the last join, and the step log replays to the result.
     """
     from scipy.spatial import cKDTree
 
@@ -367,5 +367,5 @@ def test_the_joined_surface_is_judged_again():
     assert rec.topology.betti == (1, 2, 1)
     rules = [s.rule for s in rec.extraction.steps]
     last_join = max(i for i, r in enumerate(rules) if r == "join-parts")
-    assert "cut-handle" in rules[last_join:]
+    assert "cut-handle" in rules[last_join:]  # (a join's own cuts are logged after it too: the Betti numbers decide)
     assert analyse(rec.extraction.complex_at(rec.extraction.n_steps), rec.n, 2).betti == (1, 2, 1)

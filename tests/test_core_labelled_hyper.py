@@ -70,9 +70,11 @@ def test_the_paper_result_is_kept_where_the_paper_succeeds(s3_run):
 def test_sculpt_sizes_every_face_of_a_cell_through_the_sample():
     """``_fits`` measures the k faces of a k-cell through the sample: three triangles in R^3, four tetrahedra in R^4.
 
-    A unit right-corner simplex at the origin: the faces through vertex 0 are the coordinate simplices, each
-    of circumradius sqrt(j)/2 with j vertices besides 0; with a spacing of 1 every one is below SIZE_MAX, and
-    with a spacing of 0.1 none is.
+    A right-corner simplex at the origin with edges 1 along every axis but the last, which is 2: the faces
+    through vertex 0 are coordinate simplices, circumradius half the length of their far edge's diagonal,
+    sqrt(k - 1) / 2 without the long axis and sqrt(k + 2) / 2 with it.  At a unit between the two sizes
+    over SIZE_MAX the faces with the long edge are too large, so the cell does not fit; a ``_fits`` that
+    measured only some faces through the sample (the first, or triangles in R^4) would let it fit.
     """
     from types import SimpleNamespace
 
@@ -80,14 +82,12 @@ def test_sculpt_sizes_every_face_of_a_cell_through_the_sample():
     from crustview.core.robust.label_repair import LabelEditor
 
     for k in (3, 4):
-        pts = np.vstack([np.zeros(k), np.eye(k)])
+        pts = np.vstack([np.zeros(k), np.diag([1.0] * (k - 1) + [2.0])])
         ed = LabelEditor.__new__(LabelEditor)
         ed.lab = SimpleNamespace(simplices=np.arange(k + 1)[None, :], points=pts)
-        assert ed._fits(0, 0, np.ones(k + 1))
-        # the faces through 0 have circumradius sqrt(k - 1) / 2; at this unit they are just over SIZE_MAX
-        unit = np.full(k + 1, np.sqrt(k - 1) / 2 / SIZE_MAX * 0.99)
-        assert not ed._fits(0, 0, unit)
-        assert ed._fits(0, 0, unit * 1.02 / 0.99)
+        small, big = np.sqrt(k - 1) / 2, np.sqrt(k + 2) / 2
+        assert ed._fits(0, 0, np.full(k + 1, 1.01 * big / SIZE_MAX))
+        assert not ed._fits(0, 0, np.full(k + 1, (small + big) / 2 / SIZE_MAX))
 
 
 def test_pinches_no_star_shows_are_repaired_around_their_ridges():

@@ -36,11 +36,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..analysis.features import LOOP_MIN, enclosing_radii
+from ..analysis.features import enclosing_radii
 from ..analysis.topology import is_closed_manifold
 from ..errors import check_cancel
-from ..steps import RULE_CUT, RULE_JOIN, RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
-from .cut_handle import Cut, CutHandles, cut_handles
+from ..steps import RULE_JOIN, RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
+from .cut_handle import CutHandles, cut_handles, log_cut
 from .grow import SIZE_MAX, size_ratio
 from .join_parts import JoinParts, join_parts
 from .label_repair import LabelEditor
@@ -339,7 +339,7 @@ def _labelled(
     pinched = not is_closed_manifold(surf, surf.shape[1] - 1)
     repairs = [((int(v),), c, rem, add) for v, c, rem, add in ed.repair()] if pinched else []
     # in R^k, k >= 4, M_S can also pinch where every star has one piece of each label (LabelEditor.repair_ridges)
-    for tau, cells, removed, added in repairs + (ed.repair_ridges() if points.shape[1] >= 4 else []):
+    for tau, cells, removed, added in repairs + (ed.repair_ridges(cancel) if pinched and points.shape[1] >= 4 else []):
         log.step(
             RULE_REPAIR,
             tau,
@@ -368,7 +368,7 @@ def _labelled(
     surface = points.shape[1] == 3
     handles = cut_handles(ed, points, cancel) if surface else _NO_CUTS
     for c in handles.cuts:
-        _log_cut(log, lab, c)
+        log_cut(log, lab.faces, c)
     joined = join_parts(ed, points, cancel) if surface else _NO_JOINS
     for j in joined.joins:
         log.step(
@@ -387,12 +387,12 @@ def _labelled(
             + f" took the inside label (labelling confidence {j.cost:.2f} in all)",
         )
         for c in j.cuts:
-            _log_cut(log, lab, c)
+            log_cut(log, lab.faces, c)
     # a join changes the loops around it (the elk at 0.1 h, draw 50: a handle's loop 7.1 radii before its
     # part was joined, 4.7 after): cut-handle judges the joined surface again
     after = cut_handles(ed, points, cancel) if joined.joins else _NO_CUTS
     for c in after.cuts:
-        _log_cut(log, lab, c)
+        log_cut(log, lab.faces, c)
     # the rest edits M_S face by face
     cut = ed.cut
     inner = np.where(lab.inside[lab.a[cut]], lab.a[cut], lab.b[cut])
@@ -494,23 +494,3 @@ def _labelled(
     ext.examined_caps = over  # type: ignore[attr-defined]
     ext.patch_start = start  # type: ignore[attr-defined]
     return ext
-
-
-def _log_cut(log: StepLog, lab: Labelling, c: Cut) -> None:
-    """Record one ``cut-handle`` cut (:class:`.cut_handle.Cut`) as a step."""
-    log.step(
-        RULE_CUT,
-        tuple(int(v) for v in c.feature.vertices.tolist()),
-        lab.faces[c.added],
-        lab.faces[c.removed],
-        math.nan,
-        f"a handle whose shortest loop is {c.feature.size_spacings:.3g} sampling radii long ("
-        + (
-            "below 2 pi: no sample with eps < 1 resolves it"
-            if c.feature.size_spacings < LOOP_MIN
-            else "below 4 pi: only a sample coarser than eps = 1/2 resolves it"
-        )
-        + f"); {len(c.cells)} cells around the loop ({c.around}) took the other label "
-        f"({'a tunnel filled' if c.how == 'fill' else 'a bridge cut'}, labelling confidence {c.cost:.2f} in all, "
-        "the least of the trials around its loop)",
-    )

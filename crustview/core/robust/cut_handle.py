@@ -60,7 +60,9 @@ from scipy.sparse.csgraph import connected_components
 from ..analysis.cotree import triangle_edges
 from ..analysis.features import LOOP_MIN, LOOP_SUPPORTED, Feature, features
 from ..errors import check_cancel
+from ..steps import RULE_CUT
 from .label_repair import LabelEditor
+from .steplog import StepLog
 
 #: Rounds of the rule: the loops of a short basis change once a handle is cut, so the features are
 #: measured again, at most this often (a handle that only shows after another is cut is found then).
@@ -372,3 +374,23 @@ def _was_on(ed: LabelEditor, inside0: np.ndarray, v: int) -> bool:
     """Whether v was a vertex of M_S under the labels ``inside0``."""
     ins = inside0[ed.star(v)]
     return bool(ins.any() and not ins.all())
+
+
+def log_cut(log: StepLog, faces: np.ndarray, c: Cut) -> None:
+    """Record one cut as a ``cut-handle`` step of ``log`` (``faces``: the labelling's shared faces)."""
+    log.step(
+        RULE_CUT,
+        tuple(int(v) for v in c.feature.vertices.tolist()),
+        faces[c.added],
+        faces[c.removed],
+        math.nan,
+        f"a handle whose shortest loop is {c.feature.size_spacings:.3g} sampling radii long ("
+        + (
+            "below 2 pi: no sample with eps < 1 resolves it"
+            if c.feature.size_spacings < LOOP_MIN
+            else "below 4 pi: only a sample coarser than eps = 1/2 resolves it"
+        )
+        + f"); {len(c.cells)} cells around the loop ({c.around}) took the other label "
+        f"({'a tunnel filled' if c.how == 'fill' else 'a bridge cut'}, labelling confidence {c.cost:.2f} in all, "
+        "the least of the trials around its loop)",
+    )

@@ -1,11 +1,12 @@
 """Rules ``repair-vertex`` and ``sculpt-sample``: the labelled surface made a manifold through every sample.
 
 The faces between inside and outside cells (:mod:`.labelling`) never have a
-boundary, but they can pinch: at a vertex v the surface is a manifold exactly
+boundary, but they can pinch: in R^3, at a vertex v the surface is a manifold exactly
 when the inside cells of v's star form one piece and the outside cells one
 piece (joined through faces at v; the link of v is a sphere split into two
 discs).  Two inside pieces touching at v make a pinched vertex or a
-non-manifold edge.
+non-manifold edge.  In R^k, k >= 4, the condition is necessary only, and
+:meth:`LabelEditor.repair_ridges` mends what it misses.
 
 * ``repair-vertex``: at such a vertex, the most confident piece of each label
   stays, and every other piece takes the other label.  Confidence is the
@@ -56,6 +57,9 @@ from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import connected_components
 
 from ..analysis.radii import enclosing_cover
+from ..analysis.topology import all_faces, singular_vertices
+from ..errors import check_cancel
+from ..util.rows import unique_rows
 from .grow import SIZE_MAX, circumradii
 from .labelling import Labelling
 
@@ -259,7 +263,9 @@ class LabelEditor:
             todo = sorted(again)
         return steps
 
-    def repair_ridges(self) -> list[tuple[tuple[int, ...], np.ndarray, np.ndarray, np.ndarray]]:
+    def repair_ridges(
+        self, cancel: object | None = None
+    ) -> list[tuple[tuple[int, ...], np.ndarray, np.ndarray, np.ndarray]]:
         """``repair-vertex`` where M_S pinches in R^k, k >= 4, unseen by star pieces: (place, cells, removed, added).
 
         In R^3 a pinch always shows at a vertex: the link of a vertex is a 2-sphere, and two pieces of one
@@ -277,19 +283,18 @@ class LabelEditor:
         :data:`REPAIR_ROUNDS` rounds have run; a cell flipped :data:`PING_PONG` times around ridges keeps its
         label from then on, as in :meth:`repair` (S^3 at 6 % noise: two rings undid each other's repair).
         """
-        from ..analysis.topology import all_faces, singular_vertices
-
         lab = self.lab
         steps: list[tuple[tuple[int, ...], np.ndarray, np.ndarray, np.ndarray]] = []
         flips = np.zeros(lab.m, np.int8)
         for _ in range(REPAIR_ROUNDS):
+            check_cancel(cancel)
             faces = lab.faces[self.cut]
             if len(faces) == 0 or faces.shape[1] < 4:
                 break
             # the rows are sorted, so each ridge (a column dropped) is too
             ridges = np.concatenate([np.delete(faces, j, axis=1) for j in range(faces.shape[1])])
-            uniq, count = np.unique(ridges, axis=0, return_counts=True)
-            bad = uniq[count > 2]
+            uniq, inverse = unique_rows(ridges)
+            bad = uniq[np.bincount(inverse.ravel(), minlength=len(uniq)) > 2]
             before = len(steps)
             touched = np.zeros(lab.m, bool)
             for r in bad.tolist():
@@ -324,9 +329,9 @@ class LabelEditor:
                     flipped = cells[side != (conf[side].sum() >= conf[~side].sum())]
                     touched[cells] = True
                     steps.append(((int(v),), flipped, *self.flip(flipped)))
-            steps.extend(((int(v),), c, rem, add) for v, c, rem, add in self.repair())
             if len(steps) == before:
                 break
+            steps.extend(((int(v),), c, rem, add) for v, c, rem, add in self.repair())
         return steps
 
     def _ring_pieces(self, cells: np.ndarray) -> np.ndarray:
