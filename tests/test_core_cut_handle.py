@@ -327,6 +327,16 @@ def test_euler_counts_match_a_count_by_hand_with_and_without_a_region():
         assert _euler(sub, n, region) == len(verts) - len(edges) + len(sub)
 
 
+def _noisy_elk(seed: int) -> np.ndarray:
+    """The elk at 0.1 h with noisy.py's noise of draw ``seed`` (made here from ``resources/elk.off``)."""
+    from scipy.spatial import cKDTree
+
+    pts = read_points(Path(__file__).resolve().parents[1] / "resources" / "elk.off")
+    h = float(np.median(cKDTree(pts).query(pts, k=2)[0][:, 1]))
+    noisy = pts + np.random.default_rng(seed).normal(scale=0.1 * h, size=pts.shape)
+    return np.array([[float(f"{v:.9g}") for v in row] for row in noisy])  # as noisy.py writes them
+
+
 def test_a_loop_below_loop_min_once_tightened_is_cut_too():
     """The elk at 0.1 h, noise draw 47 (noisy.py's model, made here from ``resources/elk.off``).
 
@@ -335,13 +345,7 @@ def test_a_loop_below_loop_min_once_tightened_is_cut_too():
     radii, below LOOP_MIN: what no eps < 1 sample resolves.  Where no loop is short as found, cut-handle
     now also tries the loops tightened below LOOP_MIN: the result has the elk's genus 1 (it was 2).
     """
-    from scipy.spatial import cKDTree
-
-    pts = read_points(Path(__file__).resolve().parents[1] / "resources" / "elk.off")
-    h = float(np.median(cKDTree(pts).query(pts, k=2)[0][:, 1]))
-    noisy = pts + np.random.default_rng(47).normal(scale=0.1 * h, size=pts.shape)
-    noisy = np.array([[float(f"{v:.9g}") for v in row] for row in noisy])  # as noisy.py writes them
-    rec = reconstruct(noisy, 2)
+    rec = reconstruct(_noisy_elk(47), 2)
     assert rec.topology.closed_manifold and rec.topology.unused_samples == 0
     assert rec.topology.betti == (1, 2, 1)
     kept = [f for f in rec.features if f.kind == "handle" and not f.removed]
@@ -356,13 +360,7 @@ def test_the_joined_surface_is_judged_again():
     cut-handle now runs once more on the joined surface, after the joins, and cuts it: the elk's genus 1
     (it was 2, flagged).  Its cut is logged after the last join, and the step log replays to the result.
     """
-    from scipy.spatial import cKDTree
-
-    pts = read_points(Path(__file__).resolve().parents[1] / "resources" / "elk.off")
-    h = float(np.median(cKDTree(pts).query(pts, k=2)[0][:, 1]))
-    noisy = pts + np.random.default_rng(50).normal(scale=0.1 * h, size=pts.shape)
-    noisy = np.array([[float(f"{v:.9g}") for v in row] for row in noisy])  # as noisy.py writes them
-    rec = reconstruct(noisy, 2)
+    rec = reconstruct(_noisy_elk(50), 2)
     assert rec.topology.closed_manifold and rec.topology.unused_samples == 0
     assert rec.topology.betti == (1, 2, 1)
     rules = [s.rule for s in rec.extraction.steps]
