@@ -29,6 +29,15 @@ except ImportError:  # pragma: no cover
     pyvista = None
 
 
+@pytest.hookimpl(tryfirst=True)
+def pytest_cmdline_main(config):
+    """Run in one process when no ``-n`` is given: ``--dist worksteal`` (``pyproject.toml``'s addopts, for
+    ``-n 2``) without workers made pytest-xdist run the tests in a session whose Qt application aborted."""
+    if getattr(config.option, "dist", "no") != "no" and not getattr(config.option, "numprocesses", None):
+        if not getattr(config.option, "tx", None):
+            config.option.dist = "no"
+
+
 def pytest_configure(config):
     """Compile crustview's modules to ``__pycache__`` before the xdist workers and the command-line tests'
     subprocesses (about 100) import them.

@@ -56,6 +56,8 @@ class FeaturesPanel(QGroupBox):
             "a missing piece, a gap taken for a hole). Click one to frame it."
             + (
                 " A handle is counted by its loops: one handle of a surface has two (b1 = 2 g)."
+                if any(f.kind == "handle" for f in self.features) and self.model.rec.d == 2
+                else " A handle here is a difference in b1, the independent loops of M_S."
                 if any(f.kind == "handle" for f in self.features)
                 else ""
             )
