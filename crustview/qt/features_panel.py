@@ -50,17 +50,17 @@ class FeaturesPanel(QGroupBox):
         if not self.features:
             self.summary.setText("")
             return
+        handles = ""
+        if any(f.kind == "handle" for f in self.features):
+            handles = (
+                " A handle is counted by its loops: one handle of a surface has two (b1 = 2 g)."
+                if self.model.rec.d == 2
+                else " A handle here is a difference in b1, the independent loops of M_S."
+            )
         self.summary.setText(
             escape(uncertain_summary(self.features))
             + ": each is below what the sample can resolve, so M_S may be wrong there (a false bridge, "
-            "a missing piece, a gap taken for a hole). Click one to frame it."
-            + (
-                " A handle is counted by its loops: one handle of a surface has two (b1 = 2 g)."
-                if any(f.kind == "handle" for f in self.features) and self.model.rec.d == 2
-                else " A handle here is a difference in b1, the independent loops of M_S."
-                if any(f.kind == "handle" for f in self.features)
-                else ""
-            )
+            "a missing piece, a gap taken for a hole). Click one to frame it." + handles
         )
         for i, f in enumerate(self.features):
             words = feature_words(f, i)

@@ -42,6 +42,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from .dispute import disagreement
 from .features import LOOP_SUPPORTED, Feature
 
 #: Loop length (sampling radii) below which a handle not already uncertain is checked: 2 pi / eps at
@@ -176,8 +177,6 @@ def resample_betti(
     message : str
         What the check did, for the topology messages.
     """
-    from .dispute import disagreement
-
     keep = np.random.default_rng(RESAMPLE_SEED).random(len(points)) < RESAMPLE_KEEP
     ids = np.flatnonzero(keep)
     sub_betti, sub_closed, sub_manifold, sub_points = run(points[keep])

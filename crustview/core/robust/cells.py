@@ -240,11 +240,6 @@ def kept_caps(points: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> 
     return out
 
 
-#: What cut-handle and join-parts do off R^3 (nothing; see :func:`_labelled`).
-_NO_CUTS = CutHandles()
-_NO_JOINS = JoinParts()
-
-
 def extract_by_labels(
     points: np.ndarray,
     delaunay_points: np.ndarray,
@@ -366,10 +361,10 @@ def _labelled(
     # hypersurface in R^k, k >= 4 (a 3-manifold in R^4), is labelled, repaired and sculpted as above and
     # settled below; its holes and handles are measured by the report (see module docstring)
     surface = points.shape[1] == 3
-    handles = cut_handles(ed, points, cancel) if surface else _NO_CUTS
+    handles = cut_handles(ed, points, cancel) if surface else CutHandles()
     for c in handles.cuts:
         log_cut(log, lab.faces, c)
-    joined = join_parts(ed, points, cancel) if surface else _NO_JOINS
+    joined = join_parts(ed, points, cancel) if surface else JoinParts()
     for j in joined.joins:
         log.step(
             RULE_JOIN,
@@ -390,7 +385,7 @@ def _labelled(
             log_cut(log, lab.faces, c)
     # a join changes the loops around it (the elk at 0.1 h, draw 50: a handle's loop 7.1 radii before its
     # part was joined, 4.7 after): cut-handle judges the joined surface again
-    after = cut_handles(ed, points, cancel) if joined.joins else _NO_CUTS
+    after = cut_handles(ed, points, cancel) if joined.joins else CutHandles()
     for c in after.cuts:
         log_cut(log, lab.faces, c)
     # the rest edits M_S face by face

@@ -239,20 +239,7 @@ class LabelEditor:
                 if touched[cells].any():
                     again.add(v)  # its star changed in this round: the next round looks again
                     continue
-                n_p = piece.max() + 1
-                is_in = np.zeros(n_p, bool)
-                is_in[piece] = lab.inside[cells]
-                weight = np.bincount(piece, weights=lab.confidence[cells], minlength=n_p)
-                pinned = flips[cells] >= PING_PONG
-                if pinned.any():
-                    weight += np.bincount(piece, weights=pinned * (1.0 + weight.sum()), minlength=n_p)
-                keep = []
-                for side in (True, False):
-                    cand = np.flatnonzero(is_in == side)
-                    if len(cand):
-                        keep.append(int(cand[np.argmax(weight[cand])]))
-                flipped = cells[~np.isin(piece, keep)]
-                flipped = flipped[~lab.outside[flipped] & (flips[flipped] < PING_PONG)]
+                flipped = self._minor_pieces(cells, piece, flips)
                 if len(flipped) == 0:
                     continue
                 flips[flipped] += 1
@@ -303,17 +290,7 @@ class LabelEditor:
                     cells = np.intersect1d(cells, self.star(v), assume_unique=True)
                 if touched[cells].any():
                     continue  # its ring changed in this round: looked at again in the next
-                piece = self._ring_pieces(cells)
-                n_p = int(piece.max()) + 1
-                is_in = np.zeros(n_p, bool)
-                is_in[piece] = lab.inside[cells]
-                weight = np.bincount(piece, weights=lab.confidence[cells], minlength=n_p)
-                pinned = flips[cells] >= PING_PONG
-                if pinned.any():  # as in repair: a run flipped there and back twice is kept
-                    weight += np.bincount(piece, weights=pinned * (1.0 + weight.sum()), minlength=n_p)
-                keep = [int(c[np.argmax(weight[c])]) for c in (np.flatnonzero(is_in), np.flatnonzero(~is_in)) if len(c)]
-                flipped = cells[~np.isin(piece, keep) & ~lab.outside[cells]]
-                flipped = flipped[flips[flipped] < PING_PONG]
+                flipped = self._minor_pieces(cells, self._ring_pieces(cells), flips)
                 if len(flipped):
                     flips[flipped] += 1
                     touched[cells] = True
@@ -333,6 +310,25 @@ class LabelEditor:
                 break
             steps.extend(((int(v),), c, rem, add) for v, c, rem, add in self.repair())
         return steps
+
+    def _minor_pieces(self, cells: np.ndarray, piece: np.ndarray, flips: np.ndarray) -> np.ndarray:
+        """The cells to flip where ``cells`` (a star, or a ring around a ridge) hold more than one piece of a label.
+
+        The most confident piece of each label stays (confidence summed over the piece; a piece with a cell
+        flipped :data:`PING_PONG` times counts as the most confident), every other piece's cells go, but for
+        the fixed outside cells and those already flipped PING_PONG times.
+        """
+        lab = self.lab
+        n_p = int(piece.max()) + 1
+        is_in = np.zeros(n_p, bool)
+        is_in[piece] = lab.inside[cells]
+        weight = np.bincount(piece, weights=lab.confidence[cells], minlength=n_p)
+        pinned = flips[cells] >= PING_PONG
+        if pinned.any():
+            weight += np.bincount(piece, weights=pinned * (1.0 + weight.sum()), minlength=n_p)
+        keep = [int(c[np.argmax(weight[c])]) for c in (np.flatnonzero(is_in), np.flatnonzero(~is_in)) if len(c)]
+        flipped = cells[~np.isin(piece, keep)]
+        return flipped[~lab.outside[flipped] & (flips[flipped] < PING_PONG)]
 
     def _ring_pieces(self, cells: np.ndarray) -> np.ndarray:
         """The runs of one label among the cells around a ridge (joined through the faces they share)."""
