@@ -102,7 +102,7 @@ def result_features(
     elif pending is not None:
         measured = pending.result()
     else:
-        measured = features(rec.points / scale, manifold, rec.d)
+        measured = features(rec.points / scale, manifold, rec.d, b1=topo.betti[1])
     # on the rescaled samples (sizes are ratios; locations are scaled back)
     feats = [replace(f, location=f.location * scale) for f in measured + list(ext.disputed)]
     # a handle cut in the band [LOOP_MIN, LOOP_SUPPORTED) stays uncertain: a sample coarser than

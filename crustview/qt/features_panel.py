@@ -55,7 +55,7 @@ class FeaturesPanel(QGroupBox):
             handles = (
                 " A handle is counted by its loops: one handle of a surface has two (b1 = 2 g)."
                 if self.model.rec.d == 2
-                else " A handle here is a difference in b1, the independent loops of M_S."
+                else " A handle here is one unit of b1, an independent loop of M_S (disputed: a difference in b1)."
             )
         self.summary.setText(
             escape(uncertain_summary(self.features))

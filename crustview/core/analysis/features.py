@@ -43,7 +43,8 @@ below one spacing is below the resolution of *any* sampling condition:
   M_S between them is narrower than the sample resolves, one opening with a
   ribbon left across it (a cap the labelling split in two) or a real strip.
 
-Handles are the loops of a short basis of H_1 (Z/2), found by :mod:`.loops`.
+Handles are the loops of a short basis of H_1 (Z/2), found by :mod:`.loops` (a surface) or :mod:`.tunnels`
+(d >= 3: the same bounds, a tunnel being a tube's S^1 factor as a surface handle is).
 """
 
 from __future__ import annotations
@@ -161,6 +162,7 @@ def features(
     *,
     tighten_loops: bool = True,
     handles_only: bool = False,
+    b1: int | None = None,
 ) -> list[Feature]:
     """Every handle, hole and component of a complex, with its support.
 
@@ -171,8 +173,9 @@ def features(
     simplices : ndarray of shape (s, d + 1)
         M_S.
     d : int
-        Its dimension.  Handles are found for d = 2, holes for d >= 2 (:func:`.solidholes.holes_of_solids`
-        for d >= 3), components in every dimension (a curve's gaps: :func:`.gaps.curve_gaps`).
+        Its dimension.  Handles are found for d >= 2 (:func:`.tunnels.tunnels` for d >= 3), holes for
+        d >= 2 (:func:`.solidholes.holes_of_solids` for d >= 3), components in every dimension (a curve's
+        gaps: :func:`.gaps.curve_gaps`).
     spacing : ndarray of shape (n,), optional
         Local spacing per sample (default: nearest-neighbour distances).
     tighten_loops : bool
@@ -183,6 +186,9 @@ def features(
     handles_only : bool
         Only the handles (what ``cut-handle`` looks at): the components, the samples M_S does not
         reach and the holes are not measured.  The handles are the same either way.
+    b1 : int, optional
+        The complex's first Betti number when the caller knows it (:func:`.topology.analyse`): at 0 a
+        d >= 3 complex's classes (:func:`.tunnels.edge_classes`) are not computed.  The result is the same.
 
     Returns
     -------
@@ -206,9 +212,10 @@ def features(
         if not no_loops(simplices, edges, tri_edges, count, n):
             out += _handles(points, simplices, edges, tri_edges, count, h, n, tighten_loops)
     elif d >= 3 and not handles_only:
-        from .solidholes import holes_of_solids  # it builds on this module's Feature and bounds
+        from .solidholes import holes_of_solids  # they build on this module's Feature and bounds
+        from .tunnels import tunnels
 
-        out += holes_of_solids(points, simplices, h)
+        out += holes_of_solids(points, simplices, h) + ([] if b1 == 0 else tunnels(points, simplices, h))
     return out
 
 
