@@ -149,7 +149,7 @@ def test_a_3_manifold_whose_resample_differs_is_not_sure():
     assert top.closed_manifold and top.betti[1] > 1  # wrong, and closed
     loops = [f for f in rec.features if f.kind == "handle" and not f.disputed]
     assert len(loops) == top.betti[1]
-    # most extra classes have a short loop (13 of the 15 here); a basis may reach a few only by longer ones
+    # most loops are short (13 of the 16 here); a basis may reach a few extra classes only by longer ones
     assert sum(f.uncertain for f in loops) > (top.betti[1] - 1) // 2
     disputed = [f for f in rec.uncertain_features if f.disputed]
     assert disputed and all("differ here" in f.reason for f in disputed)

@@ -185,7 +185,8 @@ def features(
         labelled and the grown result (below 5,000 samples), measure them tightened.
     handles_only : bool
         Only the handles (what ``cut-handle`` looks at): the components, the samples M_S does not
-        reach and the holes are not measured.  The handles are the same either way.
+        reach and the holes are not measured.  A surface's handles are the same either way (a d >= 3
+        complex's tunnels are measured only with the rest).
     b1 : int, optional
         The complex's first Betti number when the caller knows it (:func:`.topology.analyse`): at 0 a
         d >= 3 complex's classes (:func:`.tunnels.edge_classes`) are not computed.  The result is the same.

@@ -231,9 +231,27 @@ def tunnels(points: np.ndarray, simplices: np.ndarray, h: np.ndarray) -> list[Fe
 def _short_loops(
     points: np.ndarray, edges: np.ndarray, mask: np.ndarray, b1: int, h: np.ndarray, local: np.ndarray
 ) -> list[tuple[np.ndarray, float]]:
-    """The greedy short basis: candidate loops of every root, shortest first while independent (b1 of them).
+    """The greedy short basis: candidate loops of several roots, shortest first while independent.
 
-    ``local``: the vertices searched within LOOP_SUPPORTED local spacings besides the spread roots.
+    Parameters
+    ----------
+    points : ndarray of shape (n, k)
+    edges : ndarray of shape (e, 2)
+    mask : ndarray of shape (e, words)
+        Every edge's class (:func:`edge_classes`).
+    b1 : int
+        How many loops to find.
+    h : ndarray of shape (n,)
+        The local sampling radius (the local roots' search radius is LOOP_SUPPORTED times theirs).
+    local : ndarray of int
+        The vertices searched within LOOP_SUPPORTED local spacings besides the spread roots.
+
+    Returns
+    -------
+    list of (vertices, length)
+        b1 closed walks along ``edges`` (a root at both ends), independent in H_1, shortest first.  The
+        loops of a spanning forest's other edges span every class, so the basis is always complete: where
+        the roots' own candidates do not reach a class, its forest loop is taken (an upper bound).
     """
     n = len(points)
     length = edge_lengths(points, edges)
@@ -244,21 +262,30 @@ def _short_loops(
     marked, marked_mask = edges[hot], mask[hot]
     every = (np.arange(len(edges)), edges[:, 0], edges[:, 1], mask)
     cand: list[tuple[float, np.ndarray, int, np.ndarray, int, int]] = []
+
+    def add(pred: np.ndarray, dist: np.ndarray, r: int, limit: int) -> None:
+        found = _root_loops((pred, dist, marked, marked_mask, every, length, limit))
+        if found is not None:  # an edge another component holds, or beyond a bounded search, is not reached
+            cand.extend(
+                (float(L), m, r, pred, int(a), int(b)) for L, m, a, b in zip(*found, strict=True) if np.isfinite(L)
+            )
+
     used = np.unique(edges)
-    roots = [r for c in np.unique(label[used]) for r in _spread_roots(points, (label == c) & _member(n, used), None)]
+    member = np.zeros(n, bool)
+    member[used] = True
+    comps = np.unique(label[used])
+    roots = [r for c in comps for r in _spread_roots(points, (label == c) & member, None)]
     dist, pred = shortest_path_trees(g, roots)
     for ri, r in enumerate(roots):
-        found = _root_loops((pred[ri], dist[ri], marked, marked_mask, every, length, 8 * b1))
-        if found is not None:
-            cand.extend((float(L), m, r, pred[ri], int(a), int(b)) for L, m, a, b in zip(*found, strict=True))
+        add(pred[ri], dist[ri], r, 8 * b1)
     # a short loop far from the spread roots: searched from the ends of the edges where the classes were made
     for r in local.tolist():
         d1, p1 = dijkstra(g, indices=[r], return_predecessors=True, limit=float(LOOP_SUPPORTED * h[r]))
-        found = _root_loops((p1[0], d1[0], marked, marked_mask, every, length, 4))
-        if found is not None:
-            cand.extend(
-                (float(L), m, r, p1[0], int(a), int(b)) for L, m, a, b in zip(*found, strict=True) if np.isfinite(L)
-            )
+        add(p1[0], d1[0], r, 4)
+    # the completion: a shortest-path forest (one root per component) and every other edge's loop
+    first = [int(used[label[used] == c][0]) for c in comps]
+    d0, p0 = dijkstra(g, indices=first, return_predecessors=True, min_only=True)[:2]
+    add(p0, d0, -1, len(edges))
     cand.sort(key=lambda c: c[0])
     echelon: dict[int, int] = {}
     out = []
@@ -270,11 +297,4 @@ def _short_loops(
         out.append((np.array(_walk(pr, a)[::-1] + _walk(pr, b), np.int64), L))
         if len(out) == b1:
             break
-    return out
-
-
-def _member(n: int, used: np.ndarray) -> np.ndarray:
-    """A boolean mask of length n, True at ``used``."""
-    out = np.zeros(n, bool)
-    out[used] = True
     return out

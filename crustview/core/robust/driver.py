@@ -95,7 +95,7 @@ from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 from .patcher import Patcher
 from .seed_core import manifold_core
 from .tour_curve import tour_curve
-from .verdict import _boundary_vertices, _disputed, _state, _tie, problems
+from .verdict import _boundary_vertices, _disputed, _state, _tie, problems, weighed
 
 
 def extract_robust(
@@ -268,7 +268,7 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     top_lab = analyse(m_lab, n, d)
     # a hole open-cap made beside a sure opening from a cap under CAP_SURE times its ring is uncertain
     lab.features = weak_openings(features(points, m_lab, d, b1=top_lab.betti[1]), getattr(lab, "opened", []))
-    f_lab = _weighed(uncertain(lab.features), d)
+    f_lab = weighed(uncertain(lab.features), d)
     # sound: a closed manifold, or one whose only boundary is the openings open-cap kept open
     sound = top_lab.closed_manifold or (
         getattr(lab, "openings", 0) > 0 and top_lab.nonmanifold_faces == 0 and top_lab.singular_vertices == 0
@@ -289,7 +289,7 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     m_gro = grown.complex_at(grown.n_steps)
     top_gro = analyse(m_gro, n, d)
     grown.features = features(points, m_gro, d, b1=top_gro.betti[1])
-    f_gro = _weighed(uncertain(grown.features), d)
+    f_gro = weighed(uncertain(grown.features), d)
 
     # (the caps open-cap kept closed are removed features, in neither f_lab nor f_gro: they weigh on neither)
     p_lab, p_gro = problems(top_lab, f_lab), problems(top_gro, f_gro)
@@ -322,16 +322,6 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
         keep.disputed = disagreement(points, m_keep, m_other, t_keep.betti, t_other.betti)
     keep.final_topology = (keep.n_steps, n, d, t_keep)  # type: ignore[attr-defined]
     return keep
-
-
-def _weighed(found: list, d: int) -> list:
-    """The uncertain features that ask for the growing path's opinion and weigh in the choice between the two.
-
-    A d >= 3 result's handles (:mod:`~crustview.core.analysis.tunnels`) are reported, not weighed: growing a
-    3-manifold leaves it open where the labelling closes it (session 36), so it is no second opinion on its
-    tunnels, and a choice swayed by them kept grown results with hundreds of holes (S^2 x S^1, 1,500 samples).
-    """
-    return [f for f in found if d == 2 or f.kind != "handle"]
 
 
 def _row_keys(rows: np.ndarray, base: int) -> np.ndarray:
