@@ -188,3 +188,16 @@ def test_a_long_class_beside_another_component_is_still_found():
     assert len(found) == 3 and all(np.isfinite(f.size_spacings) and len(f.vertices) > 3 for f in found)
     # the long circle: 60 steps around a circle of radius 30 (or more), sure
     assert max(f.size_spacings for f in found) >= 60 * 2 * 30 * math.sin(math.pi / 60) / 0.3 - 1e-6
+
+
+def test_more_classes_than_the_search_takes_make_one_unsupported_feature(monkeypatch):
+    """Above MAX_LOOPS independent loops none is searched: one handle feature says how many, uncertain."""
+    import crustview.core.analysis.tunnels as tunnels_module
+
+    p1, t1 = _ring(6)
+    p2, t2 = _ring(10, shift=5.0)
+    pts, tets = np.vstack([p1, p2]), np.vstack([t1, t2 + len(p1)])
+    monkeypatch.setattr(tunnels_module, "MAX_LOOPS", 1)
+    (only,) = tunnels(pts, tets, np.ones(len(pts)))
+    assert only.kind == "handle" and only.uncertain and only.size_spacings == 0.0
+    assert only.reason.startswith("2 independent loops: too many handles")

@@ -365,17 +365,7 @@ def _handles(
     cocycles: dict = {}
     basis = short_basis(pts, tris, edges, tri_edges, count, m, local=local, surface=n, cocycles=cocycles)
     if isinstance(basis, int):
-        used = np.unique(edges[edges < n])
-        return [
-            Feature(
-                "handle",
-                points[used].mean(axis=0),
-                0.0,
-                True,
-                np.array([], np.int64),
-                f"{basis} independent loops: too many handles to list, none of them supported",
-            )
-        ]
+        return [too_many_loops(points, np.unique(edges[edges < n]), basis)]
     result = []
     classes = [walk_class(loop, cocycles) for loop, _ in basis] if tighten_loops else []
     for k, (loop, length) in enumerate(basis):
@@ -408,6 +398,22 @@ def _handles(
         )
         result.append(Feature("handle", points[loop].mean(axis=0), size, unc, loop, reason))
     return result
+
+
+def too_many_loops(points: np.ndarray, used: np.ndarray, count: int) -> Feature:
+    """The one feature that stands for a loop basis too large to search (above :data:`.loops.MAX_LOOPS`).
+
+    Placed at the mean of the complex's vertices ``used``, of size 0 and uncertain: none of ``count`` loops is
+    measured, so none is supported.
+    """
+    return Feature(
+        "handle",
+        points[used].mean(axis=0),
+        0.0,
+        True,
+        np.array([], np.int64),
+        f"{count} independent loops: too many handles to list, none of them supported",
+    )
 
 
 def uncertain(feats: list[Feature]) -> list[Feature]:

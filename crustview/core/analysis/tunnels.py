@@ -41,7 +41,7 @@ from scipy.sparse.csgraph import breadth_first_order, connected_components, dijk
 
 from ..util.rows import unique_rows
 from ..util.vectors import edge_lengths
-from .features import LOOP_MIN, LOOP_SUPPORTED, Feature
+from .features import LOOP_MIN, LOOP_SUPPORTED, Feature, too_many_loops
 from .loops import MAX_LOOPS, _reduce, _root_loops, _spread_roots, _walk, shortest_path_trees
 
 __all__ = ["edge_classes", "skeleton", "tunnels"]
@@ -200,18 +200,8 @@ def tunnels(points: np.ndarray, simplices: np.ndarray, h: np.ndarray) -> list[Fe
     mask, b1, born = edge_classes(n, edges, tri_edges)
     if b1 == 0:
         return []
-    used = np.unique(edges)
     if mask.shape[1] == 0:
-        return [
-            Feature(
-                "handle",
-                points[used].mean(axis=0),
-                0.0,
-                True,
-                np.array([], np.int64),
-                f"{b1} independent loops: too many handles to list, none of them supported",
-            )
-        ]
+        return [too_many_loops(points, np.unique(edges), b1)]
     loops = _short_loops(points, edges, mask, b1, h, np.unique(edges[born]))
     out = []
     for loop, length in loops:
