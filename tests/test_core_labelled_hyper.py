@@ -155,3 +155,27 @@ def test_a_3_manifold_whose_resample_differs_is_not_sure():
     assert disputed and all("differ here" in f.reason for f in disputed)
     assert any(f.kind == "handle" for f in disputed)
     assert any(m.startswith("resample-check: the reconstruction of 90%") for m in top.messages)
+
+
+def test_a_hypersurface_of_its_affine_hull_in_r5_is_labelled_too():
+    """S^3 given in R^5 (turned and moved off the origin: a 4-flat): grown, as it was until session 37 because
+    its k - d is 2, it came out open and flagged where in R^4 it is closed and right.  It is a hypersurface of
+    its hull, and the labelling runs in the hull's coordinates; what the driver measured there (a loop of
+    S^2 x S^1 below) comes back in R^5, on its samples."""
+    from crustview.core.samples.manifolds import get_manifold
+
+    turn = np.linalg.qr(np.random.default_rng(1).normal(size=(5, 5)))[0]
+    m = get_manifold("s3")
+    s = m.sample(m.default_n, seed=2).points
+    s = s + np.random.default_rng(102).normal(scale=0.03, size=s.shape)
+    rec = reconstruct(np.c_[s, np.zeros(len(s))] @ turn + 3.0, 3)
+    assert rec.k == 5 and rec.subspace_dim == 4
+    assert _right(rec, (1, 0, 0, 1)) and not rec.uncertain_features
+    assert rec.extraction.counts_by_rule()["label-cells"]["steps"] == 1
+    grown = reconstruct(np.c_[s, np.zeros(len(s))] @ turn + 3.0, 3, labelling=False)
+    assert not _right(grown, (1, 0, 0, 1)) and grown.extraction.counts_by_rule()["label-cells"]["steps"] == 0
+    ring = reconstruct(np.c_[_s2_times_s1(1500, seed=1), np.zeros(1500)] @ turn - 2.0, 3)
+    assert _right(ring, (1, 1, 1, 1))
+    (loop,) = [f for f in ring.features if f.kind == "handle" and not f.disputed]
+    on = ring.input_points[ring.point_input[loop.vertices]]
+    assert loop.location.shape == (5,) and np.allclose(loop.location, on.mean(axis=0))

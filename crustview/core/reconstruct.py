@@ -20,6 +20,7 @@ from .result import CANDIDATE_TESTS, EXTRACTION_MODES, CandidateAngles, Candidat
 from .robust.driver import extract_robust
 from .robust.smooth_normals import smoothed_normals
 from .uncertainty import result_features
+from .util.hullframe import hull_frame
 from .util.memory import gc_paused, release_free_memory
 from .util.nearest import remember
 from .util.parallel import start_in_background
@@ -82,6 +83,7 @@ def reconstruct(
     cancel: object | None = None,
     resample: bool = True,
     contacts: bool = True,
+    labelling: bool = True,
 ) -> Reconstruction:
     """Reconstruct a closed d-manifold from samples in R^k.
 
@@ -133,6 +135,11 @@ def reconstruct(
         enclosures.  They only add uncertain features and flags; False skips
         them (``resample-check``'s own run, which reads only its handles'
         loops, does).
+    labelling : bool
+        The robust extraction of a hypersurface (d = k - 1, or d + 1 the dimension of the sample's
+        affine hull: a 3-manifold given in R^5 with a constant coordinate) labels the Delaunay cells
+        inside or outside, closed by construction.  False grows it face by face instead, as every
+        codimension >= 2 is: the growing path's own rules on a hypersurface (its tests, a comparison).
 
     Returns
     -------
@@ -277,6 +284,7 @@ def reconstruct(
         cancel=cancel,
         resample=resample,
         contacts=contacts,
+        labelling=labelling,
     )
 
 
@@ -291,12 +299,13 @@ def reextract(
     cancel: object | None = None,
     resample: bool = True,
     contacts: bool = True,
+    labelling: bool = True,
 ) -> Reconstruction:
     """Re-run Algorithm 3 and the topology report for another test or threshold.
 
     Nothing before Algorithm 3 is recomputed: every test's angles are stored.
     ``prune_boundary=None`` and ``mode=None`` keep the settings of ``rec``;
-    ``resample`` and ``contacts`` as in :func:`reconstruct`.
+    ``resample``, ``contacts`` and ``labelling`` as in :func:`reconstruct`.
 
     Returns
     -------
@@ -318,16 +327,23 @@ def reextract(
     measured: list = []  # the robust driver's measurement of the paper's own result, begun early
     with gc_paused():  # see memory.gc_paused: the extraction makes many long-lived small objects
         if mode == "robust":
-            cells = None
-            if rec.k - rec.d == 1 and rec.subspace_dim == rec.k:  # hypersurfaces: the labelling path
+            cells, frame = None, None
+            work = rec.points / scale
+            if labelling and rec.subspace_dim == rec.d + 1:  # hypersurfaces (of their affine hull): labelled
                 m = len(rec.delaunay_simplices)
+                if rec.subspace_dim < rec.k:  # in the hull's own coordinates, where the Delaunay cells are
+                    frame = hull_frame(work, rec.subspace_dim)
+                    work = frame.down(work)
 
                 def _cells() -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # made only if the paper's loop fails
-                    return rec.delaunay_points / scale, rec.delaunay_simplices, rec.voronoi_vertices[:m] / scale
+                    pts, centres = rec.delaunay_points / scale, rec.voronoi_vertices[:m] / scale
+                    if frame is not None:
+                        pts, centres = frame.down(pts), frame.down(centres)
+                    return pts, rec.delaunay_simplices, centres
 
                 cells = _cells
             ext = extract_robust(
-                rec.points / scale,
+                work,
                 rec.candidates.faces,
                 rec.candidates.angles[test],
                 theta,
@@ -338,6 +354,8 @@ def reextract(
                 rows_sorted=True,  # Candidates.faces: sorted rows
                 measured=measured,
             )
+            if frame is not None:  # the features the driver measured, back in R^k
+                measured = frame.lift_features(ext, measured)
         else:
             tset = rec.candidates.select(test, theta)
             ext = extract(

@@ -172,7 +172,7 @@ def result_features(
         )
         if said:
             topo.messages.append(f"{said} ({time.perf_counter() - t1:.1f} s)")
-    solid = rec.d >= 3 and rec.k == rec.d + 1 and rec.subspace_dim == rec.k  # the labelled 3-manifolds and up
+    solid = rec.d >= 3 and rec.subspace_dim == rec.d + 1  # the labelled 3-manifolds and up (of their hull too)
     if resample and mode == "robust" and solid and topo.closed_manifold and _beyond(counts):
         t1 = time.perf_counter()
         found, said = resample_betti(

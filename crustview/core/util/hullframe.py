@@ -1,0 +1,71 @@
+"""Coordinates in the affine hull of a sample that lies in a proper affine subspace of R^k.
+
+A 3-manifold given in R^5 with a constant fifth coordinate is a hypersurface of its hull, a 4-flat: its
+Delaunay cells are 4-simplices there (:mod:`crustview.core.prepare` triangulates in the hull's own
+coordinates), and the robust extension labels them inside or outside as for any hypersurface
+(:func:`crustview.core.reconstruct.reextract`).  The labelling works in the hull's coordinates; the
+features it measures on the way are lifted back to R^k.
+"""
+
+from __future__ import annotations
+
+from concurrent.futures import Future
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class HullFrame:
+    """An orthonormal frame of an affine subspace: a point of it and a basis of its directions.
+
+    Attributes
+    ----------
+    centre : ndarray of shape (k,)
+    basis : ndarray of shape (k, r)
+        Orthonormal columns.
+    """
+
+    centre: np.ndarray
+    basis: np.ndarray
+
+    def down(self, x: np.ndarray) -> np.ndarray:
+        """Coordinates in the frame of points of R^k (their orthogonal projection onto the subspace)."""
+        return (np.asarray(x, dtype=float) - self.centre) @ self.basis
+
+    def up(self, y: np.ndarray) -> np.ndarray:
+        """The points of R^k with these coordinates in the frame."""
+        return self.centre + np.asarray(y, dtype=float) @ self.basis.T
+
+    def lift_features(self, ext, measured: list) -> list:
+        """The features an extraction measured in the frame (and those still being measured), in R^k.
+
+        ``ext``'s ``features``, ``removed_features`` and ``disputed`` are replaced by their lifted copies;
+        ``measured`` (the robust driver's pending measurement of the paper's own result, a list of at most
+        one Future) is returned as a list of one finished Future holding the lifted features.
+        """
+
+        def lift(found):
+            return None if found is None else [replace(f, location=self.up(f.location)) for f in found]
+
+        ext.features = lift(ext.features)
+        ext.removed_features = lift(ext.removed_features)
+        ext.disputed = lift(ext.disputed)
+        out = []
+        for pending in measured:
+            done: Future = Future()
+            done.set_result(lift(pending.result()))
+            out.append(done)
+        return out
+
+
+def hull_frame(points: np.ndarray, r: int) -> HullFrame:
+    """The frame of the r-dimensional affine subspace that best fits ``points`` (their mean and principal axes).
+
+    For points that lie in an r-flat (up to rounding) it is that flat, and the frame's coordinates are an
+    isometric copy of the points: distances, angles and Delaunay balls are the same.
+    """
+    p = np.asarray(points, dtype=float)
+    centre = p.mean(axis=0)
+    _, _, vt = np.linalg.svd(p - centre, full_matrices=False)
+    return HullFrame(centre, np.ascontiguousarray(vt[:r].T))
