@@ -80,6 +80,7 @@ def load_operand(text: str, d: int | None) -> Operand:
     kw = {"test": "cocone", "theta": math.pi / 8, "prune_boundary": True, "mode": "robust"}
     if params is not None:
         kw.update(test=params["test"], theta=params["theta"], prune_boundary=params["prune_boundary"])
+        kw["labelling"] = params.get("labelling", True)
     kw.update({k: v for k, v in opts.items() if k in ("test", "mode")})
     if "theta" in opts:
         kw["theta"] = math.radians(opts["theta"])

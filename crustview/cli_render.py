@@ -130,6 +130,7 @@ def load(source: str, d: int | None, mode: str | None, run: dict | None = None, 
         d = d or params["d"]
         kwargs = {"test": params["test"], "theta": params["theta"], "prune_boundary": params["prune_boundary"]}
         kwargs["normals"] = params.get("normals", "paper")
+        kwargs["labelling"] = params.get("labelling", True)
         mode = mode or params["mode"]
     kwargs.update(run)
     if d is None:

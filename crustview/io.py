@@ -412,6 +412,7 @@ def write_result(
                     test=np.str_(rec.test),
                     theta=np.float64(rec.theta),
                     prune_boundary=np.bool_(rec.prune_boundary),
+                    labelling=np.bool_(getattr(rec, "labelling", True)),
                     mode=np.str_(rec.mode),
                     normals_method=np.str_(getattr(rec, "normals_method", "paper")),
                     **builtin_arrays(builtin),
@@ -473,6 +474,7 @@ def read_run_parameters(path: str | os.PathLike) -> dict[str, Any] | None:
                 "test": str(archive["test"]),
                 "theta": float(archive["theta"]),
                 "prune_boundary": bool(archive["prune_boundary"]) if "prune_boundary" in archive else True,
+                "labelling": bool(archive["labelling"]) if "labelling" in archive else True,
                 "mode": str(archive["mode"]) if "mode" in archive else "paper",
                 # the normal planes it was made with (Algorithm 1's before session 33 stored the choice)
                 "normals": str(archive["normals_method"]) if "normals_method" in archive else "paper",

@@ -133,6 +133,7 @@ def report_dict(
             "mode": rec.mode,
             "normals": rec.normals_method,
             "prune_boundary": rec.prune_boundary,
+            "labelling": rec.labelling,
             "n_candidates": int(rec.candidates.mask(rec.test, rec.theta).sum()),
             "holes_of_T_S": holes_of_candidates(rec),
             "stopped": rec.extraction.stopped,
@@ -179,7 +180,7 @@ def write_report(
 ) -> None:
     """Write a JSON summary of a reconstruction.
 
-    Keys: ``d k n n_input test theta theta_degrees mode prune_boundary
+    Keys: ``d k n n_input test theta theta_degrees mode prune_boundary labelling
     n_candidates stopped``; ``holes_of_T_S`` (the number of (d-1)-faces of
     T_S in a single simplex before extraction); ``notes`` (how the
     extraction went, e.g. why the robust extension took over);

@@ -174,10 +174,11 @@ def test_noisy_s3_holes_with_flaps_folded_into_them_are_unfolded_and_closed_with
     from crustview.core import reconstruct
 
     for seed, noise_seed in ((6, 56),):
-        # grown (labelling=False): the growing path, whose holes these are; labelled, as by default, this
-        # sample is closed by construction (test_core_labelled_hyper.py)
+        # grown in a hyperplane of R^5 (labelling=False; codimension 2 for the growing path, as before session
+        # 37), whose holes these are; labelled, as by default, this sample is closed by construction
+        # (test_core_labelled_hyper.py)
         pts = _noisy_s3(seed, noise_seed, 0.01)
-        rec = reconstruct(pts, 3, labelling=False)
+        rec = reconstruct(np.c_[pts, np.zeros(len(pts))], 3, labelling=False)
         top = rec.topology
         assert top.closed_manifold and top.betti == (1, 0, 0, 1) and top.unused_samples == 0
         assert not rec.uncertain_features

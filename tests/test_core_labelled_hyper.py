@@ -179,3 +179,68 @@ def test_a_hypersurface_of_its_affine_hull_in_r5_is_labelled_too():
     (loop,) = [f for f in ring.features if f.kind == "handle" and not f.disputed]
     on = ring.input_points[ring.point_input[loop.vertices]]
     assert loop.location.shape == (5,) and np.allclose(loop.location, on.mean(axis=0))
+
+
+def test_a_curve_in_a_plane_of_r3_is_reconstructed_as_in_the_plane():
+    """The robust path of a curve in a turned plane of R^3 runs in the plane's coordinates too: with its codimension
+    1 there, as in R^2 (``tour-curve`` and the orientation rule apply).  The ellipse at 4 % noise (draw 3) is closed
+    with one loop in both; grown in R^3 with codimension 2 (before session 37) it came out open, in 8 pieces."""
+    from crustview.core.samples.manifolds import get_manifold
+
+    s = get_manifold("ellipse").sample(200, seed=3).points
+    s = s + np.random.default_rng(3).normal(scale=0.04, size=s.shape)
+    turn = np.linalg.qr(np.random.default_rng(1).normal(size=(3, 3)))[0]
+    flat = reconstruct(s, 1)
+    tilted = reconstruct(np.c_[s, np.zeros(len(s))] @ turn + 0.5, 1)
+    for rec in (flat, tilted):
+        assert _right(rec, (1, 1))
+    assert tilted.extraction.counts_by_rule()["tour-curve"]["steps"] == 1
+    assert all(f.location.shape == (3,) for f in tilted.features)
+
+
+def test_the_hull_frame_lifts_every_feature_list_and_the_pending_measurement():
+    """HullFrame.lift_features on hand-made features: each list the driver fills, and its Future, come back in R^k."""
+    from concurrent.futures import Future
+    from types import SimpleNamespace
+
+    from crustview.core.analysis.features import Feature
+    from crustview.core.util.hullframe import hull_frame
+
+    turn = np.linalg.qr(np.random.default_rng(4).normal(size=(4, 4)))[0]
+    pts = np.c_[np.random.default_rng(5).normal(size=(50, 3)), np.zeros(50)] @ turn + 7.0
+    frame = hull_frame(pts, 3)
+    assert np.allclose(frame.up(frame.down(pts)), pts)
+
+    def at(i: int) -> Feature:
+        return Feature("hole", frame.down(pts[i]), 1.0, True, np.array([i]), "")
+
+    ext = SimpleNamespace(features=[at(0)], removed_features=[at(1)], disputed=[at(2)])
+    pending: Future = Future()
+    pending.set_result([at(3)])
+    (done,) = frame.lift_features(ext, [pending])
+    for got, i in ((ext.features, 0), (ext.removed_features, 1), (ext.disputed, 2), (done.result(), 3)):
+        assert got[0].location.shape == (4,) and np.allclose(got[0].location, pts[i])
+
+
+def test_a_grown_run_stays_grown_when_extracted_again_saved_and_reported(tmp_path):
+    """``labelling=False`` is a setting of the run like the mode: reextract keeps it, the .npz and the JSON say it,
+    and reopening the file redoes the run with it."""
+    import json
+
+    from crustview.core import reextract
+    from crustview.core.samples.manifolds import get_manifold
+    from crustview.io import read_run_parameters, write_result
+    from crustview.report import write_report
+
+    s = get_manifold("sphere").sample(400, seed=1).points
+    rec = reconstruct(s + np.random.default_rng(1).normal(scale=0.04, size=s.shape), 2, labelling=False)
+    # noise of 4 % of the radius: the paper's loop fails, and the robust extension grows (or labels) instead
+    assert rec.labelling is False and rec.extraction.counts_by_rule()["grow"]["steps"] > 0
+    again = reextract(rec, rec.test, rec.theta)
+    assert again.labelling is False and again.extraction.counts_by_rule()["label-cells"]["steps"] == 0
+    labelled = reextract(rec, rec.test, rec.theta, labelling=True)
+    assert labelled.labelling is True and labelled.extraction.counts_by_rule()["label-cells"]["steps"] == 1
+    write_result(tmp_path / "grown.npz", rec)
+    assert read_run_parameters(tmp_path / "grown.npz")["labelling"] is False
+    write_report(tmp_path / "grown.json", rec)
+    assert json.loads((tmp_path / "grown.json").read_text())["labelling"] is False

@@ -49,16 +49,16 @@ def test_a_3_manifolds_hole_is_judged_by_its_span_not_a_surfaces_face_count() ->
     """S^3 at 3 % of its reach, 1,200 samples (seed 6): a hole of 100-156 faces, 6.5 spacings across, was sure.
 
     The face bound (50) is a surface's rim loop's; a 3-manifold's rim is a sphere, whose face count grows with
-    the square of its span: the span bound (18 spacings) decides, and the hole is uncertain.  Grown
-    (``labelling=False``: the growing path, which left the hole; the default labelling path closes it,
-    test_core_labelled_hyper.py).
+    the square of its span: the span bound (18 spacings) decides, and the hole is uncertain.  Grown in a
+    hyperplane of R^5 (``labelling=False``; codimension 2 for the growing path, as before session 37), which
+    left the hole; the default labelling path closes it (test_core_labelled_hyper.py).
     """
     from crustview.core import reconstruct
     from crustview.core.samples.manifolds import get_manifold
 
     s = get_manifold("s3").sample(1200, seed=6).points
     s = s + np.random.default_rng(306).normal(scale=0.03, size=s.shape)
-    rec = reconstruct(s, 3, labelling=False)
+    rec = reconstruct(np.c_[s, np.zeros(len(s))], 3, labelling=False)
     holes = [f for f in rec.features if f.kind == "hole"]
     assert not rec.topology.closed_manifold and holes
     big = max(holes, key=lambda f: f.size_spacings)

@@ -218,9 +218,9 @@ def test_a_noisy_3_sphere_left_open_says_so_and_names_its_holes():
     Before session 35 its holes were not listed (features measured holes of surfaces only) and the verdict
     called it "a surface with boundary ... an open scan?".  Each hole is now an uncertain feature (below 4
     spacings, or a gap fill-hole could not close); and since 9 of its rim samples have links that are no
-    disc (annuli), it is no manifold with boundary either: NOT a closed manifold, in red.  Grown
-    (``labelling=False``: the growing path, which leaves it open; the default labelling path has closed it
-    since session 36, test_core_labelled_hyper.py).
+    disc (annuli), it is no manifold with boundary either: NOT a closed manifold, in red.  Grown in a
+    hyperplane of R^5 (``labelling=False``; codimension 2 for the growing path, as before session 37), which
+    leaves it open; the default labelling path has closed it since session 36 (test_core_labelled_hyper.py).
     """
     from crustview.core import reconstruct
     from crustview.core.analysis.solidholes import pinched_rim_vertices
@@ -229,7 +229,7 @@ def test_a_noisy_3_sphere_left_open_says_so_and_names_its_holes():
     m = get_manifold("s3")
     s = m.sample(m.default_n, seed=5).points
     pts = s + np.random.default_rng(305).normal(scale=0.03, size=s.shape)  # reach 1: 3 %
-    rec = reconstruct(pts, 3, labelling=False)
+    rec = reconstruct(np.c_[pts, np.zeros(len(pts))], 3, labelling=False)
     assert not rec.topology.closed_manifold and rec.topology.boundary_faces > 0
     holes = [f for f in rec.features if f.kind == "hole"]
     assert holes and all(f.uncertain for f in holes)

@@ -299,12 +299,12 @@ def reextract(
     cancel: object | None = None,
     resample: bool = True,
     contacts: bool = True,
-    labelling: bool = True,
+    labelling: bool | None = None,
 ) -> Reconstruction:
     """Re-run Algorithm 3 and the topology report for another test or threshold.
 
     Nothing before Algorithm 3 is recomputed: every test's angles are stored.
-    ``prune_boundary=None`` and ``mode=None`` keep the settings of ``rec``;
+    ``prune_boundary=None``, ``mode=None`` and ``labelling=None`` keep the settings of ``rec``;
     ``resample``, ``contacts`` and ``labelling`` as in :func:`reconstruct`.
 
     Returns
@@ -322,6 +322,8 @@ def reextract(
     tset = None  # T_S's rows, gathered only for the paper's loop (the robust driver selects by the angles)
     if prune_boundary is None:
         prune_boundary = rec.prune_boundary
+    if labelling is None:
+        labelling = rec.labelling
     # the exact power-of-two rescaling keeps squares finite at any input scale
     scale = prescale(rec.points)
     measured: list = []  # the robust driver's measurement of the paper's own result, begun early
@@ -407,7 +409,7 @@ def reextract(
     t0 = time.perf_counter()
     report("topology", 0.5)
     feats = result_features(
-        rec,
+        replace(rec, labelling=labelling),  # resample-check reruns the way this run was made
         ext,
         manifold,
         topo,
@@ -435,6 +437,7 @@ def reextract(
         timings=timings,
         prune_boundary=prune_boundary,
         mode=mode,
+        labelling=labelling,
         features=feats,
     )
 

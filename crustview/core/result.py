@@ -268,6 +268,7 @@ class Reconstruction:
     topology: TopologyReport
     timings: dict[str, float]
     prune_boundary: bool = True
+    labelling: bool = True
     mode: str = "robust"
     delaunay_backend: str = ""
     features: list = field(default_factory=list)

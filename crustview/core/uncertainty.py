@@ -172,7 +172,8 @@ def result_features(
         )
         if said:
             topo.messages.append(f"{said} ({time.perf_counter() - t1:.1f} s)")
-    solid = rec.d >= 3 and rec.subspace_dim == rec.d + 1  # the labelled 3-manifolds and up (of their hull too)
+    # the labelled 3-manifolds and up (of their hull too; not grown on request, labelling=False)
+    solid = rec.d >= 3 and rec.subspace_dim == rec.d + 1 and rec.labelling
     if resample and mode == "robust" and solid and topo.closed_manifold and _beyond(counts):
         t1 = time.perf_counter()
         found, said = resample_betti(
@@ -263,6 +264,7 @@ def _rerun(
         cancel=cancel,
         resample=False,
         contacts=False,  # they add flags only; the check reads the Betti numbers and the handles' loops
+        labelling=rec.labelling,
     )
 
 

@@ -156,6 +156,8 @@ class FileActions:
             # on top changes only d
             params = {"test": saved["test"], "theta": saved["theta"], "prune_boundary": saved["prune_boundary"]}
             params["normals"] = saved.get("normals", "paper")  # its own planes, whatever the Run panel has
+            if not saved.get("labelling", True):  # grown on request (the API's labelling=False): grown again
+                params["labelling"] = False
             if saved.get("mode") is not None:  # "paper" for files saved before the robust extraction
                 params["mode"] = str(saved["mode"])
             if d is None:

@@ -127,7 +127,7 @@ class RunPanel(QWidget):
         self.extraction.setToolTip(
             "<p><b>robust</b> (default): the paper's Algorithm 3, and where it cannot give a closed "
             "manifold through every sample, an extension: for a hypersurface (a surface in R³, a "
-            "3-manifold in R⁴, ...) the Delaunay cells are "
+            "3-manifold in R⁴, or of the flat the sample spans) the Delaunay cells are "
             "labelled inside or outside (label-cells, repair-vertex, sculpt-sample; in R³ also cut-handle, "
             "join-parts, open-cap), "
             "and M_S is also grown across boundaries (seed, grow, grow-relaxed, fill-hole, drop-stray, "

@@ -357,9 +357,10 @@ def _labelled(
             "label, so M_S runs through the sample (Boissonnat's sculpting)",
         )
     report(0.65)
-    # cut-handle, join-parts and open-cap measure a surface's loops, parts and caps: in R^3 only.  A
-    # hypersurface in R^k, k >= 4 (a 3-manifold in R^4), is labelled, repaired and sculpted as above and
-    # settled below; its holes and handles are measured by the report (see module docstring)
+    # cut-handle, join-parts and open-cap measure a surface's loops, parts and caps: in R^3 only (a surface in a
+    # 3-flat of R^k is here in the flat's coordinates, reconstruct.reextract).  A hypersurface in R^k, k >= 4 (a
+    # 3-manifold in R^4), is labelled, repaired and sculpted as above and settled below; its holes and handles
+    # are measured by the report (see module docstring)
     surface = points.shape[1] == 3
     handles = cut_handles(ed, points, cancel) if surface else CutHandles()
     for c in handles.cuts:
