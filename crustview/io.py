@@ -352,8 +352,9 @@ def write_result(
         T_S, the faces admitted by ``rec.test`` at ``rec.theta``.
     ``normals`` (n_in, k, k - d), ``tangents`` (n_in, k, d)
         Estimated orthonormal bases at each input row.
-    ``d``, ``k``, ``test``, ``theta``, ``prune_boundary``, ``mode``
-        Scalars (``theta`` in radians, ``mode`` ``"robust"`` or ``"paper"``):
+    ``d``, ``k``, ``test``, ``theta``, ``prune_boundary``, ``mode``, ``normals_method``, ``labelling``
+        Scalars (``theta`` in radians, ``mode`` ``"robust"`` or ``"paper"``, ``labelling`` False for a
+        hypersurface grown on request, :func:`crustview.core.reconstruct.reconstruct`):
         the run's parameters, so that :func:`read_run_parameters` can redo
         exactly this run.
     ``builtin``, ``builtin_n``, ``builtin_seed``, ``builtin_noise``, ``builtin_density``, ``builtin_method``

@@ -213,8 +213,10 @@ def _check_npz(path, rec):
     with np.load(path, allow_pickle=False) as z:
         data = {key: z[key] for key in z.files}
     assert set(data) == {"points", "simplices", "candidates", "normals", "tangents",
-                         "d", "k", "test", "theta", "prune_boundary", "mode", "normals_method"}  # fmt: skip
+                         "d", "k", "test", "theta", "prune_boundary", "mode", "normals_method",
+                         "labelling"}  # fmt: skip
     assert str(data["normals_method"]) == rec.normals_method  # the planes it was made with
+    assert bool(data["labelling"]) == rec.labelling  # labelled, or grown on request
     n_in, k, d = len(rec.input_points), rec.k, rec.d
     np.testing.assert_array_equal(data["points"], rec.input_points)
     assert int(data["d"]) == d and int(data["k"]) == k
