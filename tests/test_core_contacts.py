@@ -111,6 +111,14 @@ def test_a_sphere_and_a_torus_fused_by_the_labelling_are_flagged() -> None:
     assert len(contact) == 1
     # at the contact: between the sphere (x <= 1) and the torus beyond it
     assert 0.9 < contact[0].location[0] < 1.2
+    # the same points turned into a 3-flat of R^4: labelled in the flat's coordinates, and the report's checks
+    # run there too (session 37; before, the flat's surface was sure), the contact placed back in R^4
+    turn = np.linalg.qr(np.random.default_rng(1).normal(size=(4, 4)))[0]
+    flat = reconstruct(np.c_[pts, np.zeros(len(pts))] @ turn + 1.0, 2)
+    assert flat.k == 4 and flat.subspace_dim == 3 and flat.topology.betti == rec.topology.betti
+    there = [f for f in flat.uncertain_features if f.kind == "component" and "stand across" in f.reason]
+    assert len(there) == 1
+    assert np.allclose((there[0].location - 1.0) @ turn.T, np.r_[contact[0].location, 0.0], atol=1e-6)
 
 
 def _double_contact(n: int = 300) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -320,6 +320,7 @@ def reextract(
     t0 = time.perf_counter()
     report("extraction", 0.0)
     tset = None  # T_S's rows, gathered only for the paper's loop (the robust driver selects by the angles)
+    frame = None  # the sample's hull, where a hypersurface of it is labelled (below)
     if prune_boundary is None:
         prune_boundary = rec.prune_boundary
     if labelling is None:
@@ -329,7 +330,7 @@ def reextract(
     measured: list = []  # the robust driver's measurement of the paper's own result, begun early
     with gc_paused():  # see memory.gc_paused: the extraction makes many long-lived small objects
         if mode == "robust":
-            cells, frame = None, None
+            cells = None
             work = rec.points / scale
             if labelling and rec.subspace_dim == rec.d + 1:  # hypersurfaces (of their affine hull): labelled
                 m = len(rec.delaunay_simplices)
@@ -356,8 +357,6 @@ def reextract(
                 rows_sorted=True,  # Candidates.faces: sorted rows
                 measured=measured,
             )
-            if frame is not None:  # the features the driver measured, back in R^k
-                measured = frame.lift_features(ext, measured)
         else:
             tset = rec.candidates.select(test, theta)
             ext = extract(
@@ -408,8 +407,10 @@ def reextract(
     timings["topology"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     report("topology", 0.5)
+    # in a flat (a hypersurface of the sample's hull), the report's checks run in the flat's coordinates, where
+    # the driver measured its features, R^3's own among them for a surface in a 3-flat; all come back to R^k
     feats = result_features(
-        replace(rec, labelling=labelling),  # resample-check reruns the way this run was made
+        replace(rec if frame is None else frame.framed(rec, scale), labelling=labelling),  # resample: as made
         ext,
         manifold,
         topo,
@@ -423,6 +424,9 @@ def reextract(
         report=report,
         pending=measured[0] if measured else None,
     )
+    if frame is not None:
+        feats = frame.lift_scaled(feats, scale)
+        frame.lift_features(ext, [])  # the extraction's own lists too (the report read them in the frame)
     timings["topology"] += time.perf_counter() - t0
     report("done", 1.0)
     cands = replace(rec.candidates, theta=theta)

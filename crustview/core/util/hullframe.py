@@ -37,6 +37,37 @@ class HullFrame:
         """The points of R^k with these coordinates in the frame."""
         return self.centre + np.asarray(y, dtype=float) @ self.basis.T
 
+    def framed(self, rec, scale: float):
+        """``rec`` as if its samples had been given in the frame's coordinates (for the report's checks).
+
+        Its points, Delaunay vertices and circumcentres in the frame (``rec``'s coordinates divided by
+        ``scale`` are the ones the frame was fitted to; the copy keeps that scale), k and the hull's
+        dimension r, and one normal per sample within the flat: the direction of largest projection of
+        Algorithm 1's normal space onto the flat (the normal space of a hypersurface of the flat holds the
+        flat's own orthogonal complement and that one line).  Only what the report reads is moved; the
+        copy is not a result of its own.
+        """
+
+        def down(x: np.ndarray) -> np.ndarray:
+            return self.down(np.asarray(x) / scale) * scale
+
+        r = self.basis.shape[1]
+        proj = np.einsum("kr,nkc->nrc", self.basis, np.asarray(rec.normals))
+        u = np.linalg.svd(proj, full_matrices=False)[0]
+        return replace(
+            rec,
+            points=down(rec.points),
+            bounding_points=down(rec.bounding_points),
+            voronoi_vertices=down(rec.voronoi_vertices),
+            normals=u[:, :, : r - rec.d],
+            k=r,
+            subspace_dim=r,
+        )
+
+    def lift_scaled(self, found: list, scale: float) -> list:
+        """Features with locations in the frame at ``scale`` (as the report gives them), in R^k at that scale."""
+        return [replace(f, location=self.up(np.asarray(f.location) / scale) * scale) for f in found]
+
     def lift_features(self, ext, measured: list) -> list:
         """The features an extraction measured in the frame (and those still being measured), in R^k.
 
