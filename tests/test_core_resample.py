@@ -118,3 +118,21 @@ def test_a_sparse_sample_of_a_high_genus_object_is_never_a_sure_wrong_answer():
     top = rec.topology
     right = top.closed_manifold and top.betti == (1, 16, 1) and top.unused_samples == 0
     assert right or rec.uncertain_features or not top.closed_manifold
+
+
+def test_the_resampled_complex_comes_back_on_the_rows_it_was_given():
+    """resample_betti compares the resample's M_S with the result's on the same samples: the rerun numbers its
+    samples its own way (spatially sorted), so its M_S must come back on the rows of the subset it was given.
+    Until session 37 the rerun's own order came back, never matched, and the two complexes were not compared."""
+    from crustview.core.samples.manifolds import get_manifold
+    from crustview.core.uncertainty import _resampled_complex
+
+    s = get_manifold("sphere").sample(400, seed=2).points
+    rec = reconstruct(s, 2)
+    sub = s[np.random.default_rng(0).permutation(len(s))[:300]]  # an order of its own
+    scale = 2.0**-3
+    betti, closed, simplices, back = _resampled_complex(sub, rec, rec.test, rec.theta, None, lambda *a: None, scale)
+    assert closed and tuple(betti) == (1, 0, 1)
+    assert np.array_equal(back, sub / scale)  # the rows as given
+    edges = np.linalg.norm(sub[simplices] - sub[np.roll(simplices, 1, axis=1)], axis=2)
+    assert edges.max() < 0.6  # faces of nearby samples (a spacing is about 0.18 here), not of shuffled rows

@@ -236,9 +236,15 @@ def _resampled_complex(
     report: Callable,
     scale: float,
 ) -> tuple[tuple[int, ...], bool, np.ndarray, np.ndarray]:
-    """:func:`_resampled`'s run, giving M_S and its samples (divided by ``scale``, as the caller's)."""
+    """:func:`_resampled`'s run, giving M_S on the rows of ``sub`` and ``sub`` divided by ``scale`` (the caller's).
+
+    The run numbers its samples its own way (spatially sorted, duplicates merged): its M_S is mapped back to
+    the rows it was given (``point_input``), so that the caller can compare it with its own M_S on the same
+    samples (until session 37 the run's own order was returned, never matched the caller's, and the two
+    complexes were not compared at all).  ``scale`` is a power of two: ``sub / scale`` is exact.
+    """
     r = _rerun(sub, rec, test, theta, cancel, report)
-    return r.topology.betti, r.topology.closed_manifold, r.manifold, r.points / scale
+    return r.topology.betti, r.topology.closed_manifold, r.point_input[r.manifold], sub / scale
 
 
 def _rerun(

@@ -42,9 +42,10 @@ class HullFrame:
 
         Its points, Delaunay vertices and circumcentres in the frame (``rec``'s coordinates divided by
         ``scale`` are the ones the frame was fitted to; the copy keeps that scale), k and the hull's
-        dimension r, and one normal per sample within the flat: the direction of largest projection of
-        Algorithm 1's normal space onto the flat (the normal space of a hypersurface of the flat holds the
-        flat's own orthogonal complement and that one line).  Only what the report reads is moved; the
+        dimension r, and one normal per sample within the flat: the vector of Algorithm 1's normal basis that
+        projects most onto the flat, normalised (the normal space of a hypersurface of the flat holds the
+        flat's own orthogonal complement and that one line; the basis's first vector points to the pole,
+        which lies in the flat).  Only what the report reads is moved; the
         copy is not a result of its own.
         """
 
@@ -52,14 +53,18 @@ class HullFrame:
             return self.down(np.asarray(x) / scale) * scale
 
         r = self.basis.shape[1]
-        proj = np.einsum("kr,nkc->nrc", self.basis, np.asarray(rec.normals))
-        u = np.linalg.svd(proj, full_matrices=False)[0]
+        proj = np.einsum("kr,nkc->nrc", self.basis, np.asarray(rec.normals))  # (n, r, k - d)
+        # the normal basis's vector that projects most onto the flat (the flat's own complement projects to 0;
+        # a batched SVD gives the same line at 60 times the cost: 0.67 s for 300,000 samples)
+        length = np.linalg.norm(proj, axis=1)
+        best = np.take_along_axis(proj, np.argmax(length, axis=1)[:, None, None], axis=2)
+        best /= np.maximum(length.max(axis=1), 1e-300)[:, None, None]
         return replace(
             rec,
             points=down(rec.points),
             bounding_points=down(rec.bounding_points),
             voronoi_vertices=down(rec.voronoi_vertices),
-            normals=u[:, :, : r - rec.d],
+            normals=best,
             k=r,
             subspace_dim=r,
         )
