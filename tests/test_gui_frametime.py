@@ -71,7 +71,7 @@ def test_steps_and_jumps_cost_little_more_than_a_frame(qtbot, window, fertility_
     """Issue 10: Home/End, jumps and steps at <= 100 ms.  Each is one render and one
     composition of the window (a label that re-lays out its dock used to cost two or three
     more), and its time stays within a small factor of a frame in which nothing changed
-    (the floor: what this machine needs to draw the window)."""
+    (the floor: what this machine needs to draw the window as the action leaves it)."""
     rec = fertility_run
     window.resize(1280, 860)
     window.model.set_reconstruction(rec, source="fertility")
@@ -98,20 +98,24 @@ def test_steps_and_jumps_cost_little_more_than_a_frame(qtbot, window, fertility_
         window.model.player.set_step(n // 2)
 
     clock.time(middle, settle=0.3)
-    times: dict[str, list[float]] = {name: [] for name in ("floor", *actions)}
+    times: dict[str, list[float]] = {name: [] for name in actions}
+    floors: dict[str, list[float]] = {name: [] for name in actions}
     for _ in range(4):  # four rounds: each median is of four frames, each interleaved with its floor
         for name, action in actions.items():
             if name == "end":
                 clock.time(middle, settle=0.3)
-            t, _, _ = clock.time(view.update, settle=0.05)
-            times["floor"].append(t)
             # settle for less than the open-faces refresh's delay (that dock is hidden here anyway)
             t, renders, swaps = clock.time(action, settle=0.09)
             assert (renders, swaps) == (1, 1), f"{name}: {renders} renders, {swaps} window compositions"
             times[name].append(t)
+            # the floor of this action: a frame of what it shows, in which nothing changed (Home shows all of
+            # T_S, 11,011 triangles, and its render alone took 1.6-2 times a frame of the middle step's, session 37)
+            t, _, _ = clock.time(view.update, settle=0.05)
+            floors[name].append(t)
     med = {name: float(np.median(v)) for name, v in times.items()}
-    print("medians (ms):", {name: round(1000 * t) for name, t in med.items()})
+    floor = {name: float(np.median(v)) for name, v in floors.items()}
+    print("medians (ms):", {name: (round(1000 * med[name]), round(1000 * floor[name])) for name in actions})
     # the vertices stay: a step changes which cells are drawn, never the points
     assert manifold.GetPoints() is points_before
     for name in actions:
-        assert med[name] <= 1.6 * med["floor"] + 0.015, (name, med)
+        assert med[name] <= 1.6 * floor[name] + 0.015, (name, med, floor)
