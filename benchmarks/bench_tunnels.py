@@ -1,7 +1,8 @@
 """3-manifolds with a tunnel (S^2 x S^1 in R^4, and in a turned 4-flat of R^5): right or not, and what is uncertain.
 
 S^2 x S^1 is sampled as the points at distance ``tube`` from a unit 2-sphere in the hyperplane w = 0 of R^4,
-uniformly by volume (i.i.d.), with Gaussian noise of ``noise`` times the tube radius; its Z/2 Betti numbers
+uniformly by volume (i.i.d., ``samples.manifolds.s2_times_s1_points``), with Gaussian noise of ``noise`` times
+the tube radius; its Z/2 Betti numbers
 are (1, 1, 1, 1) and its one tunnel is the tube's circle, 2 pi ``tube`` long.  Each case runs
 ``reconstruct(points, 3)`` with its defaults and prints: right or not (closed, through every sample, those
 Betti numbers), the Betti numbers, and every uncertain feature (kind and size in sampling radii; a
@@ -21,6 +22,7 @@ import time
 import numpy as np
 
 from crustview.core import reconstruct
+from crustview.core.samples.manifolds import s2_times_s1_points
 
 #: (samples, tube radius, noise over the tube radius, draws): the README's rows
 CASES = [
@@ -33,20 +35,6 @@ CASES = [
 ]
 
 
-def s2_times_s1(n: int, tube: float, noise: float, seed: int) -> np.ndarray:
-    """n i.i.d. samples of S^2 x S^1 in R^4 (uniform by volume: rejection on (1 + tube cos phi)^2), noisy."""
-    rng = np.random.default_rng(seed)
-    out: list[np.ndarray] = []
-    while sum(len(o) for o in out) < n:
-        u = rng.normal(size=(4 * n, 3))
-        u /= np.linalg.norm(u, axis=1)[:, None]
-        phi = rng.uniform(0.0, 2 * np.pi, 4 * n)
-        keep = rng.uniform(0.0, (1 + tube) ** 2, 4 * n) < (1 + tube * np.cos(phi)) ** 2
-        out.append(np.c_[(1 + tube * np.cos(phi))[:, None] * u, tube * np.sin(phi)][keep])
-    pts = np.vstack(out)[:n]
-    return pts + rng.normal(scale=noise * tube, size=pts.shape)
-
-
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=(__doc__ or "").strip().splitlines()[0])
     ap.add_argument("--r5", action="store_true", help="also each case turned into a 4-flat of R^5")
@@ -57,7 +45,7 @@ def main(argv: list[str] | None = None) -> int:
     right = quiet = flagged = runs = 0
     for n, tube, noise, draws in CASES:
         for seed in draws:
-            pts = s2_times_s1(n, tube, noise, seed)
+            pts = s2_times_s1_points(n, tube, noise, seed)
             where = [("R^4", pts)] + ([("R^5", np.c_[pts, np.zeros(n)] @ turn - 2.0)] if a.r5 else [])
             for name, p in where:
                 t0 = time.perf_counter()

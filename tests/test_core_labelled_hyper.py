@@ -12,23 +12,15 @@ import numpy as np
 import pytest
 
 from crustview.core import reconstruct
+from crustview.core.samples.manifolds import s2_times_s1_points
 
 
-def _s2_times_s1(n: int, seed: int, noise: float = 0.0, big: float = 1.0, small: float = 0.4) -> np.ndarray:
-    """Samples of S^2 x S^1 in R^4: the points at distance ``small`` from a 2-sphere of radius ``big`` in w = 0.
+def _s2_times_s1(n: int, seed: int, noise: float = 0.0, small: float = 0.4) -> np.ndarray:
+    """Samples of S^2 x S^1 in R^4: the points at distance ``small`` from the unit 2-sphere in w = 0.
 
-    Uniform by volume (rejection on the area element (big + small cos phi)^2); Betti numbers (1, 1, 1, 1).
+    Uniform by volume; Betti numbers (1, 1, 1, 1) (``samples.manifolds.s2_times_s1_points``).
     """
-    rng = np.random.default_rng(seed)
-    out: list[np.ndarray] = []
-    while sum(len(o) for o in out) < n:
-        u = rng.normal(size=(4 * n, 3))
-        u /= np.linalg.norm(u, axis=1)[:, None]
-        phi = rng.uniform(0.0, 2 * np.pi, 4 * n)
-        keep = rng.uniform(0.0, (big + small) ** 2, 4 * n) < (big + small * np.cos(phi)) ** 2
-        out.append(np.c_[(big + small * np.cos(phi))[:, None] * u, small * np.sin(phi)][keep])
-    pts = np.vstack(out)[:n]
-    return pts + rng.normal(scale=noise * small, size=pts.shape)
+    return s2_times_s1_points(n, small, noise, seed)
 
 
 def _right(rec, betti: tuple[int, ...]) -> bool:

@@ -186,3 +186,26 @@ def projective_plane_points(n: int = 1000) -> np.ndarray:
     v = np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
     x, y, z = v[v[:, 2] > 0].T
     return np.stack([x * y, x * z, y * y - z * z, 2 * y * z], axis=1)
+
+
+def s2_times_s1_points(n: int, tube: float = 0.4, noise: float = 0.0, seed: int = 0) -> np.ndarray:
+    """N i.i.d. points of S^2 x S^1 in R^4 (not a built-in: no chart sampler), with Gaussian noise.
+
+    The points at distance ``tube`` from the unit 2-sphere in the hyperplane w = 0, uniform by volume
+    (rejection on the area element (1 + tube cos phi)^2); Z/2 Betti numbers (1, 1, 1, 1), its one tunnel the
+    tube's circle, 2 pi ``tube`` long.  ``noise`` is the deviation over ``tube``.
+
+    Returns
+    -------
+    ndarray of shape (n, 4)
+    """
+    rng = np.random.default_rng(seed)
+    out: list[np.ndarray] = []
+    while sum(len(o) for o in out) < n:
+        u = rng.normal(size=(4 * n, 3))
+        u /= np.linalg.norm(u, axis=1)[:, None]
+        phi = rng.uniform(0.0, 2 * np.pi, 4 * n)
+        keep = rng.uniform(0.0, (1 + tube) ** 2, 4 * n) < (1 + tube * np.cos(phi)) ** 2
+        out.append(np.c_[(1 + tube * np.cos(phi))[:, None] * u, tube * np.sin(phi)][keep])
+    pts = np.vstack(out)[:n]
+    return pts + rng.normal(scale=noise * tube, size=pts.shape)
