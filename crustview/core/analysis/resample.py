@@ -150,11 +150,12 @@ def resample_betti(
 ) -> tuple[list[Feature], str]:
     """``resample-check`` for a closed d-manifold, d >= 3: the same Betti numbers from a tenth fewer samples.
 
-    The features measure holes and components of a d >= 3 result, not its tunnels and voids (a 3-manifold's
-    b1 and b2 have no shortest loop on a surface to measure), so a closed result could carry a tunnel of
-    noise, or lose a thin handle, without a word.  Where the robust extension built it, the reconstruction
-    runs again on the same draw of :data:`RESAMPLE_KEEP` of the samples as for surfaces; where that gives a
-    closed manifold with other Betti numbers, the sample does not decide between the two, and each
+    The features measure the holes, components and (since session 37, :mod:`.tunnels`) the tunnels of a
+    d >= 3 result, but not its voids, and a tunnel measured long enough can still be one the sample does not
+    decide, or a thin handle can be lost without a loop left to measure.  Where the robust extension built
+    it, the reconstruction runs again on the same draw of :data:`RESAMPLE_KEEP` of the samples as for
+    surfaces; where that gives a closed manifold with other Betti numbers, the sample does not decide between
+    the two, and each
     differing number is an uncertain feature (:func:`~.dispute.disagreement`, placed where the two
     complexes differ most).  A resample that is no closed manifold says nothing either way.
 
