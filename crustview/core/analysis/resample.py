@@ -155,9 +155,8 @@ def resample_betti(
     decide, or a thin handle can be lost without a loop left to measure.  Where the robust extension built
     it, the reconstruction runs again on the same draw of :data:`RESAMPLE_KEEP` of the samples as for
     surfaces; where that gives a closed manifold with other Betti numbers, the sample does not decide between
-    the two, and each
-    differing number is an uncertain feature (:func:`~.dispute.disagreement`, placed where the two
-    complexes differ most).  A resample that is no closed manifold says nothing either way.
+    the two, and each differing number is an uncertain feature (:func:`~.dispute.disagreement`, placed where
+    the two complexes differ most).  A resample that is no closed manifold says nothing either way.
 
     Parameters
     ----------
