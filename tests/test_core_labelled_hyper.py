@@ -190,9 +190,10 @@ def test_a_curve_in_a_plane_of_r3_is_reconstructed_as_in_the_plane():
     assert all(f.location.shape == (3,) for f in tilted.features)
 
 
-def test_the_hull_frame_lifts_every_feature_list_and_the_pending_measurement():
-    """HullFrame.lift_features on hand-made features: each list the driver fills, and its Future, come back in R^k."""
-    from concurrent.futures import Future
+def test_the_hull_frame_lifts_every_feature_list_and_the_reports_features():
+    """HullFrame on hand-made features: each list the driver fills (lift_features), and the report's features
+    measured in the frame at the run's scale (lift_scaled), come back in R^k."""
+    from dataclasses import replace
     from types import SimpleNamespace
 
     from crustview.core.analysis.features import Feature
@@ -207,11 +208,12 @@ def test_the_hull_frame_lifts_every_feature_list_and_the_pending_measurement():
         return Feature("hole", frame.down(pts[i]), 1.0, True, np.array([i]), "")
 
     ext = SimpleNamespace(features=[at(0)], removed_features=[at(1)], disputed=[at(2)])
-    pending: Future = Future()
-    pending.set_result([at(3)])
-    (done,) = frame.lift_features(ext, [pending])
-    for got, i in ((ext.features, 0), (ext.removed_features, 1), (ext.disputed, 2), (done.result(), 3)):
-        assert got[0].location.shape == (4,) and np.allclose(got[0].location, pts[i])
+    frame.lift_features(ext)
+    scale = 2.0**-4  # the report's locations are the frame's times the run's scale
+    (reported,) = frame.lift_scaled([replace(at(3), location=at(3).location * scale)], scale)
+    for got, want in ((ext.features[0], pts[0]), (ext.removed_features[0], pts[1]), (ext.disputed[0], pts[2])):
+        assert got.location.shape == (4,) and np.allclose(got.location, want)
+    assert reported.location.shape == (4,) and np.allclose(reported.location, pts[3] * scale)
 
 
 def test_a_grown_run_stays_grown_when_extracted_again_saved_and_reported(tmp_path):

@@ -426,7 +426,7 @@ def reextract(
     )
     if frame is not None:
         feats = frame.lift_scaled(feats, scale)
-        frame.lift_features(ext, [])  # the extraction's own lists too (the report read them in the frame)
+        frame.lift_features(ext)  # the extraction's own lists too (the report read them in the frame)
     timings["topology"] += time.perf_counter() - t0
     report("done", 1.0)
     cands = replace(rec.candidates, theta=theta)

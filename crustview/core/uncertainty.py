@@ -180,7 +180,7 @@ def result_features(
             rec.points / scale,
             manifold,
             topo.betti,
-            lambda sub: _resampled_complex(sub * scale, rec, test, theta, cancel, report, scale),
+            lambda sub: _resampled_complex(sub * scale, rec, test, theta, cancel, report),
         )
         feats += [replace(f, location=f.location * scale) for f in found]
         topo.messages.append(f"{said} ({time.perf_counter() - t1:.1f} s)")
@@ -234,17 +234,16 @@ def _resampled_complex(
     theta: float,
     cancel: object | None,
     report: Callable,
-    scale: float,
-) -> tuple[tuple[int, ...], bool, np.ndarray, np.ndarray]:
-    """:func:`_resampled`'s run, giving M_S on the rows of ``sub`` and ``sub`` divided by ``scale`` (the caller's).
+) -> tuple[tuple[int, ...], bool, np.ndarray]:
+    """:func:`_resampled`'s run, giving M_S on the rows of ``sub``.
 
     The run numbers its samples its own way (spatially sorted, duplicates merged): its M_S is mapped back to
     the rows it was given (``point_input``), so that the caller can compare it with its own M_S on the same
     samples (until session 37 the run's own order was returned, never matched the caller's, and the two
-    complexes were not compared at all).  ``scale`` is a power of two: ``sub / scale`` is exact.
+    complexes were not compared at all).
     """
     r = _rerun(sub, rec, test, theta, cancel, report)
-    return r.topology.betti, r.topology.closed_manifold, r.point_input[r.manifold], sub / scale
+    return r.topology.betti, r.topology.closed_manifold, r.point_input[r.manifold]
 
 
 def _rerun(

@@ -41,6 +41,7 @@ from scipy.sparse.csgraph import breadth_first_order, connected_components, dijk
 
 from ..util.rows import unique_rows
 from ..util.vectors import edge_lengths
+from .cotree import triangle_edges
 from .features import LOOP_MIN, LOOP_SUPPORTED, Feature, too_many_loops
 from .loops import MAX_LOOPS, _reduce, _root_loops, _spread_roots, _walk, shortest_path_trees
 
@@ -60,10 +61,7 @@ def skeleton(simplices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     s = np.sort(np.asarray(simplices, dtype=np.int64), axis=1)
     w = s.shape[1]
     tris = unique_rows(np.concatenate([s[:, list(c)] for c in itertools.combinations(range(w), 3)]))[0]
-    e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [0, 2]]])
-    base = np.int64(int(e.max()) + 1) if len(e) else np.int64(1)
-    uniq, first, inv = np.unique(e[:, 0] * base + e[:, 1], return_index=True, return_inverse=True)
-    return e[first], inv.reshape(3, -1).T
+    return triangle_edges(tris)
 
 
 def edge_classes(n: int, edges: np.ndarray, tri_edges: np.ndarray) -> tuple[np.ndarray, int, np.ndarray]:

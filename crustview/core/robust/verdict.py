@@ -18,7 +18,7 @@ def weighed(found: list, d: int) -> list:
     """The uncertain features that ask for the growing path's opinion and weigh in the choice between the two.
 
     A d >= 3 result's handles (:mod:`~crustview.core.analysis.tunnels`, session 37) are reported, not weighed
-    (nor in :func:`_tie` and :func:`_disputed`, which read loops of surfaces only): growing a 3-manifold leaves
+    (nor in :func:`_tie` and :func:`_disputed`, which read their loops through this filter): growing a 3-manifold leaves
     it open where the labelling closes it (session 36), so it is no second opinion on its tunnels, and a
     choice swayed by them kept a grown S^2 x S^1 with b2 = 267 (1,500 samples, a tube of radius 0.25).
     """
@@ -92,9 +92,8 @@ def _disputed(t_keep, t_other, keep_features: list, n: int, *, labelled: bool = 
         and min(t_keep.unused_samples, t_other.unused_samples) <= 0.01 * n
         and not (
             labelled
-            and len(t_keep.betti) == 3  # a surface's loops (weighed: a d >= 3 result's tunnels are not)
             and t_keep.betti[0] == t_other.betti[0]
-            and handles_decided(keep_features, t_keep.betti[1], t_other.betti[1])
+            and handles_decided(weighed(keep_features, len(t_keep.betti) - 1), t_keep.betti[1], t_other.betti[1])
         )
     )
 
@@ -116,6 +115,5 @@ def _tie(lab: Extraction, grown: Extraction, top_lab, top_gro) -> Extraction:
     if h_lab == h_gro:
         return lab
     more, fewer = (lab, grown) if h_lab > h_gro else (grown, lab)
-    # a surface's loops only: a d >= 3 result's tunnels are reported, not weighed (see weighed)
-    loops = [f.size_spacings for f in (more.features or []) if f.kind == "handle"] if len(top_lab.betti) == 3 else []
+    loops = [f.size_spacings for f in weighed(more.features or [], len(top_lab.betti) - 1) if f.kind == "handle"]
     return more if loops and min(loops) >= LOOP_RESOLVED else fewer

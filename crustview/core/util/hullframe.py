@@ -9,7 +9,6 @@ features it measures on the way are lifted back to R^k.
 
 from __future__ import annotations
 
-from concurrent.futures import Future
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -45,8 +44,7 @@ class HullFrame:
         dimension r, and one normal per sample within the flat: the vector of Algorithm 1's normal basis that
         projects most onto the flat, normalised (the normal space of a hypersurface of the flat holds the
         flat's own orthogonal complement and that one line; the basis's first vector points to the pole,
-        which lies in the flat).  Only what the report reads is moved; the
-        copy is not a result of its own.
+        which lies in the flat).  Only what the report reads is moved; the copy is not a result of its own.
         """
 
         def down(x: np.ndarray) -> np.ndarray:
@@ -73,12 +71,10 @@ class HullFrame:
         """Features with locations in the frame at ``scale`` (as the report gives them), in R^k at that scale."""
         return [replace(f, location=self.up(np.asarray(f.location) / scale) * scale) for f in found]
 
-    def lift_features(self, ext, measured: list) -> list:
-        """The features an extraction measured in the frame (and those still being measured), in R^k.
+    def lift_features(self, ext) -> None:
+        """The features an extraction measured in the frame, in R^k, in place.
 
-        ``ext``'s ``features``, ``removed_features`` and ``disputed`` are replaced by their lifted copies;
-        ``measured`` (the robust driver's pending measurement of the paper's own result, a list of at most
-        one Future) is returned as a list of one finished Future holding the lifted features.
+        ``ext``'s ``features``, ``removed_features`` and ``disputed`` are replaced by their lifted copies.
         """
 
         def lift(found):
@@ -87,12 +83,6 @@ class HullFrame:
         ext.features = lift(ext.features)
         ext.removed_features = lift(ext.removed_features)
         ext.disputed = lift(ext.disputed)
-        out = []
-        for pending in measured:
-            done: Future = Future()
-            done.set_result(lift(pending.result()))
-            out.append(done)
-        return out
 
 
 def hull_frame(points: np.ndarray, r: int) -> HullFrame:
