@@ -387,8 +387,9 @@ def _handles(
             length = walk_length(points, loop)
         size = length / float(np.median(h[loop]))
         # in the band a coarse sample resolves, a meridian that slides along its tube is no gap (tubes.py)
-        band = LOOP_MIN <= size < LOOP_SUPPORTED and neck >= GAP_MIN
-        tube, ratio = slides(pts, tris, edges, cocycles, loop) if band else (False, 0.0)
+        tube, ratio = (
+            slides(pts, edges, cocycles, loop) if LOOP_MIN <= size < LOOP_SUPPORTED and neck >= GAP_MIN else (False, 0)
+        )
         unc = (size < LOOP_SUPPORTED and not tube) or neck < GAP_MIN
         reason = f"loop of {len(loop)} samples, {size:.3g} sampling radii long" + (
             " (fewer samples around it than a sample can resolve: may be a bridge across a gap)"
