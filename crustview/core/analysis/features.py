@@ -63,7 +63,6 @@ from .cotree import triangle_edges
 from .loops import capped, no_loops, short_basis
 from .necks import tighten, walk_class, walk_length
 from .radii import circumradii, enclosing_cover, enclosing_radii, local_spacing
-from .tubes import slides
 
 __all__ = [
     "GAP_MIN",
@@ -386,17 +385,10 @@ def _handles(
             classes[k] = walk_class(loop, cocycles)  # still a basis: the new loop is outside the others' span
             length = walk_length(points, loop)
         size = length / float(np.median(h[loop]))
-        # in the band a coarse sample resolves, a meridian that slides along its tube is no gap (tubes.py)
-        tube, ratio = (
-            slides(pts, edges, cocycles, loop) if LOOP_MIN <= size < LOOP_SUPPORTED and neck >= GAP_MIN else (False, 0)
-        )
-        unc = (size < LOOP_SUPPORTED and not tube) or neck < GAP_MIN
+        unc = size < LOOP_SUPPORTED or neck < GAP_MIN
         reason = f"loop of {len(loop)} samples, {size:.3g} sampling radii long" + (
             " (fewer samples around it than a sample can resolve: may be a bridge across a gap)"
             if size < LOOP_MIN
-            else f": a tube's meridian (a loop of its class passes a sample d away along M_S at {ratio:.2g} times "
-            "2 d + its length, the least a loop round a tunnel or a bridge would need there)"
-            if tube
             else " (only a sample coarser than eps = 1/2 resolves it: may be a tunnel of noise or a bridge)"
             if size < LOOP_SUPPORTED
             else f", through a neck {neck:.3g} sampling radii across (two of its points far apart along it are "

@@ -270,8 +270,7 @@ def cut_handles(ed: LabelEditor, points: np.ndarray, cancel: object | None = Non
             break
         # the basis search's own loops, as the rule was measured with (the report tightens them)
         found = features(points, surf, 2, tighten_loops=False, handles_only=True)
-        # a tube's meridian (analysis/tubes.py) is supported: not cut
-        short = [f for f in found if f.kind == "handle" and f.size_spacings < CUT_BELOW and f.uncertain]
+        short = [f for f in found if f.kind == "handle" and f.size_spacings < CUT_BELOW]
         if not short:
             # where none is short as found, the loops tightened as the report measures them: one below
             # LOOP_MIN there is below what any eps < 1 sample resolves, as surely as one found that short
