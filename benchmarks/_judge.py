@@ -3,6 +3,7 @@ bench_curves)."""
 
 from __future__ import annotations
 
+import argparse
 import time
 from dataclasses import dataclass
 
@@ -62,3 +63,10 @@ def judge(points: np.ndarray, betti: tuple[int, ...], noise: float, d: int = 2) 
     # an empty M_S is no answer (FAILED) and names no features since session 32: flagged as it was before
     flagged = bool(u) or t.n_simplices == 0
     return Judged(ok, flagged, tuple(t.betti), unc, used, seconds)  # type: ignore[arg-type]
+
+
+def seeds(doc: str | None, argv: list[str], default: int, what: str) -> int:
+    """The ``--seeds N`` of a sweep's command line (the sweep's docstring's first line is its ``--help`` text)."""
+    ap = argparse.ArgumentParser(description=(doc or "").split("\n")[0])
+    ap.add_argument("--seeds", type=int, default=default, help=what)
+    return ap.parse_args(argv).seeds

@@ -20,7 +20,6 @@ Run: ``python benchmarks/bench_curves.py [--seeds N]``
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -28,7 +27,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _judge import judge  # noqa: E402
+from _judge import judge, seeds  # noqa: E402
 
 from crustview.core.analysis.alpha import AlphaLadder  # noqa: E402
 from crustview.core.samples.manifolds import get_manifold  # noqa: E402
@@ -66,15 +65,13 @@ def circle_pair(kind: str, gap: float, noise: float, seed: int) -> np.ndarray:
 
 
 def main(argv: list[str]) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--seeds", type=int, default=12, help="sample seeds of the noisy ellipses")
-    a = ap.parse_args(argv)
+    n_seeds = seeds(__doc__, argv, 12, "sample seeds of the noisy ellipses")
     print("| ellipse noise | seed | right | Betti | uncertain (h/holes/c) | curve's cycle | longest other |")
     print("|---|---|---|---|---|---|---|")
     tally = {"ellipses": [0, 0, 0, 0], "pairs": [0, 0, 0, 0]}  # right, total, quiet wrong, right flagged
     curve, other = [], []
     for frac in ELLIPSE_NOISE:
-        for seed in range(a.seeds):
+        for seed in range(n_seeds):
             pts = noisy_ellipse(frac, seed)
             loops = AlphaLadder(pts).loops()
             ratio = np.sort(loops[:, 1] / loops[:, 0])[::-1]

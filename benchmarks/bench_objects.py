@@ -28,7 +28,6 @@ Run: ``python benchmarks/bench_objects.py [--seeds N]``
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -37,7 +36,7 @@ from scipy.spatial import cKDTree
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _judge import judge  # noqa: E402
+from _judge import judge, seeds  # noqa: E402
 
 from crustview.core.samples.manifolds import get_manifold  # noqa: E402
 
@@ -65,16 +64,14 @@ def pair(kind: str, gap: float, noise: float, seed: int) -> tuple[np.ndarray, tu
 
 
 def main(argv: list[str]) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--seeds", type=int, default=2, help="seeds per case (1, 2, ...)")
-    a = ap.parse_args(argv)
+    n_seeds = seeds(__doc__, argv, 2, "seeds per case (1, 2, ...)")
     print("| objects | gap (h) | noise (h) | seed | right | Betti | uncertain (h/holes/c) | samples used | s |")
     print("|---|---|---|---|---|---|---|---|---|")
     tally = {"near": [0, 0, 0, 0], "apart": [0, 0, 0, 0]}  # right, total, quiet wrong, right flagged
     for kind in ("spheres", "sphere-torus", "tori"):
         for gap in GAPS:
             for noise in NOISE:
-                for seed in range(1, a.seeds + 1):
+                for seed in range(1, n_seeds + 1):
                     pts, betti = pair(kind, gap, noise, seed)
                     j = judge(pts, betti, noise)
                     j.add_to(tally["near" if gap <= 4 else "apart"])

@@ -20,7 +20,6 @@ Run: ``python benchmarks/bench_thin.py [--seeds N]``
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -29,7 +28,7 @@ from scipy.spatial import cKDTree
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _judge import judge  # noqa: E402
+from _judge import judge, seeds  # noqa: E402
 
 #: Tube radius, arm length, sample spacing, ball radius and height, and how far each ball reaches into the
 #: space between the arms (2 REACH + gap wide).
@@ -105,14 +104,12 @@ def u_with_bumps(gap: float, seed: int) -> np.ndarray:
 
 
 def main(argv: list[str]) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--seeds", type=int, default=3, help="seeds per gap (1, 2, ...)")
-    a = ap.parse_args(argv)
+    n_seeds = seeds(__doc__, argv, 3, "seeds per gap (1, 2, ...)")
     print("| gap (spacings) | seed | samples | right | Betti | uncertain (h/holes/c) | s |")
     print("|---|---|---|---|---|---|---|")
     tally = [0, 0, 0, 0]  # right, total, quiet wrong, right flagged
     for gap in GAPS:
-        for seed in range(1, a.seeds + 1):
+        for seed in range(1, n_seeds + 1):
             pts = u_with_bumps(gap, seed)
             j = judge(pts, (1, 0, 1), 0.0)
             j.add_to(tally)
