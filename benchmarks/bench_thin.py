@@ -63,17 +63,29 @@ def _capsule_points(a: np.ndarray, b: np.ndarray, r: float, count: int, rng: np.
     return out
 
 
+def u_shape(gap: float) -> tuple[list[tuple[np.ndarray, np.ndarray]], list[np.ndarray]]:
+    """The U's three capsules (axis end points, radius RADIUS) and the two balls' centres (radius BALL)."""
+    x1 = 2 * RADIUS + 2 * REACH + gap  # the second arm's axis: the bumps' surfaces gap apart
+    z = np.array([0.0, 0.0, 1.0])
+    right = np.array([x1, 0.0, 0.0])
+    caps = [(np.zeros(3), ARM * z), (right, right + ARM * z), (np.zeros(3), right)]
+    balls = [np.array([RADIUS + REACH - BALL, 0, HEIGHT]), np.array([x1 - RADIUS - REACH + BALL, 0, HEIGHT])]
+    return caps, balls
+
+
+def u_distance(p: np.ndarray, gap: float) -> np.ndarray:
+    """Signed distance to the union's surface (negative inside), exact outside the union."""
+    caps, balls = u_shape(gap)
+    parts = [_capsule_distance(p, a, b, RADIUS) for a, b in caps] + [
+        np.linalg.norm(p - c, axis=1) - BALL for c in balls
+    ]
+    return np.min(parts, axis=0)
+
+
 def u_with_bumps(gap: float, seed: int) -> np.ndarray:
     """The sample of the U with its two bumps ``gap`` apart (see the module docstring)."""
     rng = np.random.default_rng(seed)
-    x1 = 2 * RADIUS + 2 * REACH + gap  # the second arm's axis: the bumps' surfaces gap apart
-    z = np.array([0.0, 0.0, 1.0])
-    caps = [
-        (np.zeros(3), ARM * z),
-        (np.array([x1, 0, 0]), np.array([x1, 0, 0]) + ARM * z),
-        (np.zeros(3), np.array([x1, 0, 0])),
-    ]
-    balls = [np.array([RADIUS + REACH - BALL, 0, HEIGHT]), np.array([x1 - RADIUS - REACH + BALL, 0, HEIGHT])]
+    caps, balls = u_shape(gap)
     dense = 40  # candidate points per unit area before thinning: far more than one per spacing^2
     parts = [
         _capsule_points(a, b, RADIUS, int(dense * 2 * np.pi * RADIUS * (np.linalg.norm(b - a) + 2 * RADIUS)), rng)
@@ -83,16 +95,7 @@ def u_with_bumps(gap: float, seed: int) -> np.ndarray:
         d = rng.normal(size=(int(dense * 4 * np.pi * BALL**2), 3))
         parts.append(c + BALL * d / np.linalg.norm(d, axis=1)[:, None])
     pts = np.vstack(parts)
-
-    def inside(p: np.ndarray) -> np.ndarray:
-        dist = np.min(
-            [_capsule_distance(p, a, b, RADIUS) for a, b in caps]
-            + [np.linalg.norm(p - c, axis=1) - BALL for c in balls],
-            axis=0,
-        )
-        return dist < -1e-9
-
-    pts = pts[~inside(pts)]
+    pts = pts[u_distance(pts, gap) > -1e-9]  # on the union's surface: inside no other part
     pts = pts[rng.permutation(len(pts))]
     tree = cKDTree(pts)
     keep = np.ones(len(pts), bool)
