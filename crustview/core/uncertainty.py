@@ -20,6 +20,7 @@ from .analysis.contacts import BRIDGED, bridged_handles, hidden_parts
 from .analysis.enclosures import enclosure_voids, joined_objects
 from .analysis.features import LOOP_MIN, Feature, features
 from .analysis.gaps import curve_gaps, straight_gaps
+from .analysis.persistence import missing_loops
 from .analysis.planar import planar_holes
 from .analysis.resample import Resampled, resample_betti, resample_check
 from .prepare import DEFAULT_JOGGLE
@@ -184,6 +185,20 @@ def result_features(
         )
         feats += [replace(f, location=f.location * scale) for f in found]
         topo.messages.append(f"{said} ({time.perf_counter() - t1:.1f} s)")
+    # the growing path's closed results in codimension 2 and more (no inside and outside to label): loops the
+    # sample holds for sure and M_S lacks (analysis/persistence.py); the paper's own results are not checked
+    grown = rec.subspace_dim - rec.d >= 2 and rec.delaunay_simplices.shape[1] >= 3
+    if mode == "robust" and grown and topo.closed_manifold and _beyond(counts):
+        t1 = time.perf_counter()
+        pts = rec.points / scale
+        lost = missing_loops(pts, rec.delaunay_simplices, topo.betti[1], rec.d, rec.spacing / scale, cancel)
+        feats += [replace(f, location=f.location * scale) for f in lost]
+        if lost:
+            topo.messages.append(
+                f"the sample holds {topo.betti[1] + len(lost)} loops for sure (cycles of its union of balls that "
+                f"live 4 times their birth or more) where M_S has {topo.betti[1]}: M_S may lack {len(lost)} "
+                f"({time.perf_counter() - t1:.1f} s)"
+            )
     below = [f for f in feats if f.removed and not f.uncertain]
     if below:
         topo.messages.append(

@@ -38,6 +38,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import Delaunay
 
+from ..util.rows import unique_rows
 from . import _components
 
 #: A cycle (a loop in the plane, a void in space) is one of the sample's own when it lives from radius r to
@@ -72,18 +73,25 @@ def _circumballs(points: np.ndarray, simplices: np.ndarray) -> tuple[np.ndarray,
     return centre, r2
 
 
-def _faces(simplices: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _faces(simplices: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The distinct j-faces of the simplices; per (simplex, face) pair the face id and the opposite vertices.
 
-    Returns ``(faces, owner, face_of)``: faces sorted row-wise, and for every simplex and every one of its
-    j-faces (in ``combinations`` order) the simplex index and the face index.
+    Returns ``(faces, owner, face_of, opposite)``: faces sorted row-wise, and for every simplex and every one
+    of its j-faces (in ``combinations`` order) the simplex index, the face index and, for faces one dimension
+    down (``j`` = the simplices' dimension - 1), the simplex's vertex not in the face (else -1).
     """
     m, width = simplices.shape
     combos = list(combinations(range(width), j + 1))
-    all_faces = np.sort(np.concatenate([simplices[:, list(c)] for c in combos]), axis=1)
-    faces, face_of = np.unique(all_faces, axis=0, return_inverse=True)
+    # the simplices' rows are sorted (alpha_levels' callers sort them), so every face's row comes sorted
+    all_faces = np.concatenate([simplices[:, list(c)] for c in combos])
+    faces, face_of = unique_rows(all_faces)  # np.unique(axis=0)'s rows and order, by integer keys
     owner = np.tile(np.arange(m), len(combos))
-    return faces, owner, face_of.ravel()
+    if j == width - 2:  # each face leaves out one column: its vertex is the one opposite
+        dropped = [next(i for i in range(width) if i not in c) for c in combos]
+        opposite = np.concatenate([simplices[:, i] for i in dropped])
+    else:
+        opposite = np.full(len(owner), -1, np.int64)
+    return faces, owner, face_of.ravel(), opposite
 
 
 def dual_merges(
@@ -123,6 +131,58 @@ def merge_regions(n_nodes: int, young: np.ndarray, elder: np.ndarray, cut: np.nd
         parent = up
 
 
+def alpha_levels(
+    points: np.ndarray, top: np.ndarray
+) -> tuple[list[np.ndarray], list[np.ndarray], dict[int, tuple[np.ndarray, np.ndarray]]]:
+    """The alpha value (squared radius) of every face of a Delaunay triangulation, in any dimension.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, k)
+    top : ndarray of shape (m, r + 1)
+        The Delaunay r-simplices, each row sorted (its faces are then read off sorted).
+
+    Returns
+    -------
+    faces : list of ndarray
+        ``faces[j]``: the distinct j-faces (rows sorted; ``faces[r]`` is ``top``; ``faces[0]`` unused).
+    levels : list of ndarray
+        ``levels[j]``: their squared alpha radii (0 for the vertices): a top simplex's circumball; a face
+        whose smallest ball holds the opposite vertex of one of its cofaces (attached) enters with its
+        first coface; any other face with its smallest ball (Edelsbrunner 1995; GUDHI's and CGAL's values).
+    incidence : dict
+        ``incidence[j] = (owner, face_of)``: per (coface, j-face) pair the (j + 1)-face and the j-face.
+    """
+    n = len(points)
+    r = top.shape[1] - 1
+    levels: list[np.ndarray] = [np.zeros(0)] * (r + 1)
+    faces_of: list[np.ndarray] = [np.zeros((0, 1), np.int64)] * (r + 1)
+    faces_of[r] = top
+    _, levels[r] = _circumballs(points, top)
+    cofaces = top
+    co_alpha = levels[r]
+    incidence: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+    for j in range(r - 1, 0, -1):
+        faces, owner, face_of, opposite = _faces(cofaces, j)
+        centre, r2 = _circumballs(points, faces)
+        flat = ~np.isfinite(co_alpha)
+        if flat.any():  # a flat coface (its vertices on one circle or line) fills with its last face
+            fix = np.zeros(len(co_alpha))
+            np.maximum.at(fix, owner, np.where(np.isfinite(r2), r2, 0.0)[face_of])
+            co_alpha = np.where(flat, fix, co_alpha)
+            levels[j + 1] = co_alpha
+        # a vertex on the sphere attaches the face too (ATTACH_TOL: co-circular grids)
+        inside = ((points[opposite] - centre[face_of]) ** 2).sum(axis=1) <= r2[face_of] * (1 + ATTACH_TOL)
+        alpha = np.full(len(faces), np.inf)
+        np.minimum.at(alpha, face_of[inside], co_alpha[owner[inside]])
+        alpha = np.where(np.isfinite(alpha), alpha, r2)
+        levels[j], faces_of[j] = alpha, faces
+        incidence[j] = (owner, face_of)
+        cofaces, co_alpha = faces, alpha
+    levels[0] = np.zeros(n)
+    return faces_of, levels, incidence
+
+
 class AlphaLadder:
     """The alpha complex of a point set in R^2 or R^3, ready to give Betti numbers at any scale.
 
@@ -141,36 +201,7 @@ class AlphaLadder:
         tri = Delaunay(self.points)
         top = np.sort(tri.simplices.astype(np.int64), axis=1)
         self.top = top
-        # alpha^2 of every simplex, top dimension down
-        levels: list[np.ndarray] = [np.zeros(0)] * (k + 1)
-        faces_of: list[np.ndarray] = [np.zeros((0, 1), np.int64)] * (k + 1)
-        faces_of[k] = top
-        _, levels[k] = _circumballs(self.points, top)
-        cofaces = top
-        co_alpha = levels[k]
-        self._incidence: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-        for j in range(k - 1, 0, -1):
-            faces, owner, face_of = _faces(cofaces, j)
-            centre, r2 = _circumballs(self.points, faces)
-            flat = ~np.isfinite(co_alpha)
-            if flat.any():  # a flat coface (its vertices on one circle or line) fills with its last face
-                fix = np.zeros(len(co_alpha))
-                np.maximum.at(fix, owner, np.where(np.isfinite(r2), r2, 0.0)[face_of])
-                co_alpha = np.where(flat, fix, co_alpha)
-                levels[j + 1] = co_alpha
-            # the vertex of the coface opposite the face (the one vertex not in it)
-            co = cofaces[owner]
-            f = faces[face_of]
-            opposite = co[~(co[:, :, None] == f[:, None, :]).any(axis=2)]
-            # a vertex on the sphere attaches the face too (ATTACH_TOL: co-circular grids)
-            inside = ((self.points[opposite] - centre[face_of]) ** 2).sum(axis=1) <= r2[face_of] * (1 + ATTACH_TOL)
-            alpha = np.full(len(faces), np.inf)
-            np.minimum.at(alpha, face_of[inside], co_alpha[owner[inside]])
-            alpha = np.where(np.isfinite(alpha), alpha, r2)
-            levels[j], faces_of[j] = alpha, faces
-            self._incidence[j] = (owner, face_of)
-            cofaces, co_alpha = faces, alpha
-        levels[0] = np.zeros(n)
+        faces_of, levels, self._incidence = alpha_levels(self.points, top)
         self.levels, self.faces = levels, faces_of
         if k == 3:
             # which tetrahedra share each triangle (or one tetrahedron and the outside)
