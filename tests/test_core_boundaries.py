@@ -8,6 +8,7 @@ Every ``import`` and ``from ... import`` counts, also those inside functions
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -41,8 +42,13 @@ def _is_package(name: str) -> bool:
     return MODULES.get(name, Path()).name == "__init__.py"
 
 
-def _imports(name: str) -> set[str]:
-    """The crustview modules that module ``name`` imports directly (absolute names)."""
+@functools.cache
+def _imports(name: str) -> frozenset[str]:
+    """The crustview modules that module ``name`` imports directly (absolute names).
+
+    Read once per module and process (the source does not change during a run): the closures below
+    ask for the same modules hundreds of times.
+    """
     tree = ast.parse(MODULES[name].read_text())
     package = name if _is_package(name) else name.rpartition(".")[0]
     found: set[str] = set()
@@ -58,7 +64,7 @@ def _imports(name: str) -> set[str]:
                 target = node.module or ""
             found.add(target)
             found.update(f"{target}.{alias.name}" for alias in node.names if f"{target}.{alias.name}" in MODULES)
-    return {m for m in found if m == "crustview" or m.startswith("crustview.")}
+    return frozenset(m for m in found if m == "crustview" or m.startswith("crustview."))
 
 
 def _closure(name: str) -> set[str]:
