@@ -385,21 +385,50 @@ def _grown(rec):
     return ext, analyse(ext.complex_at(ext.n_steps), rec.n, rec.d)
 
 
-def test_open_scan_keeps_its_cut_open_and_zips_the_slit_of_a_thin_ear(monkeypatch):
+def _frozen(obj) -> None:
+    """Make the numpy arrays held by a dataclass (and its candidates) read-only: a test that wrote into a
+    module fixture's result would fail instead of changing the next test's input."""
+    import dataclasses
+
+    for holder in (obj, getattr(obj, "candidates", None)):
+        if dataclasses.is_dataclass(holder):
+            for field in dataclasses.fields(holder):
+                value = getattr(holder, field.name)
+                if isinstance(value, np.ndarray):
+                    value.flags.writeable = False
+
+
+@pytest.fixture(scope="module")
+def camelhead():
+    """``reconstruct`` of camelhead.off (11,381 samples, d = 2), shared by the tests below, which only read
+    it (its arrays are read-only)."""
+    rec = reconstruct(scan_points("camelhead.off"), 2)
+    _frozen(rec)
+    return rec
+
+
+@pytest.fixture(scope="module")
+def camelhead_grown(camelhead):
+    """``_grown(camelhead)`` with the growing path as it is (built before any test patches it)."""
+    ext, t = _grown(camelhead)
+    _frozen(ext)
+    return ext, t
+
+
+def test_open_scan_keeps_its_cut_open_and_zips_the_slit_of_a_thin_ear(monkeypatch, camelhead, camelhead_grown):
     # camelhead.off is open (its neck is cut: 56 boundary edges).  The cut stays open, while the
     # rim of an ear, a thin plate whose two sides were grown but not its edge, is a slit: a long
     # hole only a spacing or two wide, closed by ears.  Slits are a rule of the growing path's
     # last phase, run here on its own; the default result keeps the cut open too.
     from crustview.core.robust import fill_hole as holes
 
-    pts = scan_points("camelhead.off")
-    rec = reconstruct(pts, 2)
+    rec = camelhead  # reconstruct(scan_points("camelhead.off"), 2)
     assert rec.topology.components == 1 and rec.topology.unused_samples == 0
     # one opening, the cut (a disc: b1 = 0), whose rim runs through about the cut's 56 samples
     # (the labelled rim may cut a corner of it)
     assert not rec.topology.closed_manifold and rec.topology.betti[:2] == (1, 0)
     assert 50 <= rec.topology.boundary_faces <= 62
-    ext, t = _grown(rec)
+    ext, t = camelhead_grown  # _grown(rec), unpatched
     slits = [s for s in ext.steps if s.rule == RULE_FILL and "slit" in s.reason]
     assert slits and t.components == 1 and t.unused_samples == 0
     assert not t.closed_manifold and t.boundary_faces >= 56
@@ -409,15 +438,14 @@ def test_open_scan_keeps_its_cut_open_and_zips_the_slit_of_a_thin_ear(monkeypatc
     assert tu.boundary_faces >= t.boundary_faces + 40
 
 
-def test_a_slit_whose_rim_folds_in_its_plane_is_zipped_in_space(monkeypatch):
+def test_a_slit_whose_rim_folds_in_its_plane_is_zipped_in_space(monkeypatch, camelhead, camelhead_grown):
     # a lip of camelhead.off: a 68-edge slit about 2.6 spacings wide whose best-fit plane folds
     # its rim over itself, so planar ear clipping cannot start; the zipper closes it in space
     # (the growing path's last phase, run on its own as above)
     from crustview.core.robust import patcher as holes
 
-    pts = scan_points("camelhead.off")
-    rec = reconstruct(pts, 2)
-    ext, t = _grown(rec)
+    rec = camelhead  # reconstruct(scan_points("camelhead.off"), 2)
+    ext, t = camelhead_grown  # _grown(rec), unpatched
     zipped = [s for s in ext.steps if "chosen in space" in s.reason]
     assert len(zipped) >= 40 and all(s.rule == RULE_FILL and "slit" in s.reason for s in zipped)
     assert t.components == 1 and t.unused_samples == 0 and t.nonmanifold_faces == 0
@@ -426,13 +454,13 @@ def test_a_slit_whose_rim_folds_in_its_plane_is_zipped_in_space(monkeypatch):
     assert flat.boundary_faces >= t.boundary_faces + 40
 
 
-def test_an_open_scan_labelled_soundly_is_not_grown_again():
+def test_an_open_scan_labelled_soundly_is_not_grown_again(camelhead):
     """camelhead (11,381 samples): the labelled result is open only at the opening open-cap found,
     through every sample, nothing uncertain: it is kept at once (no growing rule ran), with the cut
     as its one hole."""
     from crustview.core.steps import RULE_GROW, RULE_OPEN, RULE_SEED
 
-    rec = reconstruct(scan_points("camelhead.off"), 2)
+    rec = camelhead  # reconstruct(scan_points("camelhead.off"), 2)
     rules = {s.rule for s in rec.extraction.steps}
     assert RULE_OPEN in rules and not rules & {RULE_SEED, RULE_GROW}
     assert "grew M_S" not in rec.extraction.notes[0]
