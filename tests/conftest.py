@@ -83,6 +83,44 @@ def s3_run():
     return rec, sample
 
 
+@pytest.fixture(scope="session")
+def default_run():
+    """``default_run(name)``: a built-in's ``reconstruct(m.sample(m.default_n, seed=0).points, m.d)`` and its
+    sample, computed once per process and shared by the tests that only read them (the sampling, naming and
+    theorem tests ask for the same ones).  Their arrays are read-only: a test writing into one fails."""
+    from crustview.core import reconstruct
+    from crustview.core.samples.manifolds import get_manifold
+
+    runs: dict = {}
+
+    def run(name: str):
+        if name not in runs:
+            m = get_manifold(name)
+            sample = m.sample(m.default_n, seed=0)
+            rec = reconstruct(sample.points, m.d)
+            _read_only(rec)
+            sample.points.flags.writeable = False
+            sample.tangents.flags.writeable = False
+            runs[name] = (rec, sample)
+        return runs[name]
+
+    return run
+
+
+@pytest.fixture(scope="session")
+def camelhead_run():
+    """``reconstruct`` of resources/camelhead.off (an open scan, 11,381 samples, d = 2), once per process,
+    with its arrays read-only (the robust, labelling and description tests only read it)."""
+    from pathlib import Path
+
+    from crustview.core import reconstruct
+    from crustview.io import read_mesh
+
+    rec = reconstruct(read_mesh(Path(__file__).resolve().parents[1] / "resources" / "camelhead.off").points, 2)
+    _read_only(rec)
+    return rec
+
+
 @pytest.fixture()
 def window(qtbot, tmp_path):
     """The real main window, shown, with temporary settings."""

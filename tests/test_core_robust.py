@@ -399,12 +399,10 @@ def _frozen(obj) -> None:
 
 
 @pytest.fixture(scope="module")
-def camelhead():
-    """``reconstruct`` of camelhead.off (11,381 samples, d = 2), shared by the tests below, which only read
-    it (its arrays are read-only)."""
-    rec = reconstruct(scan_points("camelhead.off"), 2)
-    _frozen(rec)
-    return rec
+def camelhead(camelhead_run):
+    """``reconstruct(scan_points("camelhead.off"), 2)`` (11,381 samples), shared by the tests below, which
+    only read it (tests/conftest.py: its arrays are read-only)."""
+    return camelhead_run
 
 
 @pytest.fixture(scope="module")

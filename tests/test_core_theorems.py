@@ -94,10 +94,9 @@ def test_normal_error_uses_the_true_normal():
 
 
 @pytest.mark.parametrize("name", ["torus", "clifford-torus", "trefoil"])
-def test_theorem2_holds_on_builtin_default_density(name):
+def test_theorem2_holds_on_builtin_default_density(name, default_run):
     m = get_manifold(name)
-    s = m.sample(m.default_n, seed=0)
-    rec = reconstruct(s.points, d=m.d)
+    rec, s = default_run(name)  # s = m.sample(m.default_n, seed=0); rec = reconstruct(s.points, d=m.d)
     c = check_theorems(rec, m, s.tangents)
     summ = c.summary()
     assert summ["theorem2"]["beyond_local_bound"] == 0, summ["theorem2"]["violating_samples"]

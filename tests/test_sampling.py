@@ -290,11 +290,9 @@ def test_bad_arguments_raise_input_error(kwargs):
 # torus-r5 is left out: a Delaunay triangulation in R^5 takes most of a minute.
 @pytest.mark.slow
 @pytest.mark.parametrize("name", [name for name in ALL if name != "torus-r5"])
-def test_default_n_reconstructs_the_right_topology(name):
-    from crustview.core import reconstruct
-
+def test_default_n_reconstructs_the_right_topology(name, default_run):
     m = get_manifold(name)
-    rec = reconstruct(m.sample(m.default_n, seed=0).points, m.d)
+    rec, _ = default_run(name)  # reconstruct(m.sample(m.default_n, seed=0).points, m.d), shared per process
     assert rec.topology.closed_manifold
     assert tuple(rec.topology.betti) == m.betti
     assert rec.topology.euler == m.euler

@@ -86,16 +86,10 @@ def test_interpretation_and_verdict_of_a_torus_with_holes():
     assert len(kept.manifold) > 0 and verdict(kept)[0] == "bad"
 
 
-def test_an_open_scan_kept_open_is_amber_in_robust_mode_and_red_in_paper_mode():
+def test_an_open_scan_kept_open_is_amber_in_robust_mode_and_red_in_paper_mode(camelhead_run):
     """camelhead (an open scan): robust keeps its cut open through every sample -> "warn" naming the hole;
     the same sample in paper mode (nothing left, or open) stays "bad"."""
-    from pathlib import Path
-
-    from crustview.core import reconstruct
-    from crustview.io import read_mesh
-
-    pts = read_mesh(Path(__file__).parent.parent / "resources" / "camelhead.off").points
-    rec = reconstruct(pts, 2)
+    rec = camelhead_run  # reconstruct(read_mesh("resources/camelhead.off").points, 2), shared and read-only
     t = rec.topology
     assert not t.closed_manifold and t.boundary_faces > 0 and t.unused_samples == 0
     level, words = verdict(rec)

@@ -3,7 +3,7 @@
 import pytest
 
 from crustview.core import reconstruct
-from crustview.core.samples.manifolds import MANIFOLDS, get_manifold, projective_plane_points
+from crustview.core.samples.manifolds import MANIFOLDS, projective_plane_points
 from crustview.scene.shapes import name_of, shape_name
 
 TRUE_NAMES = {
@@ -38,9 +38,8 @@ def test_surface_classification_names():
 
 
 @pytest.mark.parametrize("name", ["hopf-link", "flat-klein", "clifford-torus", "sphere"])
-def test_reconstructed_builtins_get_their_true_name(name):
-    m = get_manifold(name)
-    rec = reconstruct(m.sample(m.default_n, seed=0).points, m.d)
+def test_reconstructed_builtins_get_their_true_name(name, default_run):
+    rec, _ = default_run(name)  # reconstruct(m.sample(m.default_n, seed=0).points, m.d), shared per process
     assert name_of(rec.topology, rec.d) == TRUE_NAMES[name]
 
 
