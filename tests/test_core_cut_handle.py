@@ -50,6 +50,21 @@ def knight():
     return read_points(KNIGHT)
 
 
+@pytest.fixture(scope="module")
+def knight_run(knight):
+    """``reconstruct(knight, 2)``, shared by the tests that only read it (its arrays made read-only, so a
+    test writing into one fails)."""
+    import dataclasses
+
+    rec = reconstruct(knight, 2)
+    for holder in (rec, rec.candidates):
+        for field in dataclasses.fields(holder):
+            value = getattr(holder, field.name)
+            if isinstance(value, np.ndarray):
+                value.flags.writeable = False
+    return rec
+
+
 def test_short_handles_are_removed_and_nothing_else_changes(knight):
     """Each cut removes one handle (b1 down by 2, b0 the same), keeps a closed manifold through
     every sample that was a vertex, and every handle it removed had a loop below 4 pi sampling radii (CUT_BELOW)."""
@@ -126,14 +141,14 @@ def test_the_step_log_replays_each_cut(knight):
         assert after.betti[1] == before.betti[1] - 2
 
 
-def test_a_removed_handle_is_reported_by_its_bound(knight, tmp_path):
+def test_a_removed_handle_is_reported_by_its_bound(knight_run, tmp_path):
     """reconstruct(): every cut handle is a feature marked removed; it is uncertain exactly when its loop
     was at least LOOP_MIN (below it no eps < 1 sample resolves it); the uncertain ones are counted in
     the summary and in the JSON report, every one is in removed_features, none among the features of M_S."""
     from crustview.cli_reconstruct import result_summary
     from crustview.report import report_dict
 
-    rec = reconstruct(knight, 2)
+    rec = knight_run  # reconstruct(knight, 2)
     cuts = rec.extraction.counts_by_rule().get(RULE_CUT, {}).get("steps", 0)
     every = [f for f in rec.features if f.removed]
     assert cuts >= 2 and len(every) == cuts
@@ -245,12 +260,12 @@ def test_a_dispute_is_dropped_only_when_the_kept_handles_are_resolved():
     assert not _disputed(annulus, sphere, [], 1000)  # one closed, one open: choose() keeps the closed one
 
 
-def test_a_cut_the_sample_may_resolve_brings_the_second_opinion(knight):
+def test_a_cut_the_sample_may_resolve_brings_the_second_opinion(knight, knight_run):
     """Up to SECOND_OPINION_N samples, a labelled result for which cut-handle removed a loop of at
     least LOOP_MIN is grown too (the note names both answers); the knight's two answers agree."""
     from crustview.core.robust.driver import SECOND_OPINION_N
 
-    rec = reconstruct(knight, 2)
+    rec = knight_run  # reconstruct(knight, 2)
     assert len(knight) <= SECOND_OPINION_N
     assert any(f.removed and f.size_spacings >= LOOP_MIN for f in rec.features)
     assert "grew M_S" in rec.extraction.notes[0] and "labelled result is kept" in rec.extraction.notes[0]

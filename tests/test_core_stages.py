@@ -161,8 +161,9 @@ def polygon_min(cell, s, nrm, n_grid=120, rounds=4):
 
     t = np.linspace(0, 1, 400)[:, None]
     edges = np.vstack([(1 - t) * uv[i] + t * uv[j] for i in range(len(uv)) for j in range(i + 1, len(uv))])
-    best_q = edges[np.argmin(value(edges))]
-    best = value(edges).min()
+    on_edges = value(edges)
+    best_q = edges[np.argmin(on_edges)]
+    best = on_edges.min()
     lo, hi = uv.min(axis=0), uv.max(axis=0)
     for _ in range(rounds):
         g = np.stack(np.meshgrid(*[np.linspace(lo[i], hi[i], n_grid) for i in range(2)]), -1).reshape(-1, 2)
