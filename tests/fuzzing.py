@@ -23,7 +23,10 @@ import zipfile
 from pathlib import Path
 
 import numpy as np
-from hypothesis import strategies as st
+
+# hypothesis is imported only where its strategies are built (``scripts/fuzz_readers.py``): the test
+# suite's cases come from numpy's generator, and importing hypothesis here made pytest rewrite the
+# asserts of its ~100 modules (it is a pytest plugin's package) in every xdist process, about 1 s each.
 
 #: Seconds one case may take.
 TIME_LIMIT = 5.0
@@ -189,6 +192,8 @@ class _Draws:
     @functools.lru_cache(maxsize=4096)
     def _strategy(kind: str, *args):
         # a strategy built for every draw cost more than the draw: build each one once
+        from hypothesis import strategies as st
+
         if kind == "binary":
             return st.binary(min_size=args[0], max_size=args[1])
         return {"integers": st.integers, "sampled_from": st.sampled_from}[kind](*args)
@@ -251,14 +256,26 @@ def mutate(seed: bytes, draws: _Draws) -> bytes:
     return bytes(data)
 
 
-@st.composite
-def mutated(draw, seed: bytes) -> bytes:
+@functools.cache
+def _mutated_strategy():
+    from hypothesis import strategies as st
+
+    @st.composite
+    def mutated(draw, seed: bytes) -> bytes:
+        return mutate(seed, _Draws(draw=draw))
+
+    return mutated
+
+
+def mutated(seed: bytes):
     """The hypothesis strategy of :func:`mutate` (``scripts/fuzz_readers.py``: fresh cases, shrunk on failure)."""
-    return mutate(seed, _Draws(draw=draw))
+    return _mutated_strategy()(seed)
 
 
 def cases(reader: str):
     """The strategy of one reader's cases: mutated seeds, mostly, and plain random bytes."""
+    from hypothesis import strategies as st
+
     pool = seeds(reader)
     return st.one_of(
         st.sampled_from(pool).flatmap(mutated),
