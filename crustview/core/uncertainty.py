@@ -20,14 +20,16 @@ from .analysis.contacts import BRIDGED, bridged_handles, hidden_parts
 from .analysis.enclosures import enclosure_voids, joined_objects
 from .analysis.features import LOOP_MIN, Feature, features
 from .analysis.gaps import curve_gaps, straight_gaps
-from .analysis.persistence import missing_loops
+from .analysis.persistence import PERSISTENT_SURE, missing_loops
 from .analysis.planar import planar_holes
+from .analysis.radii import local_spacing
 from .analysis.resample import Resampled, resample_betti, resample_check
-from .prepare import DEFAULT_JOGGLE
+from .prepare import DEFAULT_JOGGLE, prepare_points
 from .result import Reconstruction, TopologyReport
 from .robust.closed_caps import paper_caps
 from .robust.unclosed import unclosed_gaps
 from .steps import RULE_PRUNE, RULE_RESOLVE, Extraction
+from .util.nearest import nearest_distances
 from .util.parallel import start_in_background
 
 
@@ -185,20 +187,20 @@ def result_features(
         )
         feats += [replace(f, location=f.location * scale) for f in found]
         topo.messages.append(f"{said} ({time.perf_counter() - t1:.1f} s)")
-    # the growing path's closed results in codimension 2 and more (no inside and outside to label): loops the
-    # sample holds for sure and M_S lacks (analysis/persistence.py); the paper's own results are not checked
+    # the extension's closed results in codimension 2 and more (grown: no inside and outside to label): loops
+    # the sample holds for sure and M_S lacks (analysis/persistence.py); the paper's own results are not checked
     grown = rec.subspace_dim - rec.d >= 2 and rec.delaunay_simplices.shape[1] >= 3
     if mode == "robust" and grown and topo.closed_manifold and _beyond(counts):
         t1 = time.perf_counter()
-        pts = rec.points / scale
-        lost = missing_loops(pts, rec.delaunay_simplices, topo.betti[1], rec.d, rec.spacing / scale, cancel)
-        feats += [replace(f, location=f.location * scale) for f in lost]
-        if lost:
-            topo.messages.append(
-                f"the sample holds {topo.betti[1] + len(lost)} loops for sure (cycles of its union of balls that "
-                f"live 4 times their birth or more) where M_S has {topo.betti[1]}: M_S may lack {len(lost)} "
-                f"({time.perf_counter() - t1:.1f} s)"
-            )
+        lost, sure = _missing_loops(rec, manifold, topo.betti[1], cancel)
+        feats += lost
+        topo.messages.append(
+            f"the sample holds {sure} loop{'' if sure == 1 else 's'} for sure (cycles of its union of balls "
+            f"born within a sampling radius that live {PERSISTENT_SURE:g} times their birth or more) and M_S "
+            f"has {topo.betti[1]}"
+            + (f": M_S may lack {len(lost)}" if lost else "")
+            + f" ({time.perf_counter() - t1:.1f} s)"
+        )
     below = [f for f in feats if f.removed and not f.uncertain]
     if below:
         topo.messages.append(
@@ -223,6 +225,25 @@ def result_features(
             "where it is: the report's uncertain_features, the window's Uncertain features)"
         )
     return feats
+
+
+def _missing_loops(
+    rec: Reconstruction, manifold: np.ndarray, b1: int, cancel: object | None
+) -> tuple[list[Feature], int]:
+    """:func:`~.analysis.persistence.missing_loops` on the run's own Delaunay cells, where they were built.
+
+    The cells come from the joggled working coordinates (:func:`~.prepare.prepare_points`, made again from
+    the input: the same call gives the same coordinates) with the bounding points; a sample's unit is the
+    larger of its nearest-neighbour distance and M_S's sampling radius there (the features' gap unit).
+    """
+    relative = rec.joggle / rec.spacing if rec.spacing > 0 else 0.0
+    prep = prepare_points(rec.input_points, rec.d, joggle=relative)
+    bounds = (rec.bounding_points - prep.center) @ prep.basis / prep.scale
+    unit = np.maximum(nearest_distances(rec.points), local_spacing(rec.points, manifold)) / prep.scale
+    lost, sure = missing_loops(
+        np.vstack([prep.work, bounds]), rec.delaunay_simplices, unit, b1, rec.d, prep.scale, cancel
+    )
+    return [replace(f, location=rec.points[f.vertices].mean(axis=0)) for f in lost], sure
 
 
 def _beyond(counts: dict) -> bool:

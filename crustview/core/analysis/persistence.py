@@ -7,31 +7,53 @@ sampling density and the reach (Niyogi, Smale and Weinberger 2008); the alpha co
 a subcomplex of the Delaunay triangulation, has the union's homotopy type at every r.  A loop of M is
 therefore a 1-cycle of the alpha complex that is born when the balls close around it and lives until they
 fill it: from about eps * lfs to about lfs, a ratio 1 / eps.  Noise and the sample's own gaps make cycles
-too, born at the spacing and gone within a few spacings.
+too, born at the spacing and gone within a few spacings.  Beyond the reach the union gains loops M lacks:
+where two parts of M come close (a curve passing near itself, a bent surface whose tips nearly meet) the
+balls close a loop across the gap.
 
 :mod:`.alpha` reads the plane's loops by duality; in R^3 and beyond a loop is no region of the
-complement, and the pairs come from the standard reduction of the boundary matrix of the triangles
-(Edelsbrunner, Letscher and Zomorodian 2002; Z/2 coefficients, as the Betti numbers the report gives):
-the edges enter in order of their alpha value, each joining two components (no cycle) or closing a cycle;
-the triangles enter in order, and each reduced column's lowest edge is the cycle the triangle ends.
+complement.  The pairs (Z/2 coefficients, as the Betti numbers the report gives) come from the
+coboundary reduction with clearing (de Silva, Morozov and Vejdemo-Johansson 2011; Ripser's choice), which
+gives the same pairs as reducing the triangles' boundaries (Edelsbrunner, Letscher and Zomorodian 2002):
+the edges enter in order of their alpha value, each joining two components (no cycle) or closing one;
+each cycle-closing edge, latest first, is a column of the triangles that contain it, and its reduced
+column's earliest triangle is the one that ends its cycle.
 
 What the report does with it
 ----------------------------
-Where the robust extension grew M_S in codimension 2 or more (surfaces in R^4 and R^5, curves in space:
-the growing path, which has no inside and outside to label), a closed M_S with fewer independent loops
-(b_1) than the sample holds for sure has lost some: :func:`missing_loops` names each as an uncertain
-feature.  *For sure* is :data:`PERSISTENT_SURE`: a cycle living from r to at least 4 r, which an
-eps = 1/4 sample keeps (the margin of two in eps that ``resample-check``'s LOOP_CHECKED = 8 pi also
-uses over the resolution bound).  Measured with GUDHI's alpha complex on every variant of
-``bench_variants.py`` of the flat Klein bottle and the Clifford torus in R^4 (draws 0 and 10): the two
-loops of each live 4.7-11 times their birth, the noise's and the gaps' at most 2.6 times.  A flat Klein
-bottle with noise of 1 % of its size (``bench_variants.py --draw 10``) was grown into a closed sphere
-with two crosscaps, both cut as below the sample's resolution (3.0 and 3.1 sampling radii): a sphere for
-a Klein bottle, with nothing said; its sample holds both loops (7.5 and 5.7 times their birth).
+Where the robust extension built a closed M_S in codimension 2 or more (surfaces in R^4 and R^5, curves in
+space: the growing path, which has no inside and outside to label), :func:`missing_loops` names as an
+uncertain feature each loop the sample holds *for sure* beyond M_S's first Betti number.  For sure is two
+conditions on a cycle born at radius b by the edge (u, v):
 
-Cost: the alpha values of every face down to the edges, and one pass of the reduction over the
-triangles; a few seconds at a few thousand samples in R^4, so the check runs only where the growing
-path ran (the paper's own results, such as the 10,000-sample Klein bottle of the speed benchmark, keep
+* it lives to at least :data:`PERSISTENT_SURE` b = 4 b.  The curve rule calls a cycle the sample's at 2 b
+  (eps = 1/2, :data:`~.alpha.PERSISTENT`); twice that is the margin of two in eps that ``resample-check``
+  (LOOP_CHECKED = 8 pi over 4 pi) also takes, an analogy, not a theorem.  Measured with GUDHI's alpha
+  complex on every variant of ``bench_variants.py`` of the flat Klein bottle and the Clifford torus in R^4
+  (draws 0 and 10): their loops live 4.7-11 times their birth, the noise's and the gaps' at most 2.6;
+* it is born below the local unit at its edge (the larger of the nearest-neighbour distance and M_S's
+  sampling radius at u or v, as the features measure a gap between components): a loop of M closes across
+  an edge between neighbours along M, at most twice the sampling radius long; a loop born later closes
+  across a gap of 2 b >= GAP_MIN units, which the sample resolves as a gap, so the loop is the ambient
+  space's (the near approaches above, born at 1.1-3.3 spacings where the manifolds' loops are born at
+  0.7-0.8: a review's figure eight in R^3 and bent capsule in R^4, each right and flagged before this
+  condition).  Where the gap is below GAP_MIN the sample does not tell whether the parts touch, and a loop
+  across it is counted: that doubt is the report's to give.
+
+A flat Klein bottle with noise of 1 % of its size (``bench_variants.py --draw 10``) was grown into a closed
+sphere with two crosscaps, both cut as below the sample's resolution (3.0 and 3.1 sampling radii): a sphere
+for a Klein bottle, with nothing said; its sample holds both loops (7.5 and 5.7 times their birth).
+
+The values are those of the run's own Delaunay cells, bounding points included, in the coordinates the
+cells were built in (the joggled working coordinates, :func:`crustview.core.prepare.prepare_points`):
+without the joggle a grid's cells are flat and their values wrong (a 48 x 24 torus grid in R^4 had 731
+false loops), and without the cells at the bounding points the rest is no alpha complex (loops die late or
+never).  Cycles closed by an edge at a bounding point are left out.  The reduction stops at the radius
+where every cycle born below the largest unit has lived 4 times its birth.
+
+Cost: the alpha values of every face down to the edges, then the reduction over the cycle-closing edges;
+under a second at 1,500 samples in R^4, a few seconds at 1,000 in R^5, so the check runs only where the
+extension ran (the paper's own results, such as the 10,000-sample Klein bottle of the speed benchmark, keep
 the paper's guarantees and are not checked).
 """
 
@@ -51,38 +73,47 @@ from .features import Feature
 PERSISTENT_SURE = 2 * PERSISTENT
 
 
-def loop_pairs(points: np.ndarray, top: np.ndarray, cancel: object | None = None) -> np.ndarray:
+def loop_pairs(points: np.ndarray, top: np.ndarray, cancel: object | None = None, upto: float = math.inf) -> np.ndarray:
     """The persistence pairs of the 1-cycles of the alpha complex (Z/2): rows (birth, death, u, v).
 
     Parameters
     ----------
     points : ndarray of shape (n, k)
-        The samples.
+        The points the Delaunay cells were built on.
     top : ndarray of shape (m, r + 1), r >= 2
-        Their Delaunay r-simplices (r the dimension of their affine hull).
+        Their Delaunay r-simplices (r the dimension of their affine hull), all of them: the alpha values of
+        a subset are not the alpha complex's.
     cancel : object with ``is_set()``, optional
-        Checked every few thousand edges (:class:`~crustview.core.errors.Cancelled`).
+        Checked between the stages and every few thousand edges (:class:`~crustview.core.errors.Cancelled`).
+    upto : float
+        Only the filtration up to this radius: a cycle still alive there gets death ``inf``.
 
     Returns
     -------
     ndarray of shape (p, 4)
         Birth and death radius of every cycle that lives a positive time, and the edge (u, v) whose
-        arrival makes it.  Cycles still alive when every triangle is in (none, for a triangulation of a
-        convex hull) get death ``inf``.
+        arrival makes it.  Over a whole triangulation of a convex hull every cycle dies; ``inf`` marks one
+        still alive at ``upto``.
     """
-    top = np.sort(np.asarray(top, dtype=np.int64), axis=1)
+    top = np.asarray(top, dtype=np.int64)
     n = len(points)
-    if len(top) == 0 or top.shape[1] < 3:
+    if top.ndim != 2 or len(top) == 0 or top.shape[1] < 3:
         return np.zeros((0, 4))
+    top = np.sort(top, axis=1)
     faces, levels, _ = alpha_levels(points, top)
-    edges, e_val = faces[1], levels[1]
-    tris, t_val = faces[2], levels[2]
+    check_cancel(cancel)
+    edges, e_sq = faces[1], levels[1]
+    tris, t_sq = faces[2], levels[2]
+    cut = upto * upto
+    e_in, t_in = np.flatnonzero(e_sq <= cut), np.flatnonzero(t_sq <= cut)
+    edges, e_sq, tris, t_sq = edges[e_in], e_sq[e_in], tris[t_in], t_sq[t_in]
     # the edges in filtration order; an edge that joins two components makes no cycle (H_0's pairs)
-    e_order = np.argsort(e_val, kind="stable")
+    e_order = np.argsort(e_sq, kind="stable")
     rank = np.empty(len(edges), np.int64)
     rank[e_order] = np.arange(len(edges))
     closes = _closing_edges(n, edges[e_order])  # per rank: True where the edge closes a cycle
-    # each triangle's three edges as ranks (faces are sorted rows, so its edges are pairs of its columns)
+    # each triangle's three edges as ranks (faces are sorted rows, so its edges are pairs of its columns;
+    # a triangle in the filtration has its edges in it: an edge's value never exceeds its triangles')
     keys = edges[:, 0] * np.int64(n) + edges[:, 1]
     key_order = np.argsort(keys)
     sorted_keys = keys[key_order]
@@ -91,52 +122,50 @@ def loop_pairs(points: np.ndarray, top: np.ndarray, cancel: object | None = None
         return rank[key_order[np.searchsorted(sorted_keys, a * np.int64(n) + b)]]
 
     cols = np.stack(
-        [edge_rank(tris[:, 0], tris[:, 1]), edge_rank(tris[:, 0], tris[:, 2]), edge_rank(tris[:, 1], tris[:, 2])], 1
+        [edge_rank(tris[:, 0], tris[:, 1]), edge_rank(tris[:, 0], tris[:, 2]), edge_rank(tris[:, 1], tris[:, 2])],
+        axis=1,
     )
-    # faces before their cofaces at equal values: an edge's value never exceeds its triangles'
-    t_order = np.lexsort((np.arange(len(tris)), t_val))
-    death = _cohomology_deaths(cols, t_order, t_val, closes, cancel)
+    t_order = np.lexsort((np.arange(len(tris)), t_sq))
+    death_sq = _cohomology_deaths(cols, t_order, t_sq, closes, cancel)
     born = np.flatnonzero(closes)
-    b2, d2 = e_val[e_order][born], death[born]
-    live = d2 > b2
+    b_sq, d_sq = e_sq[e_order][born], death_sq[born]
+    live = d_sq > b_sq
     uv = edges[e_order][born][live]
-    return np.c_[np.sqrt(b2[live]), np.sqrt(d2[live]), uv].reshape(-1, 4)
+    return np.c_[np.sqrt(b_sq[live]), np.sqrt(d_sq[live]), uv].reshape(-1, 4)
 
 
 def _cohomology_deaths(
-    cols: np.ndarray, t_order: np.ndarray, t_val: np.ndarray, closes: np.ndarray, cancel: object | None
+    cols: np.ndarray, t_order: np.ndarray, t_sq: np.ndarray, closes: np.ndarray, cancel: object | None
 ) -> np.ndarray:
-    """Per edge rank, the squared radius at which the cycle it closes dies (inf: never, or no cycle).
+    """Per edge rank, the squared radius at which the cycle it closes dies (inf: not in the filtration).
 
-    The same pairs as reducing the triangles' boundaries (Z/2), read from the coboundaries instead
-    (de Silva, Morozov and Vejdemo-Johansson 2011, "Dualities in persistent (co)homology"; Ripser's
-    choice): the cycle-closing edges, latest first, each a column of the triangles that contain it, the
-    earliest triangle lowest; an edge that joins two components has a column that reduces to zero and is
-    skipped (clearing).  Most columns are their own pivot at once, where the triangles' reduction spent
-    most of its time cancelling the triangles that close 2-cycles (5.6 million column additions for a
-    1,000-sample torus in R^5).  A column is a Python int used as a bit set: XOR and the lowest bit run in C.
+    The cycle-closing edges, latest first, each a column of the triangles that contain it (by their rank in
+    the filtration); a column's pivot is its earliest triangle.  An edge that joins two components has a
+    column that reduces to zero and is skipped (clearing).  Most columns are their own pivot at once, where
+    reducing the triangles' boundaries spent most of its time cancelling the triangles that close 2-cycles
+    (5.6 million column additions for a 1,000-sample torus in R^5).  Columns are Python sets: their size is
+    their triangles' count, where a bit set over the triangles' ranks held up to (triangles / 8) bytes per
+    pivot (2.6 GB for a noise-free torus in R^5, a review found).
     """
     t_count = len(t_order)
-    bit = np.empty(t_count, np.int64)
-    bit[t_order] = t_count - 1 - np.arange(t_count)  # the earliest triangle has the highest bit
+    t_rank = np.empty(t_count, np.int64)
+    t_rank[t_order] = np.arange(t_count)
     edge_of = cols.ravel()
     order = np.argsort(edge_of, kind="stable")
-    tri_bits = np.repeat(bit, 3)[order].tolist()
+    tri_ranks = np.repeat(t_rank, 3)[order].tolist()
     starts = np.searchsorted(edge_of[order], np.arange(len(closes) + 1)).tolist()
     death = np.full(len(closes), np.inf)
-    pivot: dict[int, int] = {}
+    pivot: dict[int, set[int]] = {}
     for step, e in enumerate(np.flatnonzero(closes)[::-1].tolist()):
         if step % 4096 == 0:
             check_cancel(cancel)
-        col = 0
-        for b in tri_bits[starts[e] : starts[e + 1]]:
-            col ^= 1 << b
+        col = set(tri_ranks[starts[e] : starts[e + 1]])
         while col:
-            low = col.bit_length() - 1
+            low = min(col)
             other = pivot.get(low)
             if other is None:
                 pivot[low] = col
-                death[e] = t_val[t_order[t_count - 1 - low]]
+                death[e] = t_sq[t_order[low]]
                 break
             col ^= other
     return death
@@ -169,50 +198,86 @@ def persistent_loops(points: np.ndarray, top: np.ndarray, cancel: object | None 
     return keep[np.argsort(-keep[:, 1] / keep[:, 0], kind="stable")]
 
 
+def sure_loops(points: np.ndarray, top: np.ndarray, unit: np.ndarray, cancel: object | None = None) -> np.ndarray:
+    """The loops a sample holds for sure: rows of :func:`loop_pairs` among the samples (module text).
+
+    Parameters
+    ----------
+    points : ndarray of shape (n + b, k)
+        The samples (first ``len(unit)`` rows) and any bounding points, as the Delaunay cells were built.
+    top : ndarray
+        The Delaunay cells over ``points``, all of them.
+    unit : ndarray of shape (n,)
+        Each sample's local unit in the coordinates of ``points``.
+    cancel : object with ``is_set()``, optional
+
+    Returns
+    -------
+    ndarray of shape (p, 4)
+        (birth, death, u, v) of every cycle closed by an edge between two samples, born below the larger
+        unit of u and v, that lives at least :data:`PERSISTENT_SURE` times its birth; longest-lived first.
+    """
+    n = len(unit)
+    if n == 0:
+        return np.zeros((0, 4))
+    pairs = loop_pairs(points, top, cancel, upto=PERSISTENT_SURE * float(np.max(unit)))
+    uv = pairs[:, 2:].astype(np.int64)
+    ours = (uv < n).all(axis=1)
+    pairs, uv = pairs[ours], uv[ours]
+    local = np.maximum(unit[uv[:, 0]], unit[uv[:, 1]])
+    keep = (pairs[:, 0] < local) & (pairs[:, 1] >= PERSISTENT_SURE * pairs[:, 0])
+    keep = pairs[keep]
+    return keep[np.argsort(-keep[:, 1] / keep[:, 0], kind="stable")]
+
+
 def missing_loops(
-    points: np.ndarray, top: np.ndarray, b1: int, d: int, spacing: float, cancel: object | None = None
-) -> list[Feature]:
+    points: np.ndarray,
+    top: np.ndarray,
+    unit: np.ndarray,
+    b1: int,
+    d: int,
+    scale: float = 1.0,
+    cancel: object | None = None,
+) -> tuple[list[Feature], int]:
     """Uncertain features for loops the sample holds for sure and a closed M_S with first Betti number ``b1`` lacks.
 
     Parameters
     ----------
-    points : ndarray of shape (n, k)
-        The samples.
-    top : ndarray
-        Their Delaunay simplices (only rows among the samples are used).
+    points, top, unit, cancel
+        As in :func:`sure_loops`.
     b1 : int
         M_S's first Betti number (Z/2).
     d : int
         M_S's dimension: a missing loop is a handle of a surface (d >= 2) or a closed curve (d = 1, a
         ``component``).
-    spacing : float
-        The samples' median nearest-neighbour distance (the unit of the sizes).
-    cancel : object with ``is_set()``, optional
+    scale : float
+        What a length in ``points`` is in the samples' own coordinates (the features' locations are there).
 
     Returns
     -------
-    list of Feature
+    features : list of Feature
         One disputed, uncertain feature per loop missing, placed at the edge that closes the cycle (the
-        most persistent cycles beyond the first ``b1`` are named); its size is the death radius over the
-        spacing times 2 pi, the length of a circle the balls fill at that radius.
+        cycles beyond the ``b1`` longest-lived are named); its size is the death radius over the local unit
+        times 2 pi, the length of a circle the balls fill at that radius.  The location is in ``points``'
+        coordinates.
+    sure : int
+        How many loops the sample holds for sure.
     """
-    top = np.asarray(top, dtype=np.int64)
-    top = top[(top < len(points)).all(axis=1)]
-    sure = persistent_loops(points, top, cancel)
-    if len(sure) <= b1:
-        return []
-    kind = "handle" if d >= 2 else "component"
+    sure = sure_loops(points, top, unit, cancel)
     out = []
+    kind = "handle" if d >= 2 else "component"
     for birth, death, u, v in sure[b1:].tolist():
         pair = np.array([int(u), int(v)])
-        size = 2 * math.pi * death / spacing if spacing > 0 else math.inf
+        local = float(max(unit[pair[0]], unit[pair[1]]))
+        size = 2 * math.pi * death / local if local > 0 else math.inf
         reason = (
-            f"the sample holds {len(sure)} loops for sure (cycles of its union of balls living from r to "
-            f"{PERSISTENT_SURE:g} r or more) and M_S has {b1}: this one lives from {birth / spacing:.3g} to "
-            f"{death / spacing:.3g} spacings ({death / birth:.3g} times its birth), and M_S may lack it"
+            f"the sample holds {len(sure)} loops for sure (cycles of its union of balls born within a "
+            f"sampling radius and living {PERSISTENT_SURE:g} times their birth or more) and M_S has {b1}: this "
+            f"one lives from radius {birth * scale:.3g} to {death * scale:.3g} ({death / birth:.3g} times its "
+            "birth), and M_S may lack it"
         )
         out.append(Feature(kind, points[pair].mean(axis=0), size, True, pair, reason, disputed=True))
-    return out
+    return out, len(sure)
 
 
-__all__ = ["PERSISTENT_SURE", "loop_pairs", "missing_loops", "persistent_loops"]
+__all__ = ["PERSISTENT_SURE", "loop_pairs", "missing_loops", "persistent_loops", "sure_loops"]
