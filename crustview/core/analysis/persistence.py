@@ -257,8 +257,9 @@ def missing_loops(
     -------
     features : list of Feature
         One disputed, uncertain feature per loop missing, placed at the edge that closes the cycle (the
-        cycles beyond the ``b1`` longest-lived are named); its size is the death radius over the local unit
-        times 2 pi, the length of a circle the balls fill at that radius.  The location is in ``points``'
+        cycles beyond the ``b1`` longest-lived are named); its size is the death radius (or the radius where
+        the reduction stopped, for a cycle alive there) over the local unit times 2 pi, the length of a
+        circle the balls fill at that radius.  The location is in ``points``'
         coordinates.
     sure : int
         How many loops the sample holds for sure.
@@ -269,12 +270,16 @@ def missing_loops(
     for birth, death, u, v in sure[b1:].tolist():
         pair = np.array([int(u), int(v)])
         local = float(max(unit[pair[0]], unit[pair[1]]))
-        size = 2 * math.pi * death / local if local > 0 else math.inf
+        # a cycle alive where the reduction stopped (4 times the largest unit) lives at least that long
+        last = min(death, PERSISTENT_SURE * float(np.max(unit)))
+        size = 2 * math.pi * last / local if local > 0 else math.inf
+        span = f"to {last * scale:.3g}" if math.isfinite(death) else f"past {last * scale:.3g}"
         reason = (
             f"the sample holds {len(sure)} loops for sure (cycles of its union of balls born within a "
             f"sampling radius and living {PERSISTENT_SURE:g} times their birth or more) and M_S has {b1}: this "
-            f"one lives from radius {birth * scale:.3g} to {death * scale:.3g} ({death / birth:.3g} times its "
-            "birth), and M_S may lack it"
+            f"one lives from radius {birth * scale:.3g} {span} ({last / birth:.3g} times its birth"
+            + ("" if math.isfinite(death) else " or more")
+            + "), and M_S may lack it"
         )
         out.append(Feature(kind, points[pair].mean(axis=0), size, True, pair, reason, disputed=True))
     return out, len(sure)
