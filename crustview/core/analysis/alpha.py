@@ -31,6 +31,7 @@ attaches it.
 
 from __future__ import annotations
 
+import math
 from itertools import combinations
 
 import numpy as np
@@ -132,7 +133,7 @@ def merge_regions(n_nodes: int, young: np.ndarray, elder: np.ndarray, cut: np.nd
 
 
 def alpha_levels(
-    points: np.ndarray, top: np.ndarray
+    points: np.ndarray, top: np.ndarray, upto: float = math.inf
 ) -> tuple[list[np.ndarray], list[np.ndarray], dict[int, tuple[np.ndarray, np.ndarray]]]:
     """The alpha value (squared radius) of every face of a Delaunay triangulation, in any dimension.
 
@@ -141,6 +142,10 @@ def alpha_levels(
     points : ndarray of shape (n, k)
     top : ndarray of shape (m, r + 1)
         The Delaunay r-simplices, each row sorted (its faces are then read off sorted).
+    upto : float
+        Values above ``upto ** 2`` are only said to be above it (``inf``): a face whose longest edge is over
+        ``2 upto`` has a smallest ball, and so a value, beyond it, and its ball is not computed (the cells at
+        far bounding points, a convex hull's long faces).
 
     Returns
     -------
@@ -153,19 +158,26 @@ def alpha_levels(
     incidence : dict
         ``incidence[j] = (owner, face_of)``: per (coface, j-face) pair the (j + 1)-face and the j-face.
     """
-    n = len(points)
+    n, k = points.shape
     r = top.shape[1] - 1
+    cut2 = upto * upto
     levels: list[np.ndarray] = [np.zeros(0)] * (r + 1)
     faces_of: list[np.ndarray] = [np.zeros((0, 1), np.int64)] * (r + 1)
     faces_of[r] = top
-    _, levels[r] = _circumballs(points, top)
+    co_far = _beyond(points, top, cut2)
+    levels[r] = np.full(len(top), np.inf)
+    if not co_far.all():
+        _, levels[r][~co_far] = _circumballs(points, top[~co_far])
     cofaces = top
     co_alpha = levels[r]
     incidence: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     for j in range(r - 1, 0, -1):
         faces, owner, face_of, opposite = _faces(cofaces, j)
-        centre, r2 = _circumballs(points, faces)
-        flat = ~np.isfinite(co_alpha)
+        far = _beyond(points, faces, cut2)
+        centre, r2 = np.zeros((len(faces), k)), np.full(len(faces), np.inf)
+        if not far.all():
+            centre[~far], r2[~far] = _circumballs(points, faces[~far])
+        flat = ~np.isfinite(co_alpha) & ~co_far
         if flat.any():  # a flat coface (its vertices on one circle or line) fills with its last face
             fix = np.zeros(len(co_alpha))
             np.maximum.at(fix, owner, np.where(np.isfinite(r2), r2, 0.0)[face_of])
@@ -175,12 +187,28 @@ def alpha_levels(
         inside = ((points[opposite] - centre[face_of]) ** 2).sum(axis=1) <= r2[face_of] * (1 + ATTACH_TOL)
         alpha = np.full(len(faces), np.inf)
         np.minimum.at(alpha, face_of[inside], co_alpha[owner[inside]])
-        alpha = np.where(np.isfinite(alpha), alpha, r2)
+        # attached by a coface beyond the cut only: beyond it too (its value is at least that coface's)
+        by_far = np.zeros(len(faces), bool)
+        by_far[face_of[inside & co_far[owner]]] = True
+        alpha = np.where(np.isfinite(alpha) | by_far | far, alpha, r2)
         levels[j], faces_of[j] = alpha, faces
         incidence[j] = (owner, face_of)
-        cofaces, co_alpha = faces, alpha
+        cofaces, co_alpha, co_far = faces, alpha, far | (by_far & ~np.isfinite(alpha))
     levels[0] = np.zeros(n)
     return faces_of, levels, incidence
+
+
+def _beyond(points: np.ndarray, simplices: np.ndarray, cut2: float) -> np.ndarray:
+    """Simplices whose longest edge is over twice ``sqrt(cut2)``: their smallest ball is beyond the cut."""
+    if not math.isfinite(cut2):
+        return np.zeros(len(simplices), bool)
+    p = points[simplices]
+    longest = np.zeros(len(simplices))
+    width = simplices.shape[1]
+    for a in range(width):
+        for b in range(a + 1, width):
+            np.maximum(longest, ((p[:, a] - p[:, b]) ** 2).sum(axis=1), out=longest)
+    return longest > 4 * cut2
 
 
 class AlphaLadder:

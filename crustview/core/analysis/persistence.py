@@ -100,7 +100,7 @@ def loop_pairs(points: np.ndarray, top: np.ndarray, cancel: object | None = None
     if top.ndim != 2 or len(top) == 0 or top.shape[1] < 3:
         return np.zeros((0, 4))
     top = np.sort(top, axis=1)
-    faces, levels, _ = alpha_levels(points, top)
+    faces, levels, _ = alpha_levels(points, top, upto)
     check_cancel(cancel)
     edges, e_sq = faces[1], levels[1]
     tris, t_sq = faces[2], levels[2]
