@@ -146,3 +146,18 @@ def test_grid_torus_in_r4_is_not_flagged():
     assert rec.topology.closed_manifold and rec.topology.betti == (1, 2, 1)
     assert any(m.startswith("the sample holds 2 loops for sure") for m in rec.topology.messages)  # checked
     assert not [f for f in rec.uncertain_features if "loops for sure" in f.reason]
+
+
+def test_missing_loops_in_a_flat_of_r5():
+    """The same Klein bottle turned into a 4-flat of R^5: the cells are the flat's (its working coordinates),
+    the two loops are still named, and each feature sits on its two samples in R^5."""
+    pts = np.c_[_noisy_klein(10), np.full(1500, 3.0)]
+    turn, _ = np.linalg.qr(np.random.default_rng(0).normal(size=(5, 5)))
+    moved = pts @ turn.T + 7.0
+    rec = reconstruct(moved, 2)
+    assert rec.subspace_dim == 4 and rec.topology.betti == (1, 0, 1)
+    lost = [f for f in rec.uncertain_features if "loops for sure" in f.reason]
+    assert len(lost) == 2
+    for f in lost:
+        np.testing.assert_allclose(f.location, rec.points[f.vertices].mean(axis=0))
+        assert np.linalg.norm(rec.points[f.vertices[0]] - rec.points[f.vertices[1]]) < 4 * rec.spacing
