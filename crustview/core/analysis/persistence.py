@@ -62,6 +62,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import minimum_spanning_tree
 
 from ..errors import check_cancel
 from .alpha import PERSISTENT, alpha_levels
@@ -172,22 +174,16 @@ def _cohomology_deaths(
 
 
 def _closing_edges(n: int, ordered: np.ndarray) -> np.ndarray:
-    """Per edge in the given order, whether both its ends are already joined by the earlier edges."""
-    parent = np.arange(n)
+    """Per edge in the given order, whether both its ends are already joined by the earlier edges.
 
-    def root(i: int) -> int:
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
-    out = np.zeros(len(ordered), bool)
-    for i, (a, b) in enumerate(ordered.tolist()):
-        ra, rb = root(a), root(b)
-        if ra == rb:
-            out[i] = True
-        else:
-            parent[max(ra, rb)] = min(ra, rb)
+    Those are the edges outside the minimum spanning forest of the order (Kruskal's greedy forest is the
+    union-find over the edges in order, and with distinct weights the forest is unique): scipy's.
+    """
+    rank = np.arange(1, len(ordered) + 1, dtype=float)  # distinct positive weights: the order itself
+    graph = coo_matrix((rank, (ordered[:, 0], ordered[:, 1])), shape=(n, n)).tocsr()
+    forest = minimum_spanning_tree(graph).tocoo()
+    out = np.ones(len(ordered), bool)
+    out[forest.data.astype(np.int64) - 1] = False
     return out
 
 
