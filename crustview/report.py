@@ -19,6 +19,8 @@ from crustview.core.errors import InputError
 
 if TYPE_CHECKING:
     from crustview.core.analysis.compare import MeshComparison
+    from crustview.core.analysis.features import Feature
+    from crustview.core.analysis.quality import SamplingQuality
     from crustview.core.result import Reconstruction
 
 
@@ -90,10 +92,20 @@ def left_out_samples(rec: Reconstruction) -> list[int]:
     return sorted(int(rec.point_input[i]) for i in np.flatnonzero(~used))
 
 
+def _feature(f: Feature, quality: SamplingQuality | None) -> dict[str, Any]:
+    """A feature's JSON form with the estimated epsilon over its samples (``epsilon``, ``epsilon_max``)."""
+    from crustview.core.analysis.quality import feature_epsilon
+
+    out = f.as_dict()
+    if quality is not None:
+        out.update(feature_epsilon(quality.epsilon, f.vertices))
+    return out
+
+
 def report_dict(
     rec: Reconstruction,
     comparison: MeshComparison | None = None,
-    quality: dict[str, Any] | None = None,
+    quality: dict[str, Any] | SamplingQuality | None = None,
     extra: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     """The content of :func:`write_report` as plain Python objects.
@@ -103,18 +115,25 @@ def report_dict(
     rec : Reconstruction
     comparison : MeshComparison, optional
         M_S against a mesh's faces (key ``ground_truth``).
-    quality : dict, optional
-        :func:`crustview.core.analysis.quality.summary` of ``rec`` when already
-        computed; otherwise it is computed here.  Its ``seconds`` are left
-        out, so that the report of a run is the same every time it is made.
+    quality : SamplingQuality or dict, optional
+        :func:`crustview.core.analysis.quality.sampling_quality` of ``rec`` (or its
+        :func:`~crustview.core.analysis.quality.summary`) when already computed; otherwise it is
+        computed here.  Its ``seconds`` are left out, so that the report of a run is the same every time
+        it is made.  Every entry of ``uncertain_features`` and ``removed_features`` gets the estimated
+        epsilon over its samples (``epsilon``, the median; ``epsilon_max``, the coarsest:
+        :func:`~crustview.core.analysis.quality.feature_epsilon`).
     extra : dict, optional
         More keys, added last: e.g. ``input`` (what the file held besides
         coordinates, and the angles between its normals and AN_s) and
         ``dimension_estimate`` (how ``-d auto`` chose d).
     """
-    from crustview.core.analysis.quality import summary
+    from crustview.core.analysis.quality import SamplingQuality, sampling_quality, summary
 
-    quality = summary(rec) if quality is None else quality
+    listed = [f for f in rec.features if f.uncertain or f.removed]
+    per_sample = quality if isinstance(quality, SamplingQuality) else None
+    if per_sample is None and (quality is None or listed):  # each listed feature says its estimated epsilon
+        per_sample = sampling_quality(rec)
+    quality = summary(rec, per_sample) if not isinstance(quality, dict) else quality
     quality = {key: value for key, value in quality.items() if key != "seconds"}
     more = {} if comparison is None else {"ground_truth": comparison.as_dict()}
     level, sentence = result_verdict(rec, comparison)
@@ -141,10 +160,10 @@ def report_dict(
             "topology": rec.topology.as_dict(),
             "verdict": {"level": level, "text": sentence},
             "left_out_samples": left_out_samples(rec),
-            "uncertain_features": [f.as_dict() for f in rec.uncertain_features],
+            "uncertain_features": [_feature(f, per_sample) for f in rec.uncertain_features],
             # every handle the rule cut-handle removed (the ones below any eps < 1 sample's resolution too),
             # every separation join-parts joined, every cap open-cap kept closed
-            "removed_features": [f.as_dict() for f in rec.features if f.removed],
+            "removed_features": [_feature(f, per_sample) for f in rec.features if f.removed],
             "features": {
                 kind: sum(f.kind == kind and not f.removed and not f.disputed for f in rec.features)
                 for kind in ("handle", "hole", "component")
@@ -189,7 +208,9 @@ def write_report(
     (:meth:`Extraction.counts_by_rule`); ``sampling_quality``
     (:func:`crustview.core.analysis.quality.summary` without its ``seconds``:
     estimated epsilon and the samples beyond the paper's bounds);
-    ``timings`` (seconds per stage); ``delaunay_backend`` (the Delaunay
+    ``uncertain_features`` and ``removed_features`` (each with ``kind``, ``location``,
+    ``size_spacings``, ``reason`` and the estimated ``epsilon`` over its samples, median and
+    ``epsilon_max``); ``left_out_samples`` (input rows); ``timings`` (seconds per stage); ``delaunay_backend`` (the Delaunay
     code that ran, e.g. CGAL through crustview's extension, or Qhull).
     Paper runs also have ``n_cascades`` and ``cascades``: the
     :data:`REPORT_CASCADES` largest prune cascades, each with its

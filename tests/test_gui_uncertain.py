@@ -212,6 +212,11 @@ def test_a_clicked_feature_is_highlighted_as_well_as_framed(qtbot, window):
     assert window.model.layers["selection"].count == 1 and window.plotter.camera.position != camera
     said = window.info_panel.selection.text()  # Information ▸ Selection says what it is
     assert "<b>hole</b>" in said and "102 samples" in said and "rim lies" in said
+    # and the estimated epsilon over its samples (median, coarsest), as the report gives it
+    from crustview.core.analysis.quality import feature_epsilon
+
+    eps = feature_epsilon(window.model.quality.epsilon, hole.vertices)
+    assert f"estimated ε {eps['epsilon']:.2g} there (coarsest {eps['epsilon_max']:.2g})" in said
     sel.select_sample(0)
     assert sel.feature is None and drawn.part.mesh.n_points == 1
 

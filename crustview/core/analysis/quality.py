@@ -319,3 +319,38 @@ def summary(rec: Reconstruction, quality: SamplingQuality | None = None) -> dict
         "beyond_share": {name: c / n for name, c in beyond.items()},
         "seconds": float(q.seconds),
     }
+
+
+def feature_epsilon(epsilon: np.ndarray, vertices: np.ndarray) -> dict[str, float | None]:
+    """The estimated epsilon where a feature is: over its samples (a loop, a rim, a gap's two sides).
+
+    A feature is supported by the sample where the sample resolves it; the issue's question "what is the
+    estimated epsilon there" is answered by the samples the feature runs through.  The median is the
+    feature's typical value (one noisy cell, whose short pole makes its estimate large, does not set it);
+    the maximum is its coarsest sample, where a loop or rim is least resolved.
+
+    Parameters
+    ----------
+    epsilon : ndarray of shape (n,)
+        :attr:`SamplingQuality.epsilon` (NaN where a sample has no finite pole).
+    vertices : ndarray of int
+        The feature's samples (``Feature.vertices``); indices outside ``epsilon`` are ignored.
+
+    Returns
+    -------
+    dict
+        ``{"epsilon": median, "epsilon_max": maximum}`` over the feature's samples with a finite estimate;
+        both None when none has one.
+
+    Examples
+    --------
+    >>> feature_epsilon(np.array([0.1, 0.2, np.nan, 0.4]), np.array([0, 1, 2, 3, 9]))
+    {'epsilon': 0.2, 'epsilon_max': 0.4}
+    """
+    v = np.asarray(vertices, dtype=np.int64).ravel()
+    v = v[(v >= 0) & (v < len(epsilon))]
+    e = np.asarray(epsilon, dtype=float)[v]
+    e = e[np.isfinite(e)]
+    if len(e) == 0:
+        return {"epsilon": None, "epsilon_max": None}
+    return {"epsilon": float(np.median(e)), "epsilon_max": float(e.max())}
