@@ -210,8 +210,8 @@ def write_report(
     estimated epsilon and the samples beyond the paper's bounds);
     ``uncertain_features`` and ``removed_features`` (each with ``kind``, ``location``,
     ``size_spacings``, ``reason`` and the estimated ``epsilon`` over its samples, median and
-    ``epsilon_max``); ``left_out_samples`` (input rows); ``timings`` (seconds per stage); ``delaunay_backend`` (the Delaunay
-    code that ran, e.g. CGAL through crustview's extension, or Qhull).
+    ``epsilon_max``); ``left_out_samples`` (input rows); ``timings`` (seconds per stage);
+    ``delaunay_backend`` (the Delaunay code that ran, e.g. CGAL through crustview's extension, or Qhull).
     Paper runs also have ``n_cascades`` and ``cascades``: the
     :data:`REPORT_CASCADES` largest prune cascades, each with its
     ``origin`` step, its face ``tau`` (input rows), the origin's ``rule``, ``hole``
