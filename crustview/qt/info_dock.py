@@ -351,7 +351,7 @@ class InfoPanel(QWidget):
 
 
 def _epsilon_words(quality: object | None, feature: object) -> str:
-    """ ", estimated ε 0.12 there (coarsest 0.3)" over a feature's samples, or "" without sampling quality."""
+    """The words ', estimated ε 0.12 there (coarsest 0.3)' over a feature's samples ('' without a quality)."""
     if quality is None:
         return ""
     from ..core.analysis.quality import feature_epsilon

@@ -50,6 +50,7 @@ Handles are the loops of a short basis of H_1 (Z/2), found by :mod:`.loops` (a s
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -77,6 +78,7 @@ __all__ = [
     "handles_decided",
     "local_spacing",
     "summary_suffix",
+    "surface_handles",
     "uncertain",
 ]
 
@@ -359,11 +361,32 @@ def _handles(
     leaves out more than one rim edge per hole: a noisy plastic vase came out with b1 = 3 and two holes,
     a handle, and no loop listed.
     """
+    return _measured(points, _basis(points, tris, edges, tri_edges, count, h, n), h, n, tighten_loops)
+
+
+def _basis(
+    points: np.ndarray,
+    tris: np.ndarray,
+    edges: np.ndarray,
+    tri_edges: np.ndarray,
+    count: np.ndarray,
+    h: np.ndarray,
+    n: int,
+) -> tuple[list | int, dict, np.ndarray]:
+    """The short basis of the capped surface (see :func:`_handles`), its cocycles and the capped edges."""
     pts, tris, edges, tri_edges, count, m = capped(points, tris, edges, tri_edges, count)
     local = np.r_[LOOP_MIN * h, np.zeros(m - n)]
     # local searches reach as far as a loop below the bound can go from its root
     cocycles: dict = {}
     basis = short_basis(pts, tris, edges, tri_edges, count, m, local=local, surface=n, cocycles=cocycles)
+    return basis, cocycles, edges
+
+
+def _measured(
+    points: np.ndarray, found: tuple[list | int, dict, np.ndarray], h: np.ndarray, n: int, tighten_loops: bool
+) -> list[Feature]:
+    """The handle features of a basis (:func:`_basis`), its loops as found or tightened (read only)."""
+    basis, cocycles, edges = found
     if isinstance(basis, int):
         return [too_many_loops(points, np.unique(edges[edges < n]), basis)]
     result = []
@@ -398,6 +421,26 @@ def _handles(
         )
         result.append(Feature("handle", points[loop].mean(axis=0), size, unc, loop, reason))
     return result
+
+
+def surface_handles(points: np.ndarray, triangles: np.ndarray) -> Callable[[bool], list[Feature]]:
+    """A surface's handles, ``features(..., tighten_loops=t, handles_only=True)`` for either ``t``, one search.
+
+    ``cut-handle`` measures the loops as the search finds them and, where none is short, tightened
+    (:mod:`~crustview.core.robust.cut_handle`): the basis is the same both times (the search does not depend on
+    the tightening, which only reads it), so it is searched once.  Returns ``measure(tighten_loops)``.
+    """
+    simplices = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    n = len(points)
+    if len(simplices) == 0:
+        return lambda tighten_loops: []
+    h = local_spacing(points, simplices)
+    edges, tri_edges = triangle_edges(simplices)
+    count = np.bincount(tri_edges.ravel(), minlength=len(edges))
+    if no_loops(simplices, edges, tri_edges, count, n):
+        return lambda tighten_loops: []
+    found = _basis(points, simplices, edges, tri_edges, count, h, n)
+    return lambda tighten_loops: _measured(points, found, h, n, tighten_loops)
 
 
 def too_many_loops(points: np.ndarray, used: np.ndarray, count: int) -> Feature:

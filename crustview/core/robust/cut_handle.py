@@ -58,7 +58,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from ..analysis.cotree import triangle_edges
-from ..analysis.features import LOOP_MIN, LOOP_SUPPORTED, Feature, features
+from ..analysis.features import LOOP_MIN, LOOP_SUPPORTED, Feature, surface_handles
 from ..errors import check_cancel
 from ..steps import RULE_CUT
 from .label_repair import LabelEditor
@@ -269,7 +269,8 @@ def cut_handles(ed: LabelEditor, points: np.ndarray, cancel: object | None = Non
             out.left = []
             break
         # the basis search's own loops, as the rule was measured with (the report tightens them)
-        found = features(points, surf, 2, tighten_loops=False, handles_only=True)
+        measure = surface_handles(points, surf)  # one search for both measures below
+        found = measure(False)
         short = [f for f in found if f.kind == "handle" and f.size_spacings < CUT_BELOW]
         if not short:
             # where none is short as found, the loops tightened as the report measures them: one below
@@ -277,7 +278,7 @@ def cut_handles(ed: LabelEditor, points: np.ndarray, cancel: object | None = Non
             # (the elk at 0.1 h, noise draw 47: loops of 4.9 and 7.3 radii in the report, longer than 4 pi
             # as found, kept).  The band [LOOP_MIN, CUT_BELOW) stays measured as found: tightened, real
             # handles under noise fall into it too (neptune at 0.3 h: one cut, the result wrong)
-            tight = features(points, surf, 2, tighten_loops=True, handles_only=True)
+            tight = measure(True)
             short = [f for f in tight if f.kind == "handle" and f.size_spacings < LOOP_MIN]
         out.left = short
         if not short or rnd == HANDLE_ROUNDS:
