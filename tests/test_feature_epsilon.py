@@ -46,3 +46,29 @@ def test_apart_nothing_is_listed_and_a_feature_without_a_finite_estimate_says_no
     assert rep["uncertain_features"] == [] and rep["removed_features"] == []
     assert feature_epsilon(np.array([np.nan, np.nan]), np.array([0, 1])) == {"epsilon": None, "epsilon_max": None}
     assert feature_epsilon(np.array([0.3]), np.array([], dtype=int)) == {"epsilon": None, "epsilon_max": None}
+
+
+def test_a_loop_that_ends_where_it_began_counts_that_sample_once():
+    """cut-handle keeps loops as the search found them, closed walks [a, b, c, a]: the median is over three
+    samples (0.2), not four (0.15)."""
+    eps = np.array([0.1, 0.2, 0.9])
+    assert feature_epsilon(eps, np.array([0, 1, 2, 0])) == {"epsilon": 0.2, "epsilon_max": 0.9}
+
+
+def test_a_surface_in_a_flat_of_r4_has_the_epsilon_it_has_in_r3():
+    """The same torus sample in R^3 and in the 3-flat x4 = 0.7 of R^4: Algorithm 1 runs in the flat either
+    way, and the estimated epsilon takes the medial axis on both sides there too (a review found the flat's
+    3.5 times smaller: the other side's pole was left out in codimension 2)."""
+    from crustview.core.samples.manifolds import get_manifold
+
+    m = get_manifold("torus")
+    pts = m.sample(m.default_n, seed=0).points
+    flat = reconstruct(np.c_[pts, np.full(len(pts), 0.7)], 2)
+    space = reconstruct(pts, 2)
+    assert flat.subspace_dim == 3 and flat.k == 4
+    qa, qb = sampling_quality(space), sampling_quality(flat)
+    oa, ob = np.argsort(space.point_input), np.argsort(flat.point_input)  # the same input rows
+    # the height (distance to the nearest pole, either side) is the same to rounding; the cell's radius is
+    # sampled along 16 tangent directions of each sample's own basis, which the flat turns (within 6 % here)
+    assert np.allclose(qa.height[oa], qb.height[ob], rtol=1e-5)
+    assert math.isclose(np.nanmedian(qa.epsilon), np.nanmedian(qb.epsilon), rel_tol=0.01)

@@ -22,8 +22,12 @@ height h(s), the local feature size estimate
     In codimension 1 Algorithm 1 keeps only the farthest Voronoi vertex p+; the
     Amenta-Bern *negative pole* p- (the farthest vertex v of the cell with
     ``(v - s) . (p+ - s) < 0``, on the other side of the surface) is added,
-    so that the medial axis on both sides counts.  A pole at infinity (a
-    sample on the convex hull) does not count.  NaN when no finite pole exists.
+    so that the medial axis on both sides counts.  Codimension here is that of
+    the samples' affine hull, where Algorithm 1 ran: a surface in a 3-flat of
+    R^4 is a hypersurface of the flat (until session 40 it got one side only,
+    and its epsilon came out 3.5 times smaller than the same surface's in R^3).
+    A pole at infinity (a sample on the convex hull) does not count.  NaN when
+    no finite pole exists.
 radius r(s), the local spacing
     The radius of the cell within the tangent plane: the largest distance from
     s of a point of ``V_s ∩ (s + AT_s)``.  Along a unit tangent direction u the
@@ -213,7 +217,9 @@ def pole_height(rec: Reconstruction, step: Callable[[float], None] | None = None
     pos = rec.voronoi_vertices[np.where(finite, idx, 0)]  # (n, c, k)
     dist = np.linalg.norm(pos - rec.points[:, None, :], axis=2)
     h = np.where(finite, dist, np.inf).min(axis=1) if idx.shape[1] else np.full(n, np.inf)
-    if rec.k - rec.d == 1:
+    # a hypersurface of the samples' affine hull (a surface in a 3-flat of R^4 too: Algorithm 1 ran in the
+    # flat, one pole per sample) has the medial axis on both sides of it within the hull
+    if rec.subspace_dim - rec.d == 1:
         sign = np.ones(n)
         if idx.shape[1]:
             # orient each normal towards p+ (Algorithm 1 may store either sign)
@@ -334,7 +340,8 @@ def feature_epsilon(epsilon: np.ndarray, vertices: np.ndarray) -> dict[str, floa
     epsilon : ndarray of shape (n,)
         :attr:`SamplingQuality.epsilon` (NaN where a sample has no finite pole).
     vertices : ndarray of int
-        The feature's samples (``Feature.vertices``); indices outside ``epsilon`` are ignored.
+        The feature's samples (``Feature.vertices``), each counted once (a loop as the basis search found it
+        ends where it began); indices outside ``epsilon`` are ignored.
 
     Returns
     -------
@@ -347,7 +354,7 @@ def feature_epsilon(epsilon: np.ndarray, vertices: np.ndarray) -> dict[str, floa
     >>> feature_epsilon(np.array([0.1, 0.2, np.nan, 0.4]), np.array([0, 1, 2, 3, 9]))
     {'epsilon': 0.2, 'epsilon_max': 0.4}
     """
-    v = np.asarray(vertices, dtype=np.int64).ravel()
+    v = np.unique(np.asarray(vertices, dtype=np.int64).ravel())  # a closed walk repeats its first sample
     v = v[(v >= 0) & (v < len(epsilon))]
     e = np.asarray(epsilon, dtype=float)[v]
     e = e[np.isfinite(e)]
