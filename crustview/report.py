@@ -118,7 +118,8 @@ def report_dict(
     quality : SamplingQuality or dict, optional
         :func:`crustview.core.analysis.quality.sampling_quality` of ``rec`` (or its
         :func:`~crustview.core.analysis.quality.summary`) when already computed; otherwise it is
-        computed here.  Its ``seconds`` are left out, so that the report of a run is the same every time
+        computed here (a summary alone lacks the per-sample values the listed features need: then those
+        are computed too).  Its ``seconds`` are left out, so that the report of a run is the same every time
         it is made.  Every entry of ``uncertain_features`` and ``removed_features`` gets the estimated
         epsilon over its samples (``epsilon``, the median; ``epsilon_max``, the coarsest:
         :func:`~crustview.core.analysis.quality.feature_epsilon`).

@@ -48,3 +48,17 @@ def test_a_sphere_and_nothing_have_no_handles():
     rec = reconstruct(m.sample(m.default_n, seed=0).points, 2)
     assert surface_handles(rec.points, rec.manifold)(True) == []
     assert surface_handles(rec.points, np.zeros((0, 3), np.int64))(False) == []
+
+
+def test_an_open_surface_is_capped_the_same_way_both_times():
+    """The torus with the stars of two far samples taken out: two holes, capped before the search
+    (features._handles), and the same handles either way as features() gives."""
+    m = get_manifold("torus")
+    rec = reconstruct(m.sample(m.default_n, seed=0).points, 2)
+    far = int(np.argmax(np.linalg.norm(rec.points - rec.points[0], axis=1)))
+    open_torus = rec.manifold[~np.isin(rec.manifold, [0, far]).any(axis=1)]
+    measure = surface_handles(rec.points, open_torus)
+    found, tight = measure(False), measure(True)
+    assert len(found) == len(tight) == 2  # the torus's two loops; a loop around a hole bounds its cap
+    assert _same(found, features(rec.points, open_torus, 2, tighten_loops=False, handles_only=True))
+    assert _same(tight, features(rec.points, open_torus, 2, tighten_loops=True, handles_only=True))
