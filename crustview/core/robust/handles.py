@@ -68,8 +68,9 @@ class HandleGuard:
         todo = [v]
         while todo:
             if cap is not None and len(seen) > cap:
-                if cap == FILL_MAX_FACES:
-                    cache[v] = (seen, False)
+                if cap == FILL_MAX_FACES:  # the component has more than cap vertices: so it has from each of them
+                    for w in seen:
+                        cache[w] = (seen, False)
                 return seen, False
             x = todo.pop()
             for f in star[x]:
