@@ -83,10 +83,15 @@ class SampleInsertion:
         # is as far now: its search is not repeated (a simplex's id always names the same simplex)
         far = getattr(self, "_far_before", {})
         self._far_before = {}
-        for x in missing.tolist():
-            _, near = tree.query(self.points[x], k=min(8, len(ids)))
-            cand = {i for v in np.atleast_1d(near) for i in self._star(int(ids[v]))}
-            seen = (frozenset(ids[np.atleast_1d(near)].tolist()), frozenset(cand))
+        # the vertices of M_S are those of the pass's start until its end (an insertion adds none of them): every
+        # missing sample's nearest ones, and their spacing, at once (the same neighbours as one query each)
+        _, nearest = tree.query(self.points[missing], k=min(8, len(ids)))
+        nearest = nearest.reshape(len(missing), -1)
+        spacing_near = np.median(self.nn[ids[nearest]], axis=1)
+        for j, x in enumerate(missing.tolist()):
+            near = nearest[j]
+            cand = {i for v in near for i in self._star(int(ids[v]))}
+            seen = (frozenset(ids[near].tolist()), frozenset(cand))
             if far.get(x) == seen:
                 self._far_before[x] = seen
                 left.append(x)
@@ -100,7 +105,7 @@ class SampleInsertion:
                     if best is None or dist < best[0]:
                         best = (dist, tau)
             # the spacing there: the run's median, the sample's own, or that of the surface's vertices around it
-            local = float(np.median(self.nn[ids[np.atleast_1d(near)]]))
+            local = float(spacing_near[j])
             limit = INSERT_MAX * max(self.spacing, float(self.nn[x]), local)
             if best is None or best[0] > limit:
                 self._far_before[x] = seen
