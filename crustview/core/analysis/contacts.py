@@ -268,7 +268,7 @@ def bridged_handles(points: np.ndarray, triangles: np.ndarray, normals: np.ndarr
     count = np.bincount(tri_edges.ravel(), minlength=len(edges))
     if (count > 2).any():  # a manifold only
         return set()
-    # an open surface's handle classes live on its capped form (features._handles measures its loops there):
+    # an open surface's handle classes live on its capped form (features._basis searches its loops there):
     # every hole gets a cone from an apex of its own, whose faces are bookkeeping, not faces that stand
     points, tri, edges, tri_edges, count, n = capped(points, tri, edges, tri_edges, count)
     stand = np.r_[stand, np.zeros(len(tri) - len(stand), bool)]

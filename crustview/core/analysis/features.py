@@ -213,7 +213,7 @@ def features(
         if not handles_only:
             out += _holes(points, edges, count, h)
         if not no_loops(simplices, edges, tri_edges, count, n):
-            out += _handles(points, simplices, edges, tri_edges, count, h, n, tighten_loops)
+            out += _measured(points, _basis(points, simplices, edges, tri_edges, count, h, n), h, n, tighten_loops)
     elif d >= 3 and not handles_only:
         from .solidholes import holes_of_solids  # they build on this module's Feature and bounds
         from .tunnels import tunnels
@@ -342,28 +342,6 @@ def _strips(points: np.ndarray, edges: np.ndarray, rim: np.ndarray, lab: np.ndar
     return out
 
 
-def _handles(
-    points: np.ndarray,
-    tris: np.ndarray,
-    edges: np.ndarray,
-    tri_edges: np.ndarray,
-    count: np.ndarray,
-    h: np.ndarray,
-    n: int,
-    tighten_loops: bool = True,
-) -> list[Feature]:
-    """One feature per loop of a short homology basis (:func:`.loops.short_basis`).
-
-    An open surface is first capped: every hole gets a cone over its rim from a vertex of its own, far
-    away, so the complex is closed and its loops are exactly the handles (2g of them: a loop around a
-    hole bounds the cone, and no handle loop needs to pass a cone's far apex).  Without the caps the
-    tree-cotree split, which cuts the boundary edges, loses a handle whenever the shortest-path tree
-    leaves out more than one rim edge per hole: a noisy plastic vase came out with b1 = 3 and two holes,
-    a handle, and no loop listed.
-    """
-    return _measured(points, _basis(points, tris, edges, tri_edges, count, h, n), h, n, tighten_loops)
-
-
 def _basis(
     points: np.ndarray,
     tris: np.ndarray,
@@ -373,7 +351,15 @@ def _basis(
     h: np.ndarray,
     n: int,
 ) -> tuple[list | int, dict, np.ndarray]:
-    """The short basis of the capped surface (see :func:`_handles`), its cocycles and the capped edges."""
+    """The short homology basis (:func:`.loops.short_basis`) of the capped surface, its cocycles, the capped edges.
+
+    An open surface is first capped: every hole gets a cone over its rim from a vertex of its own, far
+    away, so the complex is closed and its loops are exactly the handles (2g of them: a loop around a
+    hole bounds the cone, and no handle loop needs to pass a cone's far apex).  Without the caps the
+    tree-cotree split, which cuts the boundary edges, loses a handle whenever the shortest-path tree
+    leaves out more than one rim edge per hole: a noisy plastic vase came out with b1 = 3 and two holes,
+    a handle, and no loop listed.  :func:`_measured` makes one feature per loop.
+    """
     pts, tris, edges, tri_edges, count, m = capped(points, tris, edges, tri_edges, count)
     local = np.r_[LOOP_MIN * h, np.zeros(m - n)]
     # local searches reach as far as a loop below the bound can go from its root

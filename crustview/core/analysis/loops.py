@@ -455,7 +455,7 @@ def _walk(pred: np.ndarray, v: int) -> list[int]:
 def capped(
     points: np.ndarray, tris: np.ndarray, edges: np.ndarray, tri_edges: np.ndarray, count: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
-    """The surface with a cone over every hole's rim (:func:`.features._handles`); the surface itself when it has none.
+    """The surface with a cone over every hole's rim (:func:`.features._basis`); the surface itself when it has none.
 
     Returns the points (each hole's apex appended, far beyond the surface's extent, so that every path
     through it is longer than any path on the surface), triangles, edges, triangle edges, triangles per
