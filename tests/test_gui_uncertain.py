@@ -217,6 +217,10 @@ def test_a_clicked_feature_is_highlighted_as_well_as_framed(qtbot, window):
 
     eps = feature_epsilon(window.model.quality.epsilon, hole.vertices)
     assert f"estimated ε {eps['epsilon']:.2g} there (coarsest {eps['epsilon_max']:.2g})" in said
+    # the list line says it too, once the run's sampling quality is at hand (it is: the worker computed it)
+    line = panel.list.item(0).text()
+    words = f"estimated ε {eps['epsilon']:.2g} there (coarsest {eps['epsilon_max']:.2g})"
+    assert line.startswith("hole 1: ") and line.endswith(f"[{words}]")
     sel.select_sample(0)
     assert sel.feature is None and drawn.part.mesh.n_points == 1
 

@@ -62,8 +62,9 @@ class FeaturesPanel(QGroupBox):
             + ": each is below what the sample can resolve, so M_S may be wrong there (a false bridge, "
             "a missing piece, a gap taken for a hole). Click one to frame it." + handles
         )
+        quality = self.model.known_quality()  # the estimated epsilon where each is, when already computed
         for i, f in enumerate(self.features):
-            words = feature_words(f, i)
+            words = feature_words(f, i, quality)
             item = QListWidgetItem(words)
             item.setToolTip(escape(words))
             self.list.addItem(item)

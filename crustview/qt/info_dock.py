@@ -275,13 +275,13 @@ class InfoPanel(QWidget):
         if sel.face is not None:
             parts.append(face_text(self.model, sel.face))
         if sel.feature is not None:  # clicked in the list of uncertain features: what it is, where, how big
-            from ..scene.features import feature_words
+            from ..scene.features import epsilon_words, feature_words
 
             f = sel.feature
             where = ", ".join(f"{x:.4g}" for x in f.location)
             parts.append(
                 f"<b>{escape(f.kind)}</b>, {f.size_spacings:.3g} spacings, at ({where}), "
-                f"{len(f.vertices)} samples{_epsilon_words(self.model.quality, f)}<br>{escape(feature_words(f))}"
+                f"{len(f.vertices)} samples{epsilon_words(self.model.quality, f)}<br>{escape(feature_words(f))}"
             )
         self.selection.setText("<br><br>".join(parts) if parts else "Click a sample or a simplex in the view.")
         self.jump.setEnabled(self._jump_to is not None)
@@ -348,15 +348,3 @@ class InfoPanel(QWidget):
         face = item.data(Qt.ItemDataRole.UserRole)
         self.model.selection.select_face(face)
         self.face_clicked.emit(face)
-
-
-def _epsilon_words(quality: object | None, feature: object) -> str:
-    """The words ', estimated ε 0.12 there (coarsest 0.3)' over a feature's samples ('' without a quality)."""
-    if quality is None:
-        return ""
-    from ..core.analysis.quality import feature_epsilon
-
-    eps = feature_epsilon(quality.epsilon, feature.vertices)
-    if eps["epsilon"] is None:
-        return ""
-    return f", estimated ε {eps['epsilon']:.2g} there (coarsest {eps['epsilon_max']:.2g})"

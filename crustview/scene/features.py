@@ -35,10 +35,27 @@ def uncertain_summary(feats: list) -> str:
     return "uncertain: " + ", ".join(_count(sum(f.kind == k for f in feats), k) for k in KINDS)
 
 
-def feature_words(f, i: int | None = None) -> str:
-    """One list line: "handle 1: loop of 12 samples, 4.1 sampling radii long (…)"."""
+def feature_words(f, i: int | None = None, quality: object | None = None) -> str:
+    """One list line: "handle 1: loop of 12 samples, 4.1 sampling radii long (…)".
+
+    With the samples' :class:`~crustview.core.analysis.quality.SamplingQuality`, it ends with the estimated
+    epsilon there: "[estimated ε 0.57 there (coarsest 2.6)]".
+    """
     head = f.kind if i is None else f"{f.kind} {i + 1}"
-    return f"{head}: {f.reason}"
+    eps = epsilon_words(quality, f)
+    return f"{head}: {f.reason}" + (f" [{eps.lstrip(', ')}]" if eps else "")
+
+
+def epsilon_words(quality: object | None, f) -> str:
+    """The words ', estimated ε 0.12 there (coarsest 0.3)' over a feature's samples ('' without a quality)."""
+    if quality is None:
+        return ""
+    from ..core.analysis.quality import feature_epsilon
+
+    eps = feature_epsilon(quality.epsilon, f.vertices)
+    if eps["epsilon"] is None:
+        return ""
+    return f", estimated ε {eps['epsilon']:.2g} there (coarsest {eps['epsilon_max']:.2g})"
 
 
 def feature_lines(rec, feats: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -302,6 +302,11 @@ class SceneModel:
             self._quality = (key, sampling_quality(self.rec))
         return self._quality[1]
 
+    def known_quality(self) -> SamplingQuality | None:
+        """:attr:`quality` when it is already at hand for this result (never computes it: no wait on a draw)."""
+        key = None if self.rec is None else id(self.rec.delaunay_simplices)
+        return self._quality[1] if self._quality is not None and self._quality[0] == key else None
+
     def cascades(self) -> list[Cascade]:
         """Prune cascades of the shown extraction, largest first (empty for a robust run that fell back)."""
         assert self.rec is not None
