@@ -279,9 +279,10 @@ class InfoPanel(QWidget):
 
             f = sel.feature
             where = ", ".join(f"{x:.4g}" for x in f.location)
+            eps = epsilon_words(self.model.known_quality(), f)  # as the list says it: never computed on a click
             parts.append(
                 f"<b>{escape(f.kind)}</b>, {f.size_spacings:.3g} spacings, at ({where}), "
-                f"{len(f.vertices)} samples{epsilon_words(self.model.quality, f)}<br>{escape(feature_words(f))}"
+                f"{len(f.vertices)} samples{', ' + eps if eps else ''}<br>{escape(feature_words(f))}"
             )
         self.selection.setText("<br><br>".join(parts) if parts else "Click a sample or a simplex in the view.")
         self.jump.setEnabled(self._jump_to is not None)

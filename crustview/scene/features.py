@@ -43,11 +43,11 @@ def feature_words(f, i: int | None = None, quality: object | None = None) -> str
     """
     head = f.kind if i is None else f"{f.kind} {i + 1}"
     eps = epsilon_words(quality, f)
-    return f"{head}: {f.reason}" + (f" [{eps.lstrip(', ')}]" if eps else "")
+    return f"{head}: {f.reason}" + (f" [{eps}]" if eps else "")
 
 
 def epsilon_words(quality: object | None, f) -> str:
-    """The words ', estimated ε 0.12 there (coarsest 0.3)' over a feature's samples ('' without a quality)."""
+    """The words 'estimated ε 0.12 there (coarsest 0.3)' over a feature's samples ('' without a quality)."""
     if quality is None:
         return ""
     from ..core.analysis.quality import feature_epsilon
@@ -55,7 +55,7 @@ def epsilon_words(quality: object | None, f) -> str:
     eps = feature_epsilon(quality.epsilon, f.vertices)
     if eps["epsilon"] is None:
         return ""
-    return f", estimated ε {eps['epsilon']:.2g} there (coarsest {eps['epsilon_max']:.2g})"
+    return f"estimated ε {eps['epsilon']:.2g} there (coarsest {eps['epsilon_max']:.2g})"
 
 
 def feature_lines(rec, feats: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -68,7 +68,7 @@ class HandleGuard:
         todo = [v]
         while todo:
             if cap is not None and len(seen) > cap:
-                if cap == FILL_MAX_FACES:  # the component has more than cap vertices: so it has from each of them
+                if cap == FILL_MAX_FACES:  # a component over cap vertices is over cap seen from any of them
                     for w in seen:
                         cache[w] = (seen, False)
                 return seen, False
