@@ -404,6 +404,32 @@ def line(r: Row) -> str:
     )
 
 
+def summarise(rows: list[Row]) -> None:
+    """The closing lines: right, wrong without a flag (target: none), right with a flag, per method."""
+    print()
+    for method in dict.fromkeys(r.method for r in rows):
+        mine = [r for r in rows if r.method == method]
+        right = sum(r.right for r in mine)
+        wrong_quiet = [r.case.name for r in mine if not r.right and not r.flagged]
+        right_flagged = [r.case.name for r in mine if r.right and r.flagged]
+        ratios = sorted(r.ratio for r in mine if r.ratio is not None)
+        med = f", extraction/rest median {ratios[len(ratios) // 2]:.2f}, max {ratios[-1]:.2f}" if ratios else ""
+        print(
+            f"{method}: {right}/{len(mine)} right; wrong without an uncertain feature: {len(wrong_quiet)}"
+            f"{' (' + ', '.join(wrong_quiet) + ')' if wrong_quiet else ''}; right with one: {len(right_flagged)}"
+            f"{med}"
+        )
+        far = sorted(((r.far, r.case.name) for r in mine if r.right and r.far is not None), reverse=True)
+        if far:
+            print(
+                f"  right results, M_S to the true mesh (far, h): median {far[len(far) // 2][0]:.1f}, farthest "
+                + ", ".join(f"{name} {v:.1f}" for v, name in far[:3])
+            )
+        unseen = [r.case.name for r in mine if not r.right and r.case.small_holes]
+        if unseen:
+            print(f"  wrong where the true mesh has rims narrower than its spacing: {', '.join(unseen)}")
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--only", action="append", metavar="NAME", help="only this file (repeatable, stem or name)")
@@ -473,28 +499,7 @@ def main(argv: list[str] | None = None) -> int:
         for r in new:
             print(line(r), flush=True)
         rows += new
-    print()
-    for method in dict.fromkeys(r.method for r in rows):
-        mine = [r for r in rows if r.method == method]
-        right = sum(r.right for r in mine)
-        wrong_quiet = [r.case.name for r in mine if not r.right and not r.flagged]
-        right_flagged = [r.case.name for r in mine if r.right and r.flagged]
-        ratios = sorted(r.ratio for r in mine if r.ratio is not None)
-        med = f", extraction/rest median {ratios[len(ratios) // 2]:.2f}, max {ratios[-1]:.2f}" if ratios else ""
-        print(
-            f"{method}: {right}/{len(mine)} right; wrong without an uncertain feature: {len(wrong_quiet)}"
-            f"{' (' + ', '.join(wrong_quiet) + ')' if wrong_quiet else ''}; right with one: {len(right_flagged)}"
-            f"{med}"
-        )
-        far = sorted(((r.far, r.case.name) for r in mine if r.right and r.far is not None), reverse=True)
-        if far:
-            print(
-                f"  right results, M_S to the true mesh (far, h): median {far[len(far) // 2][0]:.1f}, farthest "
-                + ", ".join(f"{name} {v:.1f}" for v, name in far[:3])
-            )
-        unseen = [r.case.name for r in mine if not r.right and r.case.small_holes]
-        if unseen:
-            print(f"  wrong where the true mesh has rims narrower than its spacing: {', '.join(unseen)}")
+    summarise(rows)
     if a.json:
         a.json.write_text(
             json.dumps(
