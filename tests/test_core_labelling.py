@@ -394,7 +394,8 @@ def test_cap_ratios_on_paper_and_weak_openings():
     ring's, the same number that decides caps().  A hole whose samples meet a cap under CAP_SURE
     becomes uncertain and says why; one that meets only a sure cap, or none, stays as it was."""
     from crustview.core.analysis.features import Feature, enclosing_radii
-    from crustview.core.robust.cells import CAP_SURE, cap_ratios, weak_openings
+    from crustview.core.robust.cap_holes import weak_openings
+    from crustview.core.robust.cells import CAP_SURE, cap_ratios
 
     pts, faces = _fan_with_ring(10.0, 1.0)
     r = enclosing_radii(pts, faces)
@@ -419,7 +420,8 @@ def test_cap_ratios_on_paper_and_kept_caps():
     ring's, the same number that decides caps().  A cap kept closed becomes an uncertain, removed hole
     at its samples' centre, as wide as their span in their nearest-neighbour distances."""
     from crustview.core.analysis.features import enclosing_radii
-    from crustview.core.robust.cells import CAP_SURE, cap_ratios, kept_caps
+    from crustview.core.robust.cap_holes import kept_caps
+    from crustview.core.robust.cells import CAP_SURE, cap_ratios
 
     pts, faces = _fan_with_ring(10.0, 1.0)
     r = enclosing_radii(pts, faces)
@@ -493,7 +495,8 @@ def test_beside_a_sure_opening_a_cap_in_the_band_is_removed_too():
     their caps measure about 6.0 and 5.9 times their rings.  The first is over CAP_SURE, so the scan is
     open and the second is removed as well (its hole flagged), not kept closed as a ribbon."""
     from crustview.core.analysis.features import features
-    from crustview.core.robust.cells import CAP_SURE, weak_openings
+    from crustview.core.robust.cap_holes import weak_openings
+    from crustview.core.robust.cells import CAP_SURE
 
     pts = get_manifold("torus").sample(1500, seed=0).points
     rec = reconstruct(pts[pts[:, 0] <= 0.6], 2, mode="paper")

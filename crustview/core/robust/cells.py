@@ -40,6 +40,7 @@ from ..analysis.features import enclosing_radii
 from ..analysis.topology import is_closed_manifold
 from ..errors import check_cancel
 from ..steps import RULE_JOIN, RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
+from .cap_holes import kept_caps
 from .cut_handle import CutHandles, cut_handles, log_cut
 from .grow import SIZE_MAX, size_ratio
 from .join_parts import JoinParts, join_parts
@@ -142,102 +143,6 @@ def typical_ratios(faces: np.ndarray, patches: list[np.ndarray], radii: np.ndarr
 def caps(faces: np.ndarray, patches: list[np.ndarray], points: np.ndarray) -> list[np.ndarray]:
     """The patches whose faces are more than :data:`CAP_RATIO` times larger than the faces around them."""
     return [p for p, q in zip(patches, cap_ratios(faces, patches, points), strict=True) if q > CAP_RATIO]
-
-
-def weak_openings(feats: list, openings: list[tuple[np.ndarray, float]], how: str = "opened by open-cap") -> list:
-    """The features, with every hole whose cap was less than :data:`CAP_SURE` times its ring made uncertain.
-
-    Parameters
-    ----------
-    feats : list of Feature
-        The features of M_S (:func:`~crustview.core.analysis.features.features`).
-    openings : list of (ndarray of int, float)
-        Each cap ``open-cap`` removed (or kept closed, for a grown M_S open there): its samples and its
-        ratio (:func:`cap_ratios`).
-    how : str
-        How the hole relates to the cap, for the reason.
-    """
-    from dataclasses import replace
-
-    weak = [set(v.tolist()) for v, q in openings if q < CAP_SURE]
-    if not weak:
-        return feats
-    out = []
-    for f in feats:
-        if f.kind == "hole" and not f.uncertain and any(w.intersection(f.vertices.tolist()) for w in weak):
-            q = min(q for v, q in openings if q < CAP_SURE and set(v.tolist()).intersection(f.vertices.tolist()))
-            f = replace(
-                f,
-                uncertain=True,
-                reason=f"{f.reason} ({how}: its cap was {q:.2g} times the faces around it, "
-                f"under {CAP_SURE:g}: noise or sparse sampling may have made it)",
-            )
-        out.append(f)
-    return out
-
-
-def cap_hole(points: np.ndarray, vs: np.ndarray, nn: np.ndarray, why: Callable[[float], str]):  # noqa: ANN201
-    """A cap as an uncertain, removed ``hole`` feature at its samples ``vs``; ``why(size)`` gives the reason.
-
-    Its size is the span of its samples (as for a hole's rim) over their median nearest-neighbour distance:
-    a rim's local spacing, the enclosing cover of M_S, would be inflated by the cap's own large faces.
-    """
-    from ..analysis.features import Feature
-
-    p = points[vs]
-    span = float(np.max(np.linalg.norm(p - p.mean(axis=0), axis=1)) * 2)
-    h = float(np.median(nn[vs]))
-    size = span / h if h > 0 else math.inf
-    return Feature("hole", p.mean(axis=0), size, True, np.asarray(vs, np.int64), why(size), removed=True)
-
-
-def kept_caps(points: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> list:
-    """The caps ``open-cap`` kept closed, as uncertain holes (removed features: not holes of M_S).
-
-    A cap more than :data:`CAP_RATIO` but at most :data:`CAP_SURE` times its ring is one the sample does
-    not decide: such caps are mostly what noise makes over closed parts, and some real openings measure
-    the same.  Where no cap of the sample is over CAP_SURE (nothing shows it is an open scan), the closed
-    answer is the theory's (Algorithm 3 reconstructs closed manifolds; openings are this extension's), so
-    the cap stays, and the possible opening is named.  Beside a sure opening such caps are removed
-    (:func:`weak_openings` flags their holes): the scan is open, and its real openings may measure as
-    little (two ends of a cut tube: 6.0 and 5.9), which a kept cap would span with a ribbon.
-
-    Parameters
-    ----------
-    points : ndarray of shape (n, k)
-        The samples.
-    caps_kept : list of (ndarray of int, float)
-        Each cap kept: its samples and its ratio (:func:`cap_ratios`).
-
-    Returns
-    -------
-    list of Feature
-        ``kind = "hole"``, ``uncertain``, ``removed``; ``size_spacings`` is the span of the cap's samples
-        (as for a hole's rim) over their median nearest-neighbour distance: a rim's local spacing, the
-        enclosing cover of M_S, would be inflated here by the cap's own large faces.
-    """
-    from ..util.nearest import nearest_distances
-
-    if not caps_kept:
-        return []
-    nn = nearest_distances(points)
-    out = []
-    for vs, q in caps_kept:
-        out.append(
-            cap_hole(
-                points,
-                vs,
-                nn,
-                lambda size, vs=vs, q=q: (
-                    f"a possible opening kept closed (rule open-cap): a cap of {len(vs)} "
-                    f"samples, {size:.3g} spacings across, its faces {q:.2g} times the size of those around it: more "
-                    f"than the {CAP_RATIO:g} a surface's sampling can change by over one radius, less than the "
-                    f"{CAP_SURE:g} above which a cap is surely over an opening; noise over a closed part makes such "
-                    "caps, and so may a small real opening"
-                ),
-            )
-        )
-    return out
 
 
 def extract_by_labels(

@@ -29,7 +29,8 @@ import numpy as np
 from ..analysis.features import Feature
 from ..analysis.radii import enclosing_radii
 from ..util.nearest import nearest_distances
-from .cells import CAP_SURE, CAP_TYPICAL, cap_hole, cap_patches, cap_ratios, typical_ratios
+from .cap_holes import cap_hole
+from .cells import CAP_SURE, CAP_TYPICAL, cap_patches, cap_ratios, typical_ratios
 from .grow import SIZE_MAX, size_ratio
 
 

@@ -89,7 +89,8 @@ from ..errors import check_cancel
 from ..paper.extraction import extract
 from ..steps import RULE_CORE, RULE_GROW, RULE_RELAX, RULE_SEED, Extraction, Step
 from ..util.parallel import start_in_background
-from .cells import extract_by_labels, weak_openings
+from .cap_holes import closed_openings, weak_openings
+from .cells import extract_by_labels
 from .cut_loop import cut_short_loops
 from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 from .patcher import Patcher
@@ -302,9 +303,12 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     if keep is grown:
         # a possible opening open-cap kept closed stays undecided where the grown M_S closes it too
         rim = _boundary_vertices(m_gro)
-        grown.removed_features = list(grown.removed_features) + [
-            f for f in lab.removed_features if f.kind == "hole" and not rim.intersection(f.vertices.tolist())
-        ]
+        grown.removed_features = (
+            list(grown.removed_features)
+            + [f for f in lab.removed_features if f.kind == "hole" and not rim.intersection(f.vertices.tolist())]
+            # and an opening the labelled path showed beyond doubt, which the grown M_S closes, is no surer
+            + closed_openings(points, getattr(lab, "opened", []), rim)
+        )
         # and where the grown M_S is open there, its hole is no surer than the cap was
         grown.features = weak_openings(
             grown.features or [], getattr(lab, "undecided", []), how="where the labelled M_S had a cap open-cap kept"

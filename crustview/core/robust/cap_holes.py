@@ -1,0 +1,150 @@
+"""The holes that ``open-cap``'s caps leave in the report: removed, kept closed, or closed by the other path.
+
+:mod:`.cells` finds the caps (patches of big faces over an opening) and decides them by their ratio to the
+faces around them (CAP_RATIO, CAP_SURE, CAP_TYPICAL, documented there).  This module turns what it decided into
+features of the result, each an uncertain ``hole``:
+
+* :func:`weak_openings`: a hole ``open-cap`` opened from a cap under CAP_SURE (beside a sure opening);
+* :func:`kept_caps`: a cap between CAP_RATIO and CAP_SURE kept closed (no sure opening in the sample);
+* :func:`closed_openings`: a sure opening (a cap over CAP_SURE) of the labelled M_S that the grown M_S,
+  kept instead (:func:`~.driver.choose`), closes;
+
+all placed at the cap's samples by :func:`cap_hole`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+
+def weak_openings(feats: list, openings: list[tuple[np.ndarray, float]], how: str = "opened by open-cap") -> list:
+    """The features, with every hole whose cap was less than :data:`CAP_SURE` times its ring made uncertain.
+
+    Parameters
+    ----------
+    feats : list of Feature
+        The features of M_S (:func:`~crustview.core.analysis.features.features`).
+    openings : list of (ndarray of int, float)
+        Each cap ``open-cap`` removed (or kept closed, for a grown M_S open there): its samples and its
+        ratio (:func:`cap_ratios`).
+    how : str
+        How the hole relates to the cap, for the reason.
+    """
+    from dataclasses import replace
+
+    from .cells import CAP_SURE
+
+    weak = [set(v.tolist()) for v, q in openings if q < CAP_SURE]
+    if not weak:
+        return feats
+    out = []
+    for f in feats:
+        if f.kind == "hole" and not f.uncertain and any(w.intersection(f.vertices.tolist()) for w in weak):
+            q = min(q for v, q in openings if q < CAP_SURE and set(v.tolist()).intersection(f.vertices.tolist()))
+            f = replace(
+                f,
+                uncertain=True,
+                reason=f"{f.reason} ({how}: its cap was {q:.2g} times the faces around it, "
+                f"under {CAP_SURE:g}: noise or sparse sampling may have made it)",
+            )
+        out.append(f)
+    return out
+
+
+def cap_hole(points: np.ndarray, vs: np.ndarray, nn: np.ndarray, why: Callable[[float], str]):  # noqa: ANN201
+    """A cap as an uncertain, removed ``hole`` feature at its samples ``vs``; ``why(size)`` gives the reason.
+
+    Its size is the span of its samples (as for a hole's rim) over their median nearest-neighbour distance:
+    a rim's local spacing, the enclosing cover of M_S, would be inflated by the cap's own large faces.
+    """
+    from ..analysis.features import Feature
+
+    p = points[vs]
+    span = float(np.max(np.linalg.norm(p - p.mean(axis=0), axis=1)) * 2)
+    h = float(np.median(nn[vs]))
+    size = span / h if h > 0 else math.inf
+    return Feature("hole", p.mean(axis=0), size, True, np.asarray(vs, np.int64), why(size), removed=True)
+
+
+def kept_caps(points: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> list:
+    """The caps ``open-cap`` kept closed, as uncertain holes (removed features: not holes of M_S).
+
+    A cap more than :data:`CAP_RATIO` but at most :data:`CAP_SURE` times its ring is one the sample does
+    not decide: such caps are mostly what noise makes over closed parts, and some real openings measure
+    the same.  Where no cap of the sample is over CAP_SURE (nothing shows it is an open scan), the closed
+    answer is the theory's (Algorithm 3 reconstructs closed manifolds; openings are this extension's), so
+    the cap stays, and the possible opening is named.  Beside a sure opening such caps are removed
+    (:func:`weak_openings` flags their holes): the scan is open, and its real openings may measure as
+    little (two ends of a cut tube: 6.0 and 5.9), which a kept cap would span with a ribbon.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, k)
+        The samples.
+    caps_kept : list of (ndarray of int, float)
+        Each cap kept: its samples and its ratio (:func:`cap_ratios`).
+
+    Returns
+    -------
+    list of Feature
+        ``kind = "hole"``, ``uncertain``, ``removed``; ``size_spacings`` is the span of the cap's samples
+        (as for a hole's rim) over their median nearest-neighbour distance: a rim's local spacing, the
+        enclosing cover of M_S, would be inflated here by the cap's own large faces.
+    """
+    from ..util.nearest import nearest_distances
+    from .cells import CAP_RATIO, CAP_SURE
+
+    if not caps_kept:
+        return []
+    nn = nearest_distances(points)
+    out = []
+    for vs, q in caps_kept:
+        out.append(
+            cap_hole(
+                points,
+                vs,
+                nn,
+                lambda size, vs=vs, q=q: (
+                    f"a possible opening kept closed (rule open-cap): a cap of {len(vs)} "
+                    f"samples, {size:.3g} spacings across, its faces {q:.2g} times the size of those around it: more "
+                    f"than the {CAP_RATIO:g} a surface's sampling can change by over one radius, less than the "
+                    f"{CAP_SURE:g} above which a cap is surely over an opening; noise over a closed part makes such "
+                    "caps, and so may a small real opening"
+                ),
+            )
+        )
+    return out
+
+
+def closed_openings(points: np.ndarray, opened: list[tuple[np.ndarray, float]], rim: set[int]) -> list:
+    """The sure openings of the labelled M_S that another M_S closes, as uncertain holes (removed features).
+
+    ``open-cap`` removes a cap more than :data:`CAP_SURE` times larger than its ring: by the same Lipschitz
+    bound as CAP_RATIO's, the sample shows an opening there beyond doubt.  When the growing path's M_S is
+    kept instead (:func:`~.driver.choose` ranks a closed result first) and closes that opening (``fill-hole``
+    spans it; none of the cap's samples is on its rim ``rim``), the closed answer spans a gap the sample shows:
+    never silently.  Each such opening is named where its cap was, as :func:`kept_caps` names a cap kept closed.
+    """
+    from ..util.nearest import nearest_distances
+    from .cells import CAP_SURE
+
+    sure = [(vs, q) for vs, q in opened if q > CAP_SURE and not rim.intersection(vs.tolist())]
+    if not sure:
+        return []
+    nn = nearest_distances(points)
+    return [
+        cap_hole(
+            points,
+            vs,
+            nn,
+            lambda size, vs=vs, q=q: (
+                f"an opening the labelled M_S kept open (rule open-cap: a cap of {len(vs)} samples, {size:.3g} "
+                f"spacings across, its faces {q:.2g} times the size of those around it, over the {CAP_SURE:g} above "
+                "which a cap is surely over an opening), closed in the grown M_S that was kept"
+            ),
+        )
+        for vs, q in sure
+    ]
