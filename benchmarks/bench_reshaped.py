@@ -12,15 +12,17 @@ that both behaviours are judged on objects nobody tuned on:
   name, cyclically).  The second is scaled so that its median nearest-neighbour
   distance h is the first one's (one sampling density in the file), then
   placed beside it in x so that its sample of least x lies ``GAP`` h beyond
-  the first one's sample of largest x: those two are the closest pair.  The
-  truth: two closed components, the genera added.
-* ``--opened SHARE``: each mesh with the faces removed whose vertices lie within
-  the ball around a random vertex (draw ``--seed``) holding ``SHARE`` of the
-  vertices, as a scanner leaves a hole where it did not see; the vertices of the
-  faces that remain are the sample.  Its rim is the sphere's trace on the
-  surface, not a plane.  The truth: the kept faces' Betti numbers, open.  A cut
-  that leaves the faces not a manifold (a pinched rim) moves the ball to
-  another vertex of the same draw.
+  the first one's sample of largest x: those two are the closest pair (on a
+  CAD part many samples share the extreme x, and a flat face faces the other
+  object).  The truth: the closed components and the genera added.
+* ``--opened SHARE``: each single-object mesh with every face removed that has a
+  vertex in the ball around a random vertex (draw ``--seed``) holding ``SHARE``
+  of the vertices, as a scanner leaves a hole where it did not see; the
+  vertices of the faces that remain are the sample.  Its rim is the sphere's
+  trace on the surface, not a plane.  The truth: the kept faces' Betti
+  numbers, open.  A cut that leaves anything but one hole (a rim through a
+  vertex twice, two rims where the ball severed a thin part, or the mesh in
+  pieces) moves the ball to another vertex of the same draw.
 
 Each case also runs with ``noisy.py``'s Gaussian noise at 0.1 h and 0.3 h
 (draw ``--seed``), unless ``--clean-only``.  The table and its closing lines are
@@ -33,7 +35,9 @@ Run: ``python benchmarks/bench_reshaped.py --folder DIR [--pairs 1.5,3,6] [--ope
 from __future__ import annotations
 
 import argparse
+import hashlib
 import sys
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -72,18 +76,20 @@ def paired(a: np.ndarray, b: np.ndarray, gap: float) -> np.ndarray:
     pair of samples is then at least as far apart in x alone, so the closest pair is that one (tip facing
     tip, as two objects on a table that nearly touch).  Returns the moved ``b``.
     """
-    h = spacing(a)
-    b = b * (h / spacing(b))
+    h, hb = spacing(a), spacing(b)
+    if not (h > 0 and hb > 0):
+        raise ValueError("a mesh whose median nearest-neighbour distance is 0 (repeated vertices) has no spacing")
+    b = b * (h / hb)
     tip_a = a[np.argmax(a[:, 0])]
     tip_b = b[np.argmin(b[:, 0])]
     return b - tip_b + tip_a + np.array([gap * h, 0.0, 0.0])
 
 
 def opened(points: np.ndarray, tris: np.ndarray, share: float, seed: int) -> tuple[np.ndarray, np.ndarray] | None:
-    """The mesh with a hole: faces touching the ball around a random vertex that holds ``share`` of the vertices.
+    """The mesh with one hole: the faces touching the ball around a random vertex that holds ``share`` of the vertices.
 
-    Tries up to ten vertices of draw ``seed``; None when every cut left faces that are not a manifold.  Returns
-    the kept vertices and the kept faces renumbered to them.
+    Tries up to ten vertices of draw ``seed``; None when no cut left one hole (:func:`one_hole`).  Returns the
+    kept vertices and the kept faces renumbered to them.
     """
     rng = np.random.default_rng(seed)
     for centre in rng.choice(len(points), size=min(10, len(points)), replace=False):
@@ -94,11 +100,31 @@ def opened(points: np.ndarray, tris: np.ndarray, share: float, seed: int) -> tup
         renumber = np.full(len(points), -1, np.int64)
         renumber[used] = np.arange(len(used))
         faces = renumber[kept]
-        top = analyse(faces, len(used), 2)
-        if top.nonmanifold_faces or top.singular_vertices or top.closed_manifold or top.betti[0] != 1:
-            continue
-        return points[used], faces
+        if one_hole(faces, len(used)):
+            return points[used], faces
     return None
+
+
+def one_hole(faces: np.ndarray, n: int) -> bool:
+    """Whether the triangles are one connected surface with exactly one boundary curve, pinched nowhere.
+
+    The rim is the edges of one triangle; every rim vertex must have two rim edges (a vertex with four is a
+    pinch, which :func:`~crustview.core.analysis.topology.analyse` does not count on a surface with
+    boundary), and the rim edges must form one cycle.
+    """
+    from crustview.core.analysis.cotree import triangle_edges
+    from crustview.core.analysis.topology import graph_components
+
+    top = analyse(faces, n, 2)
+    if top.nonmanifold_faces or top.closed_manifold or top.betti[0] != 1:
+        return False
+    edges, tri_edges = triangle_edges(faces)
+    rim = edges[np.bincount(tri_edges.ravel(), minlength=len(edges)) == 1]
+    degree = np.bincount(rim.ravel(), minlength=n)
+    if (degree > 2).any():
+        return False
+    _, label = graph_components(n, rim)
+    return len(np.unique(label[np.unique(rim)])) == 1
 
 
 def build(
@@ -115,23 +141,26 @@ def build(
                 faces = np.vstack([tris, tris2 + len(pts)])
                 truth = {
                     "closed": True,
-                    "components": 2,
+                    "components": int(t["components"]) + int(t2["components"]),
                     "genus": int(t["genus"]) + int(t2["genus"]),
                     "points": len(both),
                     "boundary_edges": 0,
                 }
                 out.append((f"{stem}+{stem2}-gap{gap:g}", both, faces, truth))
         if share is not None:
+            if int(t["components"]) != 1:
+                print(f"{stem}: {t['components']} objects; an open scan is made of one: skipped", file=sys.stderr)
+                continue
             cut = opened(pts, tris, share, seed + _seed(stem))
             if cut is None:
-                print(f"{stem}: no cut left a manifold: skipped", file=sys.stderr)
+                print(f"{stem}: no cut of the ten tried left one hole: skipped", file=sys.stderr)
                 continue
             kept, faces = cut
             top = analyse(faces, len(kept), 2)
             truth = {
                 "closed": False,
                 "components": int(top.betti[0]),
-                "genus": 0,
+                "genus": None,
                 "points": len(kept),
                 "boundary_edges": int(top.boundary_faces),
             }
@@ -141,7 +170,7 @@ def build(
 
 def _seed(stem: str) -> int:
     """A draw of its own for each mesh, the same in every run (Python's ``hash`` of a str is salted)."""
-    return int.from_bytes(stem.encode()[:8].ljust(8, b"\0"), "little") % (2**31)
+    return zlib.crc32(stem.encode()) % (2**31)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -151,14 +180,18 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--opened", type=float, metavar="SHARE", help="cut a hole holding this share of the vertices")
     ap.add_argument("--seed", type=int, default=43, help="noisy.py's draw, and the hole's")
     ap.add_argument("--clean-only", action="store_true", help="no noisy copies")
-    ap.add_argument("--noisy-dir", type=Path, help="cache of noisy copies (default benchmarks/.noisy-reshaped-sSEED)")
+    ap.add_argument("--noisy-dir", type=Path, help="noisy copies' cache (default under .noisy-reshaped-sSEED)")
     a = ap.parse_args(argv)
     pairs = [float(g) for g in a.pairs.split(",") if g]
+    if any(g <= 0 for g in pairs):
+        ap.error("--pairs takes gaps above 0")
     if not pairs and a.opened is None:
         ap.error("nothing to make: give --pairs and/or --opened")
     if a.opened is not None and not 0 < a.opened < 1:
         ap.error("--opened takes a share in (0, 1)")
-    noisy_dir = a.noisy_dir or Path(__file__).resolve().parent / f".noisy-reshaped-s{a.seed}"
+    # one cache per folder set and share (names like open05 round the share), as bench_scans.py keys its folders
+    key = hashlib.sha1("\n".join([*(str(f.resolve()) for f in a.folder), repr(a.opened)]).encode()).hexdigest()[:10]
+    noisy_dir = a.noisy_dir or Path(__file__).resolve().parent / f".noisy-reshaped-s{a.seed}" / key
     meshes = [m for folder in a.folder for m in load(folder)]
     print(HEADER, flush=True)
     rows = []
@@ -169,6 +202,9 @@ def main(argv: list[str] | None = None) -> int:
         if not a.clean_only:
             for level in (0.1, 0.3):
                 noisy = _noisy(pts, name, level, noisy_dir, a.seed)
+                if len(noisy) != len(pts) or not np.array_equal(np.load(noisy_dir / f"{name}.npy"), pts):
+                    print(f"{noisy_dir}: its copy of {name} is of other points; remove it", file=sys.stderr)
+                    return 1
                 todo.append(Case(f"{name}-n{round(100 * level):02d}", noisy, truth, level, betti, small, tris))
         for case in todo:
             for r in run_crustview(case, ["robust"]):

@@ -11,7 +11,7 @@ from scipy.spatial import cKDTree
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
-from bench_reshaped import opened, paired, spacing  # noqa: E402
+from bench_reshaped import build, one_hole, opened, paired, spacing  # noqa: E402
 
 from crustview.core.analysis.topology import analyse  # noqa: E402
 from crustview.io import read_mesh  # noqa: E402
@@ -46,7 +46,35 @@ def test_the_opened_mesh_has_one_hole_of_about_the_share() -> None:
     # a sphere with one disc removed: a disc, (1, 0, 0), and every kept vertex in a face
     assert tuple(top.betti) == (1, 0, 0)
     assert np.array_equal(np.unique(faces), np.arange(len(kept)))
-    # the ball held 5 % of the vertices; the faces touching it take a ring more
+    # the ball held 5 % of the vertices, and a vertex outside it whose every face touches it goes too
     assert 0.90 * len(pts) < len(kept) <= 0.95 * len(pts)
     # the kept vertices are the mesh's own, unmoved
     assert cKDTree(pts).query(kept)[0].max() == 0.0
+
+
+def test_one_hole_refuses_a_pinched_rim_and_two_rims() -> None:
+    """Two triangles sharing one vertex: one component, one rim through the vertex twice (a pinch)."""
+    bowtie = np.array([[0, 1, 2], [0, 3, 4]])
+    assert not one_hole(bowtie, 5)
+    # a strip of two triangles: one rim, a disc
+    assert one_hole(np.array([[0, 1, 2], [1, 3, 2]]), 4)
+    # an annulus (a band of 8 triangles between two squares): connected, two rims
+    inner, outer = [0, 1, 2, 3], [4, 5, 6, 7]
+    band = [
+        t
+        for i in range(4)
+        for t in ([inner[i], outer[i], outer[(i + 1) % 4]], [inner[i], outer[(i + 1) % 4], inner[(i + 1) % 4]])
+    ]
+    assert not one_hole(np.array(band), 8)
+
+
+def test_the_pair_truth_adds_the_objects_and_their_genera() -> None:
+    a, ta = _mesh("3holes.off")
+    b, tb = _mesh("bumpy.off")
+    truth = {"closed": True, "components": 1, "boundary_edges": 0}
+    meshes = [("3holes", a, ta, dict(truth, genus=3)), ("bumpy", b, tb, dict(truth, genus=0))]
+    made = {name: (pts, faces, t) for name, pts, faces, t in build(meshes, [2.0], None, 0)}
+    pts, faces, t = made["3holes+bumpy-gap2"]
+    assert (t["components"], t["genus"]) == (2, 3)
+    top = analyse(faces, len(pts), 2)
+    assert top.closed_manifold and tuple(top.betti) == (2, 6, 2)
