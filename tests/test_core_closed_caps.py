@@ -91,3 +91,24 @@ def test_a_sure_opening_that_the_kept_grown_result_closes_is_an_uncertain_hole()
     # at the cut: within the removed ball's span of its middle
     centre, radius = removed.mean(axis=0), np.linalg.norm(removed - removed.mean(axis=0), axis=1).max()
     assert np.linalg.norm(hole.location - centre) < radius
+
+
+def test_an_open_labelled_result_over_a_sure_opening_ranks_before_a_grown_one_that_spans_it() -> None:
+    """verdict.ranked on paper: the labelled M_S open only at a sure opening, the grown M_S closed over it."""
+    from types import SimpleNamespace as Top
+
+    from crustview.core.robust.verdict import problems, ranked
+
+    open_lab = Top(closed_manifold=False, unused_samples=0, boundary_faces=40)
+    closed_gro = Top(closed_manifold=True, unused_samples=0, boundary_faces=0)
+    # without a sure opening spanned: closed first, the grown answer wins
+    p_lab, p_gro = ranked(open_lab, [], closed_gro, [], sound=True, spanned=0)
+    assert (p_lab, p_gro) == (problems(open_lab, []), problems(closed_gro, [])) and p_gro < p_lab
+    # the grown answer spans the opening: it carries an uncertain hole there, the labelled one's openness is none
+    p_lab, p_gro = ranked(open_lab, [], closed_gro, [], sound=True, spanned=1)
+    assert p_lab == (False, 0, 0, 40) and p_gro == (False, 1, 0, 0) and p_lab < p_gro
+    # a labelled result with more doubts of its own still loses, and one not sound is ranked as before
+    p_lab, p_gro = ranked(open_lab, ["a", "b"], closed_gro, [], sound=True, spanned=1)
+    assert p_gro < p_lab
+    p_lab, p_gro = ranked(open_lab, [], closed_gro, [], sound=False, spanned=1)
+    assert (p_lab, p_gro) == (problems(open_lab, []), problems(closed_gro, []))

@@ -96,7 +96,7 @@ from .grow import COS_CREASE, COS_PAPER, SIZE_MAX, Grower, size_ratio
 from .patcher import Patcher
 from .seed_core import manifold_core
 from .tour_curve import tour_curve
-from .verdict import _boundary_vertices, _disputed, _state, _tie, problems, weighed
+from .verdict import _boundary_vertices, _disputed, _state, _tie, ranked, weighed
 
 
 def extract_robust(
@@ -231,7 +231,9 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     and the result with fewer problems is kept, in this order: not closed,
     uncertain features, samples left out, boundary faces (topology first:
     a sample left out is named in the report, a feature in doubt may be a
-    wrong genus).  Of two answers
+    wrong genus; where the grown M_S closes an opening the labelled one shows
+    beyond doubt, :func:`.verdict.ranked` counts that against the grown one
+    and not the labelled one's openness).  Of two answers
     the sample supports equally, the one claiming fewer handles, unless every
     handle loop of the other is long enough for an eps = 1/2 sample to
     resolve (:func:`.verdict._tie`).
@@ -293,7 +295,9 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     f_gro = weighed(uncertain(grown.features), d)
 
     # (the caps open-cap kept closed are removed features, in neither f_lab nor f_gro: they weigh on neither)
-    p_lab, p_gro = problems(top_lab, f_lab), problems(top_gro, f_gro)
+    # the sure openings of the labelled M_S that the grown one spans (cap_holes.closed_openings) weigh in the choice
+    spanned = closed_openings(points, getattr(lab, "opened", []), _boundary_vertices(m_gro))
+    p_lab, p_gro = ranked(top_lab, f_lab, top_gro, f_gro, sound, len(spanned))
     if p_lab != p_gro:
         keep, why = (lab, "labelled") if p_lab < p_gro else (grown, "grown")
     else:
@@ -307,7 +311,7 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
             list(grown.removed_features)
             + [f for f in lab.removed_features if f.kind == "hole" and not rim.intersection(f.vertices.tolist())]
             # and an opening the labelled path showed beyond doubt, which the grown M_S closes, is no surer
-            + closed_openings(points, getattr(lab, "opened", []), rim)
+            + spanned
         )
         # and where the grown M_S is open there, its hole is no surer than the cap was
         grown.features = weak_openings(

@@ -38,6 +38,23 @@ def problems(top, unc: list) -> tuple:
     return (not top.closed_manifold, len(unc), top.unused_samples, top.boundary_faces)
 
 
+def ranked(top_lab, f_lab: list, top_gro, f_gro: list, sound: bool, spanned: int) -> tuple[tuple, tuple]:
+    """:func:`problems` of the labelled and the grown result, as :func:`~.driver.choose` compares them.
+
+    ``sound``: the labelled M_S is closed, or open only at the openings ``open-cap`` found.  ``spanned``: how
+    many of those it found beyond doubt (caps over CAP_SURE times their ring) the grown M_S closes
+    (:func:`~.cap_holes.closed_openings`).  Where there is one, the labelled answer's openness is no problem (the
+    sample shows those openings by the same bound by which a cap is surely one), and each opening the grown
+    answer spans counts against it as an uncertain hole, which it also carries in the report.  Otherwise the
+    two are :func:`problems`, closed first.
+    """
+    p_lab, p_gro = problems(top_lab, f_lab), problems(top_gro, f_gro)
+    if sound and spanned:
+        p_lab = (False, *p_lab[1:])
+        p_gro = (p_gro[0], p_gro[1] + spanned, *p_gro[2:])
+    return p_lab, p_gro
+
+
 def _state(top) -> str:
     """A result's closedness in a few words, for the note that compares the two paths."""
     if top.closed_manifold:
