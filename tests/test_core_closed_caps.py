@@ -66,8 +66,9 @@ def test_a_sure_opening_that_the_kept_grown_result_closes_is_an_uncertain_hole()
     """The fertility statue with a hole cut where a scanner did not see (5 % of its vertices, draw 2).
 
     The labelling path keeps the hole open (its cap, over CAP_SURE times its ring, is an opening beyond doubt),
-    but the growing path, whose closed answer ranks first, spans it: the kept result is a closed genus 4 where
-    the cut mesh is open.  It must not look sure: the opening it closed is an uncertain hole at the cut.
+    but the growing path spans it, and the two answers are otherwise even but for the labelled one's boundary
+    faces (verdict.ranked's last key): the kept result is a closed genus 4 where the cut mesh is open.  It must
+    not look sure: the opening it closed is an uncertain hole at the cut.
     """
     import sys
     from pathlib import Path

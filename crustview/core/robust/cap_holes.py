@@ -124,9 +124,10 @@ def closed_openings(points: np.ndarray, opened: list[tuple[np.ndarray, float]], 
 
     ``open-cap`` removes a cap more than :data:`CAP_SURE` times larger than its ring: by the same Lipschitz
     bound as CAP_RATIO's, the sample shows an opening there beyond doubt.  When the growing path's M_S is
-    kept instead (:func:`~.driver.choose` ranks a closed result first) and closes that opening (``fill-hole``
-    spans it; none of the cap's samples is on its rim ``rim``), the closed answer spans a gap the sample shows:
-    never silently.  Each such opening is named where its cap was, as :func:`kept_caps` names a cap kept closed.
+    kept instead (:func:`~.driver.choose`; :func:`~.verdict.ranked` weighs these openings) and closes that
+    opening (``fill-hole`` spans it; none of the cap's samples is on its rim ``rim``), the closed answer spans a
+    gap the sample shows: never silently.  ``opened``: the caps still open in the labelled M_S.  Each such
+    opening is named where its cap was, as :func:`kept_caps` names a cap kept closed.
     """
     from ..util.nearest import nearest_distances
     from .cells import CAP_SURE

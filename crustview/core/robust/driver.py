@@ -295,9 +295,17 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     f_gro = weighed(uncertain(grown.features), d)
 
     # (the caps open-cap kept closed are removed features, in neither f_lab nor f_gro: they weigh on neither)
-    # the sure openings of the labelled M_S that the grown one spans (cap_holes.closed_openings) weigh in the choice
-    spanned = closed_openings(points, getattr(lab, "opened", []), _boundary_vertices(m_gro))
-    p_lab, p_gro = ranked(top_lab, f_lab, top_gro, f_gro, sound, len(spanned))
+    # the sure openings of the labelled M_S that the grown one spans (cap_holes.closed_openings) weigh in the choice:
+    # those still open in the labelled M_S (settle may have closed one) whose samples the grown M_S mostly runs
+    # through (not an opening only because it left them out)
+    opened = getattr(lab, "opened", [])
+    rim_lab, on_gro = _boundary_vertices(m_lab), np.unique(m_gro)
+    open_there = [(vs, q) for vs, q in opened if rim_lab.intersection(vs.tolist()) and np.isin(vs, on_gro).mean() > 0.5]
+    spanned = closed_openings(points, open_there, _boundary_vertices(m_gro))
+    # the labelled M_S open only at open-cap's caps (its every rim vertex a cap's sample), not merely sound
+    at_caps = set(np.concatenate([vs for vs, _ in opened]).tolist()) if opened else set()
+    only_caps = sound and bool(rim_lab) and rim_lab <= at_caps
+    p_lab, p_gro = ranked(top_lab, f_lab, top_gro, f_gro, only_caps, len(spanned))
     if p_lab != p_gro:
         keep, why = (lab, "labelled") if p_lab < p_gro else (grown, "grown")
     else:

@@ -41,12 +41,14 @@ def problems(top, unc: list) -> tuple:
 def ranked(top_lab, f_lab: list, top_gro, f_gro: list, sound: bool, spanned: int) -> tuple[tuple, tuple]:
     """:func:`problems` of the labelled and the grown result, as :func:`~.driver.choose` compares them.
 
-    ``sound``: the labelled M_S is closed, or open only at the openings ``open-cap`` found.  ``spanned``: how
-    many of those it found beyond doubt (caps over CAP_SURE times their ring) the grown M_S closes
-    (:func:`~.cap_holes.closed_openings`).  Where there is one, the labelled answer's openness is no problem (the
-    sample shows those openings by the same bound by which a cap is surely one), and each opening the grown
-    answer spans counts against it as an uncertain hole, which it also carries in the report.  Otherwise the
-    two are :func:`problems`, closed first.
+    ``sound``: the labelled M_S is open only at the caps ``open-cap`` removed (every rim vertex a cap's
+    sample).  ``spanned``: how many of those it found beyond doubt (caps over CAP_SURE times their ring) are
+    still open in it and closed in the grown M_S (:func:`~.cap_holes.closed_openings`).  Where there is one,
+    the labelled answer's openness is not its first problem (the sample shows those openings by the same bound
+    by which a cap is surely one), and each opening the grown answer spans counts against it as an uncertain
+    hole, which it also carries in the report.  The last key, boundary faces, still counts the openings: of two
+    answers otherwise even, the closed one is kept, flagged at the opening it spans (the fertility statue with a
+    5 % hole, draw 2).  Otherwise the two are :func:`problems`, closed first.
     """
     p_lab, p_gro = problems(top_lab, f_lab), problems(top_gro, f_gro)
     if sound and spanned:
