@@ -299,12 +299,14 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     # those still open in the labelled M_S (settle may have closed one) whose samples the grown M_S mostly runs
     # through (not an opening only because it left them out)
     opened = getattr(lab, "opened", [])
-    rim_lab, on_gro = _boundary_vertices(m_lab), np.unique(m_gro)
-    open_there = [(vs, q) for vs, q in opened if rim_lab.intersection(vs.tolist()) and np.isin(vs, on_gro).mean() > 0.5]
-    spanned = closed_openings(points, open_there, _boundary_vertices(m_gro))
-    # the labelled M_S open only at open-cap's caps (its every rim vertex a cap's sample), not merely sound
-    at_caps = set(np.concatenate([vs for vs, _ in opened]).tolist()) if opened else set()
-    only_caps = sound and bool(rim_lab) and rim_lab <= at_caps
+    rim_gro = _boundary_vertices(m_gro)
+    spanned, only_caps = [], False
+    if opened:
+        rim_lab, on_gro = _boundary_vertices(m_lab), np.unique(m_gro)
+        there = [(vs, q) for vs, q in opened if rim_lab.intersection(vs.tolist()) and np.isin(vs, on_gro).mean() > 0.5]
+        spanned = closed_openings(points, there, rim_gro)
+        # the labelled M_S open only at open-cap's caps (its every rim vertex a cap's sample), not merely sound
+        only_caps = sound and bool(rim_lab) and rim_lab <= set(np.concatenate([vs for vs, _ in opened]).tolist())
     p_lab, p_gro = ranked(top_lab, f_lab, top_gro, f_gro, only_caps, len(spanned))
     if p_lab != p_gro:
         keep, why = (lab, "labelled") if p_lab < p_gro else (grown, "grown")
@@ -314,7 +316,7 @@ def choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progre
     m_keep, m_other = (m_lab, m_gro) if keep is lab else (m_gro, m_lab)
     if keep is grown:
         # a possible opening open-cap kept closed stays undecided where the grown M_S closes it too
-        rim = _boundary_vertices(m_gro)
+        rim = rim_gro
         grown.removed_features = (
             list(grown.removed_features)
             + [f for f in lab.removed_features if f.kind == "hole" and not rim.intersection(f.vertices.tolist())]
