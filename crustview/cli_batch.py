@@ -77,10 +77,18 @@ def _job(path: Path, output: Path, report: Path, args: argparse.Namespace) -> tu
 
 
 def _worker_ignores_ctrl_c() -> None:
-    """Workers leave Ctrl-C to the parent, which stops them (no traceback from each worker)."""
+    """Workers leave Ctrl-C to the parent, which stops them (no traceback from each worker).
+
+    And they keep each run in their own process: with ``-j 2`` or more every core already runs a file, so
+    the robust extraction's helper process (:mod:`crustview.core.util.second_core`) would only compete.
+    """
+    import os
     import signal
 
+    from .core.util.second_core import PROCESSES_ENV
+
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    os.environ[PROCESSES_ENV] = "1"
 
 
 def _failed(path: Path, error: str, start: float) -> dict[str, Any]:

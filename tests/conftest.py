@@ -19,6 +19,9 @@ if os.environ.get("PYTEST_XDIST_WORKER") is not None:
     # workers on two cores that is four drawing threads, and the suite spent about 9 % more CPU time
     # (590 s against 539 s of user and system time in one run each here) for the same pictures
     os.environ.setdefault("LP_NUM_THREADS", "1")
+    # and a reconstruction begins its growing path in a helper process where a core is free
+    # (crustview/core/util/second_core.py): under pytest -n 2 none is.  tests/test_second_core.py turns it on
+    os.environ.setdefault("CRUSTVIEW_PROCESSES", "1")
 
 try:  # pyvista is optional for the pure tests
     import pyvista
