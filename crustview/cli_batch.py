@@ -76,11 +76,12 @@ def _job(path: Path, output: Path, report: Path, args: argparse.Namespace) -> tu
     return row, lines
 
 
-def _worker_ignores_ctrl_c() -> None:
+def _worker_ignores_ctrl_c(own_process_only: bool) -> None:
     """Workers leave Ctrl-C to the parent, which stops them (no traceback from each worker).
 
-    And they keep each run in their own process: with ``-j 2`` or more every core already runs a file, so
-    the robust extraction's helper process (:mod:`crustview.core.util.second_core`) would only compete.
+    With ``own_process_only`` (two workers or more) they also keep each run in their own process: every
+    core already runs a file, so the robust extraction's helper process
+    (:mod:`crustview.core.util.second_core`) would only compete.
     """
     import os
     import signal
@@ -88,7 +89,8 @@ def _worker_ignores_ctrl_c() -> None:
     from .core.util.second_core import PROCESSES_ENV
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    os.environ[PROCESSES_ENV] = "1"
+    if own_process_only:
+        os.environ[PROCESSES_ENV] = "1"
 
 
 def _failed(path: Path, error: str, start: float) -> dict[str, Any]:
@@ -167,7 +169,10 @@ def run(args: argparse.Namespace) -> int:
                 _show(show, rows[i], lines)
                 bar.advance(path.name)
         else:
-            pool = ProcessPoolExecutor(max_workers=min(args.jobs, len(names)), initializer=_worker_ignores_ctrl_c)
+            workers = min(args.jobs, len(names))
+            pool = ProcessPoolExecutor(
+                max_workers=workers, initializer=_worker_ignores_ctrl_c, initargs=(workers >= 2,)
+            )
             with pool:
                 pending = {
                     pool.submit(_job, path, out, rep, args): i

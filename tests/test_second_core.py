@@ -34,10 +34,13 @@ def two_processes(monkeypatch):
 def _same_extraction(a, b) -> None:
     assert np.array_equal(a.simplices, b.simplices)
     assert np.array_equal(a.added_at, b.added_at) and np.array_equal(a.removed_at, b.removed_at)
+    assert np.array_equal(a.in_candidates, b.in_candidates)
     assert [(s.rule, s.tau, s.added, s.removed, s.reason) for s in a.steps] == [
         (s.rule, s.tau, s.added, s.removed, s.reason) for s in b.steps
     ]
+    assert np.array_equal([s.angle for s in a.steps], [s.angle for s in b.steps], equal_nan=True)
     assert a.stopped == b.stopped and a.notes == b.notes
+    assert repr(a.removed_features) == repr(b.removed_features) and repr(a.disputed) == repr(b.disputed)
 
 
 def test_switched_off_by_the_environment(monkeypatch):
@@ -87,18 +90,21 @@ def test_the_worker_gives_what_the_function_gives_here(two_processes):
     ahead = second_core.Speculation(grown_path, args, with_progress=True)
     there = ahead.result(progress=seen.append, wait_for_start=True)
     _same_extraction(there, grown_path(*args))
-    assert seen and all(0.0 <= f <= 1.0 for f in seen)
+    # the growth's fractions, relayed as they came: rising, inside [0, 1], and not only the start
+    assert seen == sorted(seen) and 0.0 <= seen[0] and seen[-1] <= 1.0 and seen[-1] > 0.5
 
 
 def test_a_cancel_while_waiting_stops_the_worker_at_once(two_processes):
     ahead = second_core.Speculation(time.sleep, (60,))
+    ahead._starter.join()
+    proc = ahead._helper.proc
     cancel = threading.Event()
     threading.Timer(0.3, cancel.set).start()
     t0 = time.perf_counter()
     with pytest.raises(Cancelled):
         ahead.result(cancel, wait_for_start=True)
-    assert time.perf_counter() - t0 < 10
-    assert ahead._helper is None  # stopped: no process left running the job
+    assert time.perf_counter() - t0 < 2  # polled every POLL_S, then killed
+    assert proc.poll() is not None  # the helper running the job is gone
 
 
 def test_a_worker_that_dies_is_lost_and_the_path_runs_here(two_processes):
@@ -159,16 +165,19 @@ def test_a_run_cancelled_during_the_labelling_leaves_no_worker_behind(two_proces
 
 
 def test_a_script_without_a_main_guard_runs_once(two_processes, tmp_path):
-    """The helper is a fresh ``python -c``: it never imports the caller's main script again."""
+    """The helper is a fresh ``python -I -c``: it never runs the caller's main script again."""
     import subprocess
     import sys
 
+    marker = tmp_path / "ran.txt"
     script = tmp_path / "plain.py"
     script.write_text(
         "import numpy as np\n"
         "from crustview.core import reconstruct\n"
+        "from crustview.core.util import second_core\n"
         "from crustview.io import read_mesh\n"
-        "print('body ran', flush=True)\n"
+        f"open({str(marker)!r}, 'a').write('body ran\\n')\n"
+        "print('helper', second_core.Speculation(len, ((1, 2),)).result(wait_for_start=True), flush=True)\n"
         f"pts = np.loadtxt({str(RESOURCES / 'decimated-knight-n10.xyz')!r})\n"
         f"pts = np.vstack([pts, read_mesh({str(RESOURCES / 'bumpy.off')!r}).points * 0.2 + [3.0, 0.0, 0.0]])\n"
         "rec = reconstruct(pts, 2)\n"
@@ -177,4 +186,27 @@ def test_a_script_without_a_main_guard_runs_once(two_processes, tmp_path):
     env = {k: v for k, v in os.environ.items() if k != second_core.PROCESSES_ENV}
     out = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=env, timeout=120)
     assert out.returncode == 0, out.stderr
-    assert out.stdout.splitlines() == ["body ran", "grown True"]
+    assert out.stdout.splitlines() == ["helper 2", "grown True"]
+    assert marker.read_text() == "body ran\n"
+
+
+def test_the_helper_imports_the_callers_crustview_whatever_the_current_folder(two_processes, tmp_path, monkeypatch):
+    """A ``crustview`` folder where the caller stands does not shadow the one the caller runs (-I, its path)."""
+    fake = tmp_path / "crustview"
+    fake.mkdir()
+    (fake / "__init__.py").write_text("raise ImportError('the wrong crustview')\n")
+    monkeypatch.chdir(tmp_path)
+    assert second_core.Speculation(len, ((1, 2, 3),)).result(wait_for_start=True) == 3
+    assert second_core.enabled()
+
+
+def test_idle_helpers_stay_few(two_processes):
+    for _ in range(3):
+        second_core.warm()
+    for _ in range(3):
+        second_core.Speculation(len, ((),)).result(wait_for_start=True)
+    time.sleep(1.0)
+    with second_core._lock:
+        live = [h for h in second_core._idle if h.alive()]
+        busy = len(second_core._busy)
+    assert len(live) <= second_core.IDLE_MAX and busy == 0

@@ -163,7 +163,8 @@ def reconstruct(
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
     report("prepare", 0.0)
-    if mode == "robust" and d >= 2 and len(points) >= SPECULATE_MIN_N:
+    hypersurface = d >= 2 and np.ndim(points) == 2 and np.shape(points)[1] == d + 1
+    if mode == "robust" and hypersurface and len(points) >= SPECULATE_MIN_N:
         second_core.warm()  # the robust extraction may want a helper process: it starts while Delaunay runs
     prep = prepare_points(points, d, joggle=joggle)
     if prep.nearest is not None:

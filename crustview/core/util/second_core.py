@@ -7,17 +7,22 @@ decides whether to use, runs in a helper process while the labelling runs in thi
 arrives.  The work is the same function on the same inputs either way, so the result is the same: the
 helper only changes *when* it is computed (``tests/test_second_core.py`` compares the two on real runs).
 
-The helper is a fresh interpreter (``python -c``, :func:`_serve`) that imports crustview once and then runs
-one job after another, talking over two pipes.  Not :mod:`multiprocessing`: its ``fork`` would copy the
-locks of the window's Qt and VTK threads into the child, and its ``spawn`` and ``forkserver`` import the
-caller's main script again in the child (running a user's script a second time where it has no
-``if __name__ == "__main__"``).  Starting a helper imports crustview (0.6-0.8 s here); :func:`warm` starts
-one in the background as soon as a run begins, and a stopped helper is replaced the same way.  A job then
-costs the pickling of its arguments and result (``benchmarks/bench_second_core.py`` measures it).
+The helper is a fresh interpreter (``python -I -c``, :func:`_serve`) given the caller's ``sys.path``, so
+that it imports the crustview the caller runs (it says which, and a helper that imported another is not
+used); it imports crustview once and then runs one job after another, talking over two pipes.  Not
+:mod:`multiprocessing`: its ``fork`` would copy the locks of the window's Qt and VTK threads into the child,
+and its ``spawn`` and ``forkserver`` import the caller's main script again in the child (running a user's
+script a second time where it has no ``if __name__ == "__main__"``).  Starting a helper imports crustview
+(0.6-0.8 s here); :func:`warm` starts one in the background as soon as a run begins, and a stopped helper is
+replaced the same way.  A job then costs the pickling of its arguments and result
+(``benchmarks/bench_second_core.py`` measures it).  A helper whose caller goes away (exit, crash) ends
+within a second, even in the middle of a job; it ignores Ctrl-C, which is the caller's to handle.
 
 Every failure to start or to hear back from the helper (a killed process, a result that does not pickle,
-an exception in the job) makes :meth:`Speculation.result` raise :class:`Lost`; the caller then computes the
-result itself, so a failure costs time, never a result.
+an exception in the job, a helper still importing when the result is wanted) makes
+:meth:`Speculation.result` raise :class:`Lost`; the caller then computes the result itself, so a failure
+costs time, never a result.  A helper that ends before it is ready (a ``sys.executable`` that cannot import
+crustview) turns helpers off for the rest of the session.
 
 ``CRUSTVIEW_PROCESSES=1`` in the environment turns this off: where every core is already busy (the batch
 command's ``-j 2`` workers, the test suite's ``pytest -n 2`` workers) a second process per run only
@@ -27,10 +32,12 @@ competes with the others.
 from __future__ import annotations
 
 import atexit
+import json
 import os
 import subprocess
 import sys
 import threading
+import time
 from collections.abc import Callable
 from multiprocessing.connection import Connection
 from typing import Any
@@ -46,17 +53,54 @@ POLL_S = 0.05
 #: Smallest change of the job's progress fraction the helper reports (fewer messages, same bar).
 PROGRESS_STEP = 0.01
 
+#: Seconds ``result(wait_for_start=True)`` waits for a helper to begin its job before giving up.
+START_WAIT_S = 60.0
+#: Helpers kept idle at most (each holds an interpreter with crustview imported, about 70 MB).
+IDLE_MAX = 1
+#: The helper's niceness: its work may be thrown away, so where the caller's own threads want both cores
+#: they come first (10: the ``nice`` command's default step, the usual "background" level).
+NICENESS = 10
+
 _lock = threading.Lock()
 _idle: list[_Helper] = []
+_busy: set[_Helper] = set()  # helpers with a job: stopped at exit too
+_starting = 0  # helpers warm() is starting
+_broken = False  # a helper ended before it was ready, or imported other code: no more helpers this session
 
 
 class Lost(RuntimeError):
     """The helper could not be started or did not deliver its result (the caller computes it itself)."""
 
 
+def _cores() -> int:
+    try:
+        return len(os.sched_getaffinity(0))  # the cores this process may use (a container, taskset)
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
 def enabled() -> bool:
-    """Whether a second process may be used: two cores or more, and not turned off by the environment."""
-    return (os.cpu_count() or 1) >= 2 and os.environ.get(PROCESSES_ENV, "").strip() != "1"
+    """Whether a helper process may be used.
+
+    Two usable cores or more; not turned off by :data:`PROCESSES_ENV`; a Python that can run ``python -c``
+    (not a frozen application, whose executable is the application itself); SIGPIPE ignored, as CPython
+    sets it (killing a helper while a job is sent to it then fails the send instead of killing the caller);
+    and no helper of this session ended before it was ready.
+    """
+    import signal
+
+    if _broken or getattr(sys, "frozen", False) or not sys.executable:
+        return False
+    if os.environ.get(PROCESSES_ENV, "").strip() == "1" or _cores() < 2:
+        return False
+    return not hasattr(signal, "SIGPIPE") or signal.getsignal(signal.SIGPIPE) == signal.SIG_IGN
+
+
+def _package_dir() -> str:
+    """The folder of the crustview package this process imported (the helper must import the same one)."""
+    import crustview
+
+    return os.path.dirname(os.path.abspath(crustview.__file__))
 
 
 class _Helper:
@@ -65,14 +109,21 @@ class _Helper:
     def __init__(self) -> None:
         job_r, job_w = os.pipe()
         out_r, out_w = os.pipe()
-        code = f"import sys; from {__name__} import _serve; _serve(int(sys.argv[1]), int(sys.argv[2]))"
+        # -I: no current folder, no PYTHON* variables, no user site on the path; the caller's own path is set
+        # instead, so that the helper imports the crustview the caller runs
+        code = (
+            "import json, sys; sys.path[:] = json.loads(sys.argv[3]); "
+            f"from {__name__} import _serve; _serve(int(sys.argv[1]), int(sys.argv[2]))"
+        )
+        paths = json.dumps([os.path.abspath(p) if p else os.getcwd() for p in sys.path])
         try:
             self.proc = subprocess.Popen(
-                [sys.executable, "-c", code, str(job_r), str(out_w)],
+                [sys.executable, "-I", "-c", code, str(job_r), str(out_w), paths],
                 pass_fds=(job_r, out_w),
                 stdin=subprocess.DEVNULL,
                 stdout=subprocess.DEVNULL,
                 close_fds=True,
+                start_new_session=True,  # a Ctrl-C in the terminal is the caller's, not the helper's
             )
         except BaseException:
             for fd in (job_r, job_w, out_r, out_w):
@@ -82,6 +133,7 @@ class _Helper:
         os.close(out_w)
         self.jobs = Connection(job_w, readable=False)
         self.out = Connection(out_r, writable=False)
+        self.ready = False  # its "ready" message was read (crustview imported, from the caller's folder)
 
     def alive(self) -> bool:
         return self.proc.poll() is None
@@ -104,27 +156,46 @@ class _Helper:
 
 
 def _take() -> _Helper:
-    """An idle live helper, or a new one."""
+    """An idle live helper, or a new one; marked busy."""
     with _lock:
         while _idle:
             helper = _idle.pop()
             if helper.alive():
+                _busy.add(helper)
                 return helper
             helper.stop()
-    return _Helper()
+    helper = _Helper()
+    with _lock:
+        _busy.add(helper)
+    return helper
 
 
 def _give_back(helper: _Helper) -> None:
+    """An idle helper back to the pool; beyond :data:`IDLE_MAX`, or dead, it is stopped."""
     with _lock:
-        _idle.append(helper)
+        _busy.discard(helper)
+        keep = helper.alive() and len(_idle) < IDLE_MAX
+        if keep:
+            _idle.append(helper)
+    if not keep:
+        helper.stop()
+
+
+def _dropped(helper: _Helper) -> None:
+    """A helper killed with its job: no longer busy."""
+    with _lock:
+        _busy.discard(helper)
 
 
 @atexit.register
 def _stop_all() -> None:
-    """Stop the idle helpers at exit (a helper also ends by itself when its job pipe closes)."""
+    """Stop every helper at exit, idle or busy (a helper also ends by itself when the caller's end closes)."""
     with _lock:
-        while _idle:
-            _idle.pop().stop()
+        helpers = list(_idle) + list(_busy)
+        _idle.clear()
+        _busy.clear()
+    for helper in helpers:
+        helper.kill()
 
 
 def warm() -> None:
@@ -133,19 +204,30 @@ def warm() -> None:
     A run calls it at its start, so the helper has imported crustview by the time the extraction needs it.
     Errors are ignored here: :class:`Speculation` reports them when a helper is asked for.
     """
+    global _starting
     if not enabled():
         return
     with _lock:
-        if any(h.alive() for h in _idle):
+        if _starting or any(h.alive() for h in _idle):
             return
+        _starting += 1
 
     def start() -> None:
+        global _starting
         try:
-            _give_back(_Helper())
+            helper = _Helper()
         except Exception:  # noqa: BLE001 - reported by Speculation when a helper is asked for
-            pass
+            helper = None
+        with _lock:
+            _starting -= 1
+        if helper is not None:
+            _give_back(helper)
 
-    threading.Thread(target=start, name="crustview-helper-start", daemon=True).start()
+    try:
+        threading.Thread(target=start, name="crustview-helper-start", daemon=True).start()
+    except RuntimeError:  # no thread to be had: no helper, nothing else changes
+        with _lock:
+            _starting -= 1
 
 
 class _Reporter:
@@ -161,39 +243,75 @@ class _Reporter:
             self.out.send(("progress", float(fraction)))
 
 
-def _serve(job_fd: int, out_fd: int) -> None:
-    """The helper's loop: ``(fn, args, with_progress)`` in; ``("progress", f)`` and ``("done", (ok, x))`` out.
+def _watch_caller(job_fd: int) -> None:
+    """End the helper at once when the caller's end of the job pipe closes (the caller exited or died).
 
-    Python's cyclic collector is off, as the caller's is around the extraction (:func:`.memory.gc_paused`):
-    the work builds many long-lived small objects without cycles.  It runs once between two jobs.
+    Between jobs the helper sees that as the end of its input; during a job only this thread does.
+    """
+    import select
+
+    poller = select.poll()
+    poller.register(job_fd, select.POLLHUP)
+    while True:
+        for _, event in poller.poll():
+            if event & (select.POLLHUP | select.POLLERR | select.POLLNVAL):
+                os._exit(0)
+
+
+def _serve(job_fd: int, out_fd: int) -> None:
+    """The helper's loop: jobs ``(fn, args, with_progress)`` in, messages out.
+
+    Out: ``("ready", folder)`` once crustview is imported, then per job ``("started", None)``,
+    ``("progress", f)`` and ``("done", (ok, result or message))``.
+    Python's cyclic collector is off during a job, as the caller's is around the extraction
+    (:func:`.memory.gc_paused`): the work builds many long-lived small objects without cycles.  Between jobs
+    it runs, and the freed memory goes back to the system.  A caller that went away ends the helper quietly.
     """
     import gc
     import importlib
+    import signal
 
+    from .memory import release_free_memory
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the caller decides when a helper stops
+    try:
+        os.nice(NICENESS)  # before importing crustview: its 0.6 s of imports already yield to the caller
+    except OSError:
+        pass
     jobs = Connection(job_fd, writable=False)
     out = Connection(out_fd, readable=False)
-    importlib.import_module(PRELOAD)
-    while True:
-        try:
-            fn, args, with_progress = jobs.recv()
-        except (EOFError, OSError):  # the caller is gone, or stopped this helper
-            return
-        out.send(("started", None))
-        gc.disable()
-        try:
-            if with_progress:
-                result: tuple[bool, Any] = (True, fn(*args, progress=_Reporter(out)))
-            else:
-                result = (True, fn(*args))
-        except BaseException as err:  # noqa: BLE001 - any failure goes back to the caller, which recomputes
-            result = (False, repr(err))
-        try:
-            out.send(("done", result))
-        except Exception as err:  # noqa: BLE001 - a result that does not pickle
-            out.send(("done", (False, f"the result could not be sent back: {err!r}")))
-        del result
-        gc.enable()
-        gc.collect()
+    threading.Thread(target=_watch_caller, args=(job_fd,), daemon=True).start()
+    try:
+        importlib.import_module(PRELOAD)
+        out.send(("ready", _package_dir()))
+        while True:
+            try:
+                fn, args, with_progress = jobs.recv()
+            except (EOFError, OSError):  # the caller is gone, or stopped this helper
+                return
+            out.send(("started", None))
+            gc.disable()
+            try:
+                if with_progress:
+                    result: tuple[bool, Any] = (True, fn(*args, progress=_Reporter(out)))
+                else:
+                    result = (True, fn(*args))
+            except (BrokenPipeError, ConnectionError):
+                raise
+            except BaseException as err:  # noqa: BLE001 - any failure goes back to the caller, which recomputes
+                result = (False, repr(err))
+            try:
+                out.send(("done", result))
+            except (BrokenPipeError, ConnectionError):
+                raise
+            except Exception as err:  # noqa: BLE001 - a result that does not pickle
+                out.send(("done", (False, f"the result could not be sent back: {err!r}")))
+            del result
+            gc.enable()
+            gc.collect()
+            release_free_memory()
+    except (BrokenPipeError, ConnectionError):  # the caller is gone: nothing to say, to no one
+        os._exit(0)
 
 
 class Speculation:
@@ -222,7 +340,10 @@ class Speculation:
         self._starter = threading.Thread(
             target=self._start, args=(fn, args, with_progress), name="crustview-helper-send", daemon=True
         )
-        self._starter.start()
+        try:
+            self._starter.start()
+        except RuntimeError as err:  # no thread to be had: no helper; result() says so
+            self._error = f"no thread to send the job: {err!r}"
 
     def _start(self, fn: Callable[..., Any], args: tuple, with_progress: bool) -> None:
         try:
@@ -255,36 +376,49 @@ class Speculation:
 
         A helper that has not begun the job yet (it was still importing crustview) is not waited for: the
         job is dropped and :class:`Lost` raised, so that the caller computes it at once; unless
-        ``wait_for_start``, which waits for it to begin.
+        ``wait_for_start``, which waits up to :data:`START_WAIT_S` for it to begin.
 
         Raises
         ------
         Lost
-            The helper did not start, had not begun, died, or the job failed (the message says which).
+            The helper did not start, had not begun, died, imported another crustview, or the job failed
+            (the message says which).
         Cancelled
             ``cancel`` was set while waiting (the helper is stopped).
         """
-        if wait_for_start:
-            self._starter.join()
-            self._begun = self._begun or self._error is None
+        global _broken
+        if wait_for_start and self._starter.ident is not None:
+            self._starter.join(START_WAIT_S)
+        deadline = time.monotonic() + (START_WAIT_S if wait_for_start else 0.0)
         try:
             if self._starter.is_alive() or self._helper is None or self._error is not None:
                 raise Lost(self._error or "the helper had not begun the job (it was still starting)")
             helper = self._helper
             while True:
-                if helper.out.poll(0 if not self._begun else POLL_S):
+                waiting = self._begun or time.monotonic() < deadline
+                if helper.out.poll(POLL_S if waiting else 0):
                     try:
                         kind, payload = helper.out.recv()
-                    except (EOFError, OSError) as err:  # the helper closed its end: it died
-                        code = helper.proc.wait(5)
-                        raise Lost(f"the helper process ended (exit code {code}) without a result") from err
+                    except Exception as err:  # noqa: BLE001 - died (EOF), or a message that does not unpickle
+                        try:
+                            code = helper.proc.wait(5)  # an ended helper is reaped at once
+                        except subprocess.TimeoutExpired:
+                            code = None
+                        if not helper.ready:  # it never got as far as importing crustview: none will
+                            _broken = True
+                        raise Lost(f"the helper process ended (exit code {code}) without a result: {err!r}") from err
                     if kind == "done":
                         break
-                    if kind == "started":
+                    if kind == "ready":
+                        helper.ready = True
+                        if payload != _package_dir():
+                            _broken = True
+                            raise Lost(f"the helper imported crustview from {payload}, not {_package_dir()}")
+                    elif kind == "started":
                         self._begun = True
                     else:
-                        self._progress = payload
-                elif not self._begun:
+                        self._progress = max(self._progress, float(payload))
+                elif not waiting:
                     raise Lost("the helper had not begun the job (it was still starting)")
                 if progress is not None:
                     progress(self._progress)
@@ -313,6 +447,7 @@ class Speculation:
         if helper is None:
             return
         helper.kill()
+        _dropped(helper)
         if not sending:
             helper.close()
         warm()
