@@ -22,10 +22,11 @@ from .grown_path import grown_path
 from .verdict import _boundary_vertices, _disputed, _state, _tie, ranked, weighed
 
 #: Fewest samples for which the growing path is begun in a helper process (:mod:`~..util.second_core`)
-#: while the labelling runs.  A job in the helper takes 0.05-0.09 s longer than here (sending the arguments
-#: and the result), which the growing path spends on about 140 samples (a median 619 us per sample on the 9
-#: public cases that grow); ``benchmarks/bench_second_core.py`` measures both and prints the break-even.
-#: 1,000 leaves room for the job begun and then not needed, which costs its sending too.
+#: while the labelling runs.  ``benchmarks/bench_second_core.py`` times the same job in the helper and here on
+#: the public cases that grow: the helper's extra (sending the arguments and the result) had a median of
+#: 0.097 s and -0.095 s in two runs, and the growing path takes a median 564-664 us per sample, so at most
+#: about 170 samples' worth.  1,000 leaves room for the job begun and then not needed, which costs its
+#: sending too.
 SPECULATE_MIN_N = 1000
 
 
