@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from crustview.core import reconstruct
-from crustview.core.errors import Cancelled
+from crustview.core.errors import Cancelled, check_cancel
 from crustview.core.robust import choose as choose_module
 from crustview.core.robust.grown_path import grown_path
 from crustview.core.util import second_core
@@ -102,7 +102,7 @@ def test_a_cancel_while_waiting_stops_the_worker_at_once(two_processes):
     threading.Timer(0.3, cancel.set).start()
     t0 = time.perf_counter()
     with pytest.raises(Cancelled):
-        ahead.result(cancel, wait_for_start=True)
+        ahead.result(lambda: check_cancel(cancel), wait_for_start=True)
     assert time.perf_counter() - t0 < 2  # polled every POLL_S, then killed
     assert proc.poll() is not None  # the helper running the job is gone
 

@@ -182,7 +182,7 @@ def _grown(points, faces, scores, admitted, spacing, cancel, progress, ahead) ->
     """The growing path's result: from the helper begun ahead if there is one, else (or if it was lost) here."""
     if ahead is not None:
         try:
-            return ahead.result(cancel, progress)
+            return ahead.result(lambda: check_cancel(cancel), progress)
         except second_core.Lost:
             pass  # the same function, here: a lost helper costs time, never the result
     return grown_path(points, faces, scores, admitted, spacing, progress, cancel)

@@ -42,8 +42,6 @@ from collections.abc import Callable
 from multiprocessing.connection import Connection
 from typing import Any
 
-from ..errors import Cancelled, check_cancel
-
 #: The environment variable that, set to ``1``, keeps every run in its own process.
 PROCESSES_ENV = "CRUSTVIEW_PROCESSES"
 #: What the helper imports before its first job (so that a job starts without importing it).
@@ -98,9 +96,7 @@ def enabled() -> bool:
 
 def _package_dir() -> str:
     """The folder of the crustview package this process imported (the helper must import the same one)."""
-    import crustview
-
-    return os.path.dirname(os.path.abspath(crustview.__file__))
+    return os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # crustview/core/util/..
 
 
 class _Helper:
@@ -367,12 +363,15 @@ class Speculation:
 
     def result(
         self,
-        cancel: object | None = None,
+        check: Callable[[], None] | None = None,
         progress: Callable[[float], None] | None = None,
         *,
         wait_for_start: bool = False,
     ) -> Any:
-        """Wait for the helper's result, relaying its progress and checking ``cancel`` every :data:`POLL_S`.
+        """Wait for the helper's result, relaying its progress and calling ``check`` every :data:`POLL_S`.
+
+        ``check`` raises to stop waiting (a cancelled run: ``lambda: check_cancel(cancel)``); the helper is
+        then stopped and the exception goes on.
 
         A helper that has not begun the job yet (it was still importing crustview) is not waited for: the
         job is dropped and :class:`Lost` raised, so that the caller computes it at once; unless
@@ -383,8 +382,8 @@ class Speculation:
         Lost
             The helper did not start, had not begun, died, imported another crustview, or the job failed
             (the message says which).
-        Cancelled
-            ``cancel`` was set while waiting (the helper is stopped).
+        Exception
+            Whatever ``check`` raised (the helper is stopped).
         """
         global _broken
         if wait_for_start and self._starter.ident is not None:
@@ -422,8 +421,9 @@ class Speculation:
                     raise Lost("the helper had not begun the job (it was still starting)")
                 if progress is not None:
                     progress(self._progress)
-                check_cancel(cancel)
-        except (Cancelled, Lost):
+                if check is not None:
+                    check()
+        except BaseException:
             self.discard()
             raise
         with self._guard:
