@@ -16,7 +16,8 @@ script a second time where it has no ``if __name__ == "__main__"``).  Starting a
 (0.6-0.8 s here); :func:`warm` starts one in the background as soon as a run begins, and a stopped helper is
 replaced the same way.  A job then costs the pickling of its arguments and result
 (``benchmarks/bench_second_core.py`` measures it).  A helper whose caller goes away (exit, crash) ends
-within a second, even in the middle of a job; it ignores Ctrl-C, which is the caller's to handle.
+within a second, even in the middle of a job (at its next Python step); it ignores Ctrl-C, which is the caller's
+to handle.
 
 Every failure to start or to hear back from the helper (a killed process, a result that does not pickle,
 an exception in the job, a helper still importing when the result is wanted) makes
@@ -34,6 +35,7 @@ from __future__ import annotations
 import atexit
 import json
 import os
+import pickle
 import subprocess
 import sys
 import threading
@@ -85,9 +87,12 @@ def enabled() -> bool:
     sets it (killing a helper while a job is sent to it then fails the send instead of killing the caller);
     and no helper of this session ended before it was ready.
     """
+    import select
     import signal
 
     if _broken or getattr(sys, "frozen", False) or not sys.executable:
+        return False
+    if os.name != "posix" or not hasattr(select, "poll"):  # pass_fds and the helper's watch need POSIX
         return False
     if os.environ.get(PROCESSES_ENV, "").strip() == "1" or _cores() < 2:
         return False
@@ -103,23 +108,34 @@ class _Helper:
     """One helper process and its two pipes (jobs in, messages out)."""
 
     def __init__(self) -> None:
-        job_r, job_w = os.pipe()
-        out_r, out_w = os.pipe()
         # -I: no current folder, no PYTHON* variables, no user site on the path; the caller's own path is set
-        # instead, so that the helper imports the crustview the caller runs
+        # instead, led by the folder holding the crustview the caller runs, so that the helper imports it.
+        # Niceness first: numpy's and scipy's thread pools, started by the imports, inherit it
         code = (
+            f"import os\ntry: os.nice({NICENESS})\nexcept OSError: pass\n"
             "import json, sys; sys.path[:] = json.loads(sys.argv[3]); "
             f"from {__name__} import _serve; _serve(int(sys.argv[1]), int(sys.argv[2]))"
         )
-        paths = json.dumps([os.path.abspath(p) if p else os.getcwd() for p in sys.path])
+        paths = [os.path.dirname(_package_dir())]
+        for entry in sys.path:
+            try:
+                paths.append(os.path.abspath(entry or os.curdir) if isinstance(entry, str) else None)
+            except OSError:  # a current folder that no longer exists
+                continue
+        path_arg = json.dumps([p for p in paths if p])
+        # a process group of its own keeps a terminal's Ctrl-C away; not a session of its own, whose
+        # scheduler autogroup would make the niceness count for nothing against the caller
+        group = {"process_group": 0} if sys.version_info >= (3, 11) else {"start_new_session": True}
+        job_r, job_w = os.pipe()
+        out_r, out_w = os.pipe()
         try:
             self.proc = subprocess.Popen(
-                [sys.executable, "-I", "-c", code, str(job_r), str(out_w), paths],
+                [sys.executable, "-I", "-c", code, str(job_r), str(out_w), path_arg],
                 pass_fds=(job_r, out_w),
                 stdin=subprocess.DEVNULL,
                 stdout=subprocess.DEVNULL,
                 close_fds=True,
-                start_new_session=True,  # a Ctrl-C in the terminal is the caller's, not the helper's
+                **group,
             )
         except BaseException:
             for fd in (job_r, job_w, out_r, out_w):
@@ -170,14 +186,18 @@ def _give_back(helper: _Helper) -> None:
     """An idle helper back to the pool; beyond :data:`IDLE_MAX`, or dead, it is stopped."""
     with _lock:
         _busy.discard(helper)
+        dead = [h for h in _idle if not h.alive()]
+        _idle[:] = [h for h in _idle if h.alive()]
         keep = helper.alive() and len(_idle) < IDLE_MAX
         if keep:
             _idle.append(helper)
+    for h in dead:
+        h.stop()
     if not keep:
         helper.stop()
 
 
-def _dropped(helper: _Helper) -> None:
+def _forget_busy(helper: _Helper) -> None:
     """A helper killed with its job: no longer busy."""
     with _lock:
         _busy.discard(helper)
@@ -210,10 +230,12 @@ def warm() -> None:
 
     def start() -> None:
         global _starting
+        global _broken
         try:
             helper = _Helper()
-        except Exception:  # noqa: BLE001 - reported by Speculation when a helper is asked for
+        except Exception:  # noqa: BLE001 - no helper can be started: none is asked for again this session
             helper = None
+            _broken = True
         with _lock:
             _starting -= 1
         if helper is not None:
@@ -270,10 +292,6 @@ def _serve(job_fd: int, out_fd: int) -> None:
     from .memory import release_free_memory
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the caller decides when a helper stops
-    try:
-        os.nice(NICENESS)  # before importing crustview: its 0.6 s of imports already yield to the caller
-    except OSError:
-        pass
     jobs = Connection(job_fd, writable=False)
     out = Connection(out_fd, readable=False)
     threading.Thread(target=_watch_caller, args=(job_fd,), daemon=True).start()
@@ -282,12 +300,14 @@ def _serve(job_fd: int, out_fd: int) -> None:
         out.send(("ready", _package_dir()))
         while True:
             try:
-                fn, args, with_progress = jobs.recv()
+                job = jobs.recv_bytes()
             except (EOFError, OSError):  # the caller is gone, or stopped this helper
                 return
-            out.send(("started", None))
+            out.send(("started", None))  # before unpickling: a large job has begun once it has arrived
             gc.disable()
             try:
+                fn, args, with_progress = pickle.loads(job)
+                del job
                 if with_progress:
                     result: tuple[bool, Any] = (True, fn(*args, progress=_Reporter(out)))
                 else:
@@ -342,10 +362,12 @@ class Speculation:
             self._error = f"no thread to send the job: {err!r}"
 
     def _start(self, fn: Callable[..., Any], args: tuple, with_progress: bool) -> None:
+        global _broken
         try:
             helper = _take()
         except Exception as err:  # noqa: BLE001 - no helper: result() says so, the caller computes it
             self._error = f"no helper process: {err!r}"
+            _broken = True  # a process that cannot be started now will not start later either
             return
         with self._guard:
             if self._dropped:  # discarded before the job was sent: the helper is as good as new
@@ -398,7 +420,7 @@ class Speculation:
                 if helper.out.poll(POLL_S if waiting else 0):
                     try:
                         kind, payload = helper.out.recv()
-                    except Exception as err:  # noqa: BLE001 - died (EOF), or a message that does not unpickle
+                    except (EOFError, OSError) as err:  # the helper closed its end: it ended
                         try:
                             code = helper.proc.wait(5)  # an ended helper is reaped at once
                         except subprocess.TimeoutExpired:
@@ -406,6 +428,8 @@ class Speculation:
                         if not helper.ready:  # it never got as far as importing crustview: none will
                             _broken = True
                         raise Lost(f"the helper process ended (exit code {code}) without a result: {err!r}") from err
+                    except Exception as err:  # noqa: BLE001 - a message that does not unpickle here
+                        raise Lost(f"the helper's message could not be read: {err!r}") from err
                     if kind == "done":
                         break
                     if kind == "ready":
@@ -447,7 +471,7 @@ class Speculation:
         if helper is None:
             return
         helper.kill()
-        _dropped(helper)
+        _forget_busy(helper)
         if not sending:
             helper.close()
         warm()
