@@ -24,9 +24,9 @@ from .verdict import _boundary_vertices, _disputed, _state, _tie, ranked, weighe
 #: Fewest samples for which the growing path is begun in a helper process (:mod:`~..util.second_core`)
 #: while the labelling runs.  ``benchmarks/bench_second_core.py`` times the same job in the helper and here on
 #: the public cases that grow: the helper's extra (sending the arguments and the result) had a median of
-#: 0.097 s and -0.095 s in two runs, and the growing path takes a median 564-664 us per sample, so at most
-#: about 170 samples' worth.  1,000 leaves room for the job begun and then not needed, which costs its
-#: sending too.
+#: 0.097 s, -0.095 s and 0.205 s in three runs, and the growing path takes a median 522-664 us per sample,
+#: so at most about 400 samples' worth.  1,000 leaves room for the job begun and then not needed, which
+#: costs its sending too.
 SPECULATE_MIN_N = 1000
 
 
