@@ -17,11 +17,9 @@ from .paper.extraction import extract
 from .paper.normals import complete_bases, greedy_poles
 from .prepare import DEFAULT_JOGGLE, prepare_points, prescale
 from .result import CANDIDATE_TESTS, EXTRACTION_MODES, CandidateAngles, Candidates, Reconstruction
-from .robust.choose import SPECULATE_MIN_N
 from .robust.driver import extract_robust
 from .robust.smooth_normals import smoothed_normals
 from .uncertainty import result_features
-from .util import second_core
 from .util.hullframe import hull_frame
 from .util.memory import gc_paused, release_free_memory
 from .util.nearest import remember
@@ -163,9 +161,6 @@ def reconstruct(
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
     report("prepare", 0.0)
-    hypersurface = d >= 2 and np.ndim(points) == 2 and np.shape(points)[1] == d + 1
-    if mode == "robust" and hypersurface and len(points) >= SPECULATE_MIN_N:
-        second_core.warm()  # the robust extraction may want a helper process: it starts while Delaunay runs
     prep = prepare_points(points, d, joggle=joggle)
     if prep.nearest is not None:
         # the merging measured every sample's nearest-neighbour distance: the later stages, which ask for

@@ -7,17 +7,17 @@ decides whether to use, runs in a helper process while the labelling runs in thi
 arrives.  The work is the same function on the same inputs either way, so the result is the same: the
 helper only changes *when* it is computed (``tests/test_second_core.py`` compares the two on real runs).
 
-The helper is a fresh interpreter (``python -I -c``, :func:`_serve`) given the caller's ``sys.path``, so
-that it imports the crustview the caller runs (it says which, and a helper that imported another is not
-used); it imports crustview once and then runs one job after another, talking over two pipes.  Not
+The helper is a fresh interpreter (``python -I -c``, :func:`_serve`) given the caller's ``sys.path``, so that
+it imports the crustview the caller runs (it says which, and a helper that imported another is not used); it
+imports crustview once and then runs one job after another, talking over two pipes. Not
 :mod:`multiprocessing`: its ``fork`` would copy the locks of the window's Qt and VTK threads into the child,
 and its ``spawn`` and ``forkserver`` import the caller's main script again in the child (running a user's
-script a second time where it has no ``if __name__ == "__main__"``).  Starting a helper imports crustview
-(0.6-0.8 s here); :func:`warm` starts one in the background as soon as a run begins, and a stopped helper is
-replaced the same way.  A job then costs the pickling of its arguments and result
-(``benchmarks/bench_second_core.py`` measures it).  A helper whose caller goes away (exit, crash) ends
-within a second, even in the middle of a job (at its next Python step); it ignores Ctrl-C, which is the caller's
-to handle.
+script a second time where it has no ``if __name__ == "__main__"``). Starting a helper imports crustview
+(0.6-0.8 s here), overlapping the caller's own work; a helper stopped with a job that was not needed is
+replaced in the background (:func:`warm`), ready for the next job. A job then costs the pickling of its
+arguments and result (``benchmarks/bench_second_core.py`` measures it). A helper whose caller goes away (exit,
+crash) ends within a second, even in the middle of a job (at its next Python step); it ignores Ctrl-C, which
+is the caller's to handle.
 
 Every failure to start or to hear back from the helper (a killed process, a result that does not pickle,
 an exception in the job, a helper still importing when the result is wanted) makes
@@ -62,6 +62,7 @@ IDLE_MAX = 1
 NICENESS = 10
 
 _lock = threading.Lock()
+_arrived = threading.Condition(_lock)  # a helper warm() started joined the idle ones
 _idle: list[_Helper] = []
 _busy: set[_Helper] = set()  # helpers with a job: stopped at exit too
 _starting = 0  # helpers warm() is starting
@@ -168,14 +169,18 @@ class _Helper:
 
 
 def _take() -> _Helper:
-    """An idle live helper, or a new one; marked busy."""
+    """An idle live helper, the one :func:`warm` is starting, or a new one; marked busy."""
     with _lock:
-        while _idle:
-            helper = _idle.pop()
-            if helper.alive():
-                _busy.add(helper)
-                return helper
-            helper.stop()
+        while True:
+            while _idle:
+                helper = _idle.pop()
+                if helper.alive():
+                    _busy.add(helper)
+                    return helper
+                helper.stop()
+            if not _starting:
+                break
+            _arrived.wait(START_WAIT_S)  # one is on its way: starting another would import crustview twice
     helper = _Helper()
     with _lock:
         _busy.add(helper)
@@ -217,7 +222,7 @@ def _stop_all() -> None:
 def warm() -> None:
     """Start an idle helper in the background if there is none (returns at once).
 
-    A run calls it at its start, so the helper has imported crustview by the time the extraction needs it.
+    :meth:`Speculation.discard` calls it, so that the next job finds a helper that has imported crustview.
     Errors are ignored here: :class:`Speculation` reports them when a helper is asked for.
     """
     global _starting
@@ -236,10 +241,11 @@ def warm() -> None:
         except Exception:  # noqa: BLE001 - no helper can be started: none is asked for again this session
             helper = None
             _broken = True
-        with _lock:
-            _starting -= 1
         if helper is not None:
             _give_back(helper)
+        with _lock:
+            _starting -= 1
+            _arrived.notify_all()
 
     try:
         threading.Thread(target=start, name="crustview-helper-start", daemon=True).start()
@@ -281,6 +287,7 @@ def _serve(job_fd: int, out_fd: int) -> None:
 
     Out: ``("ready", folder)`` once crustview is imported, then per job ``("started", None)``,
     ``("progress", f)`` and ``("done", (ok, result or message))``.
+
     Python's cyclic collector is off during a job, as the caller's is around the extraction
     (:func:`.memory.gc_paused`): the work builds many long-lived small objects without cycles.  Between jobs
     it runs, and the freed memory goes back to the system.  A caller that went away ends the helper quietly.
