@@ -176,13 +176,16 @@ def _seed(stem: str) -> int:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--folder", action="append", type=Path, required=True, metavar="DIR", help="closed meshes")
-    ap.add_argument("--pairs", default="", help="comma-separated gaps in h (none: no pairs)")
+    ap.add_argument("--pairs", default="", help="comma-separated gaps in h (empty or 'none': no pairs)")
     ap.add_argument("--opened", type=float, metavar="SHARE", help="cut a hole holding this share of the vertices")
     ap.add_argument("--seed", type=int, default=43, help="noisy.py's draw, and the hole's")
     ap.add_argument("--clean-only", action="store_true", help="no noisy copies")
     ap.add_argument("--noisy-dir", type=Path, help="noisy copies' cache (default under .noisy-reshaped-sSEED)")
     a = ap.parse_args(argv)
-    pairs = [float(g) for g in a.pairs.split(",") if g]
+    try:
+        pairs = [float(g) for g in a.pairs.split(",") if g and a.pairs != "none"]
+    except ValueError:
+        ap.error(f"--pairs takes comma-separated numbers or 'none', not {a.pairs!r}")
     if any(g <= 0 for g in pairs):
         ap.error("--pairs takes gaps above 0")
     if not pairs and a.opened is None:
