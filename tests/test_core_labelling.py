@@ -181,6 +181,67 @@ def test_compiled_star_pieces_are_the_python_ones():
     assert several > 10  # pinched stars (three pieces or more) were compared too
 
 
+def test_sculpt_batches_are_the_one_cell_measures():
+    """``sculpt-sample`` measures its size bound for whole stars at once (``_star_fits``) and finds the cells with
+    only their face opposite the sample on M_S by one gather (``_opposite_on_cut``): on a noisy torus, with a
+    unit at which some cells fit and some do not, both give what ``_fits`` and a direct look at each cell's faces
+    give, cell by cell, for every sample, before and after 300 cells take the other label."""
+    m = get_manifold("torus")
+    s = m.sample(1500, seed=2)
+    rng = np.random.default_rng(1)
+    rec = reconstruct(s.points + rng.normal(scale=0.06, size=s.points.shape), 2, mode="paper")
+    lab = Labelling(rec.points, *_cells(rec))
+    ed = LabelEditor(lab)
+    unit = ed._unit() * 0.5  # half the sculpting unit: many cells over SIZE_MAX, many under
+    vs = list(range(rec.n))
+    fit = ed._star_fits(vs, unit)
+    assert len(fit) == sum(int((~lab.outside[ed.star(v)]).sum()) for v in vs)
+    assert 0 < sum(fit.values()) < len(fit)
+    assert all(fit[v, c] == ed._fits(v, c, unit) for v, c in fit)
+    found = 0
+    for rnd in range(2):
+        if rnd:
+            ed.flip(rng.choice(np.flatnonzero(~lab.outside), 300, replace=False))
+        for v in vs:
+            cells = ed.star(v)
+            cells = cells[~lab.outside[cells]]
+            direct = []
+            for c in cells.tolist():
+                fs = ed.cell_faces[ed.cell_ptr[c] : ed.cell_ptr[c + 1]]
+                on_cut = fs[ed.cut[fs]]
+                if len(on_cut) == 1 and not (lab.faces[on_cut[0]] == v).any():
+                    direct.append(c)
+            assert ed._opposite_on_cut(v, cells) == direct, v
+            found += len(direct)
+    assert found > 100  # cells with one face on M_S opposite the sample were compared, not only empty lists
+
+
+def test_steplog_small_and_large_steps_take_the_same_rows():
+    """A step's faces take unused T_S rows, the first of two equal faces only, whether the step is small (a
+    Python loop) or large (numpy's unique): the same log either way."""
+    from crustview.core.robust import steplog
+
+    rng = np.random.default_rng(5)
+    ts = np.sort(rng.choice(40, size=(60, 3), replace=True), axis=1)
+    ts = np.unique(ts[(ts[:, 0] < ts[:, 1]) & (ts[:, 1] < ts[:, 2])], axis=0)
+    steps = [ts[rng.choice(len(ts), size=k)] for k in (3, 5, 40, 2, 70, 4)]
+
+    def rows(few):
+        old = steplog._FEW
+        steplog._FEW = few
+        try:
+            log = StepLog(ts, 40)
+            for i, add in enumerate(steps):
+                log.step("a", (), add, steps[i - 1][:1] if i else np.zeros((0, 3), int), np.nan, "")
+            return [st.added for st in log.steps]
+        finally:
+            steplog._FEW = old
+
+    small, large = rows(10**6), rows(0)
+    assert small == large
+    assert any(len(set(r)) < len(r) or max(r) >= len(ts) for r in small)  # repeats took new rows
+
+
 def test_piece_counts_refuse_unsorted_stars():
     """The compiled piece counts find a star's cells by bisection: a star out of order is one clear
     error, not a wrong count."""

@@ -67,6 +67,10 @@ class EditableComplex:
         #: vertices whose star changed since the last :meth:`unpinch_all` (where pinches can appear)
         self.suspects: set[int] = set()
         self.log: list[tuple[str, Simplex, tuple[int, ...], tuple[int, ...], float, str]] = []
+        #: simplices linked or unlinked so far (:meth:`_link`): an unchanged count is an unchanged complex
+        self.edits = 0
+        #: the initial simplices as an array (rows of :attr:`simp` below its length never change)
+        self.initial = np.zeros((0, 0), np.int64)
         self._bulk_insert(simplices, orient)
         self.delaunay = delaunay
 
@@ -114,6 +118,7 @@ class EditableComplex:
         if m == 0:
             return
         arr = np.array(self.simp, dtype=np.int64)
+        self.initial = arr
         facets, _, ptr, _ = facet_structure(arr)
         # the facet -> simplices map is filled lazily by _ids (from the stars)
         self.bset = set(map(tuple, facets[np.diff(ptr) == 1].tolist()))
@@ -154,6 +159,7 @@ class EditableComplex:
     def _link(self, i: int, alive: bool) -> None:
         """Add simplex ``i`` to (or take it from) the index, its vertices' stars and its facets' lists."""
         self.alive[i] = alive
+        self.edits += 1
         s = self.simp[i]
         at = [(f, self._ids(f)) for f in _facets(s)]  # before i joins or leaves the stars
         if alive:
@@ -193,6 +199,15 @@ class EditableComplex:
                     if f in bset and v in f:
                         out.add(f)
         return sorted(out)
+
+    def rows(self, ids: np.ndarray) -> np.ndarray:
+        """The simplices ``ids`` (ascending) as an array: the initial ones sliced, the added ones converted."""
+        m0 = len(self.initial)
+        late = ids[ids >= m0].tolist()
+        if not late:
+            return self.initial[ids]
+        added = np.array([self.simp[i] for i in late], dtype=np.int64).reshape(len(late), -1)
+        return np.vstack([self.initial[ids[ids < m0]], added]) if m0 else added
 
     def used(self) -> np.ndarray:
         mask = self._used0.copy()

@@ -31,10 +31,18 @@ class DropStray:
         grew in an undersampled spot (three samples closed into a tiny loop,
         four into a tetrahedron).  Its samples go back to ``insert-sample``.
         """
+        if getattr(self, "_strays_checked", None) == self.edits:
+            return 0  # nothing linked or unlinked since the last look, which left no stray
+        dropped = self._drop_strays()
+        self._strays_checked = self.edits
+        return dropped
+
+    def _drop_strays(self) -> int:
+        """:meth:`drop_small_components` itself: one pass over the components."""
         ids = np.flatnonzero(np.fromiter(self.alive, dtype=bool, count=len(self.alive)))
         if len(ids) == 0:
             return 0
-        simp = np.array([self.simp[i] for i in ids.tolist()], dtype=np.int64)
+        simp = self.rows(ids)
         _, _, ptr, inc = facet_structure(simp)
         cnt = np.diff(ptr)
         two = np.flatnonzero(cnt == 2)

@@ -350,6 +350,47 @@ class LabelEditor:
         through = np.array([[v, *other] for other in combinations(rest, len(rest) - 1)], dtype=np.int64)
         return bool((face_sizes(lab.points, unit, through) <= SIZE_MAX).all())
 
+    def _star_fits(self, vs: list[int], unit: np.ndarray) -> dict[tuple[int, int], bool]:
+        """:meth:`_fits` for every inside-or-outside (not fixed) cell of the stars of ``vs``: {(v, cell): fits}."""
+        lab = self.lab
+        if not vs:
+            return {}
+        v = np.asarray(vs, np.int64)
+        lo, hi = self.star_ptr[v], self.star_ptr[v + 1]
+        count = hi - lo
+        cells = self.star_cells[np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count - lo, count)]
+        owner = np.repeat(v, count)
+        keep = ~lab.outside[cells]
+        cells, owner = cells[keep], owner[keep]
+        if len(cells) == 0:
+            return {}
+        simp = lab.simplices[cells]
+        w = simp.shape[1]
+        # each cell's other vertices in their order (v is a vertex of each once), and its faces through v as
+        # _fits lists them: v, then each (w - 2)-subset of the others, in combinations' order
+        rest = simp[simp != owner[:, None]].reshape(len(cells), w - 1)
+        subsets = list(combinations(range(w - 1), w - 2))
+        through = np.concatenate(
+            [np.broadcast_to(owner[:, None, None], (len(cells), len(subsets), 1)), rest[:, subsets]], axis=2
+        ).reshape(-1, w - 1)
+        ok = (face_sizes(lab.points, unit, through) <= SIZE_MAX).reshape(len(cells), -1).all(axis=1)
+        return dict(zip(zip(owner.tolist(), cells.tolist()), ok.tolist()))
+
+    def _opposite_on_cut(self, v: int, cells: np.ndarray) -> list[int]:
+        """The cells of ``cells`` (v's star) with exactly one face on M_S, the face opposite ``v``; in order."""
+        if len(cells) == 0:
+            return []
+        lo, hi = self.cell_ptr[cells], self.cell_ptr[cells + 1]
+        count = hi - lo
+        owner = np.repeat(np.arange(len(cells)), count)
+        fs = self.cell_faces[np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count - lo, count)]
+        on = self.cut[fs]
+        on_count = np.bincount(owner[on], minlength=len(cells))
+        # of a cell with one face on M_S, that face; whether it has v as a vertex
+        through_v = np.zeros(len(cells), bool)
+        through_v[owner[on]] = (self.lab.faces[fs[on]] == v).any(axis=1)
+        return cells[(on_count == 1) & ~through_v].tolist()
+
     def _unit(self) -> np.ndarray:
         """Each sample's spacing for :meth:`_fits`.
 
@@ -380,23 +421,27 @@ class LabelEditor:
             touched = np.zeros(lab.m, bool)
             done = 0
             unit = self._unit() if not on.all() else lab.spacing
+            # the size bound depends on the cells' shapes and this round's unit only: measured for every star
+            # cell of every sample off M_S at once (the same values as one cell at a time)
+            fit = self._star_fits([v for v in np.flatnonzero(~on).tolist() if v not in free], unit)
             for v in np.flatnonzero(~on).tolist():
                 cells = self.star(v)
                 cells = cells[~lab.outside[cells]]
                 if len(cells) == 0 or touched[cells].any():
                     continue
+                # exactly one face on M_S, the one opposite v (Boissonnat's rule), and new faces the
+                # sample supports (no medial ball carved out)
+                able = self._opposite_on_cut(v, cells)
+                if not able:
+                    continue
+                fits = [True] * len(able) if v in free else [fit[v, c] for c in able]
                 best, best_conf = -1, np.inf
-                for c in cells.tolist():
-                    fs = self.cell_faces[self.cell_ptr[c] : self.cell_ptr[c + 1]]
-                    on_cut = fs[self.cut[fs]]
-                    # exactly one face on M_S, the one opposite v (Boissonnat's rule), and new faces the
-                    # sample supports (no medial ball carved out)
-                    if len(on_cut) == 1 and not (lab.faces[on_cut[0]] == v).any():
-                        if lab.confidence[c] < best_conf:
-                            if v in free or self._fits(v, c, unit):
-                                best, best_conf = c, float(lab.confidence[c])
-                            else:
-                                self.held.add(v)
+                for c, ok in zip(able, fits, strict=True):
+                    if lab.confidence[c] < best_conf:
+                        if ok:
+                            best, best_conf = c, float(lab.confidence[c])
+                        else:
+                            self.held.add(v)
                 if best < 0:
                     continue
                 self.held.discard(v)
