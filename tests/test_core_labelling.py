@@ -185,7 +185,7 @@ def test_sculpt_batches_are_the_one_cell_measures():
     """``sculpt-sample`` measures its size bound for whole stars at once (``_star_fits``) and finds the cells with
     only their face opposite the sample on M_S by one gather (``_opposite_on_cut``): on a noisy torus, with a
     unit at which some cells fit and some do not, both give what ``_fits`` and a direct look at each cell's faces
-    give, cell by cell, for every sample, before and after 300 cells take the other label."""
+    give, cell by cell, at 300 samples, before and after 300 cells take the other label."""
     m = get_manifold("torus")
     s = m.sample(1500, seed=2)
     rng = np.random.default_rng(1)
@@ -193,7 +193,7 @@ def test_sculpt_batches_are_the_one_cell_measures():
     lab = Labelling(rec.points, *_cells(rec))
     ed = LabelEditor(lab)
     unit = ed._unit() * 0.5  # half the sculpting unit: many cells over SIZE_MAX, many under
-    vs = list(range(rec.n))
+    vs = sorted(rng.choice(rec.n, 300, replace=False).tolist())  # a fifth of the samples: the loops below are slow
     fit = ed._star_fits(vs, unit)
     assert len(fit) == sum(int((~lab.outside[ed.star(v)]).sum()) for v in vs)
     assert 0 < sum(fit.values()) < len(fit)
@@ -213,7 +213,7 @@ def test_sculpt_batches_are_the_one_cell_measures():
                     direct.append(c)
             assert ed._opposite_on_cut(v, cells) == direct, v
             found += len(direct)
-    assert found > 100  # cells with one face on M_S opposite the sample were compared, not only empty lists
+    assert found > 300  # cells with one face on M_S opposite the sample were compared, not only empty lists
 
 
 def test_steplog_small_and_large_steps_take_the_same_rows():
