@@ -111,12 +111,7 @@ def test_labelled_noisy_torus_is_a_torus_through_every_sample():
 
 def test_repair_leaves_no_pinched_vertex():
     """repair-vertex until every surface vertex has one inside and one outside piece in its star."""
-    m = get_manifold("torus")
-    s = m.sample(1500, seed=2)
-    rng = np.random.default_rng(1)  # noise of about half the spacing: the raw cut pinches at 10 samples
-    rec = reconstruct(s.points + rng.normal(scale=0.06, size=s.points.shape), 2, mode="paper")
-    lab = Labelling(rec.points, *_cells(rec))
-    ed = LabelEditor(lab)
+    rec, lab, ed, _ = _noisy_torus_editor()  # noise of about half the spacing: the raw cut pinches at 10 samples
     before, _ = ed.pieces()
     steps = ed.repair()
     after, _ = ed.pieces()
@@ -161,12 +156,7 @@ def test_compiled_star_pieces_are_the_python_ones():
     from crustview.core.robust import label_repair
 
     assert label_repair._kernel is not None
-    m = get_manifold("torus")
-    s = m.sample(1500, seed=2)
-    rng = np.random.default_rng(1)
-    rec = reconstruct(s.points + rng.normal(scale=0.06, size=s.points.shape), 2, mode="paper")
-    lab = Labelling(rec.points, *_cells(rec))
-    ed = LabelEditor(lab)
+    rec, lab, ed, rng = _noisy_torus_editor()
     several = 0
     for rnd in range(2):
         if rnd:
@@ -186,12 +176,7 @@ def test_sculpt_batches_are_the_one_cell_measures():
     only their face opposite the sample on M_S by one gather (``_opposite_on_cut``): on a noisy torus, with a
     unit at which some cells fit and some do not, both give what ``_fits`` and a direct look at each cell's faces
     give, cell by cell, at 300 samples, before and after 300 cells take the other label."""
-    m = get_manifold("torus")
-    s = m.sample(1500, seed=2)
-    rng = np.random.default_rng(1)
-    rec = reconstruct(s.points + rng.normal(scale=0.06, size=s.points.shape), 2, mode="paper")
-    lab = Labelling(rec.points, *_cells(rec))
-    ed = LabelEditor(lab)
+    rec, lab, ed, rng = _noisy_torus_editor()
     unit = ed._unit() * 0.5  # half the sculpting unit: many cells over SIZE_MAX, many under
     vs = sorted(rng.choice(rec.n, 300, replace=False).tolist())  # a fifth of the samples: the loops below are slow
     fit = ed._star_fits(vs, unit)
@@ -317,6 +302,17 @@ def test_cap_patches_need_eight_adjacent_big_faces():
     some = np.ones(8, bool)
     some[3] = False  # the fan is cut in two runs of 3 and 4
     assert cap_patches(fan, some, 30) == []
+
+
+def _noisy_torus_editor():
+    """A torus of 1,500 samples with noise of about half the spacing (its raw cut pinches at 10 samples),
+    its cells labelled: (run, labelling, editor, the noise's generator for further draws)."""
+    m = get_manifold("torus")
+    s = m.sample(1500, seed=2)
+    rng = np.random.default_rng(1)
+    rec = reconstruct(s.points + rng.normal(scale=0.06, size=s.points.shape), 2, mode="paper")
+    lab = Labelling(rec.points, *_cells(rec))
+    return rec, lab, LabelEditor(lab), rng
 
 
 def _fan_with_ring(radius, small):
