@@ -52,6 +52,7 @@ from pathlib import Path
 
 import numpy as np
 from _folders import folder_truth
+from _peers import cgal_advancing_front, open3d_poisson
 from scipy.spatial import cKDTree
 from scipy.spatial.distance import pdist
 
@@ -322,64 +323,17 @@ def _row(case: Case, method: str, rec, total: float, ratio: float) -> Row:
     )
 
 
-def run_cgal(case: Case) -> Row | None:
-    """CGAL's Advancing Front Surface Reconstruction on the same points."""
-    try:
-        from CGAL.CGAL_Advancing_front_surface_reconstruction import advancing_front_surface_reconstruction
-        from CGAL.CGAL_Kernel import Point_3
-        from CGAL.CGAL_Point_set_3 import Point_set_3
-    except ImportError:
-        return None
-    t0 = time.perf_counter()
-    cloud = Point_set_3()
-    for x, y, z in case.points.tolist():
-        cloud.insert(Point_3(x, y, z))
-    flat: list[int] = []
-    advancing_front_surface_reconstruction(cloud, flat)
-    total = time.perf_counter() - t0
-    tri = np.asarray(flat, dtype=np.int64).reshape(-1, 3)
-    top = analyse(tri, len(case.points), 2)
-    n = len(case.points)
-    return Row(
-        case,
-        "CGAL advancing front",
-        tuple(top.betti),
-        top.closed_manifold,
-        n - top.unused_samples,
-        n,
-        top.boundary_faces,
-        {},
-        total,
-    )
-
-
-def run_poisson(case: Case) -> Row | None:
-    """Open3D's screened Poisson (depth 8) with normals estimated by Open3D; topology only."""
-    try:
-        import open3d as o3d
-    except ImportError:
-        return None
-    t0 = time.perf_counter()
-    pc = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(case.points))
-    pc.estimate_normals()
-    pc.orient_normals_consistent_tangent_plane(10)
-    mesh, _ = o3d.geometry.TriangleMesh.create_from_point_cloud_poisson(pc, depth=8)
-    total = time.perf_counter() - t0
-    tri = np.asarray(mesh.triangles, dtype=np.int64)
-    top = analyse(tri, len(mesh.vertices), 2)
-    n = len(case.points)
-    return Row(
-        case,
-        "Open3D Poisson (topology)",
-        tuple(top.betti),
-        top.closed_manifold,
-        n,
-        n,
-        top.boundary_faces,
-        {},
-        total,
-        interpolates=False,
-    )
+def run_peers(case: Case) -> list[Row]:
+    """The installed peers (:mod:`_peers`) on the case's points, as rows judged like crustview's."""
+    out = []
+    for peer in (cgal_advancing_front, open3d_poisson):
+        r = peer(case.points)
+        if r is not None:
+            n = len(case.points)
+            out.append(
+                Row(case, r.method, r.betti, r.closed, r.used, n, r.boundary, {}, r.total, interpolates=r.interpolates)
+            )
+    return out
 
 
 HEADER = (
@@ -495,7 +449,7 @@ def main(argv: list[str] | None = None) -> int:
     for case in todo:
         new = run_crustview(case, modes)
         if a.peers:
-            new += [r for r in (run_cgal(case), run_poisson(case)) if r is not None]
+            new += run_peers(case)
         for r in new:
             print(line(r), flush=True)
         rows += new

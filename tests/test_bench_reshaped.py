@@ -78,3 +78,16 @@ def test_the_pair_truth_adds_the_objects_and_their_genera() -> None:
     assert (t["components"], t["genus"]) == (2, 3)
     top = analyse(faces, len(pts), 2)
     assert top.closed_manifold and tuple(top.betti) == (2, 6, 2)
+
+
+def test_pairs_none_means_no_pairs_and_a_bad_gap_is_one_line(tmp_path: Path, capsys) -> None:
+    """``--pairs none`` (its help's word for no pairs) was a ValueError traceback; now it means no pairs (so with
+    nothing else to make the run stops with argparse's one line), and a gap that is no number is one line too."""
+    from bench_reshaped import main
+
+    for pairs, said in (("none", "nothing to make"), ("1.5,x", "comma-separated numbers")):
+        with pytest.raises(SystemExit) as ended:
+            main(["--folder", str(tmp_path), "--pairs", pairs])
+        assert ended.value.code == 2
+        err = capsys.readouterr().err
+        assert said in err and "Traceback" not in err
