@@ -32,9 +32,12 @@ class DropStray:
         four into a tetrahedron).  Its samples go back to ``insert-sample``.
         """
         if getattr(self, "_strays_checked", None) == self.edits:
-            return 0  # nothing linked or unlinked since the last look, which left no stray
+            return 0  # nothing linked or unlinked since a look that dropped nothing
         dropped = self._drop_strays()
-        self._strays_checked = self.edits
+        if not dropped:
+            # only a look that dropped nothing vouches for the complex: a drop can free a facet that three
+            # simplices shared, join two components through it, and so make a third a stray of the larger one
+            self._strays_checked = self.edits
         return dropped
 
     def _drop_strays(self) -> int:
