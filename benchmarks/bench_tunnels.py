@@ -8,7 +8,7 @@ are (1, 1, 1, 1) and its one tunnel is the tube's circle, 2 pi ``tube`` long.  E
 Betti numbers), the Betti numbers, and every uncertain feature (kind and size in sampling radii; a
 ``dispute`` is resample-check's).  The closing line counts the wrong results that do not say so (no uncertain
 feature while claiming a closed manifold: "NOT a closed manifold" is a warning of its own) and the right ones
-with an uncertain feature.  The rows are those of the README's session 37 table; ``--r5`` runs each
+with an uncertain feature.  The rows are those of session 37's table (docs/history.md); ``--r5`` runs each
 case again turned into R^5 (a hypersurface of a 4-flat: labelled in the flat's coordinates since session 37).
 
 Run: ``python benchmarks/bench_tunnels.py [--r5]`` (about 2 minutes; with ``--r5`` twice that).
@@ -24,7 +24,7 @@ import numpy as np
 from crustview.core import reconstruct
 from crustview.core.samples.manifolds import s2_times_s1_points
 
-#: (samples, tube radius, noise over the tube radius, draws): the README's rows
+#: (samples, tube radius, noise over the tube radius, draws): session 37's rows
 CASES = [
     (1500, 0.4, 0.0, (1, 2)),
     (1500, 0.25, 0.0, (1, 2)),

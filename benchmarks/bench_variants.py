@@ -7,7 +7,7 @@ bounding-box size; and noise of 2 % and 3 % of the manifold's reach, seeds 1 and
 (the reach by Federer's formula on a dense sample, ``_reach.py``: the torus's tube
 radius 0.45, the sphere's radius 1, S^3's 1, the trefoil's 0.42, ...).  ``--draw D`` adds D to every
 seed (samples, noise): the same variants drawn again, as a judge with other draws sees them (draw 0, the
-default, is the table the README reports).  The
+default, is the table docs/history.md reports, session 39).  The
 default extraction (robust) runs on each.  A result is right when M_S is a
 closed manifold through every sample with the manifold's Z/2 Betti numbers.
 The closing line counts the wrong results without an uncertain feature (the

@@ -37,7 +37,7 @@ sphere of radius R sampled at sampling radius r = R / 4 in an even triangle
 mesh (spacing sqrt(3) r, faces of area 3 sqrt(3) r^2 / 4) has about
 16 pi / (3 sqrt(3)) * 4^2 = 155 faces; anything smaller is a fragment that noise
 or a thin rim cuts off, not an object.  The check never changes M_S.
-Measured (README, session 19): the right results of the public scans, clean
+Measured (docs/history.md, session 19): the right results of the public scans, clean
 and at 0.1 h, leave fragments of at most 33 faces; under 0.3 h noise
 7-10 % of all faces stand across and the cut finds nothing, fused or not.
 """

@@ -32,7 +32,7 @@ ROOTS = 12
 MAX_LOOPS = 256
 #: Vertices from which the spread roots' trees run beside the tree-cotree split and the roots' loops on both
 #: cores (below, in line: starting threads costs more than they save).  A scheduling choice, not part of the
-#: result, which is the same either way; measured in the README (issue 21, fourteenth round).
+#: result, which is the same either way; measured in docs/history.md (issue 21, fourteenth round).
 PARALLEL_MIN = 50_000
 
 
