@@ -275,32 +275,6 @@ def test_sculpt_takes_the_one_cell_at_a_time_steps(monkeypatch):
     assert held_some
 
 
-def test_steplog_small_and_large_steps_take_the_same_rows():
-    """A step's faces take unused T_S rows, the first of two equal faces only, whether the step is small (a
-    Python loop) or large (numpy's unique): the same log either way."""
-    from crustview.core.robust import steplog
-
-    rng = np.random.default_rng(5)
-    ts = np.sort(rng.choice(40, size=(60, 3), replace=True), axis=1)
-    ts = np.unique(ts[(ts[:, 0] < ts[:, 1]) & (ts[:, 1] < ts[:, 2])], axis=0)
-    steps = [ts[rng.choice(len(ts), size=k)] for k in (3, 5, 40, 2, 70, 4)]
-
-    def rows(few):
-        old = steplog._FEW
-        steplog._FEW = few
-        try:
-            log = StepLog(ts, 40)
-            for i, add in enumerate(steps):
-                log.step("a", (), add, steps[i - 1][:1] if i else np.zeros((0, 3), int), np.nan, "")
-            return [st.added for st in log.steps]
-        finally:
-            steplog._FEW = old
-
-    small, large = rows(10**6), rows(0)
-    assert small == large
-    assert any(len(set(r)) < len(r) or max(r) >= len(ts) for r in small)  # repeats took new rows
-
-
 def test_piece_counts_refuse_unsorted_stars():
     """The compiled piece counts find a star's cells by bisection: a star out of order is one clear
     error, not a wrong count."""

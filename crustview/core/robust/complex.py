@@ -67,8 +67,6 @@ class EditableComplex:
         #: vertices whose star changed since the last :meth:`unpinch_all` (where pinches can appear)
         self.suspects: set[int] = set()
         self.log: list[tuple[str, Simplex, tuple[int, ...], tuple[int, ...], float, str]] = []
-        #: simplices linked or unlinked so far (:meth:`_link`): an unchanged count is an unchanged complex
-        self.edits = 0
         #: the initial simplices as an array (rows of :attr:`simp` below its length never change)
         self.initial = np.zeros((0, 0), np.int64)
         self._bulk_insert(simplices, orient)
@@ -159,7 +157,6 @@ class EditableComplex:
     def _link(self, i: int, alive: bool) -> None:
         """Add simplex ``i`` to (or take it from) the index, its vertices' stars and its facets' lists."""
         self.alive[i] = alive
-        self.edits += 1
         s = self.simp[i]
         at = [(f, self._ids(f)) for f in _facets(s)]  # before i joins or leaves the stars
         if alive:

@@ -31,17 +31,6 @@ class DropStray:
         grew in an undersampled spot (three samples closed into a tiny loop,
         four into a tetrahedron).  Its samples go back to ``insert-sample``.
         """
-        if getattr(self, "_strays_checked", None) == self.edits:
-            return 0  # nothing linked or unlinked since a look that dropped nothing
-        dropped = self._drop_strays()
-        if not dropped:
-            # only a look that dropped nothing vouches for the complex: a drop can free a facet that three
-            # simplices shared, join two components through it, and so make a third a stray of the larger one
-            self._strays_checked = self.edits
-        return dropped
-
-    def _drop_strays(self) -> int:
-        """:meth:`drop_small_components` itself: one pass over the components."""
         ids = np.flatnonzero(np.fromiter(self.alive, dtype=bool, count=len(self.alive)))
         if len(ids) == 0:
             return 0

@@ -356,9 +356,7 @@ class LabelEditor:
         if not vs:
             return {}
         v = np.asarray(vs, np.int64)
-        lo, hi = self.star_ptr[v], self.star_ptr[v + 1]
-        count = hi - lo
-        cells = self.star_cells[np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count - lo, count)]
+        cells, count = _gather(self.star_ptr, self.star_cells, v)
         owner = np.repeat(v, count)
         keep = ~lab.outside[cells]
         cells, owner = cells[keep], owner[keep]
@@ -380,10 +378,8 @@ class LabelEditor:
         """The cells of ``cells`` (v's star) with exactly one face on M_S, the face opposite ``v``; in order."""
         if len(cells) == 0:
             return []
-        lo, hi = self.cell_ptr[cells], self.cell_ptr[cells + 1]
-        count = hi - lo
+        fs, count = _gather(self.cell_ptr, self.cell_faces, cells)
         owner = np.repeat(np.arange(len(cells)), count)
-        fs = self.cell_faces[np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count - lo, count)]
         on = self.cut[fs]
         on_count = np.bincount(owner[on], minlength=len(cells))
         # of a cell with one face on M_S, that face; whether it has v as a vertex
@@ -451,6 +447,13 @@ class LabelEditor:
             if not done:
                 break
         return steps
+
+
+def _gather(ptr: np.ndarray, data: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The entries of CSR ``rows`` (``data[ptr[r]:ptr[r + 1]]`` for each r, concatenated) and each row's count."""
+    lo = ptr[rows]
+    count = ptr[rows + 1] - lo
+    return data[np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count - lo, count)], count
 
 
 def face_sizes(points: np.ndarray, spacing: np.ndarray, triangles: np.ndarray) -> np.ndarray:

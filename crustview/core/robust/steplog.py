@@ -17,10 +17,6 @@ from ..util.rows import row_keys
 
 Face = tuple[int, ...]
 
-#: Faces per step up to which :meth:`StepLog._rows_for` picks each T_S row's first face in Python: a step of
-#: the local rules adds a handful of faces, where numpy's ``unique`` costs more than the loop (the same rows).
-_FEW = 32
-
 
 class StepLog:
     """Steps of a robust run as added and removed faces.
@@ -57,18 +53,10 @@ class StepLog:
             hit = self._sorted[j] == k
             cand = self._order[j]
             ok = hit & ~self.used_ts[cand]
-            # two equal faces in one step cannot both take the row: the first of them does
+            # two equal faces in one step cannot both take the row
+            _, first = np.unique(cand[ok], return_index=True)
             take = np.zeros(len(faces), bool)
-            if len(faces) <= _FEW:
-                seen: set[int] = set()
-                for i in np.flatnonzero(ok).tolist():
-                    r = int(cand[i])
-                    if r not in seen:
-                        seen.add(r)
-                        take[i] = True
-            else:
-                _, first = np.unique(cand[ok], return_index=True)
-                take[np.flatnonzero(ok)[first]] = True
+            take[np.flatnonzero(ok)[first]] = True
             rows[take] = cand[take]
             self.used_ts[cand[take]] = True
         new = rows < 0
