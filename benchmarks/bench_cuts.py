@@ -4,9 +4,11 @@ For every closed mesh of ``../shared/data/scans`` and ``../shared/data/scans2`` 
 ``--only``) and, with ``--noise``, its noisy copies (0.1 h and 0.3 h, as ``bench_scans.py`` makes them), the
 robust extraction is run and every cut of the rule ``cut-handle`` is listed: its loop in sampling radii,
 whether that is in the band where the cut stays uncertain, how it was cut (``fill``: outside cells made
-inside; ``cut``: inside cells made outside), its cells, their labelling confidence, and whether the handle
-was *real*: whether the removed loop (its samples are the mesh's own vertices) is non-trivial in the Z/2
-homology of the mesh's own faces.  The last lines give, per kind, the range of the loops in the band.
+inside; ``cut``: inside cells made outside), its cells, their labelling confidence, how far the faces it
+added reach from the loop's centroid over the loop's reach (``cut_handle.reach``; the sweep behind
+``CUT_REACH``), and whether the handle was *real*: whether the removed loop (its samples are the mesh's own
+vertices) is non-trivial in the Z/2 homology of the mesh's own faces.  The last lines give the largest reach
+and, per kind, the range of the loops in the band.
 
 The test of a loop: a spanning tree of the mesh's edges and a spanning tree of the dual graph through the
 other edges (tree-cotree) leave 2g edges; each, with the dual tree's path between its two faces, is a
@@ -14,7 +16,12 @@ cycle of the dual graph, and the mesh edges it crosses are a cocycle.  A loop is
 crosses some such cocycle an odd number of times (consecutive loop samples that are not a mesh edge are
 joined by a shortest path of the mesh).
 
-Run: ``python benchmarks/bench_cuts.py [--only NAME ...] [--noise [--seed N]]``; about a minute per closed mesh.
+With ``--decimate SHARE`` the meshes are first decimated as ``bench_scans.py --decimate`` does (long thin
+triangles where they are flat); the true mesh is then the decimated one.  With ``--no-reach`` the rule runs
+without its reach bound (``CUT_REACH`` set to infinity), to see the cuts the bound refuses.
+
+Run: ``python benchmarks/bench_cuts.py [--only NAME ...] [--noise [--seed N]] [--decimate SHARE] [--no-reach]``;
+about a minute per closed mesh.
 """
 
 from __future__ import annotations
@@ -32,9 +39,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_scans import FOLDERS, cases  # noqa: E402
 
 import crustview.core.robust.cells as cells  # noqa: E402
+import crustview.core.robust.cut_handle as cut_handle  # noqa: E402
 from crustview.core import reconstruct  # noqa: E402
 from crustview.core.analysis.features import LOOP_MIN  # noqa: E402
-from crustview.core.robust.cut_handle import CUT_BELOW  # noqa: E402
+from crustview.core.robust.cut_handle import CUT_BELOW, reach  # noqa: E402
 from crustview.io import read_mesh  # noqa: E402
 
 
@@ -119,37 +127,51 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--noise", action="store_true", help="also the noisy copies at 0.1 h and 0.3 h")
     ap.add_argument("--seed", type=int, default=0, help="noisy.py's seed: 0 the public draws, others held out")
     ap.add_argument("--noisy-dir", type=Path, help="cache of noisy copies (default benchmarks/.noisy[-sSEED])")
+    ap.add_argument("--decimate", type=float, metavar="SHARE", help="decimate each mesh to this share of its faces")
+    ap.add_argument("--no-reach", action="store_true", help="run cut-handle without its reach bound")
     args = ap.parse_args(argv)
+    if args.decimate is not None and not 0 < args.decimate < 1:
+        ap.error("--decimate takes a share in (0, 1)")
+    if args.no_reach:
+        cut_handle.CUT_REACH = float("inf")
     here = Path(__file__).resolve().parent
     noisy_dir = args.noisy_dir or (here / (".noisy" if args.seed == 0 else f".noisy-s{args.seed}"))
     seen: list = []
     run_cuts = cells.cut_handles
 
-    def spy(ed, points):
-        out = run_cuts(ed, points)
-        seen.append((ed.lab, out))
+    def spy(ed, points, cancel=None):
+        out = run_cuts(ed, points, cancel)
+        seen.append((ed.lab, points, out))
         return out
 
     cells.cut_handles = spy
     real_band, false_band = [], []
-    print("| file | loop (radii) | band | how | cells | mean confidence | real on the mesh |")
-    print("|---|---|---|---|---|---|---|")
-    todo = [
-        c for c in cases(args.noise, set(args.only) if args.only else None, noisy_dir, args.seed) if c.truth["closed"]
-    ]
+    print("| file | loop (radii) | band | how | cells | mean confidence | reach | real on the mesh |")
+    print("|---|---|---|---|---|---|---|---|")
+    only = set(args.only) if args.only else None
+    todo = [c for c in cases(args.noise, only, noisy_dir, args.seed, decimate=args.decimate) if c.truth["closed"]]
+    reached: list[float] = []
     meshes: dict[str, Cocycles] = {}
     for case in todo:
         stem = case.name.split("-n")[0]
         if stem not in meshes:
-            path = next(
-                f for folder in FOLDERS for f in folder.glob(stem + ".*") if f.suffix in (".off", ".obj", ".ply")
-            )
-            mesh = read_mesh(path)
-            meshes[stem] = Cocycles(len(mesh.points), np.asarray(mesh.simplices(2), np.int64))
+            if case.tris is not None:  # the case's own mesh (the decimated one where it was decimated)
+                meshes[stem] = Cocycles(len(case.points), np.asarray(case.tris, np.int64))
+            else:
+                path = next(
+                    f for folder in FOLDERS for f in folder.glob(stem + ".*") if f.suffix in (".off", ".obj", ".ply")
+                )
+                mesh = read_mesh(path)
+                meshes[stem] = Cocycles(len(mesh.points), np.asarray(mesh.simplices(2), np.int64))
         seen.clear()
         rec = reconstruct(case.points, 2, resample=False)
-        for lab, result in seen:
+        for lab, points, result in seen:
             for cut in result.cuts:
+                ring = points[cut.feature.vertices]
+                vs = np.unique(lab.faces[cut.added])
+                vs = vs[vs < lab.n]
+                far = float(np.linalg.norm(points[vs] - ring.mean(axis=0), axis=1).max()) if len(vs) else 0.0
+                reached.append(far / reach(cut.feature, ring))
                 loop = [int(v) for v in rec.point_input[cut.feature.vertices]]
                 real = meshes[stem].nontrivial(loop)
                 said = {True: "yes", False: "no", None: "no (the loop joins parts of the mesh)"}[real]
@@ -161,11 +183,13 @@ def main(argv: list[str] | None = None) -> int:
                 conf = float(lab.confidence[cut.cells].mean())
                 print(
                     f"| {case.name} | {size:.2f} | {'yes' if band else 'no'} | {cut.how} | {len(cut.cells)} | "
-                    f"{conf:.2f} | {said} |",
+                    f"{conf:.2f} | {reached[-1]:.2f} | {said} |",
                     flush=True,
                 )
     cells.cut_handles = run_cuts
     print()
+    if reached:
+        print(f"cuts: {len(reached)}; their added faces reach at most {max(reached):.2f} times the loop's reach")
     for kind, sizes in (("real handles cut in the band", real_band), ("false handles cut in the band", false_band)):
         if sizes:
             print(f"{kind}: {len(sizes)}, loops {min(sizes):.2f}-{max(sizes):.2f} radii")

@@ -291,12 +291,13 @@ def test_a_tunnel_the_loop_sets_miss_is_closed_by_a_ball():
     b0 = ch._components(lab.faces[ed.cut], rec.n)
     feat = short[0]
     loop = [int(v) for v in feat.vertices.tolist()]
-    # neither loop set removes it, in either direction
+    # neither loop set removes it, in either direction, even with no bound on how far its faces reach
+    centre = rec.points[loop].mean(axis=0)
     for cells in (ch._fan(ed, loop), ch._star(ed, loop)):
         for side in (False, True):
             sel = cells[(lab.inside[cells] == side) & ~lab.outside[cells]]
             if len(sel):
-                assert ch._trial(ed, local, sel, rec.n, b0) is None
+                assert ch._trial(ed, local, sel, rec.n, b0, rec.points, centre, np.inf) is None
     before = _top(ed, rec.n)
     cut = ch._try(ed, local, feat, rec.n, b0, rec.points)
     assert cut is not None and cut.around.startswith("a ball")
@@ -382,3 +383,38 @@ def test_the_joined_surface_is_judged_again():
     last_join = max(i for i, r in enumerate(rules) if r == "join-parts")
     assert "cut-handle" in rules[last_join:]  # (a join's own cuts are logged after it too: the Betti numbers decide)
     assert analyse(rec.extraction.complex_at(rec.extraction.n_steps), rec.n, 2).betti == (1, 2, 1)
+
+
+def test_a_loops_reach_is_its_length_or_the_shortest_resolved_loop():
+    """On paper: a unit square's loop is 4 long; at 4 sampling radii (unit 1) it reaches LOOP_MIN = 2 pi
+    units, at 8 radii (unit 1/2) its own length 4 (2 pi / 2 is less)."""
+    from crustview.core.robust.cut_handle import reach
+
+    ring = np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]])
+    loop = lambda size: type("F", (), {"size_spacings": size})()  # noqa: E731
+    assert reach(loop(4.0), ring) == pytest.approx(LOOP_MIN)
+    assert reach(loop(8.0), ring) == pytest.approx(4.0)
+
+
+def test_a_cut_whose_faces_reach_beyond_the_loop_is_refused(knight, monkeypatch):
+    """The knight's cuts add faces within CUT_REACH times their loop's reach of its centroid; with the bound
+    set below the nearest any of them reaches, every trial is refused and no handle is cut."""
+    import crustview.core.robust.cut_handle as ch
+
+    rec, lab, ed = _editor(knight)
+    out = cut_handles(ed, rec.points)
+    assert len(out.cuts) >= 2
+    reached = []
+    for c in out.cuts:
+        ring = rec.points[c.feature.vertices]
+        vs = np.unique(lab.faces[c.added])
+        vs = vs[vs < rec.n]
+        far = np.linalg.norm(rec.points[vs] - ring.mean(axis=0), axis=1).max()
+        reached.append(far / ch.reach(c.feature, ring))
+    assert max(reached) <= ch.CUT_REACH
+    monkeypatch.setattr(ch, "CUT_REACH", 0.5 * min(reached))
+    rec, lab, ed = _editor(knight)
+    before = lab.inside.copy()
+    again = cut_handles(ed, rec.points)
+    assert again.cuts == [] and np.array_equal(lab.inside, before)
+    assert len(again.left) >= 2  # the short handles are still there, left for the report

@@ -78,6 +78,14 @@ BALL_RADII = (math.sqrt(0.5), 1.0, math.sqrt(2.0), 2.0)
 #: Rounds of local repair and sculpting after each trial (as in :data:`.label_repair.REPAIR_ROUNDS`,
 #: a pinch can move to a neighbour; the trial is refused when one is left after these).
 LOCAL_ROUNDS = 8
+#: A trial is refused when a face it adds has a sample farther from the loop's centroid than this many
+#: times the loop's reach (:func:`reach`).  The reach bounds a cut that stays at the handle (its caps and
+#: the cells across it); repair and sculpting re-form faces a ring further, hence the margin of two.  The
+#: sweep (``benchmarks/bench_cuts.py --reach``, the public scans clean and noisy and decimated to 30 %):
+#: 598 kept cuts reach at most 1.47 times the reach; two reach 4.0 and 4.5 (a 43-spacing inside cell of
+#: the decimated feline at 0.1 h, flipped by sculpting, left a tent of three faces 10 spacings off the
+#: surface; the octopus's tentacle, wrong either way).
+CUT_REACH = 2.0
 
 
 @dataclass
@@ -308,6 +316,8 @@ def _try(ed: LabelEditor, local: _Local, feat: Feature, n: int, b0: int, points:
     loop = [int(v) for v in feat.vertices.tolist()]
     tried: set[bytes] = set()
     sets = [_fan(ed, loop), _star(ed, loop), *_balls(ed, loop, points)]
+    centre = points[loop].mean(axis=0)
+    far = CUT_REACH * reach(feat, points[loop])
     names = ["its edges", "its vertices", *(f"a ball of {f:.2g} times its radius" for f in BALL_RADII)]
     for cells, around in zip(sets, names, strict=True):
         key = cells.tobytes()
@@ -319,7 +329,7 @@ def _try(ed: LabelEditor, local: _Local, feat: Feature, n: int, b0: int, points:
             sel = cells[(lab.inside[cells] == side) & ~lab.outside[cells]]
             if len(sel) == 0:
                 continue
-            trial = _trial(ed, local, sel, n, b0)
+            trial = _trial(ed, local, sel, n, b0, points, centre, far)
             if trial is not None and (best is None or trial[0] < best[0]):
                 best = (trial[0], how, trial[1])
         if best is not None:
@@ -333,8 +343,20 @@ def _try(ed: LabelEditor, local: _Local, feat: Feature, n: int, b0: int, points:
     return None
 
 
-def _trial(ed: LabelEditor, local: _Local, sel: np.ndarray, n: int, b0: int) -> tuple[float, list] | None:
-    """Flip ``sel``, repair and sculpt around it, judge, and undo; (cost, flips) when it removes a handle."""
+def _trial(
+    ed: LabelEditor,
+    local: _Local,
+    sel: np.ndarray,
+    n: int,
+    b0: int,
+    points: np.ndarray,
+    centre: np.ndarray,
+    far: float,
+) -> tuple[float, list] | None:
+    """Flip ``sel``, repair and sculpt around it, judge, and undo; (cost, flips) when it removes a handle.
+
+    The trial must also keep the faces it adds within ``far`` of ``centre`` (:data:`CUT_REACH`).
+    """
     lab = ed.lab
     inside0 = lab.inside.copy()
     cut0 = ed.cut.copy()
@@ -364,11 +386,34 @@ def _trial(ed: LabelEditor, local: _Local, sel: np.ndarray, n: int, b0: int) -> 
             near = np.unique(np.concatenate([ed.faces_of(ed.star(v)) for v in rv]))
             before = lab.faces[near[cut0[near]]]
             after = lab.faces[near[ed.cut[near]]]
-            if _euler(after, n, region) > _euler(before, n, region) and _components(lab.faces[ed.cut], n) == b0:
+            added = lab.faces[near[ed.cut[near] & ~cut0[near]]]
+            ok = not _beyond(added, n, points, centre, far)
+            if ok and _euler(after, n, region) > _euler(before, n, region) and _components(lab.faces[ed.cut], n) == b0:
                 result = (float(lab.confidence[allc].sum()), flipped)
     lab.inside[:] = inside0
     ed.cut[:] = cut0
     return result
+
+
+def reach(feat: Feature, ring: np.ndarray) -> float:
+    """How far from its centroid a cut of the loop ``ring`` (the feature's samples) may change M_S.
+
+    The loop's length L: the loop bounds the handle's cross-section, and every point of a closed curve of
+    length L, and of a disc spanning it, lies within L/2 of its centroid; the cells across the handle join
+    samples of its surface next to the loop, within another L/2.  A loop shorter than LOOP_MIN (below what
+    any eps < 1 sample resolves) reaches as far as the shortest loop the sample resolves, LOOP_MIN sampling
+    radii: its cells are the surface's own, as large as its spacing.
+    """
+    length = float(np.linalg.norm(ring - np.roll(ring, 1, axis=0), axis=1).sum())
+    unit = length / feat.size_spacings if feat.size_spacings > 0 else 0.0
+    return max(length, LOOP_MIN * unit)
+
+
+def _beyond(faces: np.ndarray, n: int, points: np.ndarray, centre: np.ndarray, far: float) -> bool:
+    """Whether a sample of ``faces`` lies farther than ``far`` from ``centre`` (bounding points ignored)."""
+    vs = np.unique(faces)
+    vs = vs[vs < n]
+    return bool(len(vs) and (np.linalg.norm(points[vs] - centre, axis=1) > far).any())
 
 
 def _was_on(ed: LabelEditor, inside0: np.ndarray, v: int) -> bool:
