@@ -418,3 +418,31 @@ def test_a_cut_whose_faces_reach_beyond_the_loop_is_refused(knight, monkeypatch)
     again = cut_handles(ed, rec.points)
     assert again.cuts == [] and np.array_equal(lab.inside, before)
     assert len(again.left) >= 2  # the short handles are still there, left for the report
+
+
+def test_the_reach_bound_is_on_the_faces_a_trial_adds(knight):
+    """The knight's first cut, tried again from the same labels: it passes when the bound lies just beyond the
+    farthest sample of the faces it adds, and is refused just short of it."""
+    import crustview.core.robust.cut_handle as ch
+
+    rec, lab, ed = _editor(knight)
+    out = cut_handles(ed, rec.points)
+    assert out.cuts
+    c = out.cuts[0]
+    again, _, probe = _editor(knight)  # the labels before the cut (the same run: the same cells)
+    assert np.array_equal(again.points, rec.points)
+    probe.cut = probe.lab.cut()
+    loop = [int(v) for v in c.feature.vertices.tolist()]
+    centre = rec.points[loop].mean(axis=0)
+    added = np.unique(probe.lab.faces[c.added])
+    d_added = np.linalg.norm(rec.points[added[added < rec.n]] - centre, axis=1).max()
+    sets = dict(zip(["its edges", "its vertices"], [ch._fan(probe, loop), ch._star(probe, loop)], strict=True))
+    sets.update(zip((f"a ball of {f:.2g} times its radius" for f in ch.BALL_RADII), ch._balls(probe, loop, rec.points)))
+    cells = sets[c.around]
+    side = c.how == "cut"
+    sel = cells[(probe.lab.inside[cells] == side) & ~probe.lab.outside[cells]]
+    local = ch._Local(probe)
+    b0 = ch._components(probe.lab.faces[probe.cut], rec.n)
+    args = (probe, local, sel, rec.n, b0, rec.points, centre)
+    assert ch._trial(*args, d_added * (1 + 1e-9)) is not None
+    assert ch._trial(*args, d_added * (1 - 1e-9)) is None

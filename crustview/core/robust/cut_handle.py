@@ -79,12 +79,13 @@ BALL_RADII = (math.sqrt(0.5), 1.0, math.sqrt(2.0), 2.0)
 #: a pinch can move to a neighbour; the trial is refused when one is left after these).
 LOCAL_ROUNDS = 8
 #: A trial is refused when a face it adds has a sample farther from the loop's centroid than this many
-#: times the loop's reach (:func:`reach`).  The reach bounds a cut that stays at the handle (its caps and
-#: the cells across it); repair and sculpting re-form faces a ring further, hence the margin of two.  The
-#: sweep (``benchmarks/bench_cuts.py --reach``, the public scans clean and noisy and decimated to 30 %):
-#: 598 kept cuts reach at most 1.47 times the reach; two reach 4.0 and 4.5 (a 43-spacing inside cell of
-#: the decimated feline at 0.1 h, flipped by sculpting, left a tent of three faces 10 spacings off the
-#: surface; the octopus's tentacle, wrong either way).
+#: times the loop's scale (:func:`reach`).  An empirical bound, not a theorem: a Delaunay cell can be of
+#: any length, and a cut through cells far longer than the handle's cross-section is what it refuses.  The
+#: sweep (``benchmarks/bench_cuts.py --noise --no-reach``: the public scans clean and at the public noise
+#: draw; and with ``--decimate 0.3 --seed 44``, decimated to 30 % and at held-out draw 44): 598 kept cuts
+#: reach at most 1.47 times the scale; two reach 4.0 and 4.5 (a 43-spacing inside cell of the decimated
+#: feline at 0.1 h, flipped by sculpting, left a tent of three faces 10 spacings off the surface; the
+#: octopus's tentacle, wrong either way).  2 lies between them.
 CUT_REACH = 2.0
 
 
@@ -396,13 +397,15 @@ def _trial(
 
 
 def reach(feat: Feature, ring: np.ndarray) -> float:
-    """How far from its centroid a cut of the loop ``ring`` (the feature's samples) may change M_S.
+    """The scale of a cut of the loop ``ring`` (the feature's samples): its length L, or LOOP_MIN units.
 
-    The loop's length L: the loop bounds the handle's cross-section, and every point of a closed curve of
-    length L, and of a disc spanning it, lies within L/2 of its centroid; the cells across the handle join
-    samples of its surface next to the loop, within another L/2.  A loop shorter than LOOP_MIN (below what
-    any eps < 1 sample resolves) reaches as far as the shortest loop the sample resolves, LOOP_MIN sampling
-    radii: its cells are the surface's own, as large as its spacing.
+    Every point of a closed curve of length L lies within L/2 of its centroid, so L is the size of the
+    handle the loop goes round; :data:`CUT_REACH` times it bounds how far a cut may change M_S.  A loop
+    shorter than LOOP_MIN sampling radii (below what any eps < 1 sample resolves) has the scale of the
+    shortest loop the sample resolves, LOOP_MIN radii: its cells are the surface's own, as large as its
+    spacing.  L and the centroid are those of the loop as the basis search walks it (two tree paths from
+    one root: the root comes twice, and a stem both paths share is walked twice, which makes L longer and
+    the bound looser, up to 1.44 times on the decimated knight's loops).
     """
     length = float(np.linalg.norm(ring - np.roll(ring, 1, axis=0), axis=1).sum())
     unit = length / feat.size_spacings if feat.size_spacings > 0 else 0.0
