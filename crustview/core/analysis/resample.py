@@ -29,7 +29,12 @@ handles, each checked handle with no handle loop of the resample nearby (loop
 centroids within :data:`MATCH` times the sum of the two loops' radii: loops
 around the same tube) is made uncertain, with the reason.  A resample that
 is not a closed manifold, or has as many handles, says nothing against them.
-The check only adds doubt: it never changes M_S, and a handle it leaves
+On an open M_S (a surface with boundary: an open scan; since session 44) the
+same, with a manifold resample in place of a closed one and handles counted as
+handle loops, since an open surface's b1 counts its holes too: the elephant
+with a hole cut into it, at 0.1 h, came out open with a false bridge whose
+loop measured 20.6 radii, sure, because the check looked at closed results
+only.  The check only adds doubt: it never changes M_S, and a handle it leaves
 alone stays as it was.  Its cost is one more reconstruction, paid only by
 results with a handle in the checked band.
 """
@@ -72,6 +77,11 @@ def checked(features: list[Feature]) -> list[int]:
     ]
 
 
+def _handle_loops(features: list[Feature]) -> int:
+    """The handle loops of M_S among ``features`` (not removed, not disputed: a dispute marks a place)."""
+    return sum(f.kind == "handle" and not f.removed and not f.disputed for f in features)
+
+
 def _loop(points: np.ndarray, f: Feature) -> tuple[np.ndarray, float]:
     """A handle loop's centroid and radius (length / 2 pi) in the samples' frame."""
     q = points[f.vertices]
@@ -84,8 +94,13 @@ def resample_check(
     features: list[Feature],
     betti: tuple[int, ...],
     run: Callable[[np.ndarray], Resampled],
+    closed: bool = True,
 ) -> tuple[list[Feature], str | None]:
     """The features, with the checked handles a resample does not show made uncertain; and a message.
+
+    On an open M_S (a surface with boundary: an open scan), ``closed=False``: the run's second value then
+    says whether the resample is a manifold (closed or with boundary), and handles are counted as the
+    handle loops of the features (an open surface's b1 counts its holes too, which a resample may change).
 
     Parameters
     ----------
@@ -98,6 +113,8 @@ def resample_check(
     run : callable
         Reconstructs the kept samples the same way (without this check) and returns
         :data:`Resampled`.
+    closed : bool
+        Whether M_S is a closed manifold (else a manifold with boundary).
 
     Returns
     -------
@@ -110,12 +127,15 @@ def resample_check(
     if not todo:
         return features, None
     keep = np.random.default_rng(RESAMPLE_SEED).random(len(points)) < RESAMPLE_KEEP
-    sub_betti, sub_closed, sub_features, sub_points = run(points[keep])
-    handles, sub_handles = sum(betti[1:-1]), sum(sub_betti[1:-1])
+    sub_betti, sub_ok, sub_features, sub_points = run(points[keep])
+    if closed:
+        handles, sub_handles, count = sum(betti[1:-1]), sum(sub_betti[1:-1]), "b1"
+    else:
+        handles, sub_handles, count = _handle_loops(features), _handle_loops(sub_features), "handle loops"
     lengths = ", ".join(f"{features[i].size_spacings:.3g}" for i in todo)
     head = f"resample-check: {len(todo)} handle loop(s) of {lengths} sampling radii (under {LOOP_CHECKED:.3g})"
-    if not sub_closed or sub_handles >= handles:
-        what = "not a closed manifold" if not sub_closed else f"b1 = {sub_handles}"
+    if not sub_ok or sub_handles >= handles:
+        what = ("not a closed manifold" if closed else "not a manifold") if not sub_ok else f"{count} = {sub_handles}"
         return features, f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples gives {what}: kept"
     loops = [_loop(sub_points, f) for f in sub_features if f.kind == "handle" and not f.removed]
     out = list(features)
@@ -132,8 +152,8 @@ def resample_check(
             "samples are left out, so particular samples, noise perhaps, make it)",
         )
     return out, (
-        f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples has b1 = {sub_handles} where this "
-        f"one has {handles}"
+        f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples has {count} = {sub_handles} where "
+        f"this one has {handles}"
         + (
             f": {gone} of these loops {'is' if gone == 1 else 'are'} not there, made uncertain"
             if gone
