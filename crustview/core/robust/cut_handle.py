@@ -82,10 +82,10 @@ LOCAL_ROUNDS = 8
 #: times the loop's scale (:func:`reach`).  An empirical bound, not a theorem: a Delaunay cell can be of
 #: any length, and a cut through cells far longer than the handle's cross-section is what it refuses.  The
 #: sweep (``benchmarks/bench_cuts.py --noise --no-reach``: the public scans clean and at the public noise
-#: draw; and with ``--decimate 0.3 --seed 44``, decimated to 30 % and at held-out draw 44): 598 kept cuts
-#: reach at most 1.47 times the scale; two reach 4.0 and 4.5 (a 43-spacing inside cell of the decimated
+#: draw; and with ``--decimate 0.3 --seed 44``, decimated to 30 % and at held-out draw 44): of 334 cuts,
+#: 331 reach at most 1.12 times the scale; three reach 4.0 and 4.5 (a 43-spacing inside cell of the decimated
 #: feline at 0.1 h, flipped by sculpting, left a tent of three faces 10 spacings off the surface; the
-#: octopus's tentacle, wrong either way).  2 lies between them.
+#: octopus's tentacle twice, wrong either way).  2 lies between them.
 CUT_REACH = 2.0
 
 
