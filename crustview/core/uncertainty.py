@@ -168,8 +168,8 @@ def result_features(
         # (not on the paper's own result: its guarantees hold, and at 300,000 samples the check costs 3 s)
         found = joined_objects(rec.points / scale, manifold, rec.normals[:, :, 0], cells, feats, adjacency, voids)
         feats += [replace(f, location=f.location * scale) for f in found]
-    # closed, or open without a pinch or a fin (an open scan: session 44, a false bridge of 20.6 radii on the
-    # elephant with a hole cut into it, at 0.1 h, was checked nowhere)
+    # closed, or open without a fin (an open scan: session 44, a false bridge of 20.6 radii on the elephant
+    # with a hole cut into it, at 0.1 h, was checked nowhere; the report counts pinches on closed complexes only)
     surface = topo.closed_manifold or (topo.nonmanifold_faces == 0 and topo.singular_vertices == 0)
     if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and surface and _beyond(counts):
         t1 = time.perf_counter()
@@ -274,8 +274,8 @@ def _resampled(
 ) -> Resampled:
     """The reconstruction of some of the samples, the same way (``resample-check``'s run, without the check).
 
-    Its second value: whether it is a closed manifold (``closed``), else whether it is a manifold, closed or
-    with boundary.
+    Its second value: whether it is a closed manifold (``closed``), else whether it is a surface without fins
+    (no face in three or more triangles), closed or with boundary.
     """
     r = _rerun(sub, rec, test, theta, cancel, report)
     t = r.topology

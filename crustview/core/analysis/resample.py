@@ -63,8 +63,9 @@ RESAMPLE_SEED = 0
 #: sum of their radii (length / 2 pi): a meridian moved along a tube stays within a few tube radii.
 MATCH = 2.0
 
-#: A run of the reconstruction on the kept samples: their Betti numbers, whether M_S is a closed
-#: manifold, its features, and the samples its features index.
+#: A run of the reconstruction on the kept samples: their Betti numbers, whether M_S is a closed manifold
+#: (for an open M_S's check: a surface without fins, closed or not), its features, and the samples its
+#: features index.
 Resampled = tuple[tuple[int, ...], bool, list[Feature], np.ndarray]
 
 
@@ -80,6 +81,11 @@ def checked(features: list[Feature]) -> list[int]:
 def _handle_loops(features: list[Feature]) -> int:
     """The handle loops of M_S among ``features`` (not removed, not disputed: a dispute marks a place)."""
     return sum(f.kind == "handle" and not f.removed and not f.disputed for f in features)
+
+
+def _uncounted(features: list[Feature]) -> bool:
+    """Whether the handles were too many to list (``features()``'s one stand-in handle without samples)."""
+    return any(f.kind == "handle" and not f.removed and len(f.vertices) == 0 for f in features)
 
 
 def _loop(points: np.ndarray, f: Feature) -> tuple[np.ndarray, float]:
@@ -99,8 +105,10 @@ def resample_check(
     """The features, with the checked handles a resample does not show made uncertain; and a message.
 
     On an open M_S (a surface with boundary: an open scan), ``closed=False``: the run's second value then
-    says whether the resample is a manifold (closed or with boundary), and handles are counted as the
-    handle loops of the features (an open surface's b1 counts its holes too, which a resample may change).
+    says whether the resample is a surface without fins (closed or with boundary; the topology report
+    counts pinches on closed complexes only), ``betti`` is not used, and handles are counted as the handle
+    loops of the features (an open surface's b1 counts its holes too, which a resample may change).  A side
+    with more loops than the features list (their one stand-in without samples) says nothing.
 
     Parameters
     ----------
@@ -109,7 +117,7 @@ def resample_check(
     features : list of Feature
         The result's features (:func:`~.features.features`, with the driver's additions).
     betti : tuple of int
-        The result's Betti numbers.
+        The result's Betti numbers (closed M_S only).
     run : callable
         Reconstructs the kept samples the same way (without this check) and returns
         :data:`Resampled`.
@@ -128,14 +136,18 @@ def resample_check(
         return features, None
     keep = np.random.default_rng(RESAMPLE_SEED).random(len(points)) < RESAMPLE_KEEP
     sub_betti, sub_ok, sub_features, sub_points = run(points[keep])
-    if closed:
-        handles, sub_handles, count = sum(betti[1:-1]), sum(sub_betti[1:-1]), "b1"
-    else:
-        handles, sub_handles, count = _handle_loops(features), _handle_loops(sub_features), "handle loops"
     lengths = ", ".join(f"{features[i].size_spacings:.3g}" for i in todo)
     head = f"resample-check: {len(todo)} handle loop(s) of {lengths} sampling radii (under {LOOP_CHECKED:.3g})"
+    if closed:
+        handles, sub_handles = sum(betti[1:-1]), sum(sub_betti[1:-1])
+        said_sub = f"b1 = {sub_handles}"
+    else:
+        if _uncounted(features) or _uncounted(sub_features):
+            return features, f"{head}; too many loops to count in the reconstruction of {RESAMPLE_KEEP:.0%}: kept"
+        handles, sub_handles = _handle_loops(features), _handle_loops(sub_features)
+        said_sub = f"{sub_handles} handle loops"
     if not sub_ok or sub_handles >= handles:
-        what = ("not a closed manifold" if closed else "not a manifold") if not sub_ok else f"{count} = {sub_handles}"
+        what = ("not a closed manifold" if closed else "a surface with fins") if not sub_ok else said_sub
         return features, f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples gives {what}: kept"
     loops = [_loop(sub_points, f) for f in sub_features if f.kind == "handle" and not f.removed]
     out = list(features)
@@ -152,8 +164,8 @@ def resample_check(
             "samples are left out, so particular samples, noise perhaps, make it)",
         )
     return out, (
-        f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples has {count} = {sub_handles} where "
-        f"this one has {handles}"
+        f"{head}; the reconstruction of {RESAMPLE_KEEP:.0%} of the samples has {said_sub} where this one has "
+        f"{handles}"
         + (
             f": {gone} of these loops {'is' if gone == 1 else 'are'} not there, made uncertain"
             if gone
