@@ -156,8 +156,7 @@ def result_features(
             for f in hidden_parts(rec.points / scale, manifold, rec.normals[:, :, 0], feats)
         ]
         # and handles whose loops only such faces carry (two contacts between the same two parts)
-        manifold_ok = topo.closed_manifold or (topo.nonmanifold_faces == 0 and topo.singular_vertices == 0)
-        if manifold_ok and any(f.kind == "handle" and not f.removed for f in feats):
+        if _surface(topo) and any(f.kind == "handle" and not f.removed for f in feats):
             bridged = bridged_handles(rec.points / scale, manifold, rec.normals[:, :, 0], feats)
             feats = [
                 replace(f, uncertain=True, reason=f"{f.reason} ({BRIDGED})") if i in bridged else f
@@ -169,9 +168,8 @@ def result_features(
         found = joined_objects(rec.points / scale, manifold, rec.normals[:, :, 0], cells, feats, adjacency, voids)
         feats += [replace(f, location=f.location * scale) for f in found]
     # closed, or open without a fin (an open scan: session 44, a false bridge of 20.6 radii on the elephant
-    # with a hole cut into it, at 0.1 h, was checked nowhere; the report counts pinches on closed complexes only)
-    surface = topo.closed_manifold or (topo.nonmanifold_faces == 0 and topo.singular_vertices == 0)
-    if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and surface and _beyond(counts):
+    # with a hole cut into it, at 0.1 h, was checked nowhere)
+    if resample and mode == "robust" and (rec.k, rec.d) == (3, 2) and _surface(topo) and _beyond(counts):
         t1 = time.perf_counter()
         closed = topo.closed_manifold
         feats, said = resample_check(
@@ -259,6 +257,14 @@ def _beyond(counts: dict) -> bool:
     return any(rule not in (RULE_PRUNE, RULE_RESOLVE) and c["steps"] for rule, c in counts.items())
 
 
+def _surface(topo: TopologyReport) -> bool:
+    """Whether M_S is a surface without fins (no face in three or more simplices), closed or with boundary.
+
+    The topology report counts pinched vertices on closed complexes only, so an open M_S with a pinch passes.
+    """
+    return topo.closed_manifold or (topo.nonmanifold_faces == 0 and topo.singular_vertices == 0)
+
+
 #: The stages of a run in order, for the progress of ``resample-check``'s run (shown as the topology stage).
 _STAGES = ("prepare", "delaunay", "normals", "candidates", "extraction", "topology")
 
@@ -279,8 +285,7 @@ def _resampled(
     """
     r = _rerun(sub, rec, test, theta, cancel, report)
     t = r.topology
-    ok = t.closed_manifold if closed else t.nonmanifold_faces == 0 and t.singular_vertices == 0 and t.n_simplices > 0
-    return t.betti, ok, r.features, r.points
+    return t.betti, t.closed_manifold if closed else _surface(t) and t.n_simplices > 0, r.features, r.points
 
 
 def _resampled_complex(

@@ -30,7 +30,7 @@ centroids within :data:`MATCH` times the sum of the two loops' radii: loops
 around the same tube) is made uncertain, with the reason.  A resample that
 is not a closed manifold, or has as many handles, says nothing against them.
 On an open M_S (a surface with boundary: an open scan; since session 44) the
-same, with a manifold resample in place of a closed one and handles counted as
+same, with a resample without fins in place of a closed one and handles counted as
 handle loops, since an open surface's b1 counts its holes too: the elephant
 with a hole cut into it, at 0.1 h, came out open with a false bridge whose
 loop measured 20.6 radii, sure, because the check looked at closed results
