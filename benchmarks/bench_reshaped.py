@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 from _folders import folder_truth
-from bench_scans import HEADER, Case, _holes_under_a_spacing, _noisy, line, run_crustview, summarise
+from bench_scans import HEADER, Case, _holes_under_a_spacing, _noisy, line, rims, run_crustview, summarise
 from scipy.spatial import cKDTree
 
 from crustview.core.analysis.topology import analyse
@@ -201,14 +201,15 @@ def main(argv: list[str] | None = None) -> int:
     for name, pts, tris, truth in build(meshes, pairs, a.opened, a.seed):
         betti = tuple(int(b) for b in analyse(tris, len(pts), 2).betti)
         small = _holes_under_a_spacing(pts, tris)
-        todo = [Case(name, pts, truth, 0.0, betti, small, tris)]
+        loops = rims(tris, len(pts))
+        todo = [Case(name, pts, truth, 0.0, betti, small, tris, loops)]
         if not a.clean_only:
             for level in (0.1, 0.3):
                 noisy = _noisy(pts, name, level, noisy_dir, a.seed)
                 if len(noisy) != len(pts) or not np.array_equal(np.load(noisy_dir / f"{name}.npy"), pts):
                     print(f"{noisy_dir}: its copy of {name} is of other points; remove it", file=sys.stderr)
                     return 1
-                todo.append(Case(f"{name}-n{round(100 * level):02d}", noisy, truth, level, betti, small, tris))
+                todo.append(Case(f"{name}-n{round(100 * level):02d}", noisy, truth, level, betti, small, tris, loops))
         for case in todo:
             for r in run_crustview(case, ["robust"]):
                 print(line(r), flush=True)
