@@ -24,6 +24,12 @@ count the wrong results that do not say so (no uncertain feature, and for a
 closed truth a result that claims to be a closed manifold: the summary's
 "NOT a closed manifold" is a warning too) -- the issue's target: none -- and
 the right results with an uncertain feature (target: at most one in ten).
+Since session 45 a further line lists the wrong results whose flags name
+none of the kinds that are wrong (``Row.unnamed``): the components (b0), the
+handles (b1 - rims + b0 - b2, twice the genus) and the holes (boundary
+curves) are compared with the truth kind by kind, so that a planar rim
+flagged beside a sure false handle (the hand at 0.3 h, noise draw 51) does
+not pass for an error the result names.
 
 Peers, when installed (``--peers``): CGAL's Advancing Front Surface
 Reconstruction (``pip install cgal``) on the same points, judged the same
