@@ -219,9 +219,9 @@ def _fan(ed: LabelEditor, loop: list[int]) -> np.ndarray:
     """The cells that have an edge of the loop, and the whole star of its first sample if listed twice.
 
     Where a loop lists its first sample again at its end (the basis search's loops as found do), the pair
-    of that sample with itself takes its star.  Session 45 measured the edges alone: no right result of the public table changed, ten
-    wrong ones did, both ways, and the clean gears lost their only uncertain component (docs/history.md);
-    the set stays as the rule's bounds were measured with it.
+    of that sample with itself takes its star.  Session 45 measured the edges alone: no right result of the
+    public table changed, ten wrong ones did, both ways, and the clean gears lost their only uncertain
+    component (docs/history.md); the set stays as the rule's bounds were measured with it.
     """
     return np.unique(
         np.concatenate([np.intersect1d(ed.star(u), ed.star(v)) for u, v in zip(loop, loop[1:] + loop[:1], strict=True)])
