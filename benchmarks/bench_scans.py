@@ -29,7 +29,9 @@ none of the kinds that are wrong (``Row.unnamed``): the components (b0), the
 handles (b1 - rims + b0 - b2, twice the genus) and the holes (boundary
 curves) are compared with the truth kind by kind, so that a planar rim
 flagged beside a sure false handle (the hand at 0.3 h, noise draw 51) does
-not pass for an error the result names.
+not pass for an error the result names (pinched rims and non-manifold truths
+are judged on handles and holes together; a kind is named by one flag, however
+much of it is wrong).
 
 Peers, when installed (``--peers``): CGAL's Advancing Front Surface
 Reconstruction (``pip install cgal``) on the same points, judged the same
@@ -89,8 +91,8 @@ class Case:
     small_holes: int = 0
     #: The true mesh's triangles as rows of ``points`` (None where samples were dropped)
     tris: np.ndarray | None = None
-    #: The true mesh's boundary curves (its holes), counted on its faces (:func:`rims`)
-    rims: int = 0
+    #: The true mesh's boundary curves (its holes) and whether one is pinched (:func:`rims`); None: not counted
+    rims: tuple[int, bool] | None = None
 
 
 @dataclass
@@ -112,8 +114,8 @@ class Row:
     #: How far the result strays from the true mesh: the sampled Hausdorff distance from M_S to the mesh's
     #: faces on the same points, in the sample's median nearest-neighbour distance (None: not measured)
     far: float | None = None
-    #: M_S's boundary curves (None: not counted, as for the peers, which give no faces)
-    rims: int | None = None
+    #: M_S's boundary curves and whether one is pinched (None: not counted, as for the peers, which give no faces)
+    rims: tuple[int, bool] | None = None
 
     @property
     def right(self) -> bool:
@@ -133,46 +135,67 @@ class Row:
         return sum(self.uncertain.values()) > 0 or (self.case.truth["closed"] and not self.closed) or empty
 
     @property
-    def unnamed(self) -> list[str]:
+    def unnamed(self) -> list[str] | None:
         """The kinds in which a wrong result differs from the truth that none of its uncertain features names.
 
         ``flagged`` asks for any flag; this asks for one of the right kind, so that a planar rim flagged
         beside a false sure handle does not pass for a named error.  Kinds: ``component`` (b0 differs),
         ``handle`` (b1 - rims + b0 - b2, twice the genus of an orientable surface, differs) and ``hole`` (the
-        number of boundary curves differs; a closed truth's result that is not closed says so itself).
-        Samples left out are named in every report (``left_out_samples``), so they are never unnamed here.
-        Empty for right results, where M_S's rims were not counted, and where the true mesh has rims under a
-        spacing (no sample shows them: its holes and handles are not judged, and ``summarise`` lists it apart).
+        number of boundary curves differs; a closed truth's result that is not closed says so itself).  Where
+        either side's rims are pinched (two holes through one vertex count as one curve) or its handle count
+        is odd or negative (a non-manifold truth, as the owl's and the vase's meshes), handles and holes
+        cannot be told apart: they are judged as one kind, ``handle or hole``, which a flag of either names.
+        Where the true mesh has rims under a spacing (no sample shows them), a result with up to that many
+        holes fewer is not wrong in its holes.  It asks whether a kind is named, not how much of it: one
+        uncertain handle names a result that lost eight.  Samples left out are named in every report
+        (``left_out_samples``), so they are never unnamed here.  None where not judged: right results, an
+        empty M_S (its verdict says FAILED), and rows whose rims were not counted (the peers give no faces).
         """
-        if self.right or self.rims is None or (self.interpolates and self.used == 0) or self.case.small_holes:
-            return []
+        if self.right or self.rims is None or self.case.rims is None or (self.interpolates and self.used == 0):
+            return None
         t = self.case.truth
+        (loops, pinched), (true_loops, true_pinched) = self.rims, self.case.rims
         if t["closed"]:
             c, g = int(t["components"]), int(t["genus"])
             want = (c, 2 * g, 0)
         else:
             b = self.case.betti
-            want = (b[0], b[1] - self.case.rims + b[0] - b[2], self.case.rims)
+            want = (b[0], b[1] - true_loops + b[0] - b[2], true_loops)
         b = self.betti
-        have = (b[0], b[1] - self.rims + b[0] - b[2], self.rims)
+        have = (b[0], b[1] - loops + b[0] - b[2], loops)
+        small = self.case.small_holes
+        hole_wrong = not (want[2] - small <= have[2] <= want[2])
+        said = {k: self.uncertain.get(k, 0) > 0 for k in ("component", "handle", "hole")}
+        said["hole"] |= t["closed"] and not self.closed  # "NOT a closed manifold" names its holes
         out = []
-        for kind, w, h in zip(("component", "handle", "hole"), want, have, strict=True):
-            said = self.uncertain.get(kind, 0) > 0 or (kind == "hole" and t["closed"] and not self.closed)
-            if w != h and not said:
-                out.append(kind)
+        if want[0] != have[0] and not said["component"]:
+            out.append("component")
+        if pinched or true_pinched or any(x < 0 or x % 2 for x in (want[1], have[1])):
+            if (want[1] != have[1] or hole_wrong) and not (said["handle"] or said["hole"]):
+                out.append("handle or hole")
+            return out
+        if want[1] != have[1] and not said["handle"]:
+            out.append("handle")
+        if hole_wrong and not said["hole"]:
+            out.append("hole")
         return out
 
 
-def rims(tris: np.ndarray, n: int) -> int:
-    """How many boundary curves a triangle set has (its edges in one triangle, in connected pieces)."""
+def rims(tris: np.ndarray, n: int) -> tuple[int, bool]:
+    """How many boundary curves a triangle set has, and whether one is pinched (a vertex with 4+ rim edges).
+
+    The curves are the connected pieces of the edges in one triangle, as ``analysis.dispute`` counts them;
+    two holes that touch at a vertex are one piece, so a pinch is said apart.
+    """
     if len(tris) == 0:
-        return 0
+        return 0, False
     edges, tri_edges = triangle_edges(np.asarray(tris))
     rim = edges[np.bincount(tri_edges.ravel(), minlength=len(edges)) == 1]
     if len(rim) == 0:
-        return 0
+        return 0, False
     _, label = graph_components(n, rim)
-    return len(np.unique(label[np.unique(rim)]))
+    pinched = bool((np.bincount(rim.ravel(), minlength=n) > 2).any())
+    return len(np.unique(label[np.unique(rim)])), pinched
 
 
 def cases(
@@ -422,7 +445,7 @@ def summarise(rows: list[Row]) -> None:
         right = sum(r.right for r in mine)
         wrong_quiet = [r.case.name for r in mine if not r.right and not r.flagged]
         right_flagged = [r.case.name for r in mine if r.right and r.flagged]
-        unnamed = [f"{r.case.name} ({', '.join(r.unnamed)})" for r in mine if r.flagged and r.unnamed]
+        unnamed = [f"{r.case.name} ({', '.join(r.unnamed or [])})" for r in mine if r.flagged and r.unnamed]
         ratios = sorted(r.ratio for r in mine if r.ratio is not None)
         med = f", extraction/rest median {ratios[len(ratios) // 2]:.2f}, max {ratios[-1]:.2f}" if ratios else ""
         print(

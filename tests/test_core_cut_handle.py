@@ -436,8 +436,8 @@ def test_the_reach_bound_is_on_the_faces_a_trial_adds(knight):
     centre = rec.points[loop].mean(axis=0)
     added = np.unique(probe.lab.faces[c.added])
     d_added = np.linalg.norm(rec.points[added[added < rec.n]] - centre, axis=1).max()
-    sets = dict(zip(["its edges", "its vertices"], [ch._fan(probe, loop), ch._star(probe, loop)], strict=True))
-    sets.update(zip((f"a ball of {f:.2g} times its radius" for f in ch.BALL_RADII), ch._balls(probe, loop, rec.points)))
+    found = [ch._fan(probe, loop), ch._star(probe, loop), *ch._balls(probe, loop, rec.points)]
+    sets = dict(zip(ch._set_names(loop), found, strict=True))
     cells = sets[c.around]
     side = c.how == "cut"
     sel = cells[(probe.lab.inside[cells] == side) & ~probe.lab.outside[cells]]

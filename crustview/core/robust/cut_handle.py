@@ -14,7 +14,9 @@ other draws measure 3-11 radii; the scans' real handles 12.7 and more).
 
 The rule relabels the least confident set of cells that removes the handle.
 Around the loop it tries, in order, the cells that have a loop *edge* (the
-smallest set that closes a tunnel or cuts a bridge across the loop), then the
+smallest set that closes a tunnel or cuts a bridge across the loop; with the
+whole star of the loop's first sample where the loop ends with that sample
+again, as the basis search's loops do: :func:`_fan`), then the
 cells that have a loop *vertex*, then the cells inside balls around the
 loop's centroid of 0.7 to 2 times its radius (:data:`BALL_RADII`: a noise
 tunnel narrower than its loop, or one that bends away from it, at 0.3 h
@@ -216,7 +218,7 @@ def _components(faces: np.ndarray, n: int) -> int:
 
 
 def _fan(ed: LabelEditor, loop: list[int]) -> np.ndarray:
-    """The cells that have an edge of the loop, and the whole star of its first sample if listed twice.
+    """The cells that have an edge of the loop, and the whole star of its first sample when the loop ends with it.
 
     Where a loop lists its first sample again at its end (the basis search's loops as found do), the pair
     of that sample with itself takes its star.  Session 45 measured the edges alone: no right result of the
@@ -226,6 +228,12 @@ def _fan(ed: LabelEditor, loop: list[int]) -> np.ndarray:
     return np.unique(
         np.concatenate([np.intersect1d(ed.star(u), ed.star(v)) for u, v in zip(loop, loop[1:] + loop[:1], strict=True)])
     )
+
+
+def _set_names(loop: list[int]) -> list[str]:
+    """What the step log calls the sets of cells a cut tries, in order: :func:`_fan`, :func:`_star`, the balls."""
+    edges = "its edges and its first sample's star" if loop[0] == loop[-1] else "its edges"
+    return [edges, "its vertices", *(f"a ball of {f:.2g} times its radius" for f in BALL_RADII)]
 
 
 def _star(ed: LabelEditor, loop: list[int]) -> np.ndarray:
@@ -325,7 +333,7 @@ def _try(ed: LabelEditor, local: _Local, feat: Feature, n: int, b0: int, points:
     sets = [_fan(ed, loop), _star(ed, loop), *_balls(ed, loop, points)]
     centre = points[loop].mean(axis=0)
     far = CUT_REACH * reach(feat, points[loop])
-    names = ["its edges", "its vertices", *(f"a ball of {f:.2g} times its radius" for f in BALL_RADII)]
+    names = _set_names(loop)
     for cells, around in zip(sets, names, strict=True):
         key = cells.tobytes()
         if len(cells) == 0 or key in tried:
