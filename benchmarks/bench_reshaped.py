@@ -42,7 +42,8 @@ from pathlib import Path
 
 import numpy as np
 from _folders import folder_truth
-from bench_scans import HEADER, Case, _holes_under_a_spacing, _noisy, line, rims, run_crustview, summarise
+from _kinds import rims
+from bench_scans import HEADER, Case, _holes_under_a_spacing, _noisy, line, run_crustview, summarise
 from scipy.spatial import cKDTree
 
 from crustview.core.analysis.topology import analyse
@@ -108,23 +109,14 @@ def opened(points: np.ndarray, tris: np.ndarray, share: float, seed: int) -> tup
 def one_hole(faces: np.ndarray, n: int) -> bool:
     """Whether the triangles are one connected surface with exactly one boundary curve, pinched nowhere.
 
-    The rim is the edges of one triangle; every rim vertex must have two rim edges (a vertex with four is a
-    pinch, which :func:`~crustview.core.analysis.topology.analyse` does not count on a surface with
-    boundary), and the rim edges must form one cycle.
+    The rim is the edges of one triangle (:func:`_kinds.rims`); no rim vertex may have more than two rim
+    edges (a vertex with four is a pinch, which :func:`~crustview.core.analysis.topology.analyse` does not
+    count on a surface with boundary), and the rim edges must form one cycle.
     """
-    from crustview.core.analysis.cotree import triangle_edges
-    from crustview.core.analysis.topology import graph_components
-
     top = analyse(faces, n, 2)
     if top.nonmanifold_faces or top.closed_manifold or top.betti[0] != 1:
         return False
-    edges, tri_edges = triangle_edges(faces)
-    rim = edges[np.bincount(tri_edges.ravel(), minlength=len(edges)) == 1]
-    degree = np.bincount(rim.ravel(), minlength=n)
-    if (degree > 2).any():
-        return False
-    _, label = graph_components(n, rim)
-    return len(np.unique(label[np.unique(rim)])) == 1
+    return rims(faces, n) == (1, False)
 
 
 def build(

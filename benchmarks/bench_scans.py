@@ -60,6 +60,7 @@ from pathlib import Path
 
 import numpy as np
 from _folders import folder_truth
+from _kinds import rims, unnamed
 from _peers import cgal_advancing_front, open3d_poisson
 from scipy.spatial import cKDTree
 from scipy.spatial.distance import pdist
@@ -136,66 +137,14 @@ class Row:
 
     @property
     def unnamed(self) -> list[str] | None:
-        """The kinds in which a wrong result differs from the truth that none of its uncertain features names.
-
-        ``flagged`` asks for any flag; this asks for one of the right kind, so that a planar rim flagged
-        beside a false sure handle does not pass for a named error.  Kinds: ``component`` (b0 differs),
-        ``handle`` (b1 - rims + b0 - b2, twice the genus of an orientable surface, differs) and ``hole`` (the
-        number of boundary curves differs; a closed truth's result that is not closed says so itself).  Where
-        either side's rims are pinched (two holes through one vertex count as one curve) or its handle count
-        is odd or negative (a non-manifold truth, as the owl's and the vase's meshes), handles and holes
-        cannot be told apart: they are judged as one kind, ``handle or hole``, which a flag of either names.
-        Where the true mesh has rims under a spacing (no sample shows them), a result with up to that many
-        holes fewer is not wrong in its holes.  It asks whether a kind is named, not how much of it: one
-        uncertain handle names a result that lost eight.  Samples left out are named in every report
-        (``left_out_samples``), so they are never unnamed here.  None where not judged: right results, an
-        empty M_S (its verdict says FAILED), and rows whose rims were not counted (the peers give no faces).
-        """
+        """The kinds in which this wrong result differs from the truth that none of its flags names
+        (:func:`_kinds.unnamed`); None where not judged."""
         if self.right or self.rims is None or self.case.rims is None or (self.interpolates and self.used == 0):
             return None
-        t = self.case.truth
-        (loops, pinched), (true_loops, true_pinched) = self.rims, self.case.rims
-        if t["closed"]:
-            c, g = int(t["components"]), int(t["genus"])
-            want = (c, 2 * g, 0)
-        else:
-            b = self.case.betti
-            want = (b[0], b[1] - true_loops + b[0] - b[2], true_loops)
-        b = self.betti
-        have = (b[0], b[1] - loops + b[0] - b[2], loops)
-        small = self.case.small_holes
-        hole_wrong = not (want[2] - small <= have[2] <= want[2])
-        said = {k: self.uncertain.get(k, 0) > 0 for k in ("component", "handle", "hole")}
-        said["hole"] |= t["closed"] and not self.closed  # "NOT a closed manifold" names its holes
-        out = []
-        if want[0] != have[0] and not said["component"]:
-            out.append("component")
-        if pinched or true_pinched or any(x < 0 or x % 2 for x in (want[1], have[1])):
-            if (want[1] != have[1] or hole_wrong) and not (said["handle"] or said["hole"]):
-                out.append("handle or hole")
-            return out
-        if want[1] != have[1] and not said["handle"]:
-            out.append("handle")
-        if hole_wrong and not said["hole"]:
-            out.append("hole")
-        return out
-
-
-def rims(tris: np.ndarray, n: int) -> tuple[int, bool]:
-    """How many boundary curves a triangle set has, and whether one is pinched (a vertex with 4+ rim edges).
-
-    The curves are the connected pieces of the edges in one triangle, as ``analysis.dispute`` counts them;
-    two holes that touch at a vertex are one piece, so a pinch is said apart.
-    """
-    if len(tris) == 0:
-        return 0, False
-    edges, tri_edges = triangle_edges(np.asarray(tris))
-    rim = edges[np.bincount(tri_edges.ravel(), minlength=len(edges)) == 1]
-    if len(rim) == 0:
-        return 0, False
-    _, label = graph_components(n, rim)
-    pinched = bool((np.bincount(rim.ravel(), minlength=n) > 2).any())
-    return len(np.unique(label[np.unique(rim)])), pinched
+        return unnamed(
+            self.case.truth, self.case.betti, self.case.rims, self.case.small_holes,
+            self.betti, self.closed, self.rims, self.uncertain,
+        )  # fmt: skip
 
 
 def cases(

@@ -14,7 +14,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
-from bench_scans import Case, Row, rims  # noqa: E402
+from _kinds import rims  # noqa: E402
+from bench_scans import Case, Row  # noqa: E402
 
 #: The boundary of a tetrahedron: closed, no rim.
 TETRA = np.array([[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]])
