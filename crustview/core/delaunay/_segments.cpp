@@ -41,11 +41,18 @@ struct Inputs {
     int r, w;
 };
 
+//: Faces ahead of the current one whose segment ends are prefetched.
+constexpr std::int64_t kAhead = 16;
+
 // The exact minimum over the segment (candidates.segment_sin2, operation for operation): lean^2 where
 // lean >= sin_lim, 0 where lean <= 0 (the segment crosses the tangent plane), else best (the nearer end:
 // no point inside beats it).
 void score(const Inputs& in, double* sin2, double sin_lim) {
     for (std::int64_t i = 0; i < in.f; ++i) {
+        if (i + kAhead < in.f) {  // the Voronoi vertices are scattered over the triangulation: ask early
+            __builtin_prefetch(in.centres + in.cells[2 * (i + kAhead)] * in.r);
+            __builtin_prefetch(in.centres + in.cells[2 * (i + kAhead) + 1] * in.r);
+        }
         const double* c0 = in.centres + in.cells[2 * i] * in.r;
         const double* c1 = in.centres + in.cells[2 * i + 1] * in.r;
         for (int a = 0; a < in.w; ++a) {
