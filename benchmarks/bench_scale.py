@@ -21,13 +21,16 @@ the process's high-water mark would keep it; the peak is read before it).  ``CPU
 process's CPU time over wall time during each stage (2.0 = both cores busy
 on a 2-core machine).
 
-Run: ``python benchmarks/bench_scale.py [case ...]``, e.g.
-``python benchmarks/bench_scale.py torus-30k torus-300k klein-10k``.
+Run: ``python benchmarks/bench_scale.py [--huge-pages] [case ...]``, e.g.
+``python benchmarks/bench_scale.py torus-30k torus-300k klein-10k``.  ``--huge-pages`` runs crustview with
+numpy's transparent-huge-page advice left on (``CRUSTVIEW_HUGE_PAGES=1``; see
+:func:`crustview.core.util.memory.numpy_small_pages`), to measure what turning it off gains.
 """
 
 from __future__ import annotations
 
 import json
+import os
 import resource
 import subprocess
 import sys
@@ -138,14 +141,16 @@ def run_one(case: str) -> dict:
     return out
 
 
-def main(cases: list[str]) -> None:
+def main(cases: list[str], huge_pages: bool = False) -> None:
     previous: dict[str, dict] = {}
+    env = {**os.environ, "CRUSTVIEW_HUGE_PAGES": "1"} if huge_pages else None
     for case in cases:
         proc = subprocess.run(
             [sys.executable, str(Path(__file__).resolve()), "--one", case],
             capture_output=True,
             text=True,
             check=False,
+            env=env,
         )
         if proc.returncode != 0:
             print(f"{case}: failed\n{proc.stderr.strip()[-2000:]}", flush=True)
@@ -193,4 +198,5 @@ if __name__ == "__main__":
     if len(sys.argv) == 3 and sys.argv[1] == "--one":
         print(json.dumps(run_one(sys.argv[2])))
     else:
-        main(case_names(__doc__, CASES, sys.argv[1:]))
+        args = [a for a in sys.argv[1:] if a != "--huge-pages"]
+        main(case_names(__doc__, CASES, args), huge_pages=len(args) < len(sys.argv) - 1)

@@ -37,6 +37,7 @@ import numpy as np
 from crustview.atomic import atomic_open, atomic_path
 from crustview.core.errors import InputError
 from crustview.core.result import EXTRACTION_MODES
+from crustview.core.util.memory import small_pages
 from crustview.meshfiles.flat import drop_zero_z, flat_note
 from crustview.npyfiles import read_npy, read_npz
 from crustview.report import REPORT_CASCADES, holes_of_candidates, report_dict, write_report  # noqa: F401
@@ -332,6 +333,7 @@ def write_points(path: str | os.PathLike, points: np.ndarray) -> None:
         raise InputError(f"Cannot write '{path}': {_reason(err)}.") from None
 
 
+@small_pages  # its arrays' pages as the run's (see numpy_small_pages)
 def write_result(
     path: str | os.PathLike,
     rec: Reconstruction,

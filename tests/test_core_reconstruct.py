@@ -275,3 +275,60 @@ def test_the_collector_is_paused_only_during_the_extraction():
         assert not gc.isenabled()
     finally:
         gc.enable()
+
+
+def _huge_page_advice() -> bool:
+    """numpy's huge-page advice as it stands (read by setting it and putting it back)."""
+    from crustview.core.util.memory import _hugepage_switch
+
+    switch = _hugepage_switch()
+    now = bool(switch(True))
+    switch(now)
+    return now
+
+
+def test_numpy_is_kept_off_huge_pages_during_a_run_and_restored_after(monkeypatch):
+    # memory.numpy_small_pages: off inside (nested blocks and several threads too), the caller's setting
+    # back when the last block ends, also after an error; CRUSTVIEW_HUGE_PAGES=1 leaves numpy alone
+    import threading
+
+    from crustview.core.util.memory import _hugepage_switch, numpy_small_pages, small_pages
+
+    switch = _hugepage_switch()
+    assert switch is not None  # numpy 2 on Linux has it: the test would pass vacuously without
+    monkeypatch.delenv("CRUSTVIEW_HUGE_PAGES", raising=False)
+    before = switch(True)
+    try:
+        seen: list[bool] = []
+        with numpy_small_pages():
+            assert not _huge_page_advice()
+            with numpy_small_pages():
+                assert not _huge_page_advice()
+            assert not _huge_page_advice()  # the inner block ended, the outer one still runs
+            inner = threading.Thread(target=lambda: seen.append(small_pages(_huge_page_advice)()))
+            inner.start()
+            inner.join()
+            assert not _huge_page_advice()
+        assert seen == [False] and _huge_page_advice()
+        try:
+            with numpy_small_pages():
+                raise KeyError("x")
+        except KeyError:
+            pass
+        assert _huge_page_advice()
+        switch(False)  # a caller that had it off keeps it off
+        with numpy_small_pages():
+            pass
+        assert not _huge_page_advice()
+        switch(True)
+        monkeypatch.setenv("CRUSTVIEW_HUGE_PAGES", "1")
+        with numpy_small_pages():
+            assert _huge_page_advice()
+        # reconstruct itself runs inside the block
+        monkeypatch.delenv("CRUSTVIEW_HUGE_PAGES")
+        t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+        during: list[bool] = []
+        reconstruct(np.c_[np.cos(t), np.sin(t)], 1, progress=lambda stage, f: during.append(_huge_page_advice()))
+        assert during and not any(during) and _huge_page_advice()
+    finally:
+        switch(before)

@@ -21,7 +21,7 @@ from .robust.driver import extract_robust
 from .robust.smooth_normals import smoothed_normals
 from .uncertainty import result_features
 from .util.hullframe import hull_frame
-from .util.memory import gc_paused, release_free_memory
+from .util.memory import gc_paused, release_free_memory, small_pages
 from .util.nearest import remember
 from .util.parallel import start_in_background
 
@@ -69,6 +69,7 @@ def cost_warning(k: int, d: int) -> str | None:
     )
 
 
+@small_pages
 def reconstruct(
     points: np.ndarray,
     d: int,
@@ -288,6 +289,7 @@ def reconstruct(
     )
 
 
+@small_pages
 def reextract(
     rec: Reconstruction,
     test: str,

@@ -296,7 +296,7 @@ def _serve(job_fd: int, out_fd: int) -> None:
     import importlib
     import signal
 
-    from .memory import release_free_memory
+    from .memory import numpy_small_pages, release_free_memory
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the caller decides when a helper stops
     jobs = Connection(job_fd, writable=False)
@@ -315,10 +315,11 @@ def _serve(job_fd: int, out_fd: int) -> None:
             try:
                 fn, args, with_progress = pickle.loads(job)
                 del job
-                if with_progress:
-                    result: tuple[bool, Any] = (True, fn(*args, progress=_Reporter(out)))
-                else:
-                    result = (True, fn(*args))
+                with numpy_small_pages():  # as the caller's run (see there)
+                    if with_progress:
+                        result: tuple[bool, Any] = (True, fn(*args, progress=_Reporter(out)))
+                    else:
+                        result = (True, fn(*args))
             except (BrokenPipeError, ConnectionError):
                 raise
             except BaseException as err:  # noqa: BLE001 - any failure goes back to the caller, which recomputes
