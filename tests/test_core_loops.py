@@ -33,6 +33,59 @@ def test_compiled_shortest_path_trees_are_scipys():
         assert set(ties) == ({1} if n == side * side else {0})  # the grid's roots went to scipy, the others not
 
 
+def _compiled_trees(g, roots):  # noqa: ANN001, ANN202 - the extension's own arrays, before scipy takes flagged roots
+    from crustview.core.analysis import loops
+
+    n = g.shape[0]
+    raw = loops._paths.shortest_paths(
+        g.indptr.astype(np.int32),
+        g.indices.astype(np.int32),
+        np.ascontiguousarray(g.data, np.float64),
+        np.asarray(roots, np.int64),
+        2,
+    )
+    dist = np.frombuffer(raw[0], np.float64).reshape(len(roots), n)
+    pred = np.frombuffer(raw[1], np.int32).reshape(len(roots), n)
+    return dist, pred, np.frombuffer(raw[2], np.uint8).astype(bool)
+
+
+def test_a_root_is_sent_to_scipy_only_where_the_order_at_one_distance_shows():
+    # _paths.cpp flags a root only where two nodes at one distance offer a third the same distance (its
+    # predecessor is then the queue's choice); every root it keeps gives scipy's arrays exactly. Checked on
+    # random graphs with many ties (small integer lengths, zeros, all ones) and on two small ones by hand:
+    # a path through the root (two nodes at each distance, no common neighbour: kept), a diamond
+    # (0-1, 0-2, 1-3, 2-3 all of length 1: node 3's predecessor is 1 or 2 by the queue's order: flagged)
+    # and the same kite with 2-3 of length 2 (1 and 2 still tie, but offer 3 different distances: kept)
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import dijkstra
+
+    def graph(n, e, w):  # noqa: ANN001, ANN202
+        e = np.asarray(e)
+        g = coo_matrix((np.asarray(w, float), (e[:, 0], e[:, 1])), shape=(n, n)).tocsr()
+        return (g + g.T).tocsr()
+
+    path = graph(7, [(i, i + 1) for i in range(6)], np.ones(6))
+    diamond = graph(4, [(0, 1), (0, 2), (1, 3), (2, 3)], np.ones(4))
+    assert not _compiled_trees(path, [3])[2][0]  # nodes 2 and 4 at 1, 1 and 5 at 2: no shared offer
+    kite = graph(4, [(0, 1), (0, 2), (1, 3), (2, 3)], [1, 1, 1, 2])  # 1 and 2 tie, but offer 3 two distances
+    assert _compiled_trees(diamond, [0])[2][0] and not _compiled_trees(kite, [0])[2][0]
+    rng = np.random.default_rng(5)
+    kept = 0
+    for trial in range(160):
+        n = int(rng.integers(5, 300))
+        e = rng.integers(0, n, size=(int(rng.integers(n, 4 * n)), 2))
+        e = e[e[:, 0] != e[:, 1]]
+        w = (rng.integers(1, 4, len(e)), rng.integers(0, 3, len(e)), rng.random(len(e)), np.ones(len(e)))[trial % 4]
+        g = graph(n, e, w)
+        roots = rng.integers(0, n, size=5)
+        dist, pred, flagged = _compiled_trees(g, roots)
+        want_dist, want_pred = dijkstra(g, indices=roots, return_predecessors=True)
+        for i in np.flatnonzero(~flagged):
+            assert np.array_equal(dist[i], want_dist[i]) and np.array_equal(pred[i], want_pred[i])
+        kept += int((~flagged).sum())
+    assert kept > 100  # roots with tied distances that no longer go to scipy (was: none with a tie)
+
+
 def test_compiled_path_masks_are_the_pointer_doubling_ones(monkeypatch):
     # loops._path_masks by one walk per vertex (_paths.path_xor) against its numpy pointer doubling, on
     # random forests with unreached vertices (scipy's -9999) and masks of one and three words

@@ -5,11 +5,19 @@
 // Each root's search is a plain Dijkstra over the CSR arrays scipy itself
 // searches (neighbours in the same order; a node's distance replaced only
 // by a strictly smaller one, as scipy does; unreached nodes at inf with
-// predecessor -9999, scipy's value).  When every reached node's distance
-// is distinct, the order in which nodes leave the queue is fixed by the
-// distances alone, and with it every distance and predecessor: any correct
-// priority queue gives scipy's arrays.  When two nodes leave at the same
-// distance, the root is flagged, and the caller asks scipy for that root.
+// predecessor -9999, scipy's value).  Nodes leave the queue in the order of
+// their distances, and only the order among nodes at one distance is the
+// queue's own (scipy's Fibonacci heap, here a radix heap).  That order shows
+// in the arrays only where two nodes at one distance offer a third the same
+// new distance: the first to offer it becomes its predecessor.  Every
+// distance is the same either way (a minimum), and so is every other
+// predecessor: one set by a node at a smaller distance came first in both
+// searches, and a node's own offers are made in the same order.  So a root is
+// flagged, and the caller asks scipy for it, exactly when some node receives
+// an offer equal to its distance from a node at the same distance as the
+// node that made its current one (session 46; before, any two nodes at one
+// distance flagged the root, and on a finely tessellated scan every root went
+// to scipy).
 // The GIL is released; no third-party code.
 //
 // Also the loop basis's tree-cotree split (crustview.core.analysis.cotree): each edge's two
@@ -77,7 +85,8 @@ class RadixHeap {
     std::size_t size_ = 0;
 };
 
-// One root's search into dist / pred (length n); returns whether two nodes left the queue at one distance.
+// One root's search into dist / pred (length n); returns whether the order among nodes at one distance
+// could change a predecessor (an offer equal to a node's distance from the distance of its predecessor).
 bool search(const Graph& g, i64 root, double* dist, std::int32_t* pred, std::vector<unsigned char>& done) {
     RadixHeap heap;
     std::vector<RadixHeap::Entry> level;
@@ -93,12 +102,10 @@ bool search(const Graph& g, i64 root, double* dist, std::int32_t* pred, std::vec
     while (!heap.empty()) {
         double key;
         heap.pop_all(level, key);
-        int fresh = 0;  // nodes leaving the queue at this key
         for (const RadixHeap::Entry& e : level) {
             const std::int32_t v = e.second;
             if (done[v] || key != dist[v]) continue;  // a stale entry
             done[v] = 1;
-            if (++fresh > 1) tie = true;
             for (std::int32_t j = g.indptr[v]; j < g.indptr[v + 1]; ++j) {
                 const std::int32_t w = g.indices[j];
                 if (done[w]) continue;
@@ -107,6 +114,8 @@ bool search(const Graph& g, i64 root, double* dist, std::int32_t* pred, std::vec
                     dist[w] = next;
                     pred[w] = v;
                     heap.push(next, w);
+                } else if (next == dist[w] && pred[w] >= 0 && pred[w] != v && dist[pred[w]] == key) {
+                    tie = true;  // two nodes at this distance offer w the same: the queue's order decides
                 }
             }
         }
