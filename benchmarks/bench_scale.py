@@ -143,7 +143,9 @@ def run_one(case: str) -> dict:
 
 def main(cases: list[str], huge_pages: bool = False) -> None:
     previous: dict[str, dict] = {}
-    env = {**os.environ, "CRUSTVIEW_HUGE_PAGES": "1"} if huge_pages else None
+    # set either way: a shell that exports CRUSTVIEW_HUGE_PAGES=1 would otherwise measure huge pages by default
+    env = {**os.environ, "CRUSTVIEW_HUGE_PAGES": "1" if huge_pages else "0"}
+    env.pop("NUMPY_MADVISE_HUGEPAGE", None)  # numpy's own variable would also leave its advice as it is
     for case in cases:
         proc = subprocess.run(
             [sys.executable, str(Path(__file__).resolve()), "--one", case],

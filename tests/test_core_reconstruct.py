@@ -287,7 +287,7 @@ def _huge_page_advice() -> bool:
     return now
 
 
-def test_numpy_is_kept_off_huge_pages_during_a_run_and_restored_after(monkeypatch):
+def test_numpy_is_kept_off_huge_pages_during_a_run_and_restored_after(monkeypatch, tmp_path):
     # memory.numpy_small_pages: off inside (nested blocks and several threads too), the caller's setting
     # back when the last block ends, also after an error; CRUSTVIEW_HUGE_PAGES=1 leaves numpy alone
     import threading
@@ -297,6 +297,7 @@ def test_numpy_is_kept_off_huge_pages_during_a_run_and_restored_after(monkeypatc
     switch = _hugepage_switch()
     assert switch is not None  # numpy 2 on Linux has it: the test would pass vacuously without
     monkeypatch.delenv("CRUSTVIEW_HUGE_PAGES", raising=False)
+    monkeypatch.delenv("NUMPY_MADVISE_HUGEPAGE", raising=False)
     before = switch(True)
     try:
         seen: list[bool] = []
@@ -310,6 +311,23 @@ def test_numpy_is_kept_off_huge_pages_during_a_run_and_restored_after(monkeypatc
             inner.join()
             assert not _huge_page_advice()
         assert seen == [False] and _huge_page_advice()
+        # blocks on two threads that end out of order: A begins, B begins, A ends (B still runs), B ends
+        b_in, a_out, b_may_end = threading.Event(), threading.Event(), threading.Event()
+
+        def b() -> None:
+            with numpy_small_pages():
+                b_in.set()
+                b_may_end.wait(10)
+
+        other = threading.Thread(target=b)
+        with numpy_small_pages():
+            other.start()
+            assert b_in.wait(10)
+        a_out.set()
+        assert not _huge_page_advice()  # B's block still runs
+        b_may_end.set()
+        other.join(10)
+        assert _huge_page_advice()
         try:
             with numpy_small_pages():
                 raise KeyError("x")
@@ -321,14 +339,28 @@ def test_numpy_is_kept_off_huge_pages_during_a_run_and_restored_after(monkeypatc
             pass
         assert not _huge_page_advice()
         switch(True)
-        monkeypatch.setenv("CRUSTVIEW_HUGE_PAGES", "1")
-        with numpy_small_pages():
-            assert _huge_page_advice()
-        # reconstruct itself runs inside the block
-        monkeypatch.delenv("CRUSTVIEW_HUGE_PAGES")
+        for name, value in (("CRUSTVIEW_HUGE_PAGES", "1"), ("NUMPY_MADVISE_HUGEPAGE", "1")):
+            monkeypatch.setenv(name, value)  # numpy's own setting asked for: left alone
+            with numpy_small_pages():
+                assert _huge_page_advice()
+            monkeypatch.delenv(name)
+        # reconstruct, reextract and write_result run inside the block
+        from crustview.core.reconstruct import reextract
+        from crustview.io import write_result
+
         t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
         during: list[bool] = []
-        reconstruct(np.c_[np.cos(t), np.sin(t)], 1, progress=lambda stage, f: during.append(_huge_page_advice()))
+        rec = reconstruct(np.c_[np.cos(t), np.sin(t)], 1, progress=lambda stage, f: during.append(_huge_page_advice()))
         assert during and not any(during) and _huge_page_advice()
+        during.clear()
+        reextract(rec, rec.test, rec.theta / 2, progress=lambda stage, f: during.append(_huge_page_advice()))
+        assert during and not any(during) and _huge_page_advice()
+        import crustview.io as io_module
+
+        suffix = io_module._suffix
+        monkeypatch.setattr(io_module, "_suffix", lambda *a: during.append(_huge_page_advice()) or suffix(*a))
+        during.clear()
+        write_result(tmp_path / "out.npz", rec)
+        assert during == [False] and _huge_page_advice() and (tmp_path / "out.npz").stat().st_size > 0
     finally:
         switch(before)

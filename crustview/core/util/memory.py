@@ -83,41 +83,58 @@ _pages_depth = 0
 _pages_before = True
 
 
-@contextmanager
-def numpy_small_pages() -> Iterator[None]:
+def _leave_numpy_alone() -> bool:
+    """Whether the environment asks for numpy's own huge-page setting.
+
+    ``CRUSTVIEW_HUGE_PAGES=1`` (for a kernel where huge pages pay, and to measure the difference), or an
+    explicit ``NUMPY_MADVISE_HUGEPAGE`` (numpy's own variable, read at its import: the user chose).
+    """
+    return os.environ.get("CRUSTVIEW_HUGE_PAGES") == "1" or "NUMPY_MADVISE_HUGEPAGE" in os.environ
+
+
+class numpy_small_pages:  # noqa: N801 - used as a function: ``with numpy_small_pages():``
     """Run a block with numpy's arrays off the huge-page advice, then restore numpy's setting.
 
     numpy advises the kernel to back every array of 4 MB or more with transparent huge pages
-    (``madvise(MADV_HUGEPAGE)``; the setting ``NUMPY_MADVISE_HUGEPAGE`` of numpy's "global state"
-    documentation, read at its import).  Where the kernel's ``transparent_hugepage/defrag`` policy is
-    ``madvise`` (this machine's, and a common default) a page fault in such an array compacts memory
-    there and then to find a free 2 MB page.  A run allocates its large temporaries afresh in every stage,
-    and the two cores then spend their time in the kernel: on the 300,000-point torus the cocone pass
-    took 0.85 s of wall time with 0.86 s of system time, against 0.36 s and 0.13 s with 4 KB pages, and
-    the whole run 7.05 s against 6.1-6.3 s (``benchmarks/bench_scale.py`` measures it both ways with
-    ``--huge-pages``).  No value changes: only the pages under the arrays.
+    (``madvise(MADV_HUGEPAGE)``; numpy's "global state" documentation describes the variable
+    ``NUMPY_MADVISE_HUGEPAGE``, read at its import; the switch used here, ``_set_madvise_hugepage``, is the
+    private function behind it).  Where the kernel's ``transparent_hugepage/defrag`` policy is ``madvise``
+    (this machine's, and a common default) a page fault in such an array compacts memory there and then to
+    find a free 2 MB page.  A run allocates its large temporaries afresh in every stage, and the two cores
+    then spend their time in the kernel: on the 300,000-point torus the cocone pass took 0.85 s of wall
+    time with 0.86 s of system time, against 0.36 s and 0.13 s with 4 KB pages, and the whole run 7.05 s
+    against 6.1-6.3 s (``benchmarks/bench_scale.py`` measures it both ways with ``--huge-pages``).  No value
+    changes: only the pages under the arrays.
 
-    The advice is numpy's process-wide state: blocks may nest and run on several threads at once; the
-    setting comes back when the last one ends.  Where numpy has no such switch, or the environment sets
-    ``CRUSTVIEW_HUGE_PAGES=1`` (for a kernel where huge pages pay, and to measure the difference), nothing
-    happens.
+    The advice is numpy's process-wide state: blocks may nest and run on several threads at once, in any
+    order; the setting comes back when the last one ends.  Each block decides at its start whether it takes
+    part.  Nothing happens where numpy has no such switch, or where the environment asks for numpy's own
+    setting (``CRUSTVIEW_HUGE_PAGES=1``, or ``NUMPY_MADVISE_HUGEPAGE`` set at all).
     """
-    global _pages_depth, _pages_before
-    switch = _hugepage_switch()
-    if switch is None or os.environ.get("CRUSTVIEW_HUGE_PAGES") == "1":
-        yield
-        return
-    with _pages_lock:
-        if _pages_depth == 0:
-            _pages_before = bool(switch(False))
-        _pages_depth += 1
-    try:
-        yield
-    finally:
+
+    def __init__(self) -> None:
+        self._switch: Callable[[bool], bool] | None = None
+
+    def __enter__(self) -> None:
+        global _pages_depth, _pages_before
+        switch = _hugepage_switch()
+        if switch is None or _leave_numpy_alone():
+            return
+        with _pages_lock:  # the count and the switch change together, or not at all
+            if _pages_depth == 0:
+                _pages_before = bool(switch(False))
+            _pages_depth += 1
+            self._switch = switch
+
+    def __exit__(self, *exc: object) -> None:
+        global _pages_depth
+        if self._switch is None:
+            return
         with _pages_lock:
             _pages_depth -= 1
             if _pages_depth == 0:
-                switch(_pages_before)
+                self._switch(_pages_before)
+            self._switch = None
 
 
 def small_pages(func: F) -> F:

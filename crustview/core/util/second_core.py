@@ -158,12 +158,16 @@ class _Helper:
         killed in the middle of a job takes 2-35 ms to exit on the public scans (the kernel frees its
         memory), which the caller need not wait for.
         """
-        if self.proc.poll() is None:
-            self.proc.kill()
-        if wait:
-            self.proc.wait()
-        else:
-            threading.Thread(target=self.proc.wait, name="crustview-reap", daemon=True).start()
+        if self.proc.poll() is not None:
+            return  # already gone, and reaped by poll()
+        self.proc.kill()
+        if not wait:
+            try:
+                threading.Thread(target=self.proc.wait, name="crustview-reap", daemon=True).start()
+                return
+            except RuntimeError:  # no thread to be had (the interpreter is ending): wait here
+                pass
+        self.proc.wait()
 
     def close(self) -> None:
         """Close the pipes (only once no thread sends on them)."""
