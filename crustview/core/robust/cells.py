@@ -40,6 +40,7 @@ from ..analysis.features import enclosing_radii
 from ..analysis.topology import is_closed_manifold
 from ..errors import check_cancel
 from ..steps import RULE_JOIN, RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
+from ..util.nearest import nearest_distances
 from .cap_holes import kept_caps
 from .cut_handle import CutHandles, cut_handles, log_cut
 from .grow import SIZE_MAX, size_ratio
@@ -48,6 +49,7 @@ from .label_repair import LabelEditor
 from .labelling import Labelling, oriented
 from .patcher import Patcher
 from .steplog import StepLog
+from .walls import is_wall, kept_walls
 
 #: Fewest adjacent faces larger than SIZE_MAX that make an opening.  One missing sample leaves a
 #: hole that deg - 2 faces cover, about 4 (the mean vertex degree of a closed surface is 6, by
@@ -313,8 +315,12 @@ def _labelled(
     # CAP_RATIO is removed (those under CAP_SURE become uncertain holes, weak_openings).  Where no cap is
     # over CAP_SURE the sample shows no opening beyond doubt: a cap between CAP_RATIO and CAP_SURE stays
     # closed, the theory's answer, and is reported as an uncertain hole (kept_caps)
-    open_scan = any(q > CAP_SURE for q in ratios)
     band = [(p, np.unique(now[p]), q) for p, q in zip(examined, ratios, strict=True) if q > CAP_RATIO]
+    # a patch between two rims the sample shows is a wall, not a cap over one opening (walls.py): it stays, named
+    nn = nearest_distances(points) if band else np.zeros(0)
+    walls = [b for b in band if is_wall(now, b[0], points, nn)]
+    band = [b for b in band if not any(b[0] is w[0] for w in walls)]
+    open_scan = any(q > CAP_SURE for _, _, q in band)
     patches = [p for p, _, _ in band] if open_scan else []
     opened = [(vs, q) for _, vs, q in band] if open_scan else []
     undecided = [] if open_scan else [(vs, q) for _, vs, q in band]
@@ -373,6 +379,16 @@ def _labelled(
     ext.sculpt_held = sorted(ed.held)  # type: ignore[attr-defined]
     ext.left_samples = list(left)  # type: ignore[attr-defined]
     closed_caps = kept_caps(points, undecided)
+    if walls:
+        ext.notes.append(
+            f"open-cap kept {len(walls)} "
+            + ("walls" if len(walls) > 1 else "wall")
+            + " closed: patches of big faces ("
+            + ", ".join(f"{q:.2g}" for _, _, q in walls[:5])
+            + (" ..." if len(walls) > 5 else "")
+            + " times the faces around them) between two rims or more that the sample shows, not over one "
+            "opening: a side no sample lies on, or openings; each is an uncertain hole"
+        )
     if closed_caps:
         ext.notes.append(
             f"open-cap kept {len(closed_caps)} "
@@ -388,6 +404,7 @@ def _labelled(
         + after.removed
         + joined.removed
         + closed_caps
+        + kept_walls(points, now, walls)
     )
     ext.openings = len(patches)  # type: ignore[attr-defined]
     ext.opened = opened  # type: ignore[attr-defined]
