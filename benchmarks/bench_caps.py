@@ -88,9 +88,18 @@ def main(argv: list[str] | None = None) -> int:
         ext = rec.extraction
         opened = {v.tobytes() for v, _ in getattr(ext, "opened", [])}
         kept = {v.tobytes() for v, _ in getattr(ext, "undecided", [])}
+        walls = {v.tobytes() for v, _ in getattr(ext, "walls", [])}
         for verts, ratio, typical in getattr(ext, "examined_caps", []):
             key = verts.tobytes()
-            done = "removed" if key in opened else "kept closed" if key in kept else "passed over"
+            done = (
+                "removed"
+                if key in opened
+                else "kept closed"
+                if key in kept
+                else "kept closed (a wall)"
+                if key in walls
+                else "passed over"
+            )
             rows = rec.point_input[verts]
             real = bool(np.isin(rows, bnd).mean() >= 0.5) if len(bnd) else False
             (true_q if real else false_q).append((ratio, typical))

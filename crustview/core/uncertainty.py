@@ -125,9 +125,14 @@ def result_features(
     ]
     # a separation join-parts removed is always uncertain: the gap was below what the sample resolves,
     # and two objects that touch look the same as one thin attachment
+    # (open-cap's walls name a component of their own, its reason already naming its rule: walls.py)
     feats += [
         replace(
-            f, location=f.location * scale, uncertain=True, removed=True, reason=f"joined (rule join-parts): {f.reason}"
+            f,
+            location=f.location * scale,
+            uncertain=True,
+            removed=True,
+            reason=f.reason if "(rule open-cap)" in f.reason else f"joined (rule join-parts): {f.reason}",
         )
         for f in ext.removed_features
         if f.kind == "component"

@@ -20,7 +20,9 @@ from collections.abc import Callable
 import numpy as np
 
 
-def weak_openings(feats: list, openings: list[tuple[np.ndarray, float]], how: str = "opened by open-cap") -> list:
+def weak_openings(
+    feats: list, openings: list[tuple[np.ndarray, float]], how: str = "opened by open-cap", any_ratio: bool = False
+) -> list:
     """The features, with every hole whose cap was less than :data:`CAP_SURE` times its ring made uncertain.
 
     Parameters
@@ -32,23 +34,29 @@ def weak_openings(feats: list, openings: list[tuple[np.ndarray, float]], how: st
         ratio (:func:`cap_ratios`).
     how : str
         How the hole relates to the cap, for the reason.
+    any_ratio : bool
+        Every one of ``openings`` makes its holes uncertain, whatever its ratio: open-cap's walls
+        (:mod:`.walls`), which show no opening at any size.
     """
     from dataclasses import replace
 
     from .cells import CAP_SURE
 
-    weak = [set(v.tolist()) for v, q in openings if q < CAP_SURE]
-    if not weak:
+    weak_caps = [(set(v.tolist()), q) for v, q in openings if any_ratio or q < CAP_SURE]
+    if not weak_caps:
         return feats
     out = []
     for f in feats:
-        if f.kind == "hole" and not f.uncertain and any(w.intersection(f.vertices.tolist()) for w in weak):
-            q = min(q for v, q in openings if q < CAP_SURE and set(v.tolist()).intersection(f.vertices.tolist()))
+        on = [q for w, q in weak_caps if w.intersection(f.vertices.tolist())] if f.kind == "hole" else []
+        if on and not f.uncertain:
+            q = min(on)
+            why = (
+                "a patch between two rims the sample shows, no evidence of an opening"
+                if any_ratio
+                else f"under {CAP_SURE:g}: noise or sparse sampling may have made it"
+            )
             f = replace(
-                f,
-                uncertain=True,
-                reason=f"{f.reason} ({how}: its cap was {q:.2g} times the faces around it, "
-                f"under {CAP_SURE:g}: noise or sparse sampling may have made it)",
+                f, uncertain=True, reason=f"{f.reason} ({how}: its cap was {q:.2g} times the faces around it, {why})"
             )
         out.append(f)
     return out

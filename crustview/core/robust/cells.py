@@ -383,11 +383,15 @@ def _labelled(
         ext.notes.append(
             f"open-cap kept {len(walls)} "
             + ("walls" if len(walls) > 1 else "wall")
-            + " closed: patches of big faces ("
+            + " closed: "
+            + ("patches" if len(walls) > 1 else "a patch")
+            + " of big faces ("
             + ", ".join(f"{q:.2g}" for _, _, q in walls[:5])
             + (" ..." if len(walls) > 5 else "")
-            + " times the faces around them) between two rims or more that the sample shows, not over one "
-            "opening: a side no sample lies on, or openings; each is an uncertain hole"
+            + " times the faces around "
+            + ("them" if len(walls) > 1 else "it")
+            + ") between two rims or more that the sample shows, not over one opening: a side no sample lies on, "
+            "or openings; each is an uncertain hole (and an uncertain component where it holds two parts together)"
         )
     if closed_caps:
         ext.notes.append(
@@ -409,6 +413,7 @@ def _labelled(
     ext.openings = len(patches)  # type: ignore[attr-defined]
     ext.opened = opened  # type: ignore[attr-defined]
     ext.undecided = undecided  # type: ignore[attr-defined]
+    ext.walls = [(vs, q) for _, vs, q in walls]  # type: ignore[attr-defined]
     ext.examined_caps = over  # type: ignore[attr-defined]
     ext.patch_start = start  # type: ignore[attr-defined]
     return ext

@@ -163,6 +163,13 @@ def _choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progr
         grown.features = weak_openings(
             grown.features or [], getattr(lab, "undecided", []), how="where the labelled M_S had a cap open-cap kept"
         )
+        # and so is one where the labelled M_S kept a wall, at any ratio (walls.py: no wall shows an opening)
+        grown.features = weak_openings(
+            grown.features,
+            getattr(lab, "walls", []),
+            how="where the labelled M_S had a wall open-cap kept",
+            any_ratio=True,
+        )
     t_keep, t_other = (top_lab, top_gro) if keep is lab else (top_gro, top_lab)
     keep.notes.insert(
         0,

@@ -12,11 +12,14 @@ evidence that the sample is an open scan's.  The labelling's closed answer, the 
 reconstructs closed manifolds), is kept, and the possible opening is named: an uncertain ``hole`` at the band
 and, where removing the band would cut its part in two, an uncertain ``component`` (two pieces, or one object).
 
-A small loop inside an opening (a few stray samples there, whose own faces the cap surrounds) is shorter than
-LOOP_MIN, so a cap with such islands is still a disc to this rule.  On the public scans, their noisy copies and
+A small loop inside an opening (a few stray samples there, whose own faces the cap surrounds) is usually shorter
+than LOOP_MIN (a loop of k evenly spaced samples measures about k of their spacings: six or fewer), so a cap with
+such islands is still a disc to this rule.  Loops are the connected pieces of the patch's boundary edges: two
+rims that share a sample count as one (a wall pinched there is taken for a cap, as before this rule), and
+islands that touch at a sample add up.  On the public scans, their noisy copies and
 the 5 % holes of ``bench_reshaped.py`` (draw 43) no patch of a right result has two such rims; the CAD gears and
 the octopus (several objects, wrong either way) have some; a held-out CAD pinion (two faces sampled, its rim
-33 spacings tall) came out as two flat rings, open, until this rule (session 46, ``docs/history.md``).
+38 spacings tall) came out as two flat rings, open, until this rule (session 46, ``docs/history.md``).
 """
 
 from __future__ import annotations
@@ -91,20 +94,25 @@ def pieces_without(faces: np.ndarray, patch: np.ndarray) -> list[np.ndarray]:
 
     Parts are edge-connected: two faces sharing an edge are in one part.
     """
-    edges, owner = _edges(faces)
+    f = len(faces)
+    keep = np.ones(f, bool)
+    keep[patch] = False
+    _, part = connected_components(_shared_edges(faces, np.arange(f)), directed=False)
+    mine = keep & (part == part[patch[0]])
+    # the kept faces' own shared edges (an edge of three faces or more still joins the kept ones among them)
+    _, piece = connected_components(_shared_edges(faces, np.flatnonzero(keep)), directed=False)
+    return [np.flatnonzero(mine & (piece == p)) for p in np.unique(piece[mine])]
+
+
+def _shared_edges(faces: np.ndarray, rows: np.ndarray) -> coo_matrix:
+    """The graph on all faces in which ``faces[rows]`` sharing an edge are joined."""
+    edges, owner = _edges(faces[rows])
+    owner = rows[owner]
     key = edges[:, 0].astype(np.int64) * (int(faces.max()) + 1) + edges[:, 1]
     order = np.argsort(key, kind="stable")
     same = np.flatnonzero(key[order][1:] == key[order][:-1])
     a, b = owner[order[same]], owner[order[same + 1]]
-    f = len(faces)
-    _, part = connected_components(coo_matrix((np.ones(len(a)), (a, b)), shape=(f, f)), directed=False)
-    keep = np.ones(f, bool)
-    keep[patch] = False
-    mine = keep & (part == part[patch[0]])
-    joined = keep[a] & keep[b]
-    sub = coo_matrix((np.ones(int(joined.sum())), (a[joined], b[joined])), shape=(f, f))
-    _, piece = connected_components(sub, directed=False)
-    return [np.flatnonzero(mine & (piece == p)) for p in np.unique(piece[mine])]
+    return coo_matrix((np.ones(len(a)), (a, b)), shape=(len(faces), len(faces)))
 
 
 def kept_walls(points: np.ndarray, faces: np.ndarray, walls: list[tuple[np.ndarray, np.ndarray, float]]) -> list:
@@ -121,6 +129,8 @@ def kept_walls(points: np.ndarray, faces: np.ndarray, walls: list[tuple[np.ndarr
     from ..util.nearest import nearest_distances
     from .cap_holes import cap_hole
 
+    if not walls:
+        return []
     nn = nearest_distances(points)
     out = []
     for patch, vs, q in walls:
@@ -140,7 +150,7 @@ def kept_walls(points: np.ndarray, faces: np.ndarray, walls: list[tuple[np.ndarr
             )
         )
         parts = pieces_without(faces, patch)
-        if len(parts) > 1:
+        if len(parts) > 1 and len(np.setdiff1d(faces[np.concatenate(parts)], faces[min(parts, key=len)])):
             out.append(_joined_part(points, faces, parts, nn))
     return out
 
