@@ -120,3 +120,25 @@ def test_a_coin_sampled_on_its_faces_is_closed_and_its_rim_named():
     assert hole.uncertain and hole.reason.startswith("a wall kept closed (rule open-cap)")
     assert part.uncertain and part.reason.startswith("joined by a wall kept closed (rule open-cap)")
     assert part.size_spacings == pytest.approx(height / s, rel=0.1)
+
+
+def test_caps_kept_on_either_end_of_a_solid_name_a_possible_tunnel():
+    # cap_holes.facing_caps: the can's two end fans kept closed face each other through the can (the path
+    # between their centres crosses no other face, and its middle is inside): one uncertain removed handle,
+    # its size the path over the caps' spacing.  Two cans stacked with a gap: the lower one's top and the
+    # upper one's bottom face each other across the outside: nothing
+    from crustview.core.robust.cap_holes import facing_caps
+
+    pts, faces, bottom, _, top = _can(height=3.0)
+    caps = [(np.unique(faces[bottom]), 4.0), (np.unique(faces[top]), 5.0)]
+    (tunnel,) = facing_caps(pts, faces, caps)
+    spacing = 2 * np.sin(np.pi / 8)  # the median of the caps' samples' nearest distances: a rim's side
+    assert tunnel.kind == "handle" and tunnel.uncertain and tunnel.removed
+    assert tunnel.size_spacings == pytest.approx(3.0 / spacing, rel=0.05)
+    assert np.allclose(tunnel.location, [0, 0, 1.5]) and "(rule open-cap" in tunnel.reason
+    upper = pts + [0, 0, 5.0]
+    two = np.r_[pts, upper]
+    faces2 = np.r_[faces, faces + len(pts)]
+    gap = [(np.unique(faces[top]), 4.0), (np.unique(faces[bottom]) + len(pts), 4.0)]
+    assert facing_caps(two, faces2, gap) == []
+    assert len(facing_caps(two, faces2, [caps[0], (caps[1][0] + len(pts), 5.0)])) == 0  # across the gap too

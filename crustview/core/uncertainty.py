@@ -118,7 +118,8 @@ def result_features(
             # the growing path's cuts (robust/cut_loop.py) come marked removed, sure or not already
             uncertain=f.uncertain if f.removed else f.size_spacings >= LOOP_MIN,
             removed=True,
-            reason=f"removed (rule cut-handle): {f.reason}",
+            # (open-cap's facing caps name a handle of their own, in their rule's words: cap_holes.facing_caps)
+            reason=f.reason if "(rule open-cap" in f.reason else f"removed (rule cut-handle): {f.reason}",
         )
         for f in ext.removed_features
         if f.kind == "handle"
@@ -132,7 +133,7 @@ def result_features(
             location=f.location * scale,
             uncertain=True,
             removed=True,
-            reason=f.reason if "(rule open-cap)" in f.reason else f"joined (rule join-parts): {f.reason}",
+            reason=f.reason if "(rule open-cap" in f.reason else f"joined (rule join-parts): {f.reason}",
         )
         for f in ext.removed_features
         if f.kind == "component"
@@ -341,7 +342,10 @@ def _rerun(
 
 def _others_cut(feats: list[Feature], sure: int) -> str:
     """The handles cut-handle removed beside the ``sure`` ones: those in the band, listed as uncertain."""
-    band = sum(f.removed and f.uncertain and f.kind == "handle" and not f.disputed for f in feats)
+    band = sum(
+        f.removed and f.uncertain and f.kind == "handle" and not f.disputed and "(rule open-cap" not in f.reason
+        for f in feats
+    )
     if not band:
         return ""
     return f"; the other {band} it removed {'is' if band == 1 else 'are'} among the uncertain features"

@@ -157,3 +157,85 @@ def closed_openings(points: np.ndarray, opened: list[tuple[np.ndarray, float]], 
         )
         for vs, q in sure
     ]
+
+
+def facing_caps(points: np.ndarray, faces: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> list:
+    """Pairs of caps ``open-cap`` kept closed that face each other through the solid, as uncertain handles.
+
+    Two possible openings of one closed part, joined by a straight path inside it that crosses no face of M_S,
+    may be the two ends of one tunnel whose wall the sample has no points on (a bore sampled only where it meets
+    the faces, as CAD meshes are: the held-out pinion's bore, 8 spacings across and 38 long, session 46).  If
+    both are openings, the part has one handle more than M_S: named as an uncertain ``handle``, ``removed``
+    (not a handle of M_S), at the path's middle, its size the path's length in the caps' spacing.  The path
+    runs between the caps' centroids; it is inside when it crosses no face but the caps' own and a ray from its
+    middle crosses M_S an odd number of times.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n, 3)
+    faces : ndarray of shape (f, 3)
+        M_S (closed where the caps are).
+    caps_kept : list of (ndarray of int, float)
+        Each cap kept closed: its samples and its ratio (:func:`kept_caps`).
+    """
+    from ..analysis.features import Feature
+    from ..util.nearest import nearest_distances
+
+    if len(caps_kept) < 2 or len(faces) == 0:
+        return []
+    nn = nearest_distances(points)
+    tri = points[faces]
+    out = []
+    for i in range(len(caps_kept)):
+        for j in range(i + 1, len(caps_kept)):
+            (a, qa), (b, qb) = caps_kept[i], caps_kept[j]
+            ca, cb = points[a].mean(axis=0), points[b].mean(axis=0)
+            own = np.isin(faces, np.concatenate([a, b])).all(axis=1)
+            if (
+                len(np.intersect1d(a, b))
+                or _hits(tri[~own], ca, cb - ca, 1.0)
+                or _hits(tri, (ca + cb) / 2, _RAY) % 2 == 0
+            ):
+                continue
+            unit = float(np.median(nn[np.concatenate([a, b])]))
+            size = float(np.linalg.norm(cb - ca)) / unit if unit > 0 else math.inf
+            ends = np.array(
+                [
+                    a[np.argmin(np.linalg.norm(points[a] - ca, axis=1))],
+                    b[np.argmin(np.linalg.norm(points[b] - cb, axis=1))],
+                ]
+            )
+            out.append(
+                Feature(
+                    "handle",
+                    (ca + cb) / 2,
+                    size,
+                    True,
+                    ends,
+                    f"two possible openings kept closed (rule open-cap, caps {qa:.2g} and {qb:.2g} times their rings) "
+                    f"face each other through the solid, {size:.3g} spacings apart: if both are the ends of one tunnel "
+                    "whose wall the sample has no points on, the part has one handle more",
+                    removed=True,
+                )
+            )
+    return out
+
+
+#: A direction for the inside test's ray, in general position (no axis, no diagonal).
+_RAY = np.array([0.5773502691896258, 0.5345224838248488, 0.6172133998483676])
+
+
+def _hits(tri: np.ndarray, origin: np.ndarray, direction: np.ndarray, t_max: float = math.inf) -> int:
+    """How many triangles ``tri`` (f, 3, 3) the segment or ray ``origin + t direction``, 0 < t < t_max, crosses."""
+    e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    h = np.cross(direction, e2)
+    det = (e1 * h).sum(axis=1)
+    scale = np.linalg.norm(e1, axis=1) * np.linalg.norm(e2, axis=1) * np.linalg.norm(direction)
+    ok = np.abs(det) > 1e-12 * np.maximum(scale, 1e-300)
+    inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+    s = origin - tri[:, 0]
+    u = inv * (s * h).sum(axis=1)
+    q = np.cross(s, e1)
+    v = inv * (q * direction).sum(axis=1)
+    t = inv * (q * e2).sum(axis=1)
+    return int((ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0) & (t < t_max)).sum())

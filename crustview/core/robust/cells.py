@@ -41,7 +41,7 @@ from ..analysis.topology import is_closed_manifold
 from ..errors import check_cancel
 from ..steps import RULE_JOIN, RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
 from ..util.nearest import nearest_distances
-from .cap_holes import kept_caps
+from .cap_holes import facing_caps, kept_caps
 from .cut_handle import CutHandles, cut_handles, log_cut
 from .grow import SIZE_MAX, size_ratio
 from .join_parts import JoinParts, join_parts
@@ -409,6 +409,7 @@ def _labelled(
         + joined.removed
         + closed_caps
         + kept_walls(points, now, walls)
+        + facing_caps(points, alive, undecided)
     )
     ext.openings = len(patches)  # type: ignore[attr-defined]
     ext.opened = opened  # type: ignore[attr-defined]
