@@ -15,7 +15,10 @@ by construction, in one step.  Then, each a step of the log:
    puts over the opening of an open scan: it is removed, and the opening is
    never closed again by ``fill-hole``, if the sample is an open scan's
    (some cap over :data:`CAP_SURE`); where none is, caps up to CAP_SURE stay
-   closed as uncertain holes (:func:`kept_caps`).  Smaller patches (where
+   closed as uncertain holes (:func:`kept_caps`).  A patch between two rims the sample shows is a wall,
+   not a cap over one opening (:mod:`.walls`): it stays closed, named, whatever its ratio, and two caps
+   kept closed that face each other through the solid name a possible tunnel
+   (:func:`~.cap_holes.facing_caps`).  Smaller patches (where
    noise or one missing sample leaves a few large faces on a closed object)
    stay, and so do patches whose faces are at most :data:`CAP_TYPICAL` times
    the median face of M_S (sampled as densely as the surface in general,
