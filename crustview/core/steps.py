@@ -196,7 +196,12 @@ class Extraction:
         :mod:`crustview.core.robust.cut_handle`): loops below CUT_BELOW = 4 pi,
         of which only those below LOOP_MIN = 2 pi are beyond every eps < 1 sample,
         as :class:`~crustview.core.analysis.features.Feature` records of the
-        complex before the cut.
+        complex before the cut; the parts ``join-parts`` joined; the caps
+        ``open-cap`` kept closed (holes).
+    named_features : list
+        Components and handles ``open-cap`` names in its own words where it kept a wall or two facing
+        caps closed (:mod:`crustview.core.robust.walls`, :func:`crustview.core.robust.cap_holes.facing_caps`):
+        uncertain, and not features of the complex; reported as they are.
     """
 
     simplices: np.ndarray
@@ -211,6 +216,7 @@ class Extraction:
     disputed: list = field(default_factory=list)
     features: list | None = None
     removed_features: list = field(default_factory=list)
+    named_features: list = field(default_factory=list)
 
     @property
     def n_steps(self) -> int:

@@ -111,33 +111,30 @@ def result_features(
     # a handle cut in the band [LOOP_MIN, LOOP_SUPPORTED) stays uncertain: a sample coarser than
     # eps = 1/2 resolves it, so the sample did not decide it; one below LOOP_MIN is below what any
     # eps < 1 sample resolves, and its removal is what the sampling condition implies
-    feats += [
+    cut = [
         replace(
             f,
             location=f.location * scale,
             # the growing path's cuts (robust/cut_loop.py) come marked removed, sure or not already
             uncertain=f.uncertain if f.removed else f.size_spacings >= LOOP_MIN,
             removed=True,
-            # (open-cap's facing caps name a handle of their own, in their rule's words: cap_holes.facing_caps)
-            reason=f.reason if "(rule open-cap" in f.reason else f"removed (rule cut-handle): {f.reason}",
+            reason=f"removed (rule cut-handle): {f.reason}",
         )
         for f in ext.removed_features
         if f.kind == "handle"
     ]
+    feats += cut
     # a separation join-parts removed is always uncertain: the gap was below what the sample resolves,
     # and two objects that touch look the same as one thin attachment
-    # (open-cap's walls name a component of their own, its reason already naming its rule: walls.py)
     feats += [
         replace(
-            f,
-            location=f.location * scale,
-            uncertain=True,
-            removed=True,
-            reason=f.reason if "(rule open-cap" in f.reason else f"joined (rule join-parts): {f.reason}",
+            f, location=f.location * scale, uncertain=True, removed=True, reason=f"joined (rule join-parts): {f.reason}"
         )
         for f in ext.removed_features
         if f.kind == "component"
     ]
+    # open-cap's walls and facing caps name components and handles in their own words (steps.Extraction)
+    feats += [replace(f, location=f.location * scale) for f in getattr(ext, "named_features", [])]
     # a cap open-cap kept closed is a possible opening the sample did not decide: always uncertain
     feats += [replace(f, location=f.location * scale) for f in ext.removed_features if f.kind == "hole"]
     if mode == "robust" and rec.d == 1 and _beyond(counts):
@@ -223,7 +220,7 @@ def result_features(
             + (" sampling radii) are" if len(below) > 1 else " sampling radii) is")
             + " shorter than any eps < 1 sample resolves (2 pi): noise or a bridge, "
             "below the sample's resolution (the JSON report lists them under removed_features)"
-            + _others_cut(feats, len(below))
+            + _others_cut(cut, len(below))
         )
     if any(f.uncertain for f in feats):
         doubt = [f for f in feats if f.uncertain]
@@ -340,12 +337,9 @@ def _rerun(
     )
 
 
-def _others_cut(feats: list[Feature], sure: int) -> str:
-    """The handles cut-handle removed beside the ``sure`` ones: those in the band, listed as uncertain."""
-    band = sum(
-        f.removed and f.uncertain and f.kind == "handle" and not f.disputed and "(rule open-cap" not in f.reason
-        for f in feats
-    )
+def _others_cut(cut: list[Feature], sure: int) -> str:
+    """The handles cut-handle removed beside the ``sure`` ones (``cut``: all it removed): those listed as uncertain."""
+    band = sum(f.uncertain for f in cut)
     if not band:
         return ""
     return f"; the other {band} it removed {'is' if band == 1 else 'are'} among the uncertain features"

@@ -321,8 +321,9 @@ def _labelled(
     band = [(p, np.unique(now[p]), q) for p, q in zip(examined, ratios, strict=True) if q > CAP_RATIO]
     # a patch between two rims the sample shows is a wall, not a cap over one opening (walls.py): it stays, named
     nn = nearest_distances(points) if band else np.zeros(0)
-    walls = [b for b in band if is_wall(now, b[0], points, nn)]
-    band = [b for b in band if not any(b[0] is w[0] for w in walls)]
+    wall = [is_wall(now, p, points, nn) for p, _, _ in band]
+    walls = [b for b, w in zip(band, wall, strict=True) if w]
+    band = [b for b, w in zip(band, wall, strict=True) if not w]
     open_scan = any(q > CAP_SURE for _, _, q in band)
     patches = [p for p, _, _ in band] if open_scan else []
     opened = [(vs, q) for _, vs, q in band] if open_scan else []
@@ -411,9 +412,12 @@ def _labelled(
         + after.removed
         + joined.removed
         + closed_caps
-        + kept_walls(points, now, walls)
-        + facing_caps(points, alive, undecided)
     )
+    # a wall is a possible opening (a hole, kept as a cap is) and may hold two parts together (a component);
+    # two caps kept closed facing each other may be a tunnel's ends (a handle): open-cap's own words
+    named = kept_walls(points, now, walls) + facing_caps(points, alive, undecided)
+    ext.removed_features += [f for f in named if f.kind == "hole"]
+    ext.named_features = [f for f in named if f.kind != "hole"]
     ext.openings = len(patches)  # type: ignore[attr-defined]
     ext.opened = opened  # type: ignore[attr-defined]
     ext.undecided = undecided  # type: ignore[attr-defined]

@@ -74,7 +74,8 @@ class HullFrame:
     def lift_features(self, ext) -> None:
         """The features an extraction measured in the frame, in R^k, in place.
 
-        ``ext``'s ``features``, ``removed_features`` and ``disputed`` are replaced by their lifted copies.
+        ``ext``'s ``features``, ``removed_features``, ``named_features`` and ``disputed`` are replaced by their
+        lifted copies.
         """
 
         def lift(found):
@@ -82,6 +83,7 @@ class HullFrame:
 
         ext.features = lift(ext.features)
         ext.removed_features = lift(ext.removed_features)
+        ext.named_features = lift(getattr(ext, "named_features", []))
         ext.disputed = lift(ext.disputed)
 
 
