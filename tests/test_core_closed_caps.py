@@ -43,7 +43,7 @@ def test_cap_ratios_near_the_patches_are_the_ratios_by_definition() -> None:
     """The i.i.d. torus's closed surface has many small patches of big faces: each patch's ratio, sought among
     the faces near the patches only, is the definition's (every face sharing a vertex, over all faces)."""
     from crustview.core.analysis.radii import enclosing_radii
-    from crustview.core.robust.cells import cap_patches, cap_ratios
+    from crustview.core.robust.cells import CAP_RATIO, cap_patches, cap_ratios
     from crustview.core.robust.grow import SIZE_MAX, size_ratio
 
     m = get_manifold("torus")
@@ -59,7 +59,52 @@ def test_cap_ratios_near_the_patches_are_the_ratios_by_definition() -> None:
         want.append(float(radii[p].max()) / float(np.median(radii[ring])))
     assert cap_ratios(faces, patches, rec.points, radii) == want  # the labelled path's call: bit for bit
     assert cap_ratios(faces, patches, rec.points) == want  # radii of the near faces only (no degenerate face)
-    assert rec.uncertain_features == []  # a closed torus, sampled i.i.d.: no cap over CAP_SURE
+    # a closed torus, sampled i.i.d.: no cap over CAP_SURE, and those over CAP_RATIO are what its own
+    # irregularity makes (closed_caps.spacing_spread)
+    assert any(q > CAP_RATIO for q in want)
+    assert rec.uncertain_features == []
+
+
+def test_a_scanners_hole_in_an_even_sample_is_named_though_its_cap_is_under_cap_sure() -> None:
+    """The even sphere of 1,500 samples with the 3 % nearest one sample taken away (a hole a scanner leaves).
+
+    The paper's loop closes it through every sample, and the robust mode returns that unchanged.  Its cap is
+    5 times the faces around it: under CAP_SURE, over CAP_RATIO times the sample's own irregularity (about
+    1.5), which the i.i.d. torus's caps of about 3.1 are not (its irregularity is about 5).  So the hole is
+    named where it was cut; the whole sphere names nothing.
+    """
+    from crustview.core.robust.cells import CAP_RATIO, CAP_SURE
+    from crustview.core.robust.closed_caps import spacing_spread
+    from crustview.core.util.nearest import nearest_distances
+
+    pts = get_manifold("sphere").sample(1500, seed=0).points
+    whole = reconstruct(pts, 2)
+    assert whole.topology.closed_manifold and whole.uncertain_features == []
+    far = np.linalg.norm(pts - pts[0], axis=1)
+    cut = far <= np.quantile(far, 0.03)
+    paper, rec = reconstruct(pts[~cut], 2, mode="paper"), reconstruct(pts[~cut], 2)
+    assert rec.topology.closed_manifold and rec.topology.betti == (1, 0, 1)
+    assert np.array_equal(np.sort(paper.manifold, axis=1), np.sort(rec.manifold, axis=1))  # the paper's, unchanged
+    (hole,) = rec.uncertain_features
+    assert hole.kind == "hole" and hole.removed and "the sample does not decide" in hole.reason
+    q = float(hole.reason.split("its faces ")[1].split(" times")[0])
+    spread = spacing_spread(np.asarray(rec.manifold), nearest_distances(rec.points))
+    assert CAP_RATIO * spread < q <= CAP_SURE  # the band, above the sample's own irregularity
+    # at the cut: the removed samples' mean, within their spread
+    gone = pts[cut]
+    assert np.linalg.norm(hole.location - gone.mean(axis=0)) < np.linalg.norm(gone - gone.mean(axis=0), axis=1).max()
+
+
+def test_spacing_spread_is_one_on_an_even_ring_and_grows_with_one_sparse_sample() -> None:
+    """By hand: an octahedron whose samples are all 1 apart has spread 1; one sample 3 from the others
+    (its neighbours' mean 1) has 3."""
+    from crustview.core.robust.closed_caps import spacing_spread
+
+    octa = np.array([[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]])
+    assert spacing_spread(octa, np.ones(6)) == 1.0
+    nn = np.ones(6)
+    nn[4] = 3.0  # its four neighbours (0, 1, 2, 3) have 1; theirs include it, below 3 times their mean
+    assert spacing_spread(octa, nn) == 3.0
 
 
 def test_a_sure_opening_that_the_kept_grown_result_closes_is_an_uncertain_hole() -> None:
