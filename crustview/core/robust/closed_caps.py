@@ -59,20 +59,19 @@ def paper_caps(points: np.ndarray, triangles: np.ndarray) -> list[Feature]:
     if not patches:
         return []
     ratios = cap_ratios(faces, patches, points)  # radii near the patches only
-    if max(ratios) <= CAP_RATIO:
-        return []
+    nn = nearest_distances(points)
+    # the sample's own irregularity, only where a cap is in the band it decides (a linear pass)
+    band = any(CAP_RATIO < q <= CAP_SURE for q in ratios)
+    spread = spacing_spread(faces, nn) if band else None
+    named = [q > CAP_SURE or (spread is not None and q > CAP_RATIO * max(1.0, spread)) for q in ratios]
+    if not any(named):
+        return []  # before the radii of every face (the 300,000-sample i.i.d. torus: 0.35 s)
     radii = enclosing_radii(points, faces)
     typical = typical_ratios(faces, patches, radii)
-    nn = nearest_distances(points)
-    spread = None
     out = []
-    for p, q, t in zip(patches, ratios, typical, strict=True):
-        if q <= CAP_RATIO or t <= CAP_TYPICAL:
+    for p, q, t, name in zip(patches, ratios, typical, named, strict=True):
+        if not name or t <= CAP_TYPICAL:
             continue
-        if q <= CAP_SURE:
-            spread = spacing_spread(faces, nn) if spread is None else spread
-            if q <= CAP_RATIO * spread:
-                continue  # the sample's own irregularity makes caps this large
         vs = np.unique(faces[p])
         out.append(cap_hole(points, vs, nn, _why(len(p), len(vs), q, spread)))
     return out
