@@ -90,9 +90,10 @@ def _why(n_faces: int, n_samples: int, q: float, spread: float | None):  # noqa:
                 f" (more than the {CAP_SURE:g} above which open-cap takes a cap for one over an opening): the sample "
                 "shows no surface there, and Algorithm 3 closes every opening"
             )
+        assert spread is not None  # a cap in the band is named only beside the sample's irregularity
         return head + (
-            f", more than the {CAP_RATIO:g} a surface's sampling can change by over one radius times this "
-            f"sample's own irregularity ({spread:.2f}: how far a sample's spacing exceeds its neighbours'), "
+            f", more than {CAP_RATIO * spread:.3g} (the {CAP_RATIO:g} a surface's sampling can change by over one "
+            f"radius, times {spread:.3g}, the most this sample's spacing exceeds its neighbours' anywhere) and "
             f"less than the {CAP_SURE:g} above which a cap is surely over an opening: the sample does not "
             "decide, and Algorithm 3 closes every opening"
         )
