@@ -17,21 +17,26 @@ z = 0.5 came out that way, green, an open object called closed for sure), gets o
 feature per cap over :data:`~.cells.CAP_SURE` = 6 times the faces around it (open-cap's bound for a cap
 surely over an opening; and over CAP_TYPICAL times the faces of M_S in general), marked ``removed`` as a
 cap ``open-cap`` keeps closed is (a possible opening that is not a hole of M_S), at the cap's samples.
-A cap between :data:`~.cells.CAP_RATIO` and CAP_SURE is named too where the sample's own spacing does not
-explain it (:func:`spacing_spread`).  CAP_RATIO is the Lipschitz bound on how much the sampling radius
-changes over one radius; what a sample shows is that radius times its own irregularity (how much one
-sample's nearest-neighbour distance exceeds its neighbours' on M_S).  So a cap is named when it is over
-CAP_RATIO times the largest such irregularity the sample shows anywhere.  An i.i.d. sample is irregular
-everywhere: the i.i.d. torus of 20,000 and 100,000 samples has caps of 3.08-3.43 (of 15 and 75 patches of
-big faces) and an irregularity of 4.8-5.4, so nothing is named, as before.  An even sample is regular: the
+A cap between :data:`~.cells.CAP_RATIO` and CAP_SURE is named too where the sample's own spacing around it does
+not explain it (:func:`ring_spread`).  CAP_RATIO is the Lipschitz bound on how much the sampling radius changes
+over one radius; what a sample shows is that radius times its own irregularity (how much one sample's
+nearest-neighbour distance exceeds the mean of its neighbours' on M_S, :func:`spacing_irregularity`).  So a cap
+is named when it is over CAP_RATIO times the largest irregularity among the samples of its ring (the faces
+sharing a sample with it: those :func:`~.cells.cap_ratios` measures it against), which is under 2 only where
+the sample is even around the cap (CAP_RATIO times 2 is CAP_SURE).  Measured on the ring, not the whole sample:
+one stray sample or a few near-duplicates elsewhere do not switch the band off.  An i.i.d. sample is irregular
+everywhere: the i.i.d. torus of 20,000 and 100,000 samples has caps of 3.08-3.43 (of 15 and 75 patches of big
+faces), and their rings are irregular enough that nothing is named, as before.  An even sample is regular: the
 even sphere of 1,500 samples with the 3 % nearest one sample taken away (a scanner's hole) has a cap of 5.05
-and an irregularity of 1.49, and the bumpy sphere with 5 % of its vertices cut away
-(``benchmarks/bench_reshaped.py --opened 0.05 --seed 43``) a cap of 5.91 and 1.23.  Before, both came out
-closed with nothing named.  The cut sphere's cap measures 10.9, the owl's open base 58.2.  No new constant:
-the bounds are open-cap's, and the irregularity is the sample's own.
+on a ring of irregularity 1.4, and the bumpy sphere with 5 % of its vertices cut away
+(``benchmarks/bench_reshaped.py --opened 0.05 --seed 43``) a cap of 5.91.  Before, both came out closed with
+nothing named.  The cut sphere's cap measures 10.9, the owl's open base 58.2.  No new constant: the bounds are
+open-cap's, and the irregularity is the sample's own.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -60,20 +65,21 @@ def paper_caps(points: np.ndarray, triangles: np.ndarray) -> list[Feature]:
         return []
     ratios = cap_ratios(faces, patches, points)  # radii near the patches only
     nn = nearest_distances(points)
-    # the sample's own irregularity, only where a cap is in the band it decides (a linear pass)
-    band = any(CAP_RATIO < q <= CAP_SURE for q in ratios)
-    spread = spacing_spread(faces, nn) if band else None
-    named = [q > CAP_SURE or (spread is not None and q > CAP_RATIO * max(1.0, spread)) for q in ratios]
+    # the sample's own irregularity around each cap in the band it decides (a linear pass, only if there is one)
+    band = [CAP_RATIO < q <= CAP_SURE for q in ratios]
+    irregular = spacing_irregularity(faces, nn) if any(band) else None
+    spreads = [ring_spread(faces, p, irregular) if b else None for p, b in zip(patches, band, strict=True)]
+    named = [q > CAP_SURE or (u is not None and q > CAP_RATIO * u) for q, u in zip(ratios, spreads, strict=True)]
     if not any(named):
         return []  # before the radii of every face (the 300,000-sample i.i.d. torus: 0.35 s)
     radii = enclosing_radii(points, faces)
     typical = typical_ratios(faces, patches, radii)
     out = []
-    for p, q, t, name in zip(patches, ratios, typical, named, strict=True):
+    for p, q, t, name, u in zip(patches, ratios, typical, named, spreads, strict=True):
         if not name or t <= CAP_TYPICAL:
             continue
         vs = np.unique(faces[p])
-        out.append(cap_hole(points, vs, nn, _why(len(p), len(vs), q, spread)))
+        out.append(cap_hole(points, vs, nn, _why(len(p), len(vs), q, u)))
     return out
 
 
@@ -93,7 +99,7 @@ def _why(n_faces: int, n_samples: int, q: float, spread: float | None):  # noqa:
         assert spread is not None  # a cap in the band is named only beside the sample's irregularity
         return head + (
             f", more than {CAP_RATIO * spread:.3g} (the {CAP_RATIO:g} a surface's sampling can change by over one "
-            f"radius, times {spread:.3g}, the most this sample's spacing exceeds its neighbours' anywhere) and "
+            f"radius, times {spread:.3g}, the most a sample's spacing around the cap exceeds its neighbours') and "
             f"less than the {CAP_SURE:g} above which a cap is surely over an opening: the sample does not "
             "decide, and Algorithm 3 closes every opening"
         )
@@ -101,11 +107,10 @@ def _why(n_faces: int, n_samples: int, q: float, spread: float | None):  # noqa:
     return why
 
 
-def spacing_spread(triangles: np.ndarray, nn: np.ndarray) -> float:
-    """The largest ratio of a sample's nearest-neighbour distance to the mean of its neighbours' on M_S.
+def spacing_irregularity(triangles: np.ndarray, nn: np.ndarray) -> np.ndarray:
+    """Per sample: its nearest-neighbour distance over the mean of its neighbours' on M_S.
 
-    1 for a perfectly even sample; an i.i.d. sample's is about 5 (the torus of 20,000 and 100,000 samples:
-    4.8 and 5.4), an even scan's 1.2-1.5.
+    About 1 on an even sample; on an i.i.d. one it varies widely (the 20,000-sample i.i.d. torus: up to 4.8).
 
     Parameters
     ----------
@@ -117,15 +122,29 @@ def spacing_spread(triangles: np.ndarray, nn: np.ndarray) -> float:
 
     Returns
     -------
-    float
-        At least 1.
+    ndarray of shape (n,)
+        NaN for a sample on no triangle, a duplicate (distance 0), or one whose neighbours' mean is not positive.
     """
     a = triangles.ravel()
     b = np.roll(triangles, -1, axis=1).ravel()  # each triangle's edges (0, 1), (1, 2), (2, 0)
     n = len(nn)
     total = np.bincount(a, nn[b], n) + np.bincount(b, nn[a], n)
     count = np.bincount(a, None, n) + np.bincount(b, None, n)
-    on = (count > 0) & (nn > 0)
-    mean = total[on] / count[on]
-    ratio = nn[on] / np.where(mean > 0, mean, np.inf)
-    return max(1.0, float(ratio.max())) if len(ratio) else 1.0
+    out = np.full(n, np.nan)
+    ok = (count > 0) & (nn > 0) & np.isfinite(nn) & (total > 0)
+    out[ok] = nn[ok] / (total[ok] / count[ok])
+    return out
+
+
+def ring_spread(triangles: np.ndarray, patch: np.ndarray, irregular: np.ndarray) -> float:
+    """The largest :func:`spacing_irregularity` among the samples of ``patch``'s faces and of its ring.
+
+    The ring is the faces sharing a sample with the patch (those :func:`~.cells.cap_ratios` measures the patch
+    against).  At least 1 (a perfectly even sample); where no sample of the ring has a value, infinity (nothing
+    shows the sample is even there).
+    """
+    vs = np.unique(triangles[patch])
+    ring = np.unique(triangles[np.isin(triangles, vs).any(axis=1)])
+    values = irregular[ring]
+    values = values[np.isfinite(values)]
+    return max(1.0, float(values.max())) if len(values) else math.inf
