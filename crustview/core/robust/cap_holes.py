@@ -127,7 +127,13 @@ def kept_caps(points: np.ndarray, caps_kept: list[tuple[np.ndarray, float]]) -> 
     return out
 
 
-def closed_openings(points: np.ndarray, opened: list[tuple[np.ndarray, float]], rim: set[int]) -> list:
+def closed_openings(
+    points: np.ndarray,
+    opened: list[tuple[np.ndarray, float]],
+    rim: set[int],
+    how: str = "closed in the grown M_S that was kept",
+    sure_only: bool = True,
+) -> list:
     """The sure openings of the labelled M_S that another M_S closes, as uncertain holes (removed features).
 
     ``open-cap`` removes a cap more than :data:`CAP_SURE` times larger than its ring: by the same Lipschitz
@@ -136,11 +142,16 @@ def closed_openings(points: np.ndarray, opened: list[tuple[np.ndarray, float]], 
     opening (``fill-hole`` spans it; none of the cap's samples is on its rim ``rim``), the closed answer spans a
     gap the sample shows: never silently.  ``opened``: the caps still open in the labelled M_S.  Each such
     opening is named where its cap was, as :func:`kept_caps` names a cap kept closed.
+
+    The labelled path asks the same of its own M_S after ``settle`` (:mod:`.cells`): ``fill-hole`` may close an
+    opening ``open-cap`` made as a slit (a thin part's rim whose two sides the labelling kept apart looks the
+    same as a narrow opening); ``how`` then says so, and ``sure_only=False`` names the caps under CAP_SURE it
+    removed beside a sure one too (a cap kept closed in that band is named, :func:`kept_caps`).
     """
     from ..util.nearest import nearest_distances
     from .cells import CAP_SURE
 
-    sure = [(vs, q) for vs, q in opened if q > CAP_SURE and not rim.intersection(vs.tolist())]
+    sure = [(vs, q) for vs, q in opened if (q > CAP_SURE or not sure_only) and not rim.intersection(vs.tolist())]
     if not sure:
         return []
     nn = nearest_distances(points)
@@ -150,9 +161,14 @@ def closed_openings(points: np.ndarray, opened: list[tuple[np.ndarray, float]], 
             vs,
             nn,
             lambda size, vs=vs, q=q: (
-                f"an opening the labelled M_S kept open (rule open-cap: a cap of {len(vs)} samples, {size:.3g} "
-                f"spacings across, its faces {q:.2g} times the size of those around it, over the {CAP_SURE:g} above "
-                "which a cap is surely over an opening), closed in the grown M_S that was kept"
+                f"an opening open-cap made in the labelled M_S (a cap of {len(vs)} samples, {size:.3g} "
+                f"spacings across, its faces {q:.2g} times the size of those around it, "
+                + (
+                    f"over the {CAP_SURE:g} above which a cap is surely over an opening"
+                    if q > CAP_SURE
+                    else f"beside a cap over the {CAP_SURE:g} above which a cap is surely over an opening"
+                )
+                + f"), {how}"
             ),
         )
         for vs, q in sure

@@ -44,7 +44,7 @@ from ..analysis.topology import is_closed_manifold
 from ..errors import check_cancel
 from ..steps import RULE_JOIN, RULE_LABEL, RULE_OPEN, RULE_REPAIR, RULE_SCULPT, Extraction
 from ..util.nearest import nearest_distances
-from .cap_holes import facing_caps, kept_caps
+from .cap_holes import closed_openings, facing_caps, kept_caps
 from .cut_handle import CutHandles, cut_handles, log_cut
 from .grow import SIZE_MAX, size_ratio
 from .join_parts import JoinParts, join_parts
@@ -383,6 +383,17 @@ def _labelled(
     ext.sculpt_held = sorted(ed.held)  # type: ignore[attr-defined]
     ext.left_samples = list(left)  # type: ignore[attr-defined]
     closed_caps = kept_caps(points, undecided)
+    # an opening open-cap made that settle closed again (fill-hole zips a slit: a thin part's rim whose two
+    # sides the labelling kept apart looks the same as a narrow opening) is closed with no sample on it
+    rim = {v for f in pt.boundary() for v in f}
+    ext.reclosed = [(vs, q) for vs, q in opened if not rim.intersection(vs.tolist())]  # type: ignore[attr-defined]
+    reclosed = closed_openings(
+        points,
+        opened,
+        rim,
+        how="closed again by fill-hole (a slit: the rim of a thin part sampled on both sides looks the same)",
+        sure_only=False,
+    )
     if walls:
         ext.notes.append(
             f"open-cap kept {len(walls)} "
@@ -412,11 +423,13 @@ def _labelled(
         + after.removed
         + joined.removed
         + closed_caps
+        + reclosed
     )
     # a wall is a possible opening (a hole, kept as a cap is) and may hold two parts together (a component);
     # two caps kept closed facing each other may be a tunnel's ends (a handle): open-cap's own words
     named = kept_walls(points, now, walls) + facing_caps(points, alive, undecided)
     ext.removed_features += [f for f in named if f.kind == "hole"]
+    ext.reclosed_features = reclosed  # type: ignore[attr-defined]
     ext.named_features = [f for f in named if f.kind != "hole"]
     ext.openings = len(patches)  # type: ignore[attr-defined]
     ext.opened = opened  # type: ignore[attr-defined]

@@ -153,11 +153,19 @@ def _choose(points, faces, tset, scores, admitted, spacing, cells, cancel, progr
     if keep is grown:
         # a possible opening open-cap kept closed stays undecided where the grown M_S closes it too
         rim = rim_gro
+        reclosed = getattr(lab, "reclosed_features", [])
         grown.removed_features = (
             list(grown.removed_features)
-            + [f for f in lab.removed_features if f.kind == "hole" and not rim.intersection(f.vertices.tolist())]
+            + [
+                f
+                for f in lab.removed_features
+                if f.kind == "hole" and not any(f is r for r in reclosed) and not rim.intersection(f.vertices.tolist())
+            ]
             # and an opening the labelled path showed beyond doubt, which the grown M_S closes, is no surer
             + spanned
+            # nor one open-cap made that the labelled path's fill-hole closed again (its features say so of the
+            # labelled M_S), where the grown M_S closes it too
+            + closed_openings(points, getattr(lab, "reclosed", []), rim_gro, sure_only=False)
         )
         # and where the grown M_S is open there, its hole is no surer than the cap was
         grown.features = weak_openings(
