@@ -389,7 +389,7 @@ def _labelled(
     ext.reclosed = [(vs, q) for vs, q in opened if not rim.intersection(vs.tolist())]  # type: ignore[attr-defined]
     reclosed = closed_openings(
         points,
-        opened,
+        ext.reclosed,  # type: ignore[attr-defined]
         rim,
         how="closed again by fill-hole (a slit: the rim of a thin part sampled on both sides looks the same)",
         sure_only=False,

@@ -64,6 +64,8 @@ def paper_caps(points: np.ndarray, triangles: np.ndarray) -> list[Feature]:
     if not patches:
         return []
     ratios = cap_ratios(faces, patches, points)  # radii near the patches only
+    if max(ratios) <= CAP_RATIO:
+        return []  # no cap to name: no distances to look up
     nn = nearest_distances(points)
     # the sample's own irregularity around each cap in the band it decides (a linear pass, only if there is one)
     band = [CAP_RATIO < q <= CAP_SURE for q in ratios]
@@ -143,8 +145,9 @@ def ring_spread(triangles: np.ndarray, patch: np.ndarray, irregular: np.ndarray)
     against).  At least 1 (a perfectly even sample); where no sample of the ring has a value, infinity (nothing
     shows the sample is even there).
     """
-    vs = np.unique(triangles[patch])
-    ring = np.unique(triangles[np.isin(triangles, vs).any(axis=1)])
+    on = np.zeros(len(irregular), bool)
+    on[triangles[patch]] = True
+    ring = np.unique(triangles[on[triangles].any(axis=1)])
     values = irregular[ring]
     values = values[np.isfinite(values)]
     return max(1.0, float(values.max())) if len(values) else math.inf
