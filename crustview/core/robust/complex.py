@@ -26,6 +26,30 @@ def _facets(s: Simplex) -> list[Simplex]:
     return [s[:a] + s[a + 1 :] for a in range(len(s))]
 
 
+_MUTABLE = (list, set, dict, np.ndarray)
+
+
+def _copied(value: object, depth: int) -> object:
+    """``value`` with its lists, sets, dicts and arrays copied ``depth`` levels down (see ``trial_copy``).
+
+    Tuples, frozensets, numbers, strings and None are immutable and shared; anything else is refused, and
+    so is a container nested deeper than ``depth``: a copy that could share state is a bug to see.
+    """
+    if isinstance(value, np.ndarray):
+        return value.copy()
+    if isinstance(value, _MUTABLE):
+        if depth == 0:
+            raise TypeError(f"trial_copy: a {type(value).__name__} nested deeper than the complex keeps one")
+        if isinstance(value, list):
+            return [_copied(v, depth - 1) if isinstance(v, _MUTABLE) else v for v in value]
+        if isinstance(value, set):
+            return set(value)  # its items are hashable: immutable
+        return {k: _copied(v, depth - 1) if isinstance(v, _MUTABLE) else v for k, v in value.items()}
+    if value is None or isinstance(value, (int, float, str, tuple, frozenset, np.generic)):
+        return value
+    raise TypeError(f"trial_copy: no rule to copy a {type(value).__name__}")
+
+
 class EditableComplex:
     """A d-complex as dictionaries, for local edits.
 
@@ -104,6 +128,23 @@ class EditableComplex:
             ids = sorted(i for i in self._star(f[0]) if all(v in simp[i] for v in f[1:]))
             self.fmap[f] = ids
         return ids
+
+    def trial_copy(self) -> EditableComplex:
+        """An independent copy to try an edit on (what ``copy.deepcopy`` gives, at a fraction of its cost).
+
+        The complex and its rules keep lists, sets and dicts whose items are ints, tuples of ints, strings or
+        frozensets, and whose dict values are such items or lists and sets of them: each container is copied
+        to that depth and each array is copied, so no edit of the copy reaches this complex.  The samples and
+        the Delaunay faces, which no rule writes, are shared.  ``copy.deepcopy`` walked every tuple of every
+        simplex, star and log entry: 3.0 of 3.8 s in ``cut-loop`` over the core tests' grown surfaces.
+        """
+        new = object.__new__(type(self))
+        for key, value in self.__dict__.items():
+            if key in ("points", "delaunay"):
+                new.__dict__[key] = value
+            else:
+                new.__dict__[key] = _copied(value, 2)
+        return new
 
     # -- editing ------------------------------------------------------------
     def _bulk_insert(self, simplices: list[Simplex], orient: list[int] | None) -> None:

@@ -27,7 +27,6 @@ ran through more.
 
 from __future__ import annotations
 
-import copy
 import math
 from dataclasses import replace
 
@@ -94,7 +93,7 @@ def cut_short_loops(pt: Patcher, points: np.ndarray, left: list[int]) -> tuple[P
         f = min(short, key=lambda x: x.size_spacings)
         loop = _loop(f)
         tried.add(loop)
-        trial = copy.deepcopy(pt)
+        trial = pt.trial_copy()
         on = set(loop)
         gone = [i for i, (s, a) in enumerate(zip(trial.simp, trial.alive, strict=True)) if a and on.intersection(s)]
         for i in gone:
