@@ -21,16 +21,17 @@ from .robust.driver import extract_robust
 from .robust.smooth_normals import smoothed_normals
 from .uncertainty import result_features
 from .util.hullframe import hull_frame
-from .util.memory import gc_paused, release_free_memory, small_pages
+from .util.memory import TRIM_MIN_POINTS, gc_paused, release_free_memory, small_pages
 from .util.nearest import remember
 from .util.parallel import start_in_background
 
 ProgressFn = Callable[[str, float], None]
 
 
-def _next_stage(cancel: object | None) -> None:
-    """Between stages: hand freed memory back (the next peak starts from what is held), check cancel."""
-    release_free_memory()
+def _next_stage(cancel: object | None, n: int) -> None:
+    """Between stages: check cancel, and on a large run hand freed memory back (the next peak starts from it)."""
+    if n >= TRIM_MIN_POINTS:
+        release_free_memory()
     check_cancel(cancel)
 
 
@@ -172,7 +173,7 @@ def reconstruct(
     n, k = prep.points.shape
     r = prep.r
     timings["prepare"] = time.perf_counter() - t0
-    _next_stage(cancel)
+    _next_stage(cancel, n)
 
     t0 = time.perf_counter()
     report("delaunay", 0.0)
@@ -192,7 +193,7 @@ def reconstruct(
         # room for the Voronoi vertices at infinity (at most one per sample), filled in place at the lift
         centres = circumcenters(work_all, simplices, spare=n if r == k else 0)
         timings["delaunay"] = time.perf_counter() - t0
-        _next_stage(cancel)
+        _next_stage(cancel, n)
     except BaseException:
         listing.exception()  # waits: the listing is not left running past a failed or cancelled run
         raise
@@ -218,9 +219,9 @@ def reconstruct(
     report("candidates", 0.0)
     faces, cptr, csimp = listing.result()  # what is left of the listing counts as candidates
     del listing
-    _next_stage(cancel)
+    _next_stage(cancel, n)
     lit = cand.literal_angles(prep.work, normals_w, faces)
-    _next_stage(cancel)
+    _next_stage(cancel, n)
     low = np.empty(len(faces))  # the cocone test's verdict, made by the scoring threads
     coc = cand.cocone_angles(
         work_all,
@@ -241,7 +242,7 @@ def reconstruct(
         vertex_angles=coc,
     )
     timings["candidates"] = time.perf_counter() - t0
-    _next_stage(cancel)
+    _next_stage(cancel, n)
 
     del work_all
     voronoi = prep.lift_appended(centres, infinite)  # in the circumcentres' array: they are not used again
