@@ -64,6 +64,7 @@ from .cotree import triangle_edges
 from .loops import capped, no_loops, short_basis
 from .necks import tighten, walk_class, walk_length
 from .radii import circumradii, enclosing_cover, enclosing_radii, local_spacing
+from .sheets import sheet_gaps
 
 __all__ = [
     "GAP_MIN",
@@ -211,7 +212,7 @@ def features(
         edges, tri_edges = triangle_edges(simplices)
         count = np.bincount(tri_edges.ravel(), minlength=len(edges))
         if not handles_only:
-            out += _holes(points, edges, count, h)
+            out += _holes(points, edges, count, h, simplices)
         if not no_loops(simplices, edges, tri_edges, count, n):
             out += _measured(points, _basis(points, simplices, edges, tri_edges, count, h, n), h, n, tighten_loops)
     elif d >= 3 and not handles_only:
@@ -277,37 +278,51 @@ def _components(points: np.ndarray, simplices: np.ndarray, h: np.ndarray) -> lis
     return result
 
 
-def _holes(points: np.ndarray, edges: np.ndarray, count: np.ndarray, h: np.ndarray) -> list[Feature]:
-    """Boundary loops (edges in one triangle) and their span."""
+def _holes(
+    points: np.ndarray, edges: np.ndarray, count: np.ndarray, h: np.ndarray, triangles: np.ndarray
+) -> list[Feature]:
+    """Boundary loops (edges in one triangle), their span, and the sheets across their rim (:mod:`.sheets`)."""
     rim = edges[count == 1]
     if len(rim) == 0:
         return []
     n = len(points)
     g = coo_matrix((np.ones(len(rim), np.int8), (rim[:, 0], rim[:, 1])), shape=(n, n))
     _, label = connected_components(g, directed=False)
-    result = []
     lab = label[rim[:, 0]]
-    holes = np.unique(lab)
+    holes = np.unique(lab).tolist()
     strip = _strips(points, edges, rim, lab, h) if len(holes) > 1 else {}
+    verts = {c: np.unique(rim[lab == c]) for c in holes}
+    size = {}
     for c in holes:
-        vs = np.unique(rim[lab == c])
-        p = points[vs]
+        p = points[verts[c]]
         span = float(np.max(np.linalg.norm(p - p.mean(axis=0), axis=1)) * 2)
-        size = span / float(np.median(h[vs]))
-        narrow = strip.get(int(c), np.inf) < GAP_MIN
-        unc = size < HOLE_SUPPORTED or narrow
-        reason = f"hole with {int((lab == c).sum())} rim edges, {size:.3g} spacings across" + (
+        size[c] = span / float(np.median(h[verts[c]]))
+    # the holes wide enough to be sure by their size: is their rim on a part of M_S thinner than resolved?
+    wide = [c for c in holes if size[c] >= HOLE_SUPPORTED and strip.get(c, np.inf) >= GAP_MIN]
+    # in the components' unit (GAP_MIN's): the larger of the nearest-neighbour distance and h
+    unit = np.maximum(nearest_distances(points), h) if wide else h
+    gaps = sheet_gaps(points, triangles, [verts[c] for c in wide], unit, GAP_MIN) if wide else None
+    sheet = dict(zip(wide, gaps, strict=True)) if gaps is not None else {}
+    result = []
+    for c in holes:
+        narrow = strip.get(c, np.inf) < GAP_MIN
+        thin = sheet.get(c, np.inf) < GAP_MIN
+        unc = size[c] < HOLE_SUPPORTED or narrow or thin
+        reason = f"hole with {int((lab == c).sum())} rim edges, {size[c]:.3g} spacings across" + (
             " (as wide as one missing sample: may be a gap)"
-            if size < LOOP_MIN / math.pi
+            if size[c] < LOOP_MIN / math.pi
             else " (its rim is shorter than 4 pi spacings: only a sample coarser than eps = 1/2 resolves it, "
             "so it may be a gap)"
-            if size < HOLE_SUPPORTED
-            else f" (a strip of {strip[int(c)]:.2g} spacings from another hole, narrower than the sample can "
+            if size[c] < HOLE_SUPPORTED
+            else f" (a strip of {strip[c]:.2g} spacings from another hole, narrower than the sample can "
             "separate: may be one opening)"
             if narrow
+            else f" (its rim lies where M_S has two sheets {sheet[c]:.2g} spacings apart, closer than the sample "
+            "resolves: may be a hole noise opened through a thin part)"
+            if thin
             else ""
         )
-        result.append(Feature("hole", p.mean(axis=0), size, unc, vs, reason))
+        result.append(Feature("hole", points[verts[c]].mean(axis=0), size[c], unc, verts[c], reason))
     return result
 
 

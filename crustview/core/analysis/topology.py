@@ -186,6 +186,18 @@ def orientable(simplices: np.ndarray, pairs: tuple | None = None) -> bool:
     Every facet in two simplices asks them to induce opposite orientations on it; a facet in one simplex
     (boundary) asks nothing, so a disc or an annulus is orientable and a Moebius band is not.
     """
+    return orientation(simplices, pairs) is not None
+
+
+def orientation(simplices: np.ndarray, pairs: tuple | None = None) -> np.ndarray | None:
+    """A consistent orientation of a pure complex, or None where it has none (see :func:`orientable`).
+
+    Returns
+    -------
+    ndarray of shape (c,) of int8, or None
+        +1 where simplex i keeps the order of its sorted vertices, -1 where it takes the other; each
+        connected piece's overall sign is arbitrary.  Facets in more than two simplices ask nothing.
+    """
     c, dp1 = simplices.shape
     pairs = pairs if pairs is not None else _facet_pairs(simplices)
     _, e1, e2 = _shared_facets(pairs, dp1)
@@ -203,7 +215,11 @@ def orientable(simplices: np.ndarray, pairs: tuple | None = None) -> bool:
     )
     del plus1, plus2, same
     _, labels = graph_components(2 * c, e)
-    return bool((labels[0::2] != labels[1::2]).all())
+    if (labels[0::2] == labels[1::2]).any():
+        return None
+    # each piece's double cover has two components, one holding every simplex's +1 or its -1: the one of
+    # the smaller label is taken, the same choice for every simplex of the piece
+    return np.where(labels[0::2] < labels[1::2], 1, -1).astype(np.int8)
 
 
 def singular_vertices(simplices: np.ndarray, faces: list[np.ndarray], pairs: tuple | None = None) -> np.ndarray:
