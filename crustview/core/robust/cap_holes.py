@@ -25,6 +25,8 @@ def weak_openings(
 ) -> list:
     """The features, with every hole whose cap was less than :data:`CAP_SURE` times its ring made uncertain.
 
+    A hole uncertain already for another reason keeps it and is given this one too.
+
     Parameters
     ----------
     feats : list of Feature
@@ -48,7 +50,7 @@ def weak_openings(
     out = []
     for f in feats:
         on = [q for w, q in weak_caps if w.intersection(f.vertices.tolist())] if f.kind == "hole" else []
-        if on and not f.uncertain:
+        if on:  # also where the hole is uncertain already (a thin part's, analysis.sheets): both reasons are said
             q = min(on)
             why = (
                 "a patch between two rims the sample shows, no evidence of an opening"
