@@ -42,6 +42,9 @@ below one spacing is below the resolution of *any* sampling condition:
   (the components' bound, in the same unit) are uncertain too: the strip of
   M_S between them is narrower than the sample resolves, one opening with a
   ribbon left across it (a cap the labelling split in two) or a real strip.
+  A hole whose rim lies where M_S has two sheets facing opposite ways closer
+  than GAP_MIN (a thin part, or a fold of one noisy sheet: :mod:`.sheets`) is
+  uncertain too: the components' bound across one surface.
 
 Handles are the loops of a short basis of H_1 (Z/2), found by :mod:`.loops` (a surface) or :mod:`.tunnels`
 (d >= 3: the same bounds, a tunnel being a tube's S^1 factor as a surface handle is).
@@ -317,8 +320,8 @@ def _holes(
             else f" (a strip of {strip[c]:.2g} spacings from another hole, narrower than the sample can "
             "separate: may be one opening)"
             if narrow
-            else f" (its rim lies where M_S has two sheets {sheet[c]:.2g} spacings apart, closer than the sample "
-            "resolves: may be a hole noise opened through a thin part)"
+            else f" (its rim lies where M_S has two sheets {sheet[c]:.2g} spacings apart facing opposite ways, a thin "
+            "part or a fold, closer than the sample resolves: may be a hole noise opened through it)"
             if thin
             else ""
         )

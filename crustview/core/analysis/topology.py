@@ -196,9 +196,30 @@ def orientation(simplices: np.ndarray, pairs: tuple | None = None) -> np.ndarray
     -------
     ndarray of shape (c,) of int8, or None
         +1 where simplex i keeps the order of its sorted vertices, -1 where it takes the other; each
-        connected piece's overall sign is arbitrary.  Facets in more than two simplices ask nothing.
+        piece's overall sign is arbitrary (:func:`oriented_pieces`).
+    """
+    sign, _ = oriented_pieces(simplices, pairs)
+    return None if (sign == 0).any() else sign
+
+
+def oriented_pieces(simplices: np.ndarray, pairs: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Each simplex's piece and its orientation within the piece.
+
+    A *piece* is a class of simplices joined through facets in exactly two simplices (facets in more ask
+    nothing: the simplices around them may face any way), the unit on which an orientation is defined.
+
+    Returns
+    -------
+    sign : ndarray of shape (c,) of int8
+        +1 where simplex i keeps the order of its sorted vertices, -1 where it takes the other, consistent
+        within each piece (whose overall sign is arbitrary); 0 on the simplices of a piece that has no
+        consistent orientation (a Moebius band).
+    piece : ndarray of shape (c,) of int64
+        The piece of each simplex (equal ids, equal pieces).
     """
     c, dp1 = simplices.shape
+    if c == 0:
+        return np.zeros(0, np.int8), np.zeros(0, np.int64)
     pairs = pairs if pairs is not None else _facet_pairs(simplices)
     _, e1, e2 = _shared_facets(pairs, dp1)
     s1, s2 = (e1 // dp1).astype(np.int64), (e2 // dp1).astype(np.int64)  # 2 s + 1 below: no int32 wrap
@@ -215,11 +236,11 @@ def orientation(simplices: np.ndarray, pairs: tuple | None = None) -> np.ndarray
     )
     del plus1, plus2, same
     _, labels = graph_components(2 * c, e)
-    if (labels[0::2] == labels[1::2]).any():
-        return None
-    # each piece's double cover has two components, one holding every simplex's +1 or its -1: the one of
-    # the smaller label is taken, the same choice for every simplex of the piece
-    return np.where(labels[0::2] < labels[1::2], 1, -1).astype(np.int8)
+    a, b = labels[0::2].astype(np.int64), labels[1::2].astype(np.int64)
+    # an orientable piece's double cover has two components, one holding every simplex's +1 or its -1: the
+    # one of the smaller label is taken, the same choice for every simplex of the piece; a non-orientable
+    # piece's double cover is one component, holding both of every simplex
+    return np.where(a == b, 0, np.where(a < b, 1, -1)).astype(np.int8), np.minimum(a, b)
 
 
 def singular_vertices(simplices: np.ndarray, faces: list[np.ndarray], pairs: tuple | None = None) -> np.ndarray:
