@@ -458,7 +458,8 @@ def test_noise_caps_beside_a_sure_opening_become_uncertain_holes_and_the_real_op
     """The camel head (an open scan, one opening at the neck) with noise of 0.3 h
     (``resources/camelhead-n30.xyz``, written by ``../shared/tools/noisy.py``): open-cap removes the
     neck's cap (ratio about 9) and, as the scan is open, two caps that noise made (about 4 and 5), so the
-    result has three holes.  The neck is sure; the two others are uncertain, and the result is flagged."""
+    result has three holes.  The neck is sure; the two others are uncertain, and the result is flagged.  The two
+    are also holes through a part thinner than the sample resolves (the ear), and say so."""
     from pathlib import Path
 
     from crustview.core.robust.cells import CAP_SURE
@@ -475,6 +476,9 @@ def test_noise_caps_beside_a_sure_opening_become_uncertain_holes_and_the_real_op
     weak = [f for f in holes if f.uncertain and "open-cap" in f.reason]
     assert len(weak) == sum(q < CAP_SURE for _, q in opened)
     assert rec.uncertain_features
+    # the noise caps' holes go through the camel's ear, whose two sides lie 0.56 of a spacing apart on the true
+    # mesh: their rims lie where M_S has two sheets closer than GAP_MIN (analysis.sheets), the neck's does not
+    assert all("two sheets" in f.reason for f in weak) and "two sheets" not in holes[0].reason
 
 
 def test_beside_a_sure_opening_a_cap_in_the_band_is_removed_too():
