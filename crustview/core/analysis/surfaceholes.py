@@ -40,10 +40,11 @@ def holes_of_surface(
         size[c] = span / float(np.median(h[verts[c]]))
     # the holes wide enough to be sure by their size: is their rim on a part of M_S thinner than resolved?
     wide = [c for c in holes if size[c] >= HOLE_SUPPORTED and strip.get(c, np.inf) >= GAP_MIN]
-    # in the components' unit (GAP_MIN's): the larger of the nearest-neighbour distance and h
-    unit = np.maximum(nearest_distances(points), h) if wide else h
-    gaps = sheet_gaps(points, triangles, [verts[c] for c in wide], unit, GAP_MIN) if wide else None
-    sheet = dict(zip(wide, gaps, strict=True)) if gaps is not None else {}
+    sheet: dict[int, float] = {}
+    if wide:  # in the components' unit (GAP_MIN's): the larger of the nearest-neighbour distance and h
+        unit = np.maximum(nearest_distances(points), h)
+        gaps = sheet_gaps(points, triangles, [verts[c] for c in wide], unit, GAP_MIN)
+        sheet = dict(zip(wide, gaps, strict=True)) if gaps is not None else {}
     result = []
     for c in holes:
         narrow = strip.get(c, np.inf) < GAP_MIN

@@ -50,7 +50,7 @@ def weak_openings(
     out = []
     for f in feats:
         on = [q for w, q in weak_caps if w.intersection(f.vertices.tolist())] if f.kind == "hole" else []
-        if on:  # also where the hole is uncertain already (a thin part's, analysis.sheets): both reasons are said
+        if on:  # also where the hole is uncertain already for another reason: both reasons are said
             q = min(on)
             why = (
                 "a patch between two rims the sample shows, no evidence of an opening"
