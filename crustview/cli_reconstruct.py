@@ -189,13 +189,18 @@ def read_input(path: Path, notes: list[str]) -> tuple[Any, Any, dict]:
     return mesh, points, attributes
 
 
-def choose_d(points, d: int | str) -> tuple[int, Any]:
-    """``d`` itself, or the estimate for ``auto`` (with its :class:`DimensionEstimate`)."""
+def choose_d(points, d: int | str, mesh=None) -> tuple[int, Any]:
+    """``d`` itself, or the estimate for ``auto`` (with its :class:`DimensionEstimate`).
+
+    A mesh file's faces decide where local PCA chose a d they cannot have (:func:`with_faces`).
+    """
     if d != "auto":
         return int(d), None
-    from crustview.core.analysis.dimension import estimate_dimension
+    from crustview.core.analysis.dimension import estimate_dimension, with_faces
 
     est = estimate_dimension(points)
+    if mesh is not None:
+        est = with_faces(est, mesh.fitting_dimensions())
     return est.d, est
 
 
@@ -224,7 +229,7 @@ def reconstruct_file(
     for line in notes:
         say("note", line)
     progress("estimate d" if args.d == "auto" else "read", 1.0)
-    d, estimate = choose_d(points, args.d)
+    d, estimate = choose_d(points, args.d, mesh)
     if estimate is not None:
         say("note", f"{path.name}: -d auto chose {estimate.sentence()}")
     k = points.shape[1]

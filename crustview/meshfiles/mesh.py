@@ -36,6 +36,18 @@ class MeshData:
         """Number of polygons in all blocks."""
         return int(sum(len(c) for c in self.cells))
 
+    def fitting_dimensions(self) -> list[int]:
+        """The d in 1 .. k-1 whose simplices the polygons can be (:meth:`simplices` takes them), ascending.
+
+        Every block must fit: ``d + 1`` vertices per polygon, or for d = 2 any polygon of three or more (fanned
+        into triangles).  Empty for a file without polygons.  Polygons of four vertices fit d = 2 (quads) and,
+        in R^4 and up, d = 3 (tetrahedra): both are listed.
+        """
+        k = self.points.shape[1] if self.points.ndim == 2 else 0
+        if not self.cells:
+            return []
+        return [d for d in range(1, k) if all(b.shape[1] == d + 1 or (d == 2 and b.shape[1] > 3) for b in self.cells)]
+
     def simplices(self, d: int) -> np.ndarray:
         """The polygons as d-simplices, shape (m, d + 1).
 

@@ -11,7 +11,7 @@ from PySide6.QtCore import QSettings
 from PySide6.QtGui import QAction
 from PySide6.QtWidgets import QFileDialog, QMenu
 
-from ..core.analysis.dimension import estimate_dimension
+from ..core.analysis.dimension import estimate_dimension, with_faces
 from ..core.errors import CrustviewError
 from ..scene.truth import MeshTruth
 from .dialogs import BuiltinDialog, ask_dimension, ask_overwrite_input
@@ -179,6 +179,8 @@ class FileActions:
         if d is None:
             try:
                 estimate = estimate_dimension(points)  # local PCA, with its confidence and reasons
+                if mesh is not None:  # a mesh's faces say d where local PCA of its vertices cannot
+                    estimate = with_faces(estimate, mesh.fitting_dimensions())
             except CrustviewError as err:  # e.g. too few distinct points to tell: one line, nothing changed
                 self.show_error(str(err))
                 return False
