@@ -81,7 +81,8 @@ class DimensionEstimate:
         level = "high" if self.confidence >= 0.8 else "moderate" if self.confidence >= 0.6 else "low"
         return (
             f"d = {self.d} ({word}), {level} confidence {100 * self.confidence:.0f}%: local PCA at {self.centres} "
-            f"samples with {'/'.join(map(str, self.neighbours))} neighbours finds {self.d} large directions "
+            f"samples with {'/'.join(map(str, self.neighbours))} neighbours finds {self.d} large "
+            f"direction{'s' if self.d > 1 else ''} "
             f"(median gap {self.gap:.0f}x to the next)" + (f"; other votes {others}" if others else "") + "."
         )
 
