@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from crustview.core import reconstruct
+from crustview.core.robust.cells import CAP_SURE
 from crustview.core.samples.manifolds import get_manifold
 from crustview.core.steps import RULE_PRUNE, RULE_RESOLVE
 
@@ -61,7 +62,7 @@ def test_cap_ratios_near_the_patches_are_the_ratios_by_definition() -> None:
     assert cap_ratios(faces, patches, rec.points) == want  # radii of the near faces only (no degenerate face)
     # a closed torus, sampled i.i.d.: no cap over CAP_SURE, and those over CAP_RATIO are what its own
     # irregularity makes (closed_caps.spacing_spread)
-    assert any(q > CAP_RATIO for q in want)
+    assert any(q > CAP_RATIO for q in want) and max(want) <= CAP_SURE
     assert rec.uncertain_features == []
 
 
@@ -177,7 +178,7 @@ def test_a_sure_opening_that_the_kept_grown_result_closes_is_an_uncertain_hole()
     assert rec.topology.closed_manifold and rec.topology.betti == (1, 8, 1)  # open (1, 8, 0) is the truth
     assert "the grown result is kept" in rec.extraction.notes[0]
     (hole,) = [f for f in rec.uncertain_features if "closed in the grown M_S" in f.reason]
-    assert hole.kind == "hole" and hole.removed and "over the 6 above which" in hole.reason
+    assert hole.kind == "hole" and hole.removed and f"over the {CAP_SURE:g} above which" in hole.reason
     # at the cut: within the removed ball's span of its middle
     centre, radius = removed.mean(axis=0), np.linalg.norm(removed - removed.mean(axis=0), axis=1).max()
     assert np.linalg.norm(hole.location - centre) < radius

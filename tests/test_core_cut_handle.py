@@ -96,6 +96,10 @@ def test_a_cut_flips_only_cells_near_its_loop(knight):
         far = np.linalg.norm(corners[:, None, :] - loop[None, :, :], axis=2).min(axis=1)
         # within a few loop lengths (sampling radii) of the loop
         assert far.max() < 3 * c.feature.size_spacings * rec.spacing
+        # and, what the docstring says: each flipped cell has a corner among the loop's samples or their
+        # Delaunay neighbours (the samples of the cells around the loop's samples)
+        around = np.unique(lab.simplices[np.concatenate([ed.star(int(v)) for v in c.feature.vertices])])
+        assert np.isin(lab.simplices[c.cells], around).any(axis=1).all()
 
 
 def test_a_resolved_handle_stays():

@@ -33,8 +33,8 @@ def test_greedy_labelling_on_paper():
     assert lab2.tolist() == [0, 0, 1, 0] and viol2.tolist() == [0, 0, 0, 1]
 
 
-@pytest.mark.skipif(labelling._kernel is None, reason="the compiled kernel is not built")
 def test_kernel_gives_the_python_labels():
+    assert labelling._kernel is not None  # the kernel is part of the install (scripts/install.sh builds it)
     rng = np.random.default_rng(3)
     for n, e in ((2, 1), (30, 80), (500, 3000)):
         a = rng.integers(0, n, e)
@@ -47,8 +47,7 @@ def test_kernel_gives_the_python_labels():
 
 
 def test_kernel_rejects_bad_edges():
-    if labelling._kernel is None:
-        pytest.skip("the compiled kernel is not built")
+    assert labelling._kernel is not None
     with pytest.raises(ValueError):
         labelling._kernel.label(3, np.array([0, 5]), np.array([1, 2]), np.array([1, 1], np.int8), 0)
 
@@ -104,6 +103,15 @@ def test_labelled_noisy_torus_is_a_torus_through_every_sample():
     assert first == {tuple(r) for r in np.sort(raw, axis=1).tolist()}
     # the rows of T_S come first, as in paper mode
     assert np.array_equal(ext.simplices[: len(ts)], ts)
+
+    # every later step replays: the complex after it is the one before, less its removed, plus its added
+    def rows(a):
+        return {tuple(r) for r in np.sort(np.asarray(a).reshape(-1, 3), axis=1).tolist()}
+
+    assert ext.n_steps > 1  # repairs or sculpting ran after the labelling
+    for i, st in enumerate(ext.steps[1:], start=1):
+        want = (rows(ext.complex_at(i)) - rows(ext.simplices[list(st.removed)])) | rows(ext.simplices[list(st.added)])
+        assert rows(ext.complex_at(i + 1)) == want, (i, st.rule)
 
 
 def test_repair_leaves_no_pinched_vertex():
@@ -185,11 +193,11 @@ def test_piece_counts_refuse_unsorted_stars():
         label_repair._kernel.piece_counts(ed.lab.faces.shape[1], *k, ed.lab.inside)
 
 
-@pytest.mark.skipif(labelling._kernel is None, reason="the compiled kernel is not built")
 def test_compiled_pole_cells_are_the_numpy_ones():
     """The compiled pole cells are the numpy reference's, cell for cell, on a noisy torus and on a
     sample with coincident-radius ties (a cube's corners and centre, with flat cells whose centres are
     NaN); and on a tiny case checked by hand: a square's centre has the far corners' cells."""
+    assert labelling._kernel is not None
     m = get_manifold("torus")
     rng = np.random.default_rng(3)
     s = m.sample(1200, seed=4).points
@@ -547,7 +555,7 @@ def test_boundary_vertices_of_a_complex():
     assert _boundary_vertices(np.array([[0, 1, 2], [0, 1, 3], [0, 2, 3]])) == {1, 2, 3}
 
 
-def test_descending_order_is_numpys_stable_argsort_of_the_negated_values(monkeypatch):
+def test_descending_order_is_numpys_stable_argsort_of_the_negated_values():
     # by hand: 0.5 twice (in index order), then 0.0 and -0.0 as equals (index order), then -1
     v = np.array([0.0, 0.5, -1.0, -0.0, 0.5])
     assert labelling.descending_order(v).tolist() == [1, 4, 0, 3, 2]
@@ -555,13 +563,17 @@ def test_descending_order_is_numpys_stable_argsort_of_the_negated_values(monkeyp
     w = rng.random(200_000)
     w[rng.integers(0, len(w), 50_000)] = 0.25  # many ties
     w[:4] = [np.inf, -np.inf, 5e-324, -0.0]
+    # the kernel's radix sort itself, which descending_order takes wherever it is built
+    assert hasattr(labelling._kernel, "descending_order")
     for values in (v, w, w[:1], w[:0]):
-        assert np.array_equal(labelling.descending_order(values), np.argsort(-values, kind="stable"))
-    # NaN: numpy's order (the kernel refuses it)
+        want = np.argsort(-values, kind="stable")
+        assert np.array_equal(np.frombuffer(labelling._kernel.descending_order(values), np.int64), want)
+        assert np.array_equal(labelling.descending_order(values), want)
+    # NaN: numpy's order, and the kernel is not asked (it refuses NaN)
     nan = np.array([0.1, np.nan, 0.3])
-    assert np.array_equal(labelling.descending_order(nan), np.argsort(-nan, kind="stable"))
-    monkeypatch.setattr(labelling, "_kernel", None)
-    assert np.array_equal(labelling.descending_order(w), np.argsort(-w, kind="stable"))
+    with pytest.raises(ValueError):
+        labelling._kernel.descending_order(nan)
+    assert labelling.descending_order(nan).tolist() == [2, 0, 1]  # by hand: 0.3, 0.1, then NaN last
 
 
 @pytest.mark.parametrize("name", ["cow-head.off", "camelhead.off"])

@@ -155,7 +155,13 @@ def test_a_sparse_sample_of_a_high_genus_object_is_never_a_sure_wrong_answer():
     rec = reconstruct(pts, 2)
     top = rec.topology
     right = top.closed_manifold and top.betti == (1, 16, 1) and top.unused_samples == 0
-    assert right or rec.uncertain_features or not top.closed_manifold
+    # a wrong answer names the kind that is wrong (as bench_scans judges: an open result of a closed truth
+    # still names its handles when b1 is wrong)
+    kinds = {f.kind for f in rec.uncertain_features}
+    assert right or rec.uncertain_features
+    assert top.betti[1] == 16 or "handle" in kinds
+    assert top.betti[0] == 1 or "component" in kinds
+    assert top.closed_manifold or "hole" in kinds or top.boundary_faces == 0
 
 
 def test_the_resampled_complex_comes_back_on_the_rows_it_was_given():

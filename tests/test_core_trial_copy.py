@@ -44,13 +44,14 @@ def test_the_copy_of_an_edited_complex_is_its_deepcopy_and_edits_of_it_stay_in_i
     assert new.__dict__.keys() == ref.__dict__.keys()
     for key in ref.__dict__:
         assert _same(ref.__dict__[key], new.__dict__[key]), key
-    # an edit of the copy: the original keeps its simplices, boundary and stars
-    alive, bset = list(pt.alive), set(pt.bset)
-    stars = {v: set(s) for v, s in pt.star.items()}
+    # an edit of the copy: the original is still, attribute for attribute, what it was (its simplices, boundary,
+    # stars, the facets' lists of simplices, the index and the log): nothing of it is shared with the copy
     new._delete(new.index[(1, 3, 5)])
     assert sum(new.alive) == 6 and sum(pt.alive) == 7
-    assert pt.alive == alive and pt.bset == bset and pt.star == stars
+    for key in ref.__dict__:
+        assert _same(ref.__dict__[key], pt.__dict__[key]), key
     assert (1, 3) in new.bset and (1, 3) not in pt.bset
+    assert new.fmap[(1, 3)] is not pt.fmap[(1, 3)] and len(pt.fmap[(1, 3)]) == 2  # (1, 3)'s two triangles
 
 
 def test_a_container_nested_deeper_than_the_complex_keeps_one_is_refused_not_shared():

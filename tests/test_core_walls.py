@@ -68,8 +68,10 @@ def test_a_band_with_a_rim_too_short_to_show_is_a_cap():
 
 
 def test_a_band_taller_than_its_rims_are_long_is_a_tube():
-    # the can's octagon rims are 8 sides of 0.765 (6.1 long): a band 3 tall is a wall, one 10 tall a tube
-    for height, wall in ((3.0, True), (6.0, True), (10.0, False)):
+    # the can's octagon rims are 8 sides of 0.765 (6.1 long): a band 3 tall is a wall, one 10 tall a tube,
+    # and the bound is the rims' length: 3 % under it a wall, 3 % over it a tube
+    rim = 8 * 2 * np.sin(np.pi / 8)
+    for height, wall in ((3.0, True), (6.0, True), (0.97 * rim, True), (1.03 * rim, False), (10.0, False)):
         pts, faces, _, band, _ = _can(height=height)
         assert is_wall(faces, band, pts, np.full(len(pts), 2 * np.sin(np.pi / 8))) == wall
 

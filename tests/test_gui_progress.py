@@ -6,10 +6,6 @@ from __future__ import annotations
 
 import time
 
-import pytest
-
-pytest.importorskip("pytestqt")
-
 
 def test_a_silent_stage_shows_a_busy_bar_with_its_seconds(qtbot, window):
     def job(progress, cancel):

@@ -201,23 +201,45 @@ def test_a_script_without_a_main_guard_runs_once(two_processes, tmp_path):
     assert marker.read_text() == "body ran\n"
 
 
+def _recording_helpers(monkeypatch) -> list:
+    """The helpers started from here on (none left idle by an earlier test is reused)."""
+    second_core._stop_all()
+    made: list = []
+
+    class Recorded(second_core._Helper):
+        def __init__(self) -> None:
+            super().__init__()
+            made.append(self)
+
+    monkeypatch.setattr(second_core, "_Helper", Recorded)
+    return made
+
+
 def test_the_helper_imports_the_callers_crustview_whatever_the_current_folder(two_processes, tmp_path, monkeypatch):
     """A ``crustview`` folder where the caller stands does not shadow the one the caller runs (-I, its path)."""
+    made = _recording_helpers(monkeypatch)
     fake = tmp_path / "crustview"
     fake.mkdir()
     (fake / "__init__.py").write_text("raise ImportError('the wrong crustview')\n")
     monkeypatch.chdir(tmp_path)
     assert second_core.Speculation(len, ((1, 2, 3),)).result(wait_for_start=True) == 3
+    assert len(made) == 1  # a helper started here, in the folder holding the fake, ran the job
     assert second_core.enabled()
 
 
-def test_idle_helpers_stay_few(two_processes):
-    for _ in range(3):
-        second_core.warm()
-    for _ in range(3):
-        second_core.Speculation(len, ((),)).result(wait_for_start=True)
-    time.sleep(1.0)
+def test_idle_helpers_stay_few(two_processes, monkeypatch):
+    """Two jobs at once take two helpers; given back, one stays idle (IDLE_MAX) and the other is stopped."""
+    made = _recording_helpers(monkeypatch)
+    first, second = (second_core.Speculation(time.sleep, (0.5,)) for _ in range(2))
+    assert first.result(wait_for_start=True) is None and second.result(wait_for_start=True) is None
+    assert len(made) == 2 == second_core.IDLE_MAX + 1
     with second_core._lock:
-        live = [h for h in second_core._idle if h.alive()]
+        idle = [h for h in second_core._idle if h.alive()]
         busy = len(second_core._busy)
-    assert len(live) <= second_core.IDLE_MAX and busy == 0
+    assert len(idle) == second_core.IDLE_MAX and busy == 0
+    (stopped,) = [h for h in made if h not in idle]
+    assert _reaped(stopped.proc)
+    for _ in range(3):  # warming with one idle helper starts none
+        second_core.warm()
+    time.sleep(0.5)
+    assert len(made) == 2
