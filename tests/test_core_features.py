@@ -117,17 +117,21 @@ def test_well_sampled_torus_handle_is_supported_and_a_thin_one_is_not():
 
 
 def test_two_spheres_that_nearly_touch_are_uncertain_components():
-    """Two unit spheres 0.05 spacings apart: two components, each flagged; 5 radii apart: neither."""
+    """Two unit spheres whose surfaces are 0.02 apart, far below the spacing: joined into one closed surface,
+    and the join is named (never a sure answer), between the two spheres' samples, under GAP_MIN; 5 radii
+    apart: two spheres, nothing named."""
     m = get_manifold("sphere")
     s = m.sample(400, seed=0).points
     rng_gap = 2.0 + 0.02  # the spheres' surfaces 0.02 apart, far below the spacing
     pts = np.vstack([s, s + [rng_gap, 0, 0]])
     rec = reconstruct(pts, 2)
+    assert rec.topology.components == 1 and rec.topology.closed_manifold  # joined: what the sample shows
     comps = [x for x in rec.features if x.kind == "component"]
-    # kept apart, each flagged; or joined, and then the join itself is flagged (never a sure answer)
     assert comps and all(x.uncertain for x in comps)
-    if rec.topology.components == 2:
-        assert all(x.size_spacings < GAP_MIN for x in comps)
+    (join,) = [x for x in comps if x.reason.startswith("joined (rule join-parts)")]
+    ends = np.asarray(rec.point_input)[np.asarray(join.vertices)]
+    assert sorted(e >= 400 for e in ends) == [False, True]  # one sample of each sphere
+    assert join.size_spacings < GAP_MIN
     far = reconstruct(np.vstack([s, s + [5.0, 0, 0]]), 2)
     assert far.topology.components == 2 and not far.uncertain_features
 
@@ -150,6 +154,9 @@ def test_holes_of_an_open_surface_are_measured():
     keep = ~np.isin(tris, np.arange(10)).any(axis=1)  # cut the ring u = 0 away: a tube open at both ends
     hol = [x for x in features(pts, tris[keep], 2) if x.kind == "hole"]
     assert len(hol) == 2 and not any(x.uncertain for x in hol)
+    # the rings next to the cut (u = 1 and u = 23), each a regular 10-gon of radius 0.4: 0.8 across
+    rims = sorted(sorted(np.asarray(x.vertices).tolist()) for x in hol)
+    assert rims == [list(range(10, 20)), list(range(230, 240))]
     assert all(x.size_spacings > 2 for x in hol)
 
 
@@ -157,8 +164,11 @@ def test_summary_suffix_and_json():
     pts, tris = _torus_mesh(40, 4, r_small=0.12)
     f = features(pts, tris, 2)
     text = summary_suffix(f)
-    n_unc = sum(x.uncertain for x in f)
-    assert text == f"(uncertain: {n_unc} handles, 0 holes, 0 components)" and n_unc >= 1
+    # the torus's two loops: round the thin tube, its 4 samples (under LOOP_MIN: uncertain), and round the
+    # ring, through 40 (sure)
+    tube, ring = sorted((x for x in f if x.kind == "handle"), key=lambda x: x.size_spacings)
+    assert len(tube.vertices) == 4 and tube.uncertain and not ring.uncertain and len(set(ring.vertices)) >= 40
+    assert text == "(uncertain: 1 handles, 0 holes, 0 components)"
     d = f[0].as_dict()
     assert set(d) >= {"kind", "location", "size_spacings"} and len(d["location"]) == 3
 
@@ -170,6 +180,9 @@ def test_disagreement_places_a_handle_where_the_two_differ():
     other = tris[1:]
     feats = disagreement(pts, tris, other, (1, 2, 1), (1, 0, 1))
     assert [x.kind for x in feats] == ["handle"] and feats[0].uncertain and feats[0].disputed
+    # where the two differ: the one face only the first has, its samples and their middle
+    assert sorted(np.asarray(feats[0].vertices).tolist()) == sorted(tris[0].tolist())
+    assert np.allclose(feats[0].location, pts[tris[0]].mean(axis=0))
 
 
 def test_a_dispute_over_a_whole_surface_marks_its_middle_not_every_sample():

@@ -210,8 +210,11 @@ def test_a_left_out_cluster_beyond_the_limit_stays_out_and_keeps_its_flag():
 
     rec = reconstruct(circle_pair("side by side", 1.0, 1.0, 0), 1)
     assert rec.topology.betti == (1, 1)  # one curve for two: wrong
-    assert rec.topology.unused_samples > 0
-    assert any(f.kind == "component" and f.uncertain for f in rec.features)
+    out = np.setdiff1d(np.arange(len(rec.points)), np.asarray(rec.manifold))
+    assert rec.topology.unused_samples == len(out) == 2
+    # the only flag: the part left out, at those samples
+    (flag,) = rec.uncertain_features
+    assert flag.kind == "component" and sorted(np.asarray(flag.vertices).tolist()) == out.tolist()
 
 
 def test_nearest_face_of_a_collinear_triangle_is_its_long_edge():
@@ -493,3 +496,6 @@ def test_six_samples_whose_labelling_gives_no_vertex_are_grown_without_an_error(
     pts = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 1], [2, 0, 1], [0, 2, 1]], float)
     rec = reconstruct(pts, 2)
     assert rec.topology.n_simplices > 0 and rec.topology.unused_samples == 0
+    assert "the grown result is kept" in rec.extraction.notes[0]
+    # a closed surface through six samples with eight triangles: Euler characteristic 6 - 12 + 8 = 2, a sphere
+    assert rec.topology.closed_manifold and rec.topology.n_simplices == 8 and rec.topology.betti == (1, 0, 1)

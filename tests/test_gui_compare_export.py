@@ -4,12 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from gui_helpers import on_next_dialog, wait_idle
 
-pytest.importorskip("pytestqt")
-from gui_helpers import on_next_dialog, wait_idle  # noqa: E402
-
-from crustview.core import reextract  # noqa: E402
-from crustview.core.analysis.complexdiff import diff_complexes  # noqa: E402
+from crustview.core import reextract
+from crustview.core.analysis.complexdiff import diff_complexes
 
 
 @pytest.fixture()

@@ -5,9 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pytest
-
-pytest.importorskip("pytestqt")
 
 KNIGHT = Path(__file__).resolve().parents[1] / "resources" / "decimated-knight.off"
 

@@ -2,10 +2,6 @@
 
 from __future__ import annotations
 
-import pytest
-
-pytest.importorskip("pytestqt")
-
 
 def test_the_d_question_on_a_cad_mesh_suggests_its_faces_d(qtbot, window, tmp_path):
     from PySide6.QtWidgets import QInputDialog, QLabel

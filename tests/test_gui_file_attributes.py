@@ -2,10 +2,7 @@
 normal-angle colouring and histogram, the d suggestion, and the question before saving over the input."""
 
 import numpy as np
-import pytest
-
-pytest.importorskip("pytestqt")
-from gui_helpers import on_next_dialog, wait_idle  # noqa: E402
+from gui_helpers import on_next_dialog, wait_idle
 
 N = 1500
 

@@ -8,10 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pytest
 from gui_helpers import display_xy, load, wait_idle
-
-pytest.importorskip("pytestqt")
 
 RESOURCES = Path(__file__).resolve().parents[1] / "resources"
 

@@ -7,11 +7,8 @@ nothing until the view was clicked, which selected what was under the mouse.
 from __future__ import annotations
 
 import numpy as np
-import pytest
 from gui_helpers import load
 from PySide6.QtCore import Qt
-
-pytest.importorskip("pytestqt")
 
 
 def _focus(qtbot, window, widget):

@@ -9,10 +9,8 @@ import time
 
 import numpy as np
 import pytest
-
-pytest.importorskip("pytestqt")
-from PySide6.QtCore import QEventLoop, Qt  # noqa: E402
-from PySide6.QtTest import QTest  # noqa: E402
+from PySide6.QtCore import QEventLoop, Qt
+from PySide6.QtTest import QTest
 
 
 @pytest.fixture(scope="module")

@@ -1,10 +1,7 @@
 """Frame each step: tau seen from its open side, the geometry in front cut away."""
 
 import numpy as np
-import pytest
-
-pytest.importorskip("pytestqt")
-from gui_helpers import display_xy, load  # noqa: E402
+from gui_helpers import display_xy, load
 
 
 def test_a_step_on_the_underside_of_the_torus_is_seen_without_the_top_in_front(qtbot, window):

@@ -7,9 +7,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("pytestqt")
-
-
 KNIGHT = Path(__file__).resolve().parents[1] / "resources" / "decimated-knight.off"
 
 

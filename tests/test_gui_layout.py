@@ -1,9 +1,7 @@
 """The window's layout at 1024 x 700: the view keeps 60 %, tabs are readable, nothing overlaps."""
 
 import pytest
-
-pytest.importorskip("pytestqt")
-from PySide6.QtWidgets import QLabel, QTabBar, QWidget  # noqa: E402
+from PySide6.QtWidgets import QLabel, QTabBar, QWidget
 
 
 def overlapping(panel: QWidget) -> list[tuple[str, str]]:

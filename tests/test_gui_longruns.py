@@ -4,9 +4,7 @@ import time
 
 import numpy as np
 import pytest
-
-pytest.importorskip("pytestqt")
-from PySide6.QtCore import QPoint, Qt  # noqa: E402
+from PySide6.QtCore import QPoint, Qt
 
 
 @pytest.fixture(scope="module")

@@ -1,10 +1,7 @@
 """The Run panel's choice of normal planes: Algorithm 1 or the smoothed planes (issue 18, item 1)."""
 
 import numpy as np
-import pytest
-
-pytest.importorskip("pytestqt")
-from gui_helpers import load, wait_idle  # noqa: E402
+from gui_helpers import load, wait_idle
 
 
 def _choose(window, value):

@@ -6,10 +6,7 @@ Before, nothing in the view showed it (only the word "no" in the topology table)
 from __future__ import annotations
 
 import numpy as np
-import pytest
 from gui_helpers import load
-
-pytest.importorskip("pytestqt")
 
 
 def _carry(a, b, s):

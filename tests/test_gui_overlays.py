@@ -12,8 +12,6 @@ import numpy as np
 import pytest
 from gui_helpers import load
 
-pytest.importorskip("pytestqt")
-
 
 def _geometry_layers(win) -> set[int]:
     """Layers of every renderer that holds a 3-D actor of the view."""

@@ -1,11 +1,8 @@
 """Picking what is seen, in the real window under Xvfb: depth, the step overlay, the step table."""
 
 import numpy as np
-import pytest
-
-pytest.importorskip("pytestqt")
-from gui_helpers import display_xy, load  # noqa: E402
-from PySide6.QtCore import Qt  # noqa: E402
+from gui_helpers import display_xy, load
+from PySide6.QtCore import Qt
 
 
 def ray_hits(origin, target, tris):

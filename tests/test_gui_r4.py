@@ -2,9 +2,7 @@
 
 import numpy as np
 import pytest
-
-pytest.importorskip("pytestqt")
-from gui_helpers import load as load_builtin  # noqa: E402
+from gui_helpers import load as load_builtin
 
 
 def topology_row(win, name):

@@ -7,11 +7,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pytest
 from gui_helpers import load, wait_idle
 from PySide6.QtCore import Qt
-
-pytest.importorskip("pytestqt")
 
 KNIGHT = Path(__file__).resolve().parents[1] / "resources" / "decimated-knight.off"
 

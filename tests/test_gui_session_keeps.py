@@ -12,8 +12,6 @@ import numpy as np
 import pytest
 from gui_helpers import wait_idle
 
-pytest.importorskip("pytestqt")
-
 
 def test_speed_selection_and_comparison_come_back(qtbot, window, tmp_path):
     assert window.load_builtin("torus", n=600)

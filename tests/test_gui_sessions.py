@@ -4,9 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
-pytest.importorskip("pytestqt")
-from gui_helpers import answer_file_dialog, wait_idle  # noqa: E402
+from gui_helpers import answer_file_dialog, wait_idle
 
 
 def trigger(win, text):

@@ -3,10 +3,8 @@
 from pathlib import Path
 
 import pytest
-
-pytest.importorskip("pytestqt")
-from gui_helpers import load  # noqa: E402
-from PySide6.QtCore import Qt  # noqa: E402
+from gui_helpers import load
+from PySide6.QtCore import Qt
 
 
 def test_status_bar_counts_the_candidates_the_layer_shows_while_a_change_is_pending(qtbot, window):

@@ -10,10 +10,7 @@ count of the step at which it was hidden.
 from __future__ import annotations
 
 import numpy as np
-import pytest
 from gui_helpers import load, wait_idle
-
-pytest.importorskip("pytestqt")
 
 
 def _items(combo) -> list[str]:

@@ -3,10 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-import pytest
-
-pytest.importorskip("pytestqt")
-from PySide6.QtCore import QTimer  # noqa: E402
+from PySide6.QtCore import QTimer
 
 
 def test_theorem_box_checks_a_builtin_and_colours_samples_and_ms(qtbot, window):

@@ -5,12 +5,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from gui_helpers import display_xy, load, on_next_dialog
+from PySide6.QtCore import Qt
 
-pytest.importorskip("pytestqt")
-from gui_helpers import display_xy, load, on_next_dialog  # noqa: E402
-from PySide6.QtCore import Qt  # noqa: E402
-
-from crustview.qt.info_dock import BANNER_STYLE  # noqa: E402
+from crustview.qt.info_dock import BANNER_STYLE
 
 
 def shot(win):
@@ -152,19 +150,19 @@ def test_toggling_each_layer_changes_pixels(qtbot, window):
     for _name, layer in m.layers.items():
         layer.visible = True
     m.layers["candidates"].opacity = 1.0
-    if m.cascades():
-        m.set_cascade(m.cascades()[0])
+    assert m.cascades()  # the torus's T_S has cascades to show (the cascade layer is checked below)
+    m.set_cascade(m.cascades()[0])
     qtbot.wait(50)
     assert ext.steps[m.player.position - 1].removed  # the step layer has something to show
     rows = window.layers_panel.rows
     assert set(rows) == set(m.layers)
-    # layers with nothing to show on this sample (e.g. no holes in T_S) are checked elsewhere
-    # (the comparison layer is empty until a comparison is made: test_gui_compare_export checks it)
-    # (the torus has no uncertain features and is orientable: test_gui_uncertain and
-    # test_gui_orientation draw those layers)
-    maybe = ("holes", "cascade", "compare", "uncertain", "orientation")
-    empty = {n for n in maybe if m.layers[n].count == 0}
-    assert empty <= set(maybe)
+    # three layers have nothing to show here, and are checked elsewhere: the comparison layer is empty until a
+    # comparison is made (test_gui_compare_export), the torus has no uncertain features and is orientable
+    # (test_gui_uncertain and test_gui_orientation draw those); every other layer, T_S's holes and the
+    # cascade among them, must draw something and be toggled below
+    assert not rec.uncertain_features and rec.topology.orientable
+    empty = {n for n in m.layers if m.layers[n].count == 0}
+    assert empty == {"compare", "uncertain", "orientation"}
     on = shot(window)  # every layer shown; each check below restores exactly this picture
     for name in sorted(set(m.layers) - empty):
         box = rows[name].visible
