@@ -117,15 +117,25 @@ def test_a_noisy_4_sphere_in_r5_is_labelled_closed():
     assert rec.extraction.counts_by_rule()["label-cells"]["steps"] == 1
 
 
-def test_two_rings_that_undo_each_others_repair_are_pinned():
+def test_two_rings_that_undo_each_others_repair_are_pinned(monkeypatch):
     """S^3 with noise of 6 % of its reach (even, draw 1): the repairs around two ridges flipped the same cells
     there and back for all REPAIR_ROUNDS, and one triangle stayed in four tetrahedra of M_S.  A cell flipped
     PING_PONG times keeps its label (as in R^3's vertex repair): closed, through every sample.
     """
+    from crustview.core.robust import label_repair
     from crustview.core.samples.manifolds import get_manifold
 
+    pinned: list = []
+    real = label_repair.LabelEditor._minor_pieces
+
+    def watched(self, cells, piece, flips):  # the real rule, watched: did it meet cells flipped PING_PONG times?
+        pinned.append(bool((flips[cells] >= label_repair.PING_PONG).any()))
+        return real(self, cells, piece, flips)
+
+    monkeypatch.setattr(label_repair.LabelEditor, "_minor_pieces", watched)
     s = get_manifold("s3").sample(2000, seed=1).points
     rec = reconstruct(s + np.random.default_rng(101).normal(scale=0.06, size=s.shape), 3)
+    assert any(pinned)  # the case this is about: cells flipped there and back PING_PONG times were kept
     assert _right(rec, (1, 0, 0, 1))
 
 
