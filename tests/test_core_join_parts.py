@@ -184,3 +184,7 @@ def test_a_cancel_stops_join_parts_and_cut_handle_between_their_rounds(elk):
     assert np.array_equal(ed.lab.inside, before)  # stopped before any relabelling
     out = join_parts(ed, rec.points, cancel=threading.Event())
     assert len(out.joins) >= 1
+    # a clear event changes nothing: the same joins and labels as a run without one
+    rec2, ed2 = _labelled(elk)
+    ref = join_parts(ed2, rec2.points)
+    assert len(out.joins) == len(ref.joins) and np.array_equal(ed.lab.inside, ed2.lab.inside)

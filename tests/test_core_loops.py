@@ -91,6 +91,7 @@ def test_compiled_path_masks_are_the_pointer_doubling_ones(monkeypatch):
     # random forests with unreached vertices (scipy's -9999) and masks of one and three words
     from crustview.core.analysis import loops
 
+    assert loops._paths is not None  # the kernel compared below is built
     rng = np.random.default_rng(1)
     for n, words in ((1, 1), (50, 1), (5000, 3)):
         pred = np.array([rng.integers(-1, v) if v else -9999 for v in range(n)], dtype=np.int32)  # parents first
@@ -253,6 +254,7 @@ def test_compiled_edge_triangles_and_dual_forest_are_numpys_and_scipys(monkeypat
     from crustview.core.analysis.loops import triangle_edges
     from crustview.core.samples.manifolds import get_manifold
 
+    assert cotree._paths is not None  # the kernel compared below is built
     rng = np.random.default_rng(3)
     rec = reconstruct(get_manifold("torus").sample(800, seed=2, noise=0.005).points, 2)
     edges, tri_edges = triangle_edges(rec.manifold)

@@ -48,7 +48,8 @@ def test_polygon_loop_on_paper(n):
     birth, death = pairs[0, :2]
     assert birth == pytest.approx(math.sin(math.pi / n), rel=1e-6)  # the last side (2 sin(pi / n)) closes it
     assert death == pytest.approx(1.0, rel=1e-6)  # the triangle over the centre fills it
-    assert len(persistent_loops(pts, top)) == (1 if 1 / math.sin(math.pi / n) >= PERSISTENT_SURE else 0)
+    assert PERSISTENT_SURE == 4  # the docstring's bound
+    assert len(persistent_loops(pts, top)) == (1 if n >= 13 else 0)
 
 
 @pytest.mark.parametrize(
@@ -90,9 +91,11 @@ def test_grown_sphere_for_a_klein_bottle_is_flagged():
     """Draw 10: the growing path makes a sphere with two crosscaps, cuts both (3.0 and 3.1 radii), and says
     nothing more; the sample holds the Klein bottle's two loops, so the result names both as uncertain."""
     rec = reconstruct(_noisy_klein(10), 2)
-    assert rec.topology.closed_manifold and rec.topology.betti == (1, 0, 1)  # wrong: a Klein bottle is (1, 2, 1)
+    assert rec.topology.closed_manifold and rec.topology.betti[1] < 2  # wrong: a Klein bottle is (1, 2, 1)
     lost = [f for f in rec.uncertain_features if f.disputed and "loops for sure" in f.reason]
-    assert len(lost) == 2 and all(f.kind == "handle" for f in lost)
+    # one feature for each loop of the sample that M_S lacks
+    assert len(lost) == get_manifold("flat-klein").betti[1] - rec.topology.betti[1] and lost
+    assert all(f.kind == "handle" for f in lost)
     assert any("M_S may lack 2" in msg for msg in rec.topology.messages)
 
 
@@ -101,8 +104,8 @@ def test_right_grown_klein_bottle_has_no_missing_loop():
     rec = reconstruct(_noisy_klein(0), 2)
     assert rec.topology.closed_manifold and rec.topology.betti == (1, 2, 1)
     assert any(m.startswith("the sample holds 2 loops for sure") for m in rec.topology.messages)  # checked
-    assert any(m.startswith("the sample holds 2 loops for sure") for m in rec.topology.messages)  # checked
     assert not [f for f in rec.uncertain_features if "loops for sure" in f.reason]
+    assert not any("M_S may lack" in msg for msg in rec.topology.messages)  # and nothing said of missing loops
 
 
 def test_missing_loops_counts_against_b1():
@@ -155,9 +158,9 @@ def test_missing_loops_in_a_flat_of_r5():
     turn, _ = np.linalg.qr(np.random.default_rng(0).normal(size=(5, 5)))
     moved = pts @ turn.T + 7.0
     rec = reconstruct(moved, 2)
-    assert rec.subspace_dim == 4 and rec.topology.betti == (1, 0, 1)
+    assert rec.subspace_dim == 4 and rec.topology.betti[1] < 2
     lost = [f for f in rec.uncertain_features if "loops for sure" in f.reason]
-    assert len(lost) == 2
+    assert len(lost) == get_manifold("flat-klein").betti[1] - rec.topology.betti[1] and lost
     for f in lost:
         np.testing.assert_allclose(f.location, rec.points[f.vertices].mean(axis=0))
         assert np.linalg.norm(rec.points[f.vertices[0]] - rec.points[f.vertices[1]]) < 4 * rec.spacing

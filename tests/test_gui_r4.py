@@ -73,8 +73,13 @@ def test_slicing_s3_gives_a_2_sphere_and_cuts_m_s_in_half(qtbot, window):
     _, vid = np.unique(np.round(a.xk, 9), axis=0, return_inverse=True)
     tris = np.sort(vid.ravel()[polys], axis=1)
     tris = tris[(tris[:, 0] != tris[:, 1]) & (tris[:, 1] != tris[:, 2])]
-    edges = np.unique(np.vstack([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [0, 2]]]), axis=0)
-    assert len(np.unique(tris)) - len(edges) + len(tris) == 2
+    edges, count = np.unique(np.vstack([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [0, 2]]]), axis=0, return_counts=True)
+    assert (count == 2).all()  # closed: every edge in two triangles
+    from crustview.core.analysis.topology import graph_components
+
+    vs = np.unique(tris)
+    assert graph_components(len(vs), np.searchsorted(vs, edges))[0] == 1  # one piece
+    assert len(vs) - len(edges) + len(tris) == 2
     # the half-space cut keeps only what lies below the hyperplane
     panel.cut.setChecked(True)
     cut = m.layers["manifold"].count

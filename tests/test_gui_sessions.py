@@ -31,9 +31,15 @@ def test_save_then_open_restores_run_step_camera_layers_and_projection(qtbot, wi
     saved = tmp_path / "mine.crustview.json"
     assert saved.is_file(), window.last_error
 
-    # something else entirely, then the session back through its dialog
+    # something else entirely, every saved setting moved away from its saved value, then the session back
+    # through its dialog (loading the circle resets some of them, not the manifold's opacity or T_S's visibility)
     assert window.load_builtin("circle", n=80)
     wait_idle(qtbot, window)
+    m.layers["points"].visible = True
+    m.layers["manifold"].opacity = 1.0
+    m.layers["manifold"].color = "#ffffff"
+    m.layers["candidates"].visible = False
+    assert window.layers_panel.rows["manifold"].opacity.value() == 100
     answered = answer_file_dialog(saved)
     trigger(window, "Open sessio&n…")
     assert answered
