@@ -117,6 +117,7 @@ def test_a_real_mesh_bumpy():
     assert c.mesh_topology.closed_manifold and c.genus(c.mesh_topology) == 0
     assert c.result_faces == rec.topology.n_simplices == c.recovered + c.extra
     assert 0 < c.recovered < c.mesh_faces  # some of the scan's diagonals differ
+    assert c.result_topology.closed_manifold and c.genus(c.result_topology) == 0  # the same sphere
     # every recovered face lies on the mesh; the distance is a fraction of the sample spacing
     assert 0 < c.hausdorff.distance < 2 * rec.spacing
 

@@ -46,6 +46,13 @@ def test_bounding_points_enclose_the_data_so_sample_cells_are_bounded():
     hull_vertices = np.unique(tri.convex_hull)
     assert hull_vertices.min() >= len(pts)
     assert len(simp) > 0
+    # and crustview's own triangulation: every sample a vertex, and every facet through a sample shared by two
+    # tetrahedra (no sample on the boundary of the triangulated region: its Voronoi cell is bounded)
+    n = len(pts)
+    assert np.isin(np.arange(n), simp).all()
+    facets = np.sort(np.concatenate([np.delete(simp, j, axis=1) for j in range(4)]), axis=1)
+    rows, count = np.unique(facets, axis=0, return_counts=True)
+    assert (count[(rows < n).any(axis=1)] == 2).all()
 
 
 def test_greedy_poles_by_hand():
@@ -301,7 +308,9 @@ def test_codimension_1_segment_minimum_by_hand():
     # the same segments sampled densely: no point of the one-sided segment beats its ends
     t = np.linspace(0, 1, 2001)[:, None]
     y = centres[0] + t * (centres[2] - centres[0])
-    assert ((y[:, 2] ** 2 / (y**2).sum(axis=1)).min()) >= 0.5 - 1e-12
+    dense = (y[:, 2] ** 2 / (y**2).sum(axis=1)).min()
+    assert dense >= 0.5 - 1e-12  # the premise: the minimum over the segment is at its nearer end
+    assert np.isclose(sin2[1], dense)  # and the product's score is that minimum
 
 
 def test_codimension_1_scores_are_the_minimum_over_each_dual_segment():

@@ -280,10 +280,15 @@ def test_surface_meshes_read_back(tmp_path, sphere_rec, suffix):
     mesh = _meshio_read(path)
     tris = mesh.get_cells_type("triangle")
     assert len(tris) == len(sphere_rec.manifold) > 0
-    if suffix == ".stl":  # STL stores coordinates per triangle, not indices
-        corners = np.sort(mesh.points[tris].reshape(-1, 3), axis=0)
-        expected = np.sort(sphere_rec.input_points[sphere_rec.point_input[sphere_rec.manifold]].reshape(-1, 3), axis=0)
-        np.testing.assert_allclose(corners, expected, atol=1e-6)
+    if suffix == ".stl":  # STL stores coordinates per triangle, not indices: the same triangles, corner by corner
+
+        def triangles(corners):  # (m, 3, 3): each triangle's corners in order, then the triangles in order
+            c = np.array([t[np.lexsort(t.T[::-1])] for t in corners])
+            flat = c.reshape(len(c), -1)
+            return flat[np.lexsort(flat.T[::-1])]
+
+        expected = sphere_rec.input_points[sphere_rec.point_input[sphere_rec.manifold]]
+        np.testing.assert_allclose(triangles(mesh.points[tris]), triangles(expected), atol=1e-6)
     else:
         assert len(mesh.points) == len(sphere_rec.input_points)
         np.testing.assert_allclose(mesh.points, sphere_rec.input_points, atol=1e-6)
@@ -325,6 +330,8 @@ def test_report(tmp_path, sphere_rec):
     write_report(path, sphere_rec)
     data = json.loads(path.read_text())
     assert data == report_dict(sphere_rec)
+    # the sphere's sample reconstructs as a sphere, and the file says so
+    assert data["topology"]["betti"] == [1, 0, 1] and data["topology"]["closed_manifold"] is True
     assert (data["d"], data["k"], data["n"]) == (2, 3, sphere_rec.n)
     assert data["test"] == sphere_rec.test
     assert data["theta_degrees"] == pytest.approx(np.degrees(sphere_rec.theta))
