@@ -73,6 +73,8 @@ def test_caption_band_draws_text():
     band = caption_band("step 3 of 9: prune-sharp", 300, 38)
     assert band.shape == (38, 300, 3)
     assert (band < 100).any() and (band == 255).mean() > 0.7  # dark text on white
+    assert not (caption_band("", 300, 38) < 100).any()  # no text, no ink
+    assert (band != caption_band("step 8 of 9: resolve-nonmanifold", 300, 38)).any()  # the ink is the text's
 
 
 def _decode(path, w, h) -> np.ndarray:

@@ -91,6 +91,14 @@ def test_a_hole_whose_faces_make_a_torus_is_not_coned() -> None:
     alive = np.array([s for s, a in zip(pt.simp, pt.alive, strict=True) if a])
     top = analyse(alive, len(pts), 3)
     assert top.boundary_faces == 64 and top.singular_vertices == 0
+    # the gate itself: each boundary torus (16 vertices, 48 edges, 32 triangles: chi = 0) is no sphere, and the
+    # 4 triangles round one missing tetrahedron (chi = 4 - 6 + 4 = 2) are
+    from crustview.core.robust.fill_cone import _is_sphere
+
+    assert not any(_is_sphere(sorted(tuple(f) for f in h)) for h in holes)
+    s3_pts, s3_tets = _boundary_of_4_simplex()
+    (one,) = Patcher(s3_pts, s3_tets[1:], np.empty((0, 4), np.int64), 1.0).holes()
+    assert _is_sphere(sorted(tuple(f) for f in one))
 
 
 def test_the_cone_sees_the_open_faces_the_delaunay_faces_left() -> None:

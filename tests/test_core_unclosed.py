@@ -42,6 +42,9 @@ def test_an_opening_open_cap_kept_open_stays_sure() -> None:
     holes = [f for f in features(pts, tris, 2) if f.kind == "hole"]
     inner = min(holes, key=lambda f: f.size_spacings)
     out = unclosed_gaps(pts, tris, holes, [(inner.vertices[:3], 10.0)], 1.0)
+    assert len(out) == len(holes) == 2
+    kept = next(f for f in out if f.size_spacings == inner.size_spacings)  # the two rims share a centre
+    assert not kept.uncertain and kept.reason == inner.reason  # untouched, not just unflagged
     assert not any(f.uncertain for f in out)
 
 

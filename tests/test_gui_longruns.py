@@ -147,6 +147,12 @@ def test_timeline_click_jumps_and_removed_so_far_is_coloured_by_step(qtbot, wind
     want = np.repeat(ext.removed_at[ext.removed_by(player.position)] + 1, a.drawing.per)
     assert len(a.rows) > 0 and np.array_equal(values, want)
     assert a.part.mapper.scalar_visibility and "removed by step" in window.view._bars
+    # a jump to the end: the layer follows the player (more removed, each coloured by its own step)
+    player.set_step(ext.n_steps)
+    qtbot.wait(1)
+    after = vtk_to_numpy(a.part.mesh.GetCellData().GetArray("values"))
+    assert len(after) > len(values)
+    assert np.array_equal(after, np.repeat(ext.removed_at[ext.removed_by(ext.n_steps)] + 1, a.drawing.per))
     removed.colorby = "rule"
     labels = [lab for lab, _ in window.view.legend_entries()]
     assert any(lab.startswith("removed by prune-sharp") or lab.startswith("removed by resolve") for lab in labels)
