@@ -34,6 +34,7 @@ def test_short_loops_the_walk_closes_under_noise_are_cut(name: str) -> None:
     removed = [f for f in ext.removed_features if f.kind == "handle"]
     assert cuts and len(removed) == len(cuts)
     assert all(f.size_spacings < LOOP_MIN for f in removed)
+    assert all(len(set(np.asarray(f.vertices).tolist())) == 3 for f in removed)  # each around three samples
     # the log replays: just after a cut M_S has a hole (the stars of the loop's samples), and it closes again
     after_cut = ext.complex_at(cuts[0].index + 1)
     assert analyse(after_cut, rec.n, 2).boundary_faces > 0
@@ -60,6 +61,7 @@ def test_cuts_of_loops_longer_than_three_samples_are_uncertain() -> None:
     base = m.sample(m.default_n, seed=3).points
     size = float(np.ptp(base, axis=0).max())
     rec = reconstruct(base + np.random.default_rng(13).normal(scale=0.015 * size, size=base.shape), m.d)
+    assert rec.topology.closed_manifold and tuple(rec.topology.betti) == (1, 0, 1)  # cut: a sphere
     removed = [f for f in rec.uncertain_features if f.kind == "handle" and f.removed]
     assert removed and all(len(set(f.vertices.tolist())) > 3 for f in removed)
     sure = [f for f in rec.extraction.removed_features if not f.uncertain]

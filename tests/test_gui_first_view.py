@@ -68,7 +68,9 @@ def test_play_and_home_replay_from_the_start(qtbot, window):
     p.play()
     assert p.position == 0 and p.playing
     p.pause()
+    assert not p.playing
     p.last()
+    assert p.position == p.n_steps
     p.first()
     assert p.position == 0
 
