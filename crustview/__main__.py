@@ -218,11 +218,9 @@ def _dispatch(argv: Sequence[str]) -> int:
         points = mesh.points if mesh is not None else read_points(args.file)
         k = points.shape[1]
         if args.d == "auto":
-            from crustview.core.analysis.dimension import estimate_dimension, with_faces
+            from crustview.core.analysis.dimension import estimate_file_dimension
 
-            estimate = estimate_dimension(points)
-            if mesh is not None:
-                estimate = with_faces(estimate, mesh.fitting_dimensions())
+            estimate = estimate_file_dimension(points, mesh)
             print(f"{PROG}: note: {args.file.name}: -d auto chose {estimate.sentence()}", file=sys.stderr, flush=True)
             args.d = estimate.d
         if args.d is not None and not 1 <= args.d < k:

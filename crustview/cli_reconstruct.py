@@ -196,11 +196,9 @@ def choose_d(points, d: int | str, mesh=None) -> tuple[int, Any]:
     """
     if d != "auto":
         return int(d), None
-    from crustview.core.analysis.dimension import estimate_dimension, with_faces
+    from crustview.core.analysis.dimension import estimate_file_dimension
 
-    est = estimate_dimension(points)
-    if mesh is not None:
-        est = with_faces(est, mesh.fitting_dimensions())
+    est = estimate_file_dimension(points, mesh)
     return est.d, est
 
 

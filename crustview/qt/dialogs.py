@@ -89,7 +89,7 @@ def dimension_dialog(parent: QWidget | None, k: int, default: int, source: str, 
     head = [
         source,
         f"holds points in R^{k}. Dimension d of the manifold they sample",
-        f"(1 = curve, 2 = surface …; suggested from local PCA: {default}):",
+        f"(1 = curve, 2 = surface …; suggested: {default}):",
     ]
     width = max(fm.horizontalAdvance(t) for t in head[1:])
     name = fm.elidedText(source, Qt.TextElideMode.ElideMiddle, min(widest, max(600, 2 * width)))

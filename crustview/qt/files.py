@@ -11,7 +11,7 @@ from PySide6.QtCore import QSettings
 from PySide6.QtGui import QAction
 from PySide6.QtWidgets import QFileDialog, QMenu
 
-from ..core.analysis.dimension import estimate_dimension, with_faces
+from ..core.analysis.dimension import estimate_file_dimension
 from ..core.errors import CrustviewError
 from ..scene.truth import MeshTruth
 from .dialogs import BuiltinDialog, ask_dimension, ask_overwrite_input
@@ -178,9 +178,7 @@ class FileActions:
             d = None
         if d is None:
             try:
-                estimate = estimate_dimension(points)  # local PCA, with its confidence and reasons
-                if mesh is not None:  # a mesh's faces say d where local PCA of its vertices cannot
-                    estimate = with_faces(estimate, mesh.fitting_dimensions())
+                estimate = estimate_file_dimension(points, mesh)  # local PCA (a mesh's faces overrule it)
             except CrustviewError as err:  # e.g. too few distinct points to tell: one line, nothing changed
                 self.show_error(str(err))
                 return False

@@ -122,6 +122,16 @@ def with_faces(estimate: DimensionEstimate, fitting: list[int]) -> DimensionEsti
     return replace(estimate, d=d, confidence=1.0, samples_d=estimate.d)
 
 
+def estimate_file_dimension(points: np.ndarray, mesh: object | None = None) -> DimensionEstimate:
+    """:func:`estimate_dimension` of a file's points, overruled by its faces (:func:`with_faces`) if it has any.
+
+    The one place ``-d auto``, ``view -d auto`` and the window's suggestion take d from.  ``mesh``: the
+    file's :class:`~crustview.meshfiles.mesh.MeshData` (its ``fitting_dimensions()``), or None for a point file.
+    """
+    estimate = estimate_dimension(points)
+    return estimate if mesh is None else with_faces(estimate, mesh.fitting_dimensions())  # type: ignore[attr-defined]
+
+
 def estimate_dimension(points: np.ndarray) -> DimensionEstimate:
     """Estimate the intrinsic dimension of a sample (see the module docstring).
 
