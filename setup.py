@@ -100,6 +100,13 @@ setup(
             extra_compile_args=FLAGS,
             optional=True,
         ),
+        Extension(  # no third-party headers: a boundary matrix's rank over GF(2) (core/analysis/topology.py)
+            "crustview.core.analysis._gf2",
+            sources=["crustview/core/analysis/_gf2.cpp"],
+            language="c++",
+            extra_compile_args=FLAGS,
+            optional=True,
+        ),
         Extension(  # no third-party headers: a triangle complex's edge table and topology counts (core/util)
             "crustview.core.util._surface",
             sources=["crustview/core/util/_surface.cpp"],

@@ -200,3 +200,79 @@ def test_tables_too_large_for_memory_raise_memoryerror_instead_of_aborting():
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
     assert run.stdout.split() == ["MemoryError", "MemoryError"]
+
+
+# ---------------------------------------------------------------- the boundary ranks over GF(2) (_gf2.cpp)
+def test_the_compiled_rank_is_built():
+    """The install builds it (scripts/install.sh)."""
+    assert topology._gf2 is not None
+
+
+def _dense_rank_gf2(cols: list[list[int]], rows: int) -> int:
+    """Gaussian elimination on a dense 0/1 matrix: a third way, sharing nothing with the other two."""
+    m = np.zeros((rows, len(cols)), dtype=np.uint8)
+    for j, col in enumerate(cols):
+        for r in col:
+            m[r, j] ^= 1
+    rank = 0
+    for c in range(m.shape[1]):
+        below = np.flatnonzero(m[rank:, c]) + rank
+        if len(below) == 0:
+            continue
+        m[[rank, below[0]]] = m[[below[0], rank]]
+        others = np.flatnonzero(m[:, c])
+        others = others[others != rank]
+        m[others] ^= m[rank]
+        rank += 1
+        if rank == rows:
+            break
+    return rank
+
+
+def test_boundary_ranks_worked_out_by_hand():
+    """The boundary of a tetrahedron (S^2): 4 triangles on 6 edges, rank 3 (their sum is the one cycle);
+    K4's 6 edges on 4 vertices, rank 3.  The boundary of a 4-simplex (S^3): 5 tetrahedra, rank 4;
+    10 triangles on 10 edges, rank 10 - rank d1 (4) - b1 (0) = 6.  The six-vertex projective plane:
+    10 triangles on 15 edges, rank 9 (b2 = 1 over Z/2)."""
+    tet = np.array(list(itertools.combinations(range(4), 3)))
+    simplex4 = np.array(list(itertools.combinations(range(5), 4)))
+    cases = [(tet, 2, 3), (tet, 1, 3), (simplex4, 3, 4), (simplex4, 2, 6), (RP2, 2, 9)]
+    for simplices, j, want in cases:
+        faces = topology.all_faces(simplices)
+        assert topology.boundary_rank_gf2(faces[j], faces[j - 1]) == want, (len(simplices), j)
+        assert topology.boundary_rank_gf2_python(faces[j], faces[j - 1]) == want, (len(simplices), j)
+
+
+def test_the_compiled_rank_matches_python_and_a_dense_elimination_on_random_columns():
+    """Columns of 2-4 rows, some named twice (they cancel), some all cancelled, narrow and wide."""
+    rng = np.random.default_rng(5)
+    for trial in range(40):
+        rows = int(rng.integers(1, 60))
+        width = int(rng.integers(2, 5))
+        n_cols = int(rng.integers(1, 90))
+        cols = rng.integers(0, rows, size=(n_cols, width))
+        if trial % 4 == 0:
+            cols[:, 1] = cols[:, 0]  # a row twice in every column
+        want = _dense_rank_gf2(cols.tolist(), rows)
+        got = topology._gf2.rank(np.ascontiguousarray(cols, dtype=np.int64), rows, width)
+        assert got == want == topology._reduce_python(cols), (trial, got, want)
+
+
+def test_the_compiled_rank_refuses_entries_outside_the_rows():
+    with pytest.raises(ValueError, match="not a row"):
+        topology._gf2.rank(np.array([[0, 3]], dtype=np.int64), 3, 2)
+    with pytest.raises(ValueError, match="width"):
+        topology._gf2.rank(np.array([0, 1, 2], dtype=np.int64), 3, 2)
+
+
+def test_a_3_manifolds_report_is_the_same_with_and_without_the_compiled_rank(s3_run, monkeypatch):
+    """S^3 in R^4 (the general code: d = 3) and the same complex with a tetrahedron removed (open)."""
+    rec, _ = s3_run
+    tets = np.asarray(rec.manifold)
+    for simplices in (tets, tets[1:]):
+        compiled = topology._analyse_general(simplices, len(rec.points), 3)
+        with monkeypatch.context() as m:
+            m.setattr(topology, "_gf2", None)
+            python = topology._analyse_general(simplices, len(rec.points), 3)
+        assert compiled == python
+    assert topology._analyse_general(tets, len(rec.points), 3).betti == (1, 0, 0, 1)
