@@ -124,7 +124,10 @@ def test_render_tour_mp4_and_png_folder(tmp_path, capsys, monkeypatch):
     import imageio_ffmpeg
 
     assert imageio_ffmpeg.count_frames_and_secs(str(mp4))[0] == 6
-    video = _decode(mp4, 200, 160)  # 6 frames of exactly 200 x 160 bytes each: the size was rounded
+    reader = imageio_ffmpeg.read_frames(str(mp4))
+    assert next(reader)["size"] == (200, 160)  # the stream's own width and height, rounded to multiples of 8
+    reader.close()
+    video = _decode(mp4, 200, 160)
     assert video.shape[0] == 6 and video.shape[1:3] == (160, 200)  # rounded to multiples of 8
     # the tour moves the projection: the first and last 3-D views differ
     assert np.abs(video[0, 40:].astype(int) - video[-1, 40:].astype(int)).mean() > 1

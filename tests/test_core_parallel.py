@@ -274,12 +274,20 @@ def test_face_lists_on_two_threads_equal_one_thread(k, d, n):
     rng = np.random.default_rng(3)
     simp = delaunay(rng.normal(size=(n, k)), bounding_points(k))
     w = simp.shape[1]
+    before = _faces.second_threads()
     one = _faces.faces(simp, w, d + 1, n, 2**62)
-    assert one == _faces.faces(simp, w, d + 1, n, 2) and one == _faces.faces(simp, w, d + 1, n)
+    assert _faces.second_threads() == before  # one thread
+    two = _faces.faces(simp, w, d + 1, n, 2)
+    assert _faces.second_threads() >= before + 2  # the instances and the sort each on two threads
+    assert one == two and one == _faces.faces(simp, w, d + 1, n)
     if d == k - 1:
         simp2, nbrs = delaunay(rng.normal(size=(n, k)), bounding_points(k), neighbors=True)
+        before = _faces.second_threads()
         one = _faces.facets(simp2, nbrs, w, n, 2**62)
-        assert one == _faces.facets(simp2, nbrs, w, n, 2) and one == _faces.facets(simp2, nbrs, w, n)
+        assert _faces.second_threads() == before
+        two = _faces.facets(simp2, nbrs, w, n, 2)
+        assert _faces.second_threads() > before
+        assert one == two and one == _faces.facets(simp2, nbrs, w, n)
 
 
 def test_compiled_face_lists_and_cell_edges_refuse_bad_input_with_one_line():

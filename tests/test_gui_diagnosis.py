@@ -24,6 +24,8 @@ def run(qtbot, window, pts, mode):
 
 
 def test_epsilon_colouring_marks_the_paper_bounds_and_the_histogram_counts_every_sample(qtbot, window):
+    from PySide6.QtGui import QColor
+
     from crustview.core.analysis.quality import sampling_quality
 
     pts = knight_points()
@@ -45,6 +47,22 @@ def test_epsilon_colouring_marks_the_paper_bounds_and_the_histogram_counts_every
     assert hist.counts[-1] == int((q.epsilon >= hist.edges[-1]).sum())
     beyond = int(q.beyond(0.25).sum())
     assert f"<b>{beyond:,}</b> of {rec.n:,}" in window.info_panel.diagnosis.quality_label.text()
+    # the bound is drawn as a dashed line where the bars change colour: at the left edge of the bar that
+    # begins at 0.25, dark pixels down most of the plot, and none in a column halfway between two bounds
+    assert set(q.thresholds.values()) == {0.25}
+    start = int(np.argmin(np.abs(hist.edges - 0.25)))
+    assert abs(hist.edges[start] - 0.25) < 1e-12  # 0.25 is a bar edge (the bars run to 4 times the bound)
+    x = hist.x_of(0.25)
+    assert abs(hist.bar_rects()[start].left() - 0.5 - x) < 1e-9
+    hist.resize(max(hist.width(), 300), max(hist.height(), 140))
+    img = hist.grab().toImage()
+    top, bottom = 14 + 13, hist.height() - 17  # below the one label line, above the axis
+
+    def dark(col: int) -> int:
+        return sum(QColor(img.pixel(col, y)).lightness() < 60 for y in range(top, bottom))
+
+    assert dark(int(x)) >= 0.4 * (bottom - top), (dark(int(x)), bottom - top)  # dashes: about half the column
+    assert dark(int(hist.x_of(0.6))) == 0
 
 
 def test_holes_layer_counts_the_single_simplex_faces_of_t_s(qtbot, window):

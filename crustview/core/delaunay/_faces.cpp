@@ -36,6 +36,7 @@
 #include <cstdint>
 #include <exception>
 #include <memory>
+#include <atomic>
 #include <thread>
 #include <vector>
 
@@ -60,6 +61,9 @@ struct Instance {  // 12 bytes: there are (w choose d+1) per simplex
 //: optional argument; the tests lower it to check that two threads give the one-thread order).
 constexpr long long kThreadedRecords = 1 << 20;
 
+//: Second threads started so far (``second_threads()``: the tests see that two threads ran).
+std::atomic<long long> g_second_threads{0};
+
 template <typename Body>
 void in_parts(int parts, Body&& body) {  // body(part) on each part, the second on its own thread
     if (parts == 1) {
@@ -67,6 +71,7 @@ void in_parts(int parts, Body&& body) {  // body(part) on each part, the second 
         return;
     }
     std::thread other([&] { body(1); });
+    g_second_threads.fetch_add(1, std::memory_order_relaxed);
     body(0);
     other.join();
 }
@@ -414,7 +419,13 @@ PyObject* faces(PyObject* /*self*/, PyObject* args) {
     return Py_BuildValue("NNNn", out[0], out[1], out[2], distinct);
 }
 
+PyObject* second_threads(PyObject*, PyObject*) {
+    return PyLong_FromLongLong(g_second_threads.load(std::memory_order_relaxed));
+}
+
 PyMethodDef methods[] = {
+    {"second_threads", second_threads, METH_NOARGS,
+     "second_threads() -> int: the second threads the sorts and face instances have started so far."},
     {"facets", facets, METH_VARARGS,
      "facets(simplices, neighbours, w, n[, threaded]) -> (faces, ptr, owners, count)\n\n"
      "The facets of the int32 simplices (t x w) whose vertices are all < n,\n"
