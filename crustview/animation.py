@@ -103,7 +103,10 @@ def step_caption(model: SceneModel, position: int) -> str:
     """The caption of a replay frame: the step number, its rule and its reason."""
     ext = model.rec.extraction
     if position == 0:
-        return f"step 0 of {ext.n_steps}: T_S before Algorithm 3 ({len(ext.simplices):,} candidate simplices)"
+        alive = int(ext.alive(0).sum())
+        if alive == 0 and ext.n_steps:  # a robust run that builds M_S anew: step 0 is empty, as the window says
+            return f"step 0 of {ext.n_steps}: M_S empty before the extension's first step (T_S: its own layer)"
+        return f"step 0 of {ext.n_steps}: T_S before Algorithm 3 ({alive:,} candidate simplices)"
     s = ext.steps[position - 1]
     reason = s.reason if len(s.reason) <= 90 else s.reason[:87] + "..."
     return f"step {position} of {ext.n_steps}: {s.rule} - {reason}"

@@ -5,8 +5,9 @@ For every input ``NAME.ext`` it writes ``DIR/NAME.npz`` and
 share), prints one row per file as it finishes, and writes
 ``DIR/summary.csv`` and ``DIR/summary.json`` (in the order of the inputs):
 file, status, verdict (sure, uncertain, wrong or failed), points, k, d, closed, Betti numbers, uncertain handles,
-holes and components, seconds, outputs and the error of a failed file.
-The exit status is 0 when every file succeeded, 1 otherwise.  Ctrl-C
+holes and components, seconds, outputs and the error of a file that could not be reconstructed.
+The exit status is 1 when a file could not be reconstructed or its verdict is failed or wrong
+(:data:`~crustview.cli_reconstruct.BAD_VERDICTS`, as for one file), 0 otherwise.  Ctrl-C
 stops the workers; every file is written atomically, so nothing partial
 is left.
 """
@@ -24,7 +25,11 @@ from pathlib import Path
 from typing import Any
 
 from crustview.atomic import write_text
+from crustview.cli_reconstruct import BAD_VERDICTS
 from crustview.core.errors import CrustviewError, InputError
+
+#: The verdicts of a written result, in the closing line's order (:func:`crustview.report.result_verdict`).
+VERDICTS = ("sure", "uncertain", "wrong", "failed")
 
 #: Columns of summary.csv.
 COLUMNS = (
@@ -118,7 +123,7 @@ def row_line(row: dict[str, Any]) -> str:
     if row["status"] != "ok":
         error = str(row["error"])
         error = error[len(name) + 2 :] if error.startswith(f"{name}: ") else error  # named once
-        return f"{name}: FAILED: {error}"
+        return f"{name}: not reconstructed: {error}"
     closed = "closed" if row["closed"] else "not closed"
     unc = row["uncertain_handles"] + row["uncertain_holes"] + row["uncertain_components"]
     return (
@@ -193,13 +198,23 @@ def run(args: argparse.Namespace) -> int:
                     raise
     final = [r for r in rows if r is not None]
     failed = sum(r["status"] != "ok" for r in final)
+    verdicts = {v: sum(r["status"] == "ok" and r["verdict"] == v for r in final) for v in VERDICTS}
     write_text(summary[0], summary_csv(final))
-    meta = {"files": len(final), "failed": failed, "seconds": round(time.perf_counter() - start, 3), "jobs": args.jobs}
+    meta = {
+        "files": len(final),
+        "failed": failed,
+        "verdicts": verdicts,
+        "seconds": round(time.perf_counter() - start, 3),
+        "jobs": args.jobs,
+    }
     write_text(summary[1], json.dumps({**meta, "rows": final}, indent=2) + "\n")
     if not args.quiet:
+        said = ", ".join(f"{n} {v}" for v, n in verdicts.items() if n)
         print(
-            f"{len(final) - failed} of {len(final)} files reconstructed ({failed} failed) in {meta['seconds']:.1f} s "
-            f"with {args.jobs} process(es); wrote {summary[0]} and {summary[1]}.",
+            f"{len(final) - failed} of {len(final)} files reconstructed ({failed} could not be); "
+            f"verdicts: {said or 'none'}; {meta['seconds']:.1f} s with {args.jobs} process(es); "
+            f"wrote {summary[0]} and {summary[1]}.",
             flush=True,
         )
-    return 1 if failed else 0
+    bad = failed + sum(verdicts[v] for v in BAD_VERDICTS)
+    return 1 if bad else 0

@@ -52,7 +52,7 @@ def add_parser(sub, angle_type) -> None:
         "--output",
         type=Path,
         default=None,
-        help="result file: .npz, or .ply .obj .off .vtk .stl for d <= 2, k <= 3",
+        help="result file: .npz, .ply, .off or .noff (any d and k), or .obj .vtk .stl (d <= 2, k <= 3)",
     )
     p.add_argument("--report", type=Path, default=None, help="also write a JSON report")
     p.add_argument(
@@ -390,10 +390,21 @@ def run(args: argparse.Namespace) -> int:
     check_outputs([path], outputs, args.force)
     summary: list[str] = []  # printed when the bar is gone
     with StageProgress(path.name, wants_bar(sys.stderr, args.quiet)) as bar:
-        reconstruct_file(path, args.output, args.report, args, bar, _say(args, bar, summary))
+        row = reconstruct_file(path, args.output, args.report, args, bar, _say(args, bar, summary))
     for line in summary:
         print(line, flush=True)
-    return 0
+    return verdict_status(row["verdict"])
+
+
+#: Verdicts after which ``reconstruct`` exits with status 1: the result was written, but it is no closed manifold
+#: where one was asked for ("failed"), or the input mesh's own faces contradict it ("wrong").  A script that
+#: runs with ``-q`` tells them from "sure" and "uncertain" (status 0) without reading the report.
+BAD_VERDICTS = ("failed", "wrong")
+
+
+def verdict_status(verdict: str) -> int:
+    """The exit status of a written result: 1 for :data:`BAD_VERDICTS`, else 0."""
+    return 1 if verdict in BAD_VERDICTS else 0
 
 
 def _say(args: argparse.Namespace, bar=None, summary: list[str] | None = None):
@@ -475,7 +486,8 @@ def extraction_summary(rec) -> str:
         head = "extraction: robust" + (f" ({why})" if why else "")
     counts = ext.counts_by_rule()
     shown = [f"{rule} {c['steps']}" for rule, c in counts.items() if c["steps"] or rec.mode == "paper"]
-    return f"{head}; {ext.n_steps} steps" + (": " + ", ".join(shown) if shown else "") + "."
+    steps = f"{ext.n_steps} step" + ("" if ext.n_steps == 1 else "s")
+    return f"{head}; {steps}" + (": " + ", ".join(shown) if shown else "") + "."
 
 
 def comparison_summary(c, name: str) -> str:

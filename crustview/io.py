@@ -226,13 +226,13 @@ def _check_points(data: Any, path: Path) -> np.ndarray:
 
 
 # ---------------------------------------------------------------- writing
-def _pad3(points: np.ndarray, path: Path, what: str) -> np.ndarray:
+def _pad3(points: np.ndarray, path: Path, what: str, instead: str = ".npz or .ply") -> np.ndarray:
     points = np.asarray(points, dtype=np.float64)
     k = points.shape[1]
     if k > 3:
         raise InputError(
             f"Cannot write '{path}': {what} files hold points in at most 3 dimensions, "
-            f"these have {k}; use .npz instead."
+            f"these have {k}; use {instead} instead."
         )
     if k < 3:
         points = np.column_stack([points, np.zeros((len(points), 3 - k))])
@@ -432,14 +432,14 @@ def write_result(
     if rec.d > 2:
         raise InputError(
             f"Cannot write '{path}': mesh files hold curves and surfaces only, "
-            f"this reconstruction is {rec.d}-dimensional; use .npz instead."
+            f"this reconstruction is {rec.d}-dimensional; use .npz, .ply, .off or .noff instead."
         )
     if rec.d == 1 and suffix == ".stl":
         raise InputError(
             f"Cannot write '{path}': {suffix} files hold triangles only and this "
             "reconstruction is a curve; use .ply, .obj, .vtk or .npz instead."
         )
-    points = _pad3(rec.input_points, path, suffix)
+    points = _pad3(rec.input_points, path, suffix, ".npz, .ply, .off or .noff")
     _write_mesh(path, points, "triangle" if rec.d == 2 else "line", simplices)
 
 

@@ -190,3 +190,25 @@ def test_render_redoes_a_saved_results_own_run(tmp_path):
     )
     other, _, _ = load(str(tmp_path / "r.npz"), None, "robust", {})  # --mode on top still wins
     assert other.mode == "robust"
+
+
+def test_the_first_frames_caption_counts_what_step_0_shows(default_run, camelhead_run):
+    """Step 0 of the paper's loop is T_S (the torus's run: the paper's result, so the candidates at the run's
+    test and angle); step 0 of a run whose extension builds M_S anew is empty (the camel head's labelling), and
+    the caption says so instead of counting the simplices the extension added."""
+    from crustview.animation import step_caption
+    from crustview.scene.model import SceneModel
+
+    rec, _ = default_run("torus")
+    model = SceneModel()
+    model.set_reconstruction(rec, source="torus")
+    want = int(rec.candidates.mask(rec.test, rec.theta).sum())
+    assert (
+        step_caption(model, 0)
+        == f"step 0 of {rec.extraction.n_steps}: T_S before Algorithm 3 ({want:,} candidate simplices)"
+    )
+    model.set_reconstruction(camelhead_run, source="camel head")
+    ext = camelhead_run.extraction
+    assert not ext.alive(0).any() and len(ext.simplices) > 0
+    caption = step_caption(model, 0)
+    assert caption.startswith(f"step 0 of {ext.n_steps}: M_S empty") and "candidate" not in caption

@@ -249,15 +249,17 @@ def test_keep_boundary_on_a_torus_with_a_hole(capsys, tmp_path, holed_torus):
     src, holed = holed_torus
     strict, kept = tmp_path / "strict.npz", tmp_path / "kept.npz"
     report = tmp_path / "strict.json"
+    # no closed manifold in either (the pruning eats the tube; kept faces leave a boundary): FAILED, status 1,
+    # and the result written all the same
     proc = run_main(capsys, "reconstruct", src, "-d", 2, "-o", strict, "--report", report, "--paper")
-    assert proc.returncode == 0 and proc.stderr == ""
+    assert proc.returncode == 1 and proc.stderr == "" and "Verdict: FAILED" in proc.stdout
     # --keep-boundary is a paper-mode option: alone, it implies --paper and says so
     proc = run_main(capsys, "reconstruct", src, "-d", 2, "-o", kept, "--keep-boundary")
-    assert proc.returncode == 0
+    assert proc.returncode == 1 and "Verdict: FAILED" in proc.stdout
     assert "--keep-boundary" in proc.stderr and "--paper" in proc.stderr and len(proc.stderr.splitlines()) == 1
     assert "extraction: paper's Algorithm 3 with boundary faces kept" in proc.stdout
     proc = run_main(capsys, "reconstruct", src, "-d", 2, "-o", tmp_path / "both.npz", "--keep-boundary", "--paper")
-    assert proc.returncode == 0 and proc.stderr == ""
+    assert proc.returncode == 1 and proc.stderr == ""
     with np.load(kept) as a, np.load(tmp_path / "both.npz") as b:
         assert str(a["mode"]) == str(b["mode"]) == "paper" and not a["prune_boundary"]
         assert np.array_equal(a["simplices"], b["simplices"])
@@ -296,7 +298,8 @@ def test_high_dimensions_get_a_warning_first(capsys, tmp_path):
     src = tmp_path / "r6.npy"
     np.save(src, rng.random((12, 6)))
     proc = run_main(capsys, "reconstruct", src, "-d", 5, "-o", tmp_path / "r6.npz")
-    assert proc.returncode == 0
+    assert (tmp_path / "r6.npz").is_file()  # 12 random points give no closed 5-manifold: FAILED, status 1
+    assert proc.returncode == 1 and "Verdict: FAILED" in proc.stdout
     assert proc.stderr.startswith("crustview: warning: Points in R^6") and "long run" in proc.stderr
     small = tmp_path / "c.npy"
     np.save(small, get_points("circle", 40))

@@ -80,8 +80,11 @@ def test_batch_runs_files_in_two_processes_and_writes_the_summaries(samples, tmp
         timeout=300,
     )
     assert run.returncode == 1, run.stderr  # one file failed
-    assert "broken.xyz: FAILED: Cannot use" in run.stdout or "broken.xyz: FAILED: Cannot read" in run.stdout
-    assert "3 of 4 files reconstructed (1 failed)" in run.stdout
+    assert (
+        "broken.xyz: not reconstructed: Cannot use" in run.stdout
+        or "broken.xyz: not reconstructed: Cannot read" in run.stdout
+    )
+    assert "3 of 4 files reconstructed (1 could not be); verdicts: " in run.stdout
     names = sorted(p.name for p in out.iterdir())
     assert names == sorted(
         ["summary.csv", "summary.json"]
@@ -93,6 +96,11 @@ def test_batch_runs_files_in_two_processes_and_writes_the_summaries(samples, tmp
     assert rows["torus.npy"]["betti"] == [1, 2, 1] and rows["torus.npy"]["closed"] and rows["torus.npy"]["d"] == 2
     assert rows["trefoil.csv"]["d"] == 1 and rows["trefoil.csv"]["betti"] == [1, 1]
     assert rows["broken.xyz"]["status"] == "failed" == rows["broken.xyz"]["verdict"] and rows["broken.xyz"]["error"]
+    # the closing line counts the written results' verdicts, as the rows give them
+    counts = {v: sum(r["status"] == "ok" and r["verdict"] == v for r in rows.values()) for v in summary["verdicts"]}
+    assert summary["verdicts"] == counts and sum(counts.values()) == 3
+    said = ", ".join(f"{n} {v}" for v, n in counts.items() if n)
+    assert f"verdicts: {said};" in run.stdout
     for r in rows.values():
         assert {"points", "uncertain_handles", "uncertain_holes", "uncertain_components", "seconds"} <= set(r)
     table = list(csv.DictReader((out / "summary.csv").read_text().splitlines()))
@@ -170,10 +178,10 @@ def test_a_failed_row_names_its_file_once():
         "status": "failed",
         "error": "few.txt: too few points: 3; points in R^3 need at least 5 (k + 2) for a reconstruction",
     }
-    want = "few.txt: FAILED: too few points: 3; points in R^3 need at least 5 (k + 2) for a reconstruction"
+    want = "few.txt: not reconstructed: too few points: 3; points in R^3 need at least 5 (k + 2) for a reconstruction"
     assert row_line(row) == want
     row["error"] = "Cannot read '/data/few.txt': the file does not exist."
-    assert row_line(row) == "few.txt: FAILED: Cannot read '/data/few.txt': the file does not exist."
+    assert row_line(row) == "few.txt: not reconstructed: Cannot read '/data/few.txt': the file does not exist."
 
 
 def test_a_failed_file_in_a_batch_says_the_note_that_explains_it(samples, tmp_path, capsys):
@@ -189,6 +197,37 @@ def test_a_failed_file_in_a_batch_says_the_note_that_explains_it(samples, tmp_pa
     text = out.out + out.err
     assert code == 1
     lines = text.splitlines()
-    i = next(i for i, line in enumerate(lines) if line.startswith("flat.obj: FAILED: "))
+    i = next(i for i, line in enumerate(lines) if line.startswith("flat.obj: not reconstructed: "))
     assert "third coordinate is 0" in lines[i + 1] and lines[i + 1].startswith("  note: ")
-    assert any(line.startswith("sphere.xyz: ") and "FAILED" not in line for line in lines)
+    assert any(line.startswith("sphere.xyz: ") and "not reconstructed" not in line for line in lines)
+
+
+def test_a_failed_verdict_exits_1_alone_and_in_a_batch(samples, tmp_path, capsys):
+    """A written result that is no closed manifold (the paper's pruning eats the open cow head away: an empty
+    M_S) says FAILED and exits 1, also with -q; in a batch beside a sure file the closing line counts one of
+    each and the batch exits 1.  The sure file alone exits 0."""
+    from crustview.__main__ import main
+
+    cow = Path(__file__).resolve().parents[1] / "resources" / "cow-head.off"
+    code = main(["reconstruct", str(cow), "-d", "2", "--paper", "-o", str(tmp_path / "c.npz")])
+    out = capsys.readouterr().out
+    assert "Verdict: FAILED" in out and code == 1, out
+    assert main(["reconstruct", str(cow), "-d", "2", "--paper", "-q", "-o", str(tmp_path / "q.npz")]) == 1
+    assert capsys.readouterr().out == "" and (tmp_path / "q.npz").is_file()  # written all the same
+    assert main(["reconstruct", str(samples / "sphere.xyz"), "-d", "2", "--paper", "-o", str(tmp_path / "s.npz")]) == 0
+    assert "Verdict: SURE" in capsys.readouterr().out
+    both = [
+        "reconstruct",
+        str(samples / "sphere.xyz"),
+        str(cow),
+        "-d",
+        "2",
+        "--paper",
+        "--out-dir",
+        str(tmp_path / "b"),
+    ]
+    code = main(both)
+    lines = capsys.readouterr().out.splitlines()
+    assert code == 1
+    assert any(line.startswith("cow-head.off: failed: ") for line in lines), lines
+    assert "2 of 2 files reconstructed (0 could not be); verdicts: 1 sure, 1 failed;" in lines[-1]

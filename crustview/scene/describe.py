@@ -88,14 +88,14 @@ def step_words(step: Step | None, position: int, n_steps: int, extraction: Extra
         at = "" if step.rule in PLACELESS_RULES else f" at τ = {fmt_tuple(step.tau)}"
         return (
             f"Step {position} / {n_steps} — {words.get(step.rule, step.rule)}{at}: added "
-            f"{len(step.added)} simplex{'es' if len(step.added) != 1 else ''} "
+            f"{len(step.added)} {'simplex' if len(step.added) == 1 else 'simplices'} "
             f"{fmt_tuple(step.added[:8])}{' …' if len(step.added) > 8 else ''}"
             + (f"; angle {deg(step.angle)}" if np.isfinite(step.angle) else "")
             + (f". {step.reason[0].upper()}{step.reason[1:]}." if step.reason else ".")
         )
     return (
         f"Step {position} / {n_steps} — {rule} at τ = {fmt_tuple(step.tau)}: removed "
-        f"{len(step.removed)} simplex{'es' if len(step.removed) != 1 else ''} "
+        f"{len(step.removed)} {'simplex' if len(step.removed) == 1 else 'simplices'} "
         f"{fmt_tuple(step.removed[:8])}{' …' if len(step.removed) > 8 else ''}{kept}"
         + (f"; angle {deg(step.angle)}" if np.isfinite(step.angle) else "")
         + f". {step.reason[0].upper()}{step.reason[1:]}."

@@ -176,10 +176,11 @@ def extract_robust(
                 return paper
             note_paper = "the paper's Algorithm 3 ended with a pinched complex"
         elif paper.stopped == "sample-lost":
+            n_steps, n_holes = paper.n_steps, len(paper.holes)
             note_paper = (
-                f"the paper's Algorithm 3 was abandoned after {paper.n_steps} steps, "
+                f"the paper's Algorithm 3 was abandoned after {n_steps} step{'' if n_steps == 1 else 's'}, "
                 f"when {paper.notes[-1].split(' lost')[0]} lost its last simplex "
-                f"({len(paper.holes)} holes in T_S)"
+                f"({n_holes} hole{'' if n_holes == 1 else 's'} in T_S)"
             )
         else:
             note_paper = f"the paper's Algorithm 3 ended {paper.stopped}"
