@@ -117,6 +117,13 @@ def test_reconstruct_gets_the_elk_right_and_says_it_joined(elk, tmp_path):
     kinds = [f["kind"] for f in rep["uncertain_features"] if f["removed"]]
     assert kinds.count("component") == len(joined)
     assert f"{len(joined)} components)" in result_summary(rec, 1.0, tmp_path / "out.npz")
+    # the message tells the features of M_S from the joins, which are no feature of M_S (a new user read
+    # "the sample does not support every feature of M_S: 32 handles" on a genus-5 result, 28 of them cut)
+    held = [f for f in rec.uncertain_features if not f.removed]
+    assert not any(f.kind == "component" for f in held)  # every uncertain component here is a join
+    (line,) = [m for m in rec.topology.messages if m.startswith("the sample does not decide every feature")]
+    joins = f"{len(joined)} component{'s' if len(joined) > 1 else ''} that the extension removed or closed"
+    assert joins in line and ("of M_S" in line) == bool(held)
 
 
 def _sphere(n, centre, rng):

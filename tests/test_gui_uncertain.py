@@ -52,7 +52,7 @@ def test_nearly_touching_spheres_are_amber_with_their_components_named(qtbot, wi
     assert f"uncertain: 0 handles, 0 holes, {len(unc)} component" in panel.banner.text()
     assert "#e0a020" in _chunk_colour(window)  # amber, not green
     assert "uncertain" in window.run_panel.progress.format()
-    assert any("not all of it is supported" in n for n in window.view.notes())
+    assert any("the sample does not decide everything" in n for n in window.view.notes())
     # the title names the shape with the doubt (a new user read a bare shape name there as the answer)
     assert window.windowTitle().endswith("? (uncertain) (d = 2 in R^3)"), window.windowTitle()
     # every feature's reason is listed
@@ -193,7 +193,7 @@ def test_a_clicked_feature_is_highlighted_as_well_as_framed(qtbot, window):
     (hole,) = [f for f in rec.uncertain_features if f.kind == "hole"]
     # the banner's line counts only what is in doubt, in words ("1 hole", not "0 handles, 1 holes, ...")
     assert (
-        "the sample does not support every feature of M_S: 1 hole uncertain (each listed with where it is: the "
+        "the sample does not decide every feature: 1 hole of M_S uncertain (each listed with where it is: the "
         "report's uncertain_features, the window's Uncertain features)"
     ) in rec.topology.messages
     panel = window.info_panel.features

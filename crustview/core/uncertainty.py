@@ -224,16 +224,25 @@ def result_features(
         )
     if any(f.uncertain for f in feats):
         doubt = [f for f in feats if f.uncertain]
-        named = [
-            f"{c} {kind if c == 1 else plural}"
-            for kind, plural in (("handle", "handles"), ("hole", "holes"), ("component", "components"))
-            if (c := sum(f.kind == kind for f in doubt))
-        ]
+        held = _named_counts([f for f in doubt if not f.removed])
+        taken = _named_counts([f for f in doubt if f.removed])
+        parts = ([f"{held} of M_S"] if held else []) + (
+            [f"{taken} that the extension removed or closed (each may be real)"] if taken else []
+        )
         topo.messages.append(
-            f"the sample does not support every feature of M_S: {', '.join(named)} uncertain (each listed with "
+            f"the sample does not decide every feature: {' and '.join(parts)} uncertain (each listed with "
             "where it is: the report's uncertain_features, the window's Uncertain features)"
         )
     return feats
+
+
+def _named_counts(feats: list[Feature]) -> str:
+    """E.g. "4 handles, 1 hole" ('' for none)."""
+    return ", ".join(
+        f"{c} {kind if c == 1 else plural}"
+        for kind, plural in (("handle", "handles"), ("hole", "holes"), ("component", "components"))
+        if (c := sum(f.kind == kind for f in feats))
+    )
 
 
 def _missing_loops(

@@ -414,7 +414,10 @@ def _verdict(rec: Reconstruction, truth=None) -> tuple[str, str]:
         skips = [f"{t.unused_samples} unused"] if t.closed_manifold and t.unused_samples else []
         return "bad", "M_S is WRONG: " + ", ".join(problems + skips) + (f" ({unc})" if unc else "")
     if t.closed_manifold and not t.unused_samples and unc:
-        return "warn", f"M_S is a closed manifold through every sample, but not all of it is supported ({unc})"
+        return (
+            "warn",
+            f"M_S is a closed manifold through every sample, but the sample does not decide everything ({unc})",
+        )
     if t.closed_manifold and not t.unused_samples:
         return "ok", "M_S is a closed manifold through every sample"
     if t.closed_manifold:
