@@ -399,6 +399,36 @@ def test_at_1024_by_700_the_step_table_headers_are_whole(qtbot, window):
     assert "removed" in model.headerData(4, Qt.Orientation.Horizontal, Qt.ItemDataRole.ToolTipRole)
 
 
+def test_at_1024_by_700_a_long_cut_loop_does_not_widen_the_step_table(qtbot, window):
+    """A new user found the τ column 657 px wide on a noisy casting (a cut-handle loop of many samples): the
+    table scrolled sideways and 'rem.' and 'add.' left the view.  A τ of more vertices than a face of a
+    simplex in R^5 is counted ("9 samples"); the tooltip still gives every one."""
+    from PySide6.QtCore import Qt
+
+    from crustview.qt.steps_dock import TAU_SHOWN
+    from tests.gui_helpers import wait_idle
+
+    assert window.open_file(KNIGHT, d=2)
+    wait_idle(qtbot, window)
+    _settle(qtbot, window)
+    window.docks["steps"].raise_()
+    ext = window.model.rec.extraction
+    (row, step), *_ = [(i, s) for i, s in enumerate(ext.steps) if len(s.tau) > TAU_SHOWN]
+    assert step.rule == "cut-handle" and len(step.tau) >= 9
+    table = window.steps_panel.table
+    model = table.model()
+    tau = list(model.headerData(c, Qt.Orientation.Horizontal) for c in range(model.columnCount())).index("τ")
+    table.scrollTo(model.index(row, tau))
+    qtbot.wait(100)
+    assert model.data(model.index(row, tau)) == f"{len(step.tau)} samples"
+    tip = model.data(model.index(row, tau), Qt.ItemDataRole.ToolTipRole)
+    assert all(str(int(v)) in tip for v in step.tau)
+    assert table.horizontalScrollBar().maximum() == 0  # nothing to scroll sideways
+    header = table.horizontalHeader()
+    right = max(header.sectionViewportPosition(c) + header.sectionSize(c) for c in range(model.columnCount()))
+    assert right <= table.viewport().width()
+
+
 def test_a_dense_mesh_opens_with_its_faces_hidden_and_says_so(qtbot, window, monkeypatch):
     from crustview.qt import files
     from tests.gui_helpers import load, wait_idle
