@@ -12,6 +12,7 @@ import sys
 import time
 from pathlib import Path
 
+from .cli_reconstruct import dimension_arg, positive_int
 from .core.errors import InputError
 from .core.result import CANDIDATE_TESTS
 
@@ -57,7 +58,12 @@ def add_parser(sub) -> None:
         help="point file, saved result .npz, a session SESSION.crustview.json, or a built-in manifold name "
         "(see 'crustview list')",
     )
-    p.add_argument("-d", type=int, default=None, help="intrinsic dimension (default: the built-in's, or the result's)")
+    p.add_argument(
+        "-d",
+        type=dimension_arg,
+        default=None,
+        help="intrinsic dimension, or 'auto' (default: the built-in's, the result's, or a mesh file's faces')",
+    )
     what = p.add_mutually_exclusive_group(required=True)
     what.add_argument("--replay", action="store_true", help="replay the steps of Algorithm 3")
     what.add_argument("--tour", action="store_true", help="a grand tour of R^k around the final M_S")
@@ -67,7 +73,7 @@ def add_parser(sub) -> None:
     p.add_argument("--steps", default=None, help="replay only steps A:B (default: all)")
     p.add_argument(
         "--frames",
-        type=int,
+        type=positive_int,
         default=None,
         help="frame budget: a longer replay is subsampled (default 90); tour length (default 8 s)",
     )
@@ -104,10 +110,13 @@ def add_parser(sub) -> None:
     )
 
 
-def load(source: str, d: int | None, mode: str | None, run: dict | None = None, seed: int = 0, n: int | None = None):
+def load(
+    source: str, d: int | str | None, mode: str | None, run: dict | None = None, seed: int = 0, n: int | None = None
+):
     """Reconstruct ``source`` (a built-in name or a file): returns (rec, truth, label).
 
-    ``run`` (``test``, ``theta``, ``prune_boundary``) overrides the saved or default parameters.
+    ``run`` (``test``, ``theta``, ``prune_boundary``) overrides the saved or default parameters.  ``d`` may be
+    ``"auto"`` (estimated as ``reconstruct -d auto`` does); without it a mesh file's faces say it, as ``auto``.
     """
     from .core import reconstruct
     from .core.samples.manifolds import MANIFOLDS
@@ -118,7 +127,7 @@ def load(source: str, d: int | None, mode: str | None, run: dict | None = None, 
         m = MANIFOLDS[source]
         n = n or m.default_n
         sample = m.sample(n, seed=seed)
-        rec = reconstruct(sample.points, d or m.d, mode=mode or "robust", **run)
+        rec = reconstruct(sample.points, m.d if d in (None, "auto") else d, mode=mode or "robust", **run)
         return rec, sample, f"{source} (n = {n})"
     from .io import read_mesh, read_points, read_run_parameters
 
@@ -133,8 +142,14 @@ def load(source: str, d: int | None, mode: str | None, run: dict | None = None, 
         kwargs["labelling"] = params.get("labelling", True)
         mode = mode or params["mode"]
     kwargs.update(run)
+    if d == "auto" and params is not None:
+        d = params["d"]
+    if d == "auto" or (d is None and mesh is not None):
+        from .cli_reconstruct import choose_d
+
+        d, _ = choose_d(points, "auto", mesh)
     if d is None:
-        raise InputError(f"give the intrinsic dimension with -d for '{path.name}'")
+        raise InputError(f"give the intrinsic dimension with -d (a number, or auto) for '{path.name}'")
     if not 1 <= d < points.shape[1]:
         raise InputError(f"d must be between 1 and k-1 = {points.shape[1] - 1}; got d = {d}")
     return reconstruct(points, d, mode=mode or "robust", **kwargs), None, path.name
@@ -294,6 +309,15 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(str(err)) from None
     size = even_size(args.size) if kind == "mp4" else args.size
     _check_output(args.input, args.output, kind)  # before the reconstruction: not after minutes of work
+    if args.replay and args.frames is not None and args.frames < 2:
+        raise InputError(f"a replay needs --frames 2 or more (its first and last step), got {args.frames}")
+    if args.layers:  # the layer names are the same for every result: checked before it, too
+        from .scene.layers import default_layers
+
+        names = list(default_layers())
+        unknown = {s.strip() for s in args.layers.split(",") if s.strip()} - set(names)
+        if unknown:
+            raise InputError(f"unknown layers {sorted(unknown)}; choose from {', '.join(names)}")
     t0 = time.perf_counter()
     from .session import is_session_path
 

@@ -212,3 +212,44 @@ def test_the_first_frames_caption_counts_what_step_0_shows(default_run, camelhea
     assert not ext.alive(0).any() and len(ext.simplices) > 0
     caption = step_caption(model, 0)
     assert caption.startswith(f"step 0 of {ext.n_steps}: M_S empty") and "candidate" not in caption
+
+
+def test_render_takes_d_auto_and_a_mesh_files_own_d_and_checks_layers_first(tmp_path, capsys, monkeypatch):
+    """As ``reconstruct`` and ``view``: ``-d auto``; a mesh file without ``-d`` takes its faces' d (a new
+    user had "invalid int value: 'auto'", then "give the intrinsic dimension"); an unknown layer is refused
+    in one line before any reconstruction (it was refused only after it)."""
+    from pathlib import Path
+
+    from crustview import cli_render
+    from crustview.__main__ import main
+
+    monkeypatch.delenv("DISPLAY", raising=False)
+    knight = Path(__file__).resolve().parents[1] / "resources" / "decimated-knight.off"
+    seen = []
+    real = cli_render.load
+
+    def spy(source, d, *args, **kwargs):
+        rec, truth, label = real(source, d, *args, **kwargs)
+        seen.append((d, rec.d))
+        return rec, truth, label
+
+    monkeypatch.setattr(cli_render, "load", spy)
+    for extra in (["-d", "auto"], []):
+        out = tmp_path / f"k{len(extra)}"
+        assert (
+            main(["render", str(knight), *extra, "--replay", "-o", str(out), "--frames", "2", "--size", "96x80"]) == 0
+        )
+        assert len(list(out.glob("frame-*.png"))) == 2
+    assert seen == [("auto", 2), (None, 2)]
+    capsys.readouterr()
+    seen.clear()
+    code = main(["render", str(knight), "--tour", "--layers", "manifold,nonsense", "-o", str(tmp_path / "x")])
+    assert code == 2 and seen == []  # refused before the reconstruction
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "unknown layers ['nonsense']" in err[0] and "manifold" in err[0]
+    # a replay of one frame has no first and last step: one line before the run (it was "unexpected ValueError")
+    assert main(["render", str(knight), "--replay", "-o", str(tmp_path / "y"), "--frames", "1"]) == 2 and seen == []
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--frames 2 or more" in err[0] and "unexpected" not in err[0]
+    assert main(["render", "circle", "--tour", "-o", str(tmp_path / "z"), "--frames", "0"]) == 2
+    assert "positive integer" in capsys.readouterr().err
