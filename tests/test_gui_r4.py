@@ -39,6 +39,8 @@ def mesh_scalars(adapter):
 
 
 def test_m_s_is_coloured_by_the_hidden_coordinate_and_follows_the_view(qtbot, window):
+    from crustview.render.view import BAR_TITLE_LINE, COLORED_SWATCH
+
     rec = load(qtbot, window, "flat-klein")
     m = window.model
     layer = m.layers["manifold"]
@@ -46,6 +48,14 @@ def test_m_s_is_coloured_by_the_hidden_coordinate_and_follows_the_view(qtbot, wi
     assert layer.colorby == "hidden depth"  # the default in R^4: the coordinate the view drops
     assert np.allclose(mesh_scalars(a), rec.points[:, 3] - m.projection.origin[3])
     assert a.part.mapper.scalar_visibility and a.scalar_title in window.view._bars
+    # the legend names the coloured complex (it had no entry: a new user could not tell what the bar coloured),
+    # and the bar's long title puts its direction on a second line (it ran off a 640 x 480 render)
+    assert ("M_S at this step: coloured by hidden depth (bar)", COLORED_SWATCH) in window.view.legend_entries()
+    assert window.plotter.scalar_bars[a.scalar_title].GetTitle() == a.scalar_title == "hidden depth (1.00 x4)"
+    m.projection.set_angle(2, 3, 0.3)  # x3 and x4 mixed: a longer title
+    window.view.update_bars()
+    shown = window.plotter.scalar_bars[a.scalar_title].GetTitle()
+    assert len(a.scalar_title) > BAR_TITLE_LINE and shown == a.scalar_title.replace(" (", "\n(", 1)
     m.projection.set_angle(2, 3, np.pi / 2)  # now x3 is hidden
     assert np.allclose(np.abs(mesh_scalars(a)), np.abs(rec.points[:, 2] - m.projection.origin[2]), atol=1e-9)
     layer.colorby = "x1"

@@ -51,6 +51,11 @@ ADAPTERS: dict[str, type[LayerAdapter]] = {
 }
 
 BACKGROUND = ("#ffffff", "#dde3ea")  # bottom, top
+#: Characters above which a scalar bar's title puts its parenthesis on a second line (the bar is 0.38 of the view
+#: wide: at 640 px about 240 px, some 30 characters of its 14-point title).
+BAR_TITLE_LINE = 30
+#: The legend's swatch for a complex coloured by a scalar (its colours are those of the bar named beside it).
+COLORED_SWATCH = "#9aa7b8"
 #: Most raw points the preview draws (an even subset of a bigger file).
 PREVIEW_POINTS = 250_000
 
@@ -397,6 +402,10 @@ class SceneView(CameraControl):
                     label_font_size=12,
                     bold=False,
                 )
+                if len(title) > BAR_TITLE_LINE and " (" in title:
+                    # a long title (the hidden depth's direction) on two lines: at 640 x 480 it ran off the view
+                    head, _, tail = title.partition(" (")
+                    bar.SetTitle(f"{head}\n({tail}")
                 bar.GetTitleTextProperty().SetBackgroundColor(1.0, 1.0, 1.0)
                 bar.GetTitleTextProperty().SetBackgroundOpacity(0.75)
                 self._to_hud(bar)
@@ -437,6 +446,9 @@ class SceneView(CameraControl):
                 )
                 out.append((f"{layer.colorby}: not available here ({why})", NAN_COLOR))
             if getattr(a, "scalar_title", None):
+                if name != "points":  # the samples' bar names them; a complex's layer is named here
+                    what = a.scalar_title.partition(" (")[0]
+                    out.append((f"{layer.title}: coloured by {what} (bar)", COLORED_SWATCH))
                 continue
             if name == "removed" and layer.colorby == "rule":
                 codes = self.model.rule_codes()
