@@ -173,10 +173,11 @@ def _cmd_sample(args: argparse.Namespace) -> int:
         )
     sample = manifold.sample(n, seed=args.seed, noise=args.noise, density=args.density, method=args.method)
     write_points(args.output, sample.points)
-    print(
-        f"Wrote {n} points of {manifold.name} (d={manifold.d}, k={manifold.k}) to {args.output}; "
-        f"reconstruct with: crustview reconstruct {args.output} -d {manifold.d} -o OUTPUT"
-    )
+    head = f"Wrote {n} points of {manifold.name} (d={manifold.d}, k={manifold.k}) to {args.output}"
+    if n < manifold.k + 2:  # reconstruct refuses fewer than k + 2 samples: no command that would fail
+        print(f"{head}; too few to reconstruct (points in R^{manifold.k} need at least {manifold.k + 2})")
+    else:
+        print(f"{head}; reconstruct with: crustview reconstruct {args.output} -d {manifold.d} -o OUTPUT")
     return 0
 
 

@@ -132,11 +132,23 @@ def test_usage_error_from_a_real_process():
 
 
 # ---------------------------------------------------------------- success
+def test_too_small_a_sample_suggests_no_command_that_fails(tmp_path, capsys):
+    """``sample -n 3`` on a torus (R^3: reconstruct needs 5) wrote the file and suggested a reconstruct
+    command that then failed; it says instead that the points are too few."""
+    proc = run_main(capsys, "sample", "torus", "-n", 3, "-o", tmp_path / "t3.npy")
+    assert proc.returncode == 0 and (tmp_path / "t3.npy").is_file()
+    assert "too few to reconstruct (points in R^3 need at least 5)" in proc.stdout
+    assert "reconstruct with" not in proc.stdout
+    failed = run_main(capsys, "reconstruct", tmp_path / "t3.npy", "-d", 2, "-o", tmp_path / "t3.npz")
+    assert failed.returncode == 2 and "need at least 5" in failed.stderr  # what the note foretold
+
+
 def test_sample_then_reconstruct_a_circle(tmp_path):
     pts = tmp_path / "circle.csv"
     proc = run("sample", "circle", "-n", 100, "--seed", 3, "-o", pts)
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr == "" and "circle" in proc.stdout
+    assert f"reconstruct with: crustview reconstruct {pts} -d 1 -o OUTPUT" in proc.stdout
     np.testing.assert_allclose(
         np.loadtxt(pts, delimiter=","), MANIFOLDS["circle"].sample(100, seed=3).points, rtol=1e-15
     )
