@@ -137,6 +137,13 @@ def test_timeline_click_jumps_and_removed_so_far_is_coloured_by_step(qtbot, wind
     # the curves are the model's counts, and the picture changes with them
     series = window.model.timeline()
     assert series.size[player.position] == int(ext.alive(player.position).sum())
+    # the legend gives each curve's own top: the boundary faces' count never exceeds what the series holds,
+    # and a curve that stays at 0 says 0 (it said "≤ 1", the scale it is drawn on)
+    from crustview.qt.timeline import SERIES
+
+    tops = [int(np.max(getattr(series, field))) for field, _, _ in SERIES]
+    assert tl.legend_texts() == [f"{label} ≤ {t:,}" for (_, label, _), t in zip(SERIES, tops, strict=True)]
+    assert 0 in tops  # the torus's run: one curve stays at 0 (no non-manifold face)
     removed = window.model.layers["removed"]
     removed.visible = True
     assert removed.colorby == "step"

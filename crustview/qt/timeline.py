@@ -132,12 +132,21 @@ class TimelineView(QWidget):
         x = np.linspace(r.left(), r.right(), min(cols, tl.n_steps + 1))
         legend_x = 6
         p.setRenderHint(QPainter.RenderHint.Antialiasing, True)
-        for field, label, colour in SERIES:
+        for (field, _label, colour), text in zip(SERIES, self.legend_texts(), strict=True):
             y = column_max(np.asarray(getattr(tl, field)), len(x))
             top = max(float(y.max()), 1.0)
             ys = r.bottom() - (r.height() - 1) * y / top
             p.setPen(QPen(QColor(colour), 1.4))
             p.drawPolyline(QPolygonF([QPointF(a, b) for a, b in zip(x[: len(ys)], ys)]))
-            text = f"{label} ≤ {int(top):,}"
             p.drawText(legend_x, 11, text)
             legend_x += p.fontMetrics().horizontalAdvance(text) + 12
+
+    def legend_texts(self) -> list[str]:
+        """Each curve's legend: its name and its own largest value.
+
+        A curve that stays at 0 says 0, though it is drawn on a scale of 1 ("≤ 1" was shown for none).
+        """
+        if self.model.rec is None or self.model.player.n_steps == 0:
+            return []
+        tl = self.model.timeline()
+        return [f"{label} ≤ {int(np.max(getattr(tl, field))):,}" for field, label, _ in SERIES]
