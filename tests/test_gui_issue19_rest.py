@@ -424,6 +424,8 @@ def test_at_1024_by_700_a_long_cut_loop_does_not_widen_the_step_table(qtbot, win
     tip = model.data(model.index(row, tau), Qt.ItemDataRole.ToolTipRole)
     assert all(str(int(v)) in tip for v in step.tau)
     assert table.horizontalScrollBar().maximum() == 0  # nothing to scroll sideways
+    # the labelled run never has a boundary face: its timeline's legend says 0, not the scale's 1
+    assert "boundary faces ≤ 0" in window.steps_panel.timeline.legend_texts()
     header = table.horizontalHeader()
     right = max(header.sectionViewportPosition(c) + header.sectionSize(c) for c in range(model.columnCount()))
     assert right <= table.viewport().width()

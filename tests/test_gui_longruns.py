@@ -143,7 +143,7 @@ def test_timeline_click_jumps_and_removed_so_far_is_coloured_by_step(qtbot, wind
 
     tops = [int(np.max(getattr(series, field))) for field, _, _ in SERIES]
     assert tl.legend_texts() == [f"{label} ≤ {t:,}" for (_, label, _), t in zip(SERIES, tops, strict=True)]
-    assert 0 in tops  # the torus's run: one curve stays at 0 (no non-manifold face)
+    assert min(tops) > 0  # every curve of the torus's paper run moves
     removed = window.model.layers["removed"]
     removed.visible = True
     assert removed.colorby == "step"
