@@ -2,7 +2,9 @@
 
 Without a sub-command the viewer starts with its demo.  Errors are reported
 as one line ``crustview: error: <message>`` on stderr: exit status 2 for bad
-input or usage, 1 for an unexpected failure.  Only ``crustview`` and
+input or usage, 1 for an unexpected failure, and 1 also after ``reconstruct``
+wrote a result whose verdict is failed or wrong (or, with several files or
+``--out-dir``, when a file could not be reconstructed).  Only ``crustview`` and
 ``crustview view`` import Qt, and only when they run.
 """
 
@@ -259,8 +261,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        Exit status: 0 success, 2 bad input or usage, 1 unexpected failure,
-        130 interrupted.
+        Exit status: 0 success, 2 bad input or usage, 1 unexpected failure or a written result whose
+        verdict is failed or wrong (:data:`crustview.cli_reconstruct.BAD_VERDICTS`; a batch's rule:
+        :mod:`crustview.cli_batch`), 130 interrupted.
     """
     argv = sys.argv[1:] if argv is None else list(argv)
     try:

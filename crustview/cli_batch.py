@@ -4,7 +4,8 @@ For every input ``NAME.ext`` it writes ``DIR/NAME.npz`` and
 ``DIR/NAME.report.json`` (a number is added to names that two inputs
 share), prints one row per file as it finishes, and writes
 ``DIR/summary.csv`` and ``DIR/summary.json`` (in the order of the inputs):
-file, status, verdict (sure, uncertain, wrong or failed), points, k, d, closed, Betti numbers, uncertain handles,
+file, status ("ok", or "error" for a file that could not be reconstructed), verdict (sure, uncertain, wrong or
+failed; empty for an error), points, k, d, closed, Betti numbers, uncertain handles,
 holes and components, seconds, outputs and the error of a file that could not be reconstructed.
 The exit status is 1 when a file could not be reconstructed or its verdict is failed or wrong
 (:data:`~crustview.cli_reconstruct.BAD_VERDICTS`, as for one file), 0 otherwise.  Ctrl-C
@@ -100,9 +101,7 @@ def _worker_ignores_ctrl_c(own_process_only: bool) -> None:
 
 def _failed(path: Path, error: str, start: float) -> dict[str, Any]:
     row: dict[str, Any] = dict.fromkeys(COLUMNS)
-    row.update(
-        file=str(path), status="failed", verdict="failed", error=error, seconds=round(time.perf_counter() - start, 3)
-    )
+    row.update(file=str(path), status="error", verdict=None, error=error, seconds=round(time.perf_counter() - start, 3))
     return row
 
 
@@ -197,12 +196,12 @@ def run(args: argparse.Namespace) -> int:
                     pool.shutdown(wait=False, cancel_futures=True)
                     raise
     final = [r for r in rows if r is not None]
-    failed = sum(r["status"] != "ok" for r in final)
+    errors = sum(r["status"] != "ok" for r in final)
     verdicts = {v: sum(r["status"] == "ok" and r["verdict"] == v for r in final) for v in VERDICTS}
     write_text(summary[0], summary_csv(final))
     meta = {
         "files": len(final),
-        "failed": failed,
+        "errors": errors,
         "verdicts": verdicts,
         "seconds": round(time.perf_counter() - start, 3),
         "jobs": args.jobs,
@@ -211,10 +210,11 @@ def run(args: argparse.Namespace) -> int:
     if not args.quiet:
         said = ", ".join(f"{n} {v}" for v, n in verdicts.items() if n)
         print(
-            f"{len(final) - failed} of {len(final)} files reconstructed ({failed} could not be); "
-            f"verdicts: {said or 'none'}; {meta['seconds']:.1f} s with {args.jobs} process(es); "
+            f"{len(final) - errors} of {len(final)} file{'' if len(final) == 1 else 's'} reconstructed "
+            f"({errors} could not be); verdicts: {said or 'none'}; {meta['seconds']:.1f} s with {args.jobs} "
+            f"process{'' if args.jobs == 1 else 'es'}; "
             f"wrote {summary[0]} and {summary[1]}.",
             flush=True,
         )
-    bad = failed + sum(verdicts[v] for v in BAD_VERDICTS)
+    bad = errors + sum(verdicts[v] for v in BAD_VERDICTS)
     return 1 if bad else 0

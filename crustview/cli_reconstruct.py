@@ -453,7 +453,9 @@ def result_summary(rec, seconds: float, output: Path) -> str:
         )
     text = "; ".join(parts) + f"; {seconds:.2f} s; wrote {output}."
     notes = set(rec.extraction.notes)  # said on the extraction line
-    messages = [m for m in top.messages if m not in notes and not m.startswith("the sample does not support")]
+    from crustview.core.uncertainty import UNDECIDED  # said by the summary's "(uncertain: ...)" suffix
+
+    messages = [m for m in top.messages if m not in notes and not m.startswith(UNDECIDED)]
     if messages:
         text += " Note: " + "; ".join(str(m).rstrip(".") for m in messages) + "."
     suffix = summary_suffix(rec.features)

@@ -95,7 +95,12 @@ def test_batch_runs_files_in_two_processes_and_writes_the_summaries(samples, tmp
     assert [Path(r["file"]).name for r in summary["rows"]] == [f.name for f in files]  # input order
     assert rows["torus.npy"]["betti"] == [1, 2, 1] and rows["torus.npy"]["closed"] and rows["torus.npy"]["d"] == 2
     assert rows["trefoil.csv"]["d"] == 1 and rows["trefoil.csv"]["betti"] == [1, 1]
-    assert rows["broken.xyz"]["status"] == "failed" == rows["broken.xyz"]["verdict"] and rows["broken.xyz"]["error"]
+    assert (
+        rows["broken.xyz"]["status"] == "error"
+        and rows["broken.xyz"]["verdict"] is None
+        and rows["broken.xyz"]["error"]
+    )
+    assert summary["errors"] == 1  # not the verdict's word: "failed" counts the written results below
     # the closing line counts the written results' verdicts, as the rows give them
     counts = {v: sum(r["status"] == "ok" and r["verdict"] == v for r in rows.values()) for v in summary["verdicts"]}
     assert summary["verdicts"] == counts and sum(counts.values()) == 3
@@ -105,7 +110,7 @@ def test_batch_runs_files_in_two_processes_and_writes_the_summaries(samples, tmp
         assert {"points", "uncertain_handles", "uncertain_holes", "uncertain_components", "seconds"} <= set(r)
     table = list(csv.DictReader((out / "summary.csv").read_text().splitlines()))
     assert [Path(r["file"]).name for r in table] == [f.name for f in files]
-    assert table[0]["betti"] == "1 2 1" and table[0]["status"] == "ok" and table[3]["status"] == "failed"
+    assert table[0]["betti"] == "1 2 1" and table[0]["status"] == "ok" and table[3]["status"] == "error"
     report = json.loads((out / "torus.report.json").read_text())
     assert report["dimension_estimate"]["d"] == 2
 
@@ -175,7 +180,7 @@ def test_a_failed_row_names_its_file_once():
 
     row = {
         "file": "/data/few.txt",
-        "status": "failed",
+        "status": "error",
         "error": "few.txt: too few points: 3; points in R^3 need at least 5 (k + 2) for a reconstruction",
     }
     want = "few.txt: not reconstructed: too few points: 3; points in R^3 need at least 5 (k + 2) for a reconstruction"

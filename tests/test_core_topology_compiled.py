@@ -189,9 +189,11 @@ def test_tables_too_large_for_memory_raise_memoryerror_instead_of_aborting():
     code = (
         "import resource, numpy as np\n"
         "from crustview.core.util import _surface as S\n"
+        "from crustview.core.analysis import _gf2\n"
         "resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))\n"
         "for call in (lambda: S.surface_report(1 << 40, np.array([[0, 1, 2]], np.int64)),\n"
-        "             lambda: S.edge_structure(1 << 40, np.array([[0, 1, 2]], np.int64))):\n"
+        "             lambda: S.edge_structure(1 << 40, np.array([[0, 1, 2]], np.int64)),\n"
+        "             lambda: _gf2.rank(np.array([[0, 1]], np.int64), 1 << 40, 2)):\n"
         "    try:\n"
         "        call()\n"
         "    except MemoryError:\n"
@@ -199,7 +201,7 @@ def test_tables_too_large_for_memory_raise_memoryerror_instead_of_aborting():
     )
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
-    assert run.stdout.split() == ["MemoryError", "MemoryError"]
+    assert run.stdout.split() == ["MemoryError"] * 3
 
 
 # ---------------------------------------------------------------- the boundary ranks over GF(2) (_gf2.cpp)

@@ -76,6 +76,23 @@ def test_a_wrong_result_reconstructed_again_from_its_npz_is_still_wrong(capsys, 
     assert "Against the faces of holed.off" in out and "Verdict: WRONG" in out
 
 
+def test_a_batch_with_a_wrong_result_counts_it_and_exits_1(capsys, tmp_path, holed_torus_mesh):
+    """The batch's exit status follows the verdicts as one file's does: a WRONG result beside a sure one
+    (a reviewer removed "wrong" from the batch's bad verdicts and every test still passed)."""
+    from crustview.__main__ import main
+    from crustview.io import write_points
+
+    path, points, _ = holed_torus_mesh
+    sure = tmp_path / "torus.npy"
+    write_points(sure, points)  # the same points without the mesh: nothing to contradict them
+    code = main(["reconstruct", str(sure), str(path), "-d", "2", "--out-dir", str(tmp_path / "out")])
+    lines = capsys.readouterr().out.splitlines()
+    assert any(line.startswith("holed.off: wrong: ") for line in lines), lines
+    assert "verdicts: 1 sure, 1 wrong;" in lines[-1] and code == 1
+    assert main(["reconstruct", str(sure), "-d", "2", "--out-dir", str(tmp_path / "one")]) == 0
+    assert "1 of 1 file reconstructed (0 could not be); verdicts: 1 sure;" in capsys.readouterr().out
+
+
 @pytest.mark.gl
 def test_a_reopened_wrong_result_is_red(qtbot, window, tmp_path, holed_torus_mesh):
     from crustview.qt.info_dock import BANNER_STYLE

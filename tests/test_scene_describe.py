@@ -112,6 +112,26 @@ def test_step_words_read_well_for_boundary_steps_and_empty_replays():
     assert text.endswith("Only one d-simplex left at this face (boundary).")
     assert "nothing to do" in step_words(None, 0, 0) and "Press →" not in step_words(None, 0, 0)
     assert "Press →" in step_words(None, 0, 5)
+    # "1 simplex", "2 simplices" (it said "simplexes")
+    assert "removed 1 simplex (7)" in text
+    two = Step(0, RULE_PRUNE, (3, 4), (), (7, 8), float("nan"), "")
+    assert "removed 2 simplices (7, 8)" in step_words(two, 1, 5)
+
+
+def test_a_run_of_one_step_says_step_in_the_singular(camelhead_run):
+    """The printed extraction line counts its steps in words that agree ("1 steps" was printed): the
+    fertility's labelling is one step, the camel head's run many."""
+    from pathlib import Path
+
+    from crustview.cli_reconstruct import extraction_summary
+    from crustview.core import reconstruct
+    from crustview.io import read_mesh
+
+    many = camelhead_run.extraction.n_steps
+    assert many > 1 and extraction_summary(camelhead_run).split("; ")[-1].startswith(f"{many} steps: ")
+    fertility = read_mesh(Path(__file__).resolve().parents[1] / "resources" / "fertility.off").points
+    one = reconstruct(fertility, 2, resample=False)
+    assert one.extraction.n_steps == 1 and extraction_summary(one).endswith("; 1 step: label-cells 1.")
 
 
 def test_step_0_of_a_labelled_run_says_m_s_starts_empty_and_label_cells_has_no_place():

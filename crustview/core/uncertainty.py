@@ -230,10 +230,14 @@ def result_features(
             [f"{taken} that the extension removed or closed (each may be real)"] if taken else []
         )
         topo.messages.append(
-            f"the sample does not decide every feature: {' and '.join(parts)} uncertain (each listed with "
+            f"{UNDECIDED}: {' and '.join(parts)} uncertain (each listed with "
             "where it is: the report's uncertain_features, the window's Uncertain features)"
         )
     return feats
+
+
+#: How the message on the uncertain features begins (the printed summary leaves it to its own suffix).
+UNDECIDED = "the sample does not decide every feature"
 
 
 def _named_counts(feats: list[Feature]) -> str:

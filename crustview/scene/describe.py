@@ -98,7 +98,7 @@ def step_words(step: Step | None, position: int, n_steps: int, extraction: Extra
         f"{len(step.removed)} {'simplex' if len(step.removed) == 1 else 'simplices'} "
         f"{fmt_tuple(step.removed[:8])}{' …' if len(step.removed) > 8 else ''}{kept}"
         + (f"; angle {deg(step.angle)}" if np.isfinite(step.angle) else "")
-        + f". {step.reason[0].upper()}{step.reason[1:]}."
+        + (f". {step.reason[0].upper()}{step.reason[1:]}." if step.reason else ".")
     )
 
 

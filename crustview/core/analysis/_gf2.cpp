@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <new>
 #include <vector>
 
 namespace {
@@ -36,7 +37,9 @@ PyObject* rank(PyObject*, PyObject* args) {
         PyErr_SetString(PyExc_ValueError, "rank: an entry is not a row");
     } else {
         i64 count = 0;
+        bool no_memory = false;
         Py_BEGIN_ALLOW_THREADS;
+        try {
         // pivot[r]: the reduced column whose largest row is r (empty: none yet)
         std::vector<std::vector<i64>> pivot(static_cast<std::size_t>(rows));
         std::vector<i64> col, sum;
@@ -64,8 +67,15 @@ PyObject* rank(PyObject*, PyObject* args) {
                 col.swap(sum);
             }
         }
+        } catch (const std::bad_alloc&) {  // a MemoryError in Python, never an abort of the process
+            no_memory = true;
+        }
         Py_END_ALLOW_THREADS;
-        result = PyLong_FromLongLong(count);
+        if (no_memory) {
+            PyErr_NoMemory();
+        } else {
+            result = PyLong_FromLongLong(count);
+        }
     }
     PyBuffer_Release(&a);
     return result;
