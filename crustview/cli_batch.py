@@ -10,7 +10,8 @@ holes and components, seconds, outputs and the error of a file that could not be
 The exit status is 1 when a file could not be reconstructed or its verdict is failed or wrong
 (:data:`~crustview.cli_reconstruct.BAD_VERDICTS`, as for one file), 0 otherwise.  Ctrl-C
 stops the workers; every file is written atomically, so nothing partial
-is left.
+is left, and where some files were done the summaries list them, the others
+as cancelled.
 """
 
 from __future__ import annotations
@@ -146,7 +147,6 @@ def summary_csv(rows: list[dict[str, Any]]) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """The batch form of ``reconstruct``."""
-    from crustview.cli_progress import CountProgress, wants_bar
     from crustview.cli_reconstruct import check_outputs
 
     if args.out_dir is None:
@@ -165,6 +165,27 @@ def run(args: argparse.Namespace) -> int:
     check_outputs(list(args.input), [p for pair in names for p in pair] + summary, args.force)
     rows: list[dict[str, Any] | None] = [None] * len(names)
     start = time.perf_counter()
+    try:
+        _run_all(args, names, rows)
+    except KeyboardInterrupt:
+        # Ctrl-C: the results already written stay, and so does a summary of them (nothing is lost); the
+        # files not reached are listed as cancelled.  With none finished, nothing is written.
+        if any(r is not None for r in rows):
+            done = [
+                r if r is not None else {"file": str(path), "status": "cancelled", "verdict": None}
+                for r, path in zip(rows, args.input, strict=True)
+            ]
+            meta = {"files": len(done), "cancelled": sum(r is None for r in rows), "jobs": args.jobs}
+            write_text(summary[0], summary_csv(done))
+            write_text(summary[1], json.dumps({**meta, "rows": done}, indent=2) + "\n")
+        raise
+    return _close(args, rows, summary, start)
+
+
+def _run_all(args: argparse.Namespace, names: list, rows: list) -> None:
+    """Reconstruct every input into ``rows`` (in input order), one process or ``args.jobs``."""
+    from crustview.cli_progress import CountProgress, wants_bar
+
     with CountProgress(len(names), wants_bar(sys.stderr, args.quiet)) as bar:
         show = (lambda line: None) if args.quiet else bar.print
         if args.jobs == 1:
@@ -195,6 +216,10 @@ def run(args: argparse.Namespace) -> int:
                         process.terminate()
                     pool.shutdown(wait=False, cancel_futures=True)
                     raise
+
+
+def _close(args: argparse.Namespace, rows: list, summary: list[Path], start: float) -> int:
+    """Write the summaries, print the closing line; the exit status."""
     final = [r for r in rows if r is not None]
     errors = sum(r["status"] != "ok" for r in final)
     verdicts = {v: sum(r["status"] == "ok" and r["verdict"] == v for r in final) for v in VERDICTS}

@@ -236,3 +236,32 @@ def test_a_failed_verdict_exits_1_alone_and_in_a_batch(samples, tmp_path, capsys
     assert code == 1
     assert any(line.startswith("cow-head.off: failed: ") for line in lines), lines
     assert "2 of 2 files reconstructed (0 could not be); verdicts: 1 sure, 1 failed;" in lines[-1]
+
+
+def test_ctrl_c_in_a_batch_keeps_a_summary_of_the_files_done(samples, tmp_path, capsys, monkeypatch):
+    """A new user pressed Ctrl-C after some files of a batch were done: their results stayed but no summary
+    listed them.  Now the summary lists them, and the files not reached as cancelled.  The interrupt is
+    raised where the second file would begin (the first runs for real)."""
+    from crustview import cli_batch
+    from crustview.__main__ import main
+
+    real = cli_batch._job
+    calls = []
+
+    def job(path, *args):
+        calls.append(path)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(path, *args)
+
+    monkeypatch.setattr(cli_batch, "_job", job)
+    out = tmp_path / "out"
+    files = [samples / "sphere.xyz", samples / "torus.npy", samples / "trefoil.csv"]
+    code = main(["reconstruct", *map(str, files), "-d", "auto", "--out-dir", str(out), "-j", "1"])
+    assert code == 130 and "no partial file was written" in capsys.readouterr().err
+    summary = json.loads((out / "summary.json").read_text())
+    assert [r["status"] for r in summary["rows"]] == ["ok", "cancelled", "cancelled"] and summary["cancelled"] == 2
+    assert summary["rows"][0]["verdict"] == "sure" and Path(summary["rows"][0]["output"]).is_file()
+    table = list(csv.DictReader((out / "summary.csv").read_text().splitlines()))
+    assert [r["status"] for r in table] == ["ok", "cancelled", "cancelled"]
+    assert sorted(p.name for p in out.iterdir()) == ["sphere.npz", "sphere.report.json", "summary.csv", "summary.json"]
