@@ -152,7 +152,9 @@ def _probe_folder(out: Path, parent: Path) -> None:
             pass
     except OSError as err:
         reason = err.strerror or type(err).__name__
-        raise InputError(f"Cannot write '{out}': the folder '{parent}' cannot be written to ({reason}).") from None
+        raise InputError(
+            f"Cannot write '{out}': the folder '{parent}' cannot be written to (creating a file there: {reason})."
+        ) from None
 
 
 def _previous(path: Path) -> bytes | None:

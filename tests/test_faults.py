@@ -230,7 +230,7 @@ def test_a_read_only_report_folder_fails_before_the_run_and_writes_nothing(setup
     run = _reconstruct_in(closed, folder, "-o", folder / "new.npz", "--report", closed / "r.json")
     assert run.returncode == 2, run.stderr
     lines = run.stderr.strip().splitlines()
-    assert len(lines) == 1 and f"the folder '{closed}' cannot be written to" in lines[0], run.stderr
+    assert len(lines) == 1 and f"the folder '{closed}' cannot be written to (creating a file there: " in lines[0]
     _intact(folder, old)  # no new.npz
     assert _listing(closed) == []
 
