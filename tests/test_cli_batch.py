@@ -141,6 +141,20 @@ def test_d_auto_is_right_on_every_scan_in_the_shared_data():
     assert len(SCANS) >= 25 and not wrong, wrong
 
 
+@pytest.mark.parametrize("scale", [1e-300, 1e300])
+def test_d_auto_at_extreme_scales_is_the_same_as_at_one(scale, tmp_path):
+    """A torus near 1e-300 voted d = 1 everywhere (its covariances underflowed to 0), and near 1e300 the
+    command line stopped with an unexpected IndexError; reconstruct works at both scales (test_cli.py)."""
+    from crustview.__main__ import main
+
+    pts = get_manifold("torus").sample(400, seed=0).points
+    at_one = estimate_dimension(pts)
+    far = estimate_dimension(pts * scale)
+    assert far.d == at_one.d == 2 and far.votes == at_one.votes
+    np.save(tmp_path / "far.npy", pts * scale)
+    assert main(["reconstruct", str(tmp_path / "far.npy"), "-d", "auto", "-q", "-o", str(tmp_path / "o.npz")]) == 0
+
+
 def test_d_auto_says_curve_in_the_plane_and_handles_duplicates():
     est = estimate_dimension(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))
     assert est.d == 1 and est.confidence == 1.0 and "R^2" in est.sentence()
