@@ -63,6 +63,20 @@ def test_duplicates_and_near_duplicates_are_merged_with_a_map_back():
     assert rec.input_points.shape == (44, 2)
 
 
+def test_a_file_that_repeats_every_row_many_times_is_its_distinct_points():
+    """Every row 20 times (a file written in a loop): "all points coincide" was said, since a point's 7
+    nearest others were all its own copies.  The spacing and the samples are those of the distinct points."""
+    from crustview.core.prepare import merge_duplicates
+
+    base = circle(40)
+    once = prepare_points(base, 1)
+    many = prepare_points(np.repeat(base, 20, axis=0), 1)
+    assert len(many.points) == 40 and np.array_equal(np.sort(many.points, axis=0), np.sort(once.points, axis=0))
+    assert merge_duplicates(np.repeat(base, 20, axis=0), 1e-6)[2] == merge_duplicates(base, 1e-6)[2]
+    with pytest.raises(InputError, match="all points coincide"):
+        prepare_points(np.repeat(base[:1], 30, axis=0), 1)
+
+
 def test_nearest_other_point_is_the_plain_query_point_for_point():
     """merge_duplicates asks the k-d tree in its own leaf order; each point still gets the distance
     of a plain query in input order (0 where it has an exact copy), on shuffled points with copies."""

@@ -261,6 +261,11 @@ def _merged(tree: cKDTree, tol: float) -> tuple[np.ndarray, np.ndarray, float, n
     if len(copies):
         nz = tree.query(pts[copies], k=min(len(pts), 8), workers=-1)[0][:, 1:]
         first_pos[copies] = np.where(nz > 0, nz, np.inf).min(axis=1)
+        many = copies[~np.isfinite(first_pos[copies])]
+        if len(many):  # 8 or more copies of a point (a file that repeats its rows): ask the distinct points
+            distinct = np.unique(pts, axis=0)
+            if len(distinct) > 1:
+                first_pos[many] = cKDTree(distinct).query(pts[many], k=2, workers=-1)[0][:, 1]
     if not np.isfinite(first_pos).any() or not (first_pos > 0).any():
         raise InputError("all points coincide; nothing to reconstruct")
     spacing = float(np.median(first_pos[np.isfinite(first_pos)]))
