@@ -278,3 +278,33 @@ def test_an_error_about_a_files_points_names_the_file(qtbot, window, tmp_path):
     assert window.model.rec is None
     assert window.last_error.startswith("line.xyz: "), window.last_error
     assert "1-dimensional" in window.last_error
+
+
+def test_a_result_name_typed_without_a_suffix_takes_the_chosen_filters(qtbot, window, tmp_path):
+    """Save result, "torus-noext" typed under the selected NPZ filter: it was refused ("unsupported file type
+    (no suffix)"); the filter's suffix is added, as the screenshot dialog adds ".png".  Through the real
+    dialog, typed into and accepted."""
+    from PySide6.QtCore import QTimer
+    from PySide6.QtWidgets import QApplication, QFileDialog, QLineEdit
+
+    from crustview.qt.files import with_filter_suffix
+
+    load(qtbot, window)
+    chosen: dict = {}
+
+    def type_and_accept():
+        dlg = QApplication.activeModalWidget()
+        if not isinstance(dlg, QFileDialog):
+            QTimer.singleShot(50, type_and_accept)
+            return
+        chosen["filter"] = dlg.selectedNameFilter()
+        dlg.setDirectory(str(tmp_path))
+        dlg.findChild(QLineEdit, "fileNameEdit").setText("torus-noext")  # typed, as a user does
+        dlg.accept()
+
+    QTimer.singleShot(50, type_and_accept)
+    window.save_result_dialog()
+    assert chosen["filter"] == "NPZ (*.npz)"
+    assert (tmp_path / "torus-noext.npz").is_file() and not (tmp_path / "torus-noext").exists()
+    assert with_filter_suffix("/a/b.ply", "NPZ (*.npz)") == "/a/b.ply"  # a typed suffix stays
+    assert with_filter_suffix("/a/b", "PLY (*.ply)") == "/a/b.ply"

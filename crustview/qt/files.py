@@ -74,6 +74,20 @@ def builtin_truth(info: dict, points: np.ndarray):
     )
 
 
+def with_filter_suffix(path: str, chosen: str) -> str:
+    """``path`` with the suffix of the dialog's chosen filter ("NPZ (*.npz)") when it has none of its own.
+
+    A name typed without a suffix under the selected NPZ filter was refused ("unsupported file type (no
+    suffix)"), where the screenshot dialog adds its ".png"; a suffix the user typed is kept as typed.
+    """
+    import re
+
+    if Path(path).suffix:
+        return path
+    found = re.search(r"\*(\.[A-Za-z0-9]+)", chosen or "")
+    return path + found.group(1) if found else path
+
+
 def _result_suffixes() -> tuple[str, ...]:
     from .. import io
 
@@ -309,9 +323,9 @@ class FileActions:
             self.show_error("There is no result to save yet.")
             return
         filters = ";;".join(f"{s[1:].upper()} (*{s})" for s in _result_suffixes())
-        path, _ = QFileDialog.getSaveFileName(self, "Save result", self.suggested_path("-crust.npz"), filters)
+        path, chosen = QFileDialog.getSaveFileName(self, "Save result", self.suggested_path("-crust.npz"), filters)
         if path:
-            self.save_result(path)
+            self.save_result(with_filter_suffix(path, chosen))
 
     def save_result(self, path: str, ask: bool = True) -> bool:
         from .. import io
