@@ -308,3 +308,19 @@ def test_a_result_name_typed_without_a_suffix_takes_the_chosen_filters(qtbot, wi
     assert (tmp_path / "torus-noext.npz").is_file() and not (tmp_path / "torus-noext").exists()
     assert with_filter_suffix("/a/b.ply", "NPZ (*.npz)") == "/a/b.ply"  # a typed suffix stays
     assert with_filter_suffix("/a/b", "PLY (*.ply)") == "/a/b.ply"
+
+
+def test_a_built_ins_true_manifold_colourings_say_to_run_the_theorems_first(qtbot, window):
+    """A new user chose "true epsilon" for a built-in's samples and read "needs the true manifold of a
+    built-in sample" on a built-in, and M_S's "distance to M" drew nothing and said nothing: both need the
+    Theorems check, and the legend now says so."""
+    from crustview.render.base import NAN_COLOR
+    from crustview.render.view import THEOREMS_FIRST
+
+    load(qtbot, window)
+    assert window.model.builtin is not None and window.model.theorems is None
+    window.model.layers["points"].colorby = "true epsilon"
+    window.model.layers["manifold"].colorby = "distance to M"
+    legend = window.view.legend_entries()
+    assert (f"true epsilon: not available here ({THEOREMS_FIRST})", NAN_COLOR) in legend
+    assert (f"distance to M: not available yet ({THEOREMS_FIRST})", NAN_COLOR) in legend

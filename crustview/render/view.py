@@ -54,6 +54,9 @@ BACKGROUND = ("#ffffff", "#dde3ea")  # bottom, top
 #: Characters above which a scalar bar's title puts its parenthesis on a second line (the bar is 0.38 of the view
 #: wide: at 640 px about 240 px, some 30 characters of its 14-point title).
 BAR_TITLE_LINE = 30
+#: Why a built-in's colouring by its true manifold draws nothing yet (it was "needs the true manifold of a
+#: built-in sample" on a built-in, and M_S's "distance to M" said nothing at all).
+THEOREMS_FIRST = "press Check Theorems 2 and 10 in the Information panel first"
 #: The legend's swatch for a complex coloured by a scalar (its colours are those of the bar named beside it).
 COLORED_SWATCH = "#9aa7b8"
 #: Most raw points the preview draws (an even subset of a bigger file).
@@ -442,9 +445,13 @@ class SceneView(CameraControl):
                     if layer.colorby == "hidden depth"
                     else "no such coordinate"
                     if layer.colorby.startswith("x")
+                    else THEOREMS_FIRST
+                    if self.model.builtin is not None and self.model.theorems is None
                     else "needs the true manifold of a built-in sample"
                 )
                 out.append((f"{layer.colorby}: not available here ({why})", NAN_COLOR))
+            if name == "manifold" and layer.colorby == "distance to M" and self.model.theorems is None:
+                out.append((f"distance to M: not available yet ({THEOREMS_FIRST})", NAN_COLOR))
             if getattr(a, "scalar_title", None):
                 if name != "points":  # the samples' bar names them; a complex's layer is named here
                     what = a.scalar_title.partition(" (")[0]
