@@ -324,3 +324,15 @@ def test_a_built_ins_true_manifold_colourings_say_to_run_the_theorems_first(qtbo
     legend = window.view.legend_entries()
     assert (f"true epsilon: not available here ({THEOREMS_FIRST})", NAN_COLOR) in legend
     assert (f"distance to M: not available yet ({THEOREMS_FIRST})", NAN_COLOR) in legend
+
+
+def test_the_runs_own_parameters_are_locked_while_it_runs(qtbot, window):
+    """A new user typed a θ (and chose a test and normals) during a run; when it ended the Run dock showed
+    the run's own values again and the change was gone without a word.  They are locked while it runs."""
+    panel = window.run_panel
+    fields = (panel.d, panel.test, panel.theta, panel.theta_box, panel.normals)
+    assert all(w.isEnabled() for w in fields)
+    assert window.load_builtin("torus")
+    assert window.runner.busy and not any(w.isEnabled() for w in fields)
+    qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
+    assert all(w.isEnabled() for w in fields)

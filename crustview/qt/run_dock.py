@@ -341,6 +341,10 @@ class RunPanel(QWidget):
         self.run.setEnabled(not busy)
         self.prune.setEnabled(not busy and self.mode == "paper")
         self.extraction.setEnabled(not busy)
+        # the run's own parameters are shown when it ends: a change made meanwhile was lost without a word
+        # (a new user's θ, test and normals snapped back), so they are locked while it runs
+        for w in (self.d, self.test, self.theta, self.theta_box, self.normals):
+            w.setEnabled(not busy)
         self.cancel.setEnabled(busy)
         if busy:
             self.progress.setStyleSheet("")
