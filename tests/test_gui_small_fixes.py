@@ -336,3 +336,21 @@ def test_the_runs_own_parameters_are_locked_while_it_runs(qtbot, window):
     assert window.runner.busy and not any(w.isEnabled() for w in fields)
     qtbot.waitUntil(lambda: not window.runner.busy, timeout=60_000)
     assert all(w.isEnabled() for w in fields)
+
+
+def test_a_session_saved_with_a_theta_not_yet_extracted_says_which_it_keeps(qtbot, window, tmp_path):
+    """A θ typed without Re-extract was dropped from a saved session without a word; Save session now says,
+    as Save result does, that the extracted run is what it keeps."""
+    import json
+
+    import numpy as np
+
+    load(qtbot, window)
+    extracted = float(window.model.rec.theta)
+    window.run_panel.theta_box.setValue(25.0)
+    assert window.model.theta != extracted
+    written = window.save_session(tmp_path / "s")
+    message = window.statusBar().currentMessage()
+    assert message.startswith(f"Saved session {written}, but the shown test") and "is not extracted yet" in message
+    saved = json.loads(written.read_text())
+    assert abs(saved["theta_degrees"] - np.degrees(extracted)) < 1e-9  # the extracted run, as the message says

@@ -154,7 +154,11 @@ class SessionActions:
             self.show_error(f"Cannot write '{target}': {err.strerror or err}.")
             return None
         self.settings.setValue("last_dir", str(written.parent))
-        self.statusBar().showMessage(f"Saved session {written}", 5000)
+        pending = self.pending_change()  # a θ or test shown but not extracted: the session keeps the run's
+        if pending:
+            self.statusBar().showMessage(f"Saved session {written}, but {pending}.", 30000)
+        else:
+            self.statusBar().showMessage(f"Saved session {written}", 5000)
         return written
 
     # -- opening --------------------------------------------------------------------
