@@ -100,7 +100,7 @@ setup(
             extra_compile_args=FLAGS,
             optional=True,
         ),
-        Extension(  # no third-party headers: a boundary matrix's rank over GF(2) (core/analysis/topology.py)
+        Extension(  # no third-party headers: a boundary matrix's rank over GF(2) (core/analysis/ranks.py)
             "crustview.core.analysis._gf2",
             sources=["crustview/core/analysis/_gf2.cpp"],
             language="c++",

@@ -175,9 +175,7 @@ def run(args: argparse.Namespace) -> int:
                 r if r is not None else {"file": str(path), "status": "cancelled", "verdict": None}
                 for r, path in zip(rows, args.input, strict=True)
             ]
-            meta = {"files": len(done), "cancelled": sum(r is None for r in rows), "jobs": args.jobs}
-            write_text(summary[0], summary_csv(done))
-            write_text(summary[1], json.dumps({**meta, "rows": done}, indent=2) + "\n")
+            _write_summaries(summary, done, {"cancelled": sum(r is None for r in rows), "jobs": args.jobs})
         raise
     return _close(args, rows, summary, start)
 
@@ -218,20 +216,19 @@ def _run_all(args: argparse.Namespace, names: list, rows: list) -> None:
                     raise
 
 
+def _write_summaries(summary: list[Path], rows: list[dict[str, Any]], meta: dict[str, Any]) -> None:
+    """summary.csv and summary.json (``meta`` first, with the count of files, then the rows)."""
+    write_text(summary[0], summary_csv(rows))
+    write_text(summary[1], json.dumps({"files": len(rows), **meta, "rows": rows}, indent=2) + "\n")
+
+
 def _close(args: argparse.Namespace, rows: list, summary: list[Path], start: float) -> int:
     """Write the summaries, print the closing line; the exit status."""
     final = [r for r in rows if r is not None]
     errors = sum(r["status"] != "ok" for r in final)
     verdicts = {v: sum(r["status"] == "ok" and r["verdict"] == v for r in final) for v in VERDICTS}
-    write_text(summary[0], summary_csv(final))
-    meta = {
-        "files": len(final),
-        "errors": errors,
-        "verdicts": verdicts,
-        "seconds": round(time.perf_counter() - start, 3),
-        "jobs": args.jobs,
-    }
-    write_text(summary[1], json.dumps({**meta, "rows": final}, indent=2) + "\n")
+    meta = {"errors": errors, "verdicts": verdicts, "seconds": round(time.perf_counter() - start, 3), "jobs": args.jobs}
+    _write_summaries(summary, final, meta)
     if not args.quiet:
         said = ", ".join(f"{n} {v}" for v, n in verdicts.items() if n)
         print(

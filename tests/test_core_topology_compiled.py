@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from test_core_extraction import OCTA, grid_surface
 
-from crustview.core.analysis import topology
+from crustview.core.analysis import ranks, topology
 from crustview.core.analysis.topology import _analyse_general, _surface_report, analyse, is_closed_manifold
 
 
@@ -207,7 +207,7 @@ def test_tables_too_large_for_memory_raise_memoryerror_instead_of_aborting():
 # ---------------------------------------------------------------- the boundary ranks over GF(2) (_gf2.cpp)
 def test_the_compiled_rank_is_built():
     """The install builds it (scripts/install.sh)."""
-    assert topology._gf2 is not None
+    assert ranks._gf2 is not None
 
 
 def _dense_rank_gf2(cols: list[list[int]], rows: int) -> int:
@@ -242,7 +242,7 @@ def test_boundary_ranks_worked_out_by_hand():
     for simplices, j, want in cases:
         faces = topology.all_faces(simplices)
         assert topology.boundary_rank_gf2(faces[j], faces[j - 1]) == want, (len(simplices), j)
-        assert topology.boundary_rank_gf2_python(faces[j], faces[j - 1]) == want, (len(simplices), j)
+        assert ranks.boundary_rank_gf2_python(faces[j], faces[j - 1]) == want, (len(simplices), j)
 
 
 def test_the_compiled_rank_matches_python_and_a_dense_elimination_on_random_columns():
@@ -256,15 +256,15 @@ def test_the_compiled_rank_matches_python_and_a_dense_elimination_on_random_colu
         if trial % 4 == 0:
             cols[:, 1] = cols[:, 0]  # a row twice in every column
         want = _dense_rank_gf2(cols.tolist(), rows)
-        got = topology._gf2.rank(np.ascontiguousarray(cols, dtype=np.int64), rows, width)
-        assert got == want == topology._reduce_python(cols), (trial, got, want)
+        got = ranks._gf2.rank(np.ascontiguousarray(cols, dtype=np.int64), rows, width)
+        assert got == want == ranks._reduce_python(cols), (trial, got, want)
 
 
 def test_the_compiled_rank_refuses_entries_outside_the_rows():
     with pytest.raises(ValueError, match="not a row"):
-        topology._gf2.rank(np.array([[0, 3]], dtype=np.int64), 3, 2)
+        ranks._gf2.rank(np.array([[0, 3]], dtype=np.int64), 3, 2)
     with pytest.raises(ValueError, match="width"):
-        topology._gf2.rank(np.array([0, 1, 2], dtype=np.int64), 3, 2)
+        ranks._gf2.rank(np.array([0, 1, 2], dtype=np.int64), 3, 2)
 
 
 def test_a_3_manifolds_report_is_the_same_with_and_without_the_compiled_rank(s3_run, monkeypatch):
@@ -274,7 +274,7 @@ def test_a_3_manifolds_report_is_the_same_with_and_without_the_compiled_rank(s3_
     for simplices in (tets, tets[1:]):
         compiled = topology._analyse_general(simplices, len(rec.points), 3)
         with monkeypatch.context() as m:
-            m.setattr(topology, "_gf2", None)
+            m.setattr(ranks, "_gf2", None)
             python = topology._analyse_general(simplices, len(rec.points), 3)
         assert compiled == python
     assert topology._analyse_general(tets, len(rec.points), 3).betti == (1, 0, 0, 1)

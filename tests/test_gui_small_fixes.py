@@ -170,8 +170,9 @@ def test_the_ground_truth_shows_over_an_opaque_m_s(qtbot, window, source):
         assert _outward(faces, pts) is not None and _outward(faces[1:], pts) is None
 
 
-def _run_dialog(qtbot, open_it) -> tuple[str, list[str]]:
-    """Open a real file dialog, read where it starts and what it suggests, then cancel it."""
+def _run_dialog(qtbot, open_it, answer=None) -> tuple[str, list[str]]:
+    """Open a real file dialog, read where it starts and what it suggests, then cancel it, or hand it to
+    ``answer(dialog)`` (which accepts or rejects it)."""
     from PySide6.QtCore import QTimer
     from PySide6.QtWidgets import QApplication, QFileDialog
 
@@ -184,7 +185,7 @@ def _run_dialog(qtbot, open_it) -> tuple[str, list[str]]:
             return
         seen["dir"] = dlg.directory().absolutePath()
         seen["files"] = dlg.selectedFiles()
-        dlg.reject()
+        (answer or QFileDialog.reject)(dlg)
 
     QTimer.singleShot(50, look)
     open_it()
@@ -284,26 +285,20 @@ def test_a_result_name_typed_without_a_suffix_takes_the_chosen_filters(qtbot, wi
     """Save result, "torus-noext" typed under the selected NPZ filter: it was refused ("unsupported file type
     (no suffix)"); the filter's suffix is added, as the screenshot dialog adds ".png".  Through the real
     dialog, typed into and accepted."""
-    from PySide6.QtCore import QTimer
-    from PySide6.QtWidgets import QApplication, QFileDialog, QLineEdit
+    from PySide6.QtWidgets import QLineEdit
 
     from crustview.qt.files import with_filter_suffix
 
     load(qtbot, window)
     chosen: dict = {}
 
-    def type_and_accept():
-        dlg = QApplication.activeModalWidget()
-        if not isinstance(dlg, QFileDialog):
-            QTimer.singleShot(50, type_and_accept)
-            return
+    def type_and_accept(dlg):
         chosen["filter"] = dlg.selectedNameFilter()
         dlg.setDirectory(str(tmp_path))
         dlg.findChild(QLineEdit, "fileNameEdit").setText("torus-noext")  # typed, as a user does
         dlg.accept()
 
-    QTimer.singleShot(50, type_and_accept)
-    window.save_result_dialog()
+    _run_dialog(qtbot, window.save_result_dialog, type_and_accept)
     assert chosen["filter"] == "NPZ (*.npz)"
     assert (tmp_path / "torus-noext.npz").is_file() and not (tmp_path / "torus-noext").exists()
     assert with_filter_suffix("/a/b.ply", "NPZ (*.npz)") == "/a/b.ply"  # a typed suffix stays

@@ -66,21 +66,16 @@ def _ids(t) -> str:
     return "" if not t else (fmt_tuple(t) if len(t) <= 4 else f"{len(t)} simplices")
 
 
-def tau_shown(d: int) -> int:
-    """Most vertices a τ of the table lists: a (d-1)-face's, the τ the paper's rules name.
-
-    Longer ones (the robust rules' faces, loops and rims: cut-handle's, tens of samples) are counted instead,
-    so that the column keeps its width: a 17-sample loop made it 657 px wide at 1024 x 700, and triangles and
-    5-sample loops 124-200 px, leaving the removed and added simplices "(…" (Qt sizes the column to its
-    widest text among 1,000 rows); the tooltip gives every vertex.
-    """
-    return d
-
-
 def _tau_cell(step, d: int) -> str:
-    """The τ column's text: :func:`tau_text`, or "N samples" past :func:`tau_shown` vertices."""
+    """The τ column's text: :func:`tau_text` up to d vertices (a (d-1)-face), "N samples" past that.
+
+    The robust rules' faces, loops and rims (cut-handle's, tens of samples) listed in full made the column
+    657 px wide at 1024 x 700 (a 17-sample loop), and triangles and 5-sample loops 124-200 px, leaving the
+    removed and added simplices "(…" (Qt sizes the column to its widest text among 1,000 rows); the
+    tooltip gives every vertex.
+    """
     text = tau_text(step)  # "—" for a rule that acts everywhere at once
-    return text if text == "—" or len(step.tau) <= tau_shown(d) else f"{len(step.tau)} samples"
+    return text if text == "—" or len(step.tau) <= d else f"{len(step.tau)} samples"
 
 
 class StepText(QPlainTextEdit):
@@ -142,7 +137,7 @@ class StepLog(QAbstractTableModel):
                 texts = self._rows[row] = (
                     str(s.index + 1),
                     RULE_SHORT.get(s.rule, s.rule),
-                    _tau_cell(s, self.model.rec.d if self.model.rec is not None else len(s.tau)),
+                    _tau_cell(s, self.model.rec.d),
                     _ids(s.kept),
                     _ids(s.removed),
                     _ids(s.added),

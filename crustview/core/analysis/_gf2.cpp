@@ -1,4 +1,4 @@
-// The rank over GF(2) of a boundary matrix (crustview.core.analysis.topology.boundary_rank_gf2).
+// The rank over GF(2) of a boundary matrix (crustview.core.analysis.ranks.boundary_rank_gf2).
 //
 // The standard column reduction: the columns are taken in their order; a column's "low" is its largest
 // row; while another column already reduced has the same low, the two are added (over GF(2): the
@@ -42,12 +42,12 @@ PyObject* rank(PyObject*, PyObject* args) {
         try {
         // pivot[r]: the reduced column whose largest row is r (empty: none yet)
         std::vector<std::vector<i64>> pivot(static_cast<std::size_t>(rows));
-        std::vector<i64> col, sum;
+        std::vector<i64> col, sum, once;
         for (Py_ssize_t c = 0; c < n_cols; ++c) {
             col.assign(entry + c * width, entry + (c + 1) * width);
             std::sort(col.begin(), col.end());
             // a row named twice cancels (the Python reference XORs its bits the same way)
-            std::vector<i64> once;
+            once.clear();
             for (std::size_t i = 0; i < col.size();) {
                 std::size_t j = i;
                 while (j < col.size() && col[j] == col[i]) ++j;
