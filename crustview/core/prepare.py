@@ -37,6 +37,7 @@ from scipy.spatial import cKDTree
 
 from .errors import InputError
 from .util.nearest import nearest_other
+from .util.vectors import power_of_two_above
 
 #: Default joggle relative to the sample spacing.
 DEFAULT_JOGGLE = 1e-6
@@ -223,7 +224,7 @@ def prescale(pts: np.ndarray) -> float:
             f"coordinates up to {top:.3g} are too large to work with (the limit is {MAX_ABS_COORD:.0e}: "
             "derived points lie a few radii away); divide the data by a constant first"
         )
-    return float(np.ldexp(1.0, int(np.frexp(top)[1])))
+    return power_of_two_above(top)
 
 
 def merge_duplicates(pts: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, float]:

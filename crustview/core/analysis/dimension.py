@@ -21,7 +21,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import InputError
-from ..prepare import prescale
+from ..util.vectors import power_of_two_above
 
 #: At most this many centres of local PCA (evenly spread over the input order).
 MAX_CENTRES = 600
@@ -157,9 +157,11 @@ def estimate_dimension(points: np.ndarray) -> DimensionEstimate:
         return DimensionEstimate(1, 1.0, {1: 1.0})
     if n < k + 2:
         raise InputError(f"Cannot estimate d from {n} distinct points in R^{k}: give -d.")
-    # divided by reconstruct's own power of two (exact): the covariances of points near 1e-300 underflowed
-    # to 0 (every sample voted d = 1) and those near 1e300 overflowed
-    pts = pts / prescale(pts)
+    # divided by a power of two (exact, as prepare's prescale): the covariances of points near 1e-300
+    # underflowed to 0 (every sample voted d = 1) and those near 1e300 overflowed
+    top = float(np.abs(pts).max())
+    if np.isfinite(top) and top > 0:
+        pts = pts / power_of_two_above(top)
     sizes = tuple(sorted({min(n - 1, max(MIN_NEIGHBOURS, s * k)) for s in SCALES}))
     centres = np.linspace(0, n - 1, min(n, MAX_CENTRES)).astype(np.intp)
     tree = cKDTree(pts)

@@ -80,3 +80,14 @@ def edge_lengths(points: np.ndarray, edges: np.ndarray) -> np.ndarray:
         return np.linalg.norm(points[a] - points[b], axis=1)
     out = squared_distances(points, a, points, b)
     return np.sqrt(out, out=out)
+
+
+def power_of_two_above(top: float) -> float:
+    """The power of two ``s`` with ``top / s`` in [0.5, 1) (``top`` > 0): dividing by it changes exponents only.
+
+    Examples
+    --------
+    >>> power_of_two_above(3.0), power_of_two_above(0.5)
+    (4.0, 1.0)
+    """
+    return float(np.ldexp(1.0, int(np.frexp(top)[1])))
