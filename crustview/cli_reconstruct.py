@@ -20,6 +20,12 @@ import time
 from pathlib import Path
 from typing import Any
 
+from crustview.cli_summaries import (  # noqa: F401 - also imported from here
+    comparison_summary,
+    extraction_summary,
+    result_summary,
+    verdict_line,
+)
 from crustview.core.errors import InputError
 from crustview.core.result import CANDIDATE_TESTS
 
@@ -232,6 +238,7 @@ def reconstruct_file(
     d, estimate = choose_d(points, args.d, mesh)
     if estimate is not None:
         say("note", f"{path.name}: -d auto chose {estimate.sentence()}")
+    doubt = None if estimate is not None else _doubted(points, d, mesh)
     k = points.shape[1]
     truth = mesh.simplices(d) if mesh is not None and 1 <= d < k else None
     truth_name = path.name
@@ -266,7 +273,11 @@ def reconstruct_file(
 
         progress("compare", 0.0)
         comparison = compare_to_mesh(rec, truth)
-    extra = _report_extra(rec, attributes, estimate)
+    extra = _report_extra(rec, attributes, estimate or doubt)
+    if doubt is not None:
+        extra["dimension_estimate"]["given_d"] = d
+        # after the run, so that a file the run refuses still gets its one error line and nothing else
+        say("note", f"{path.name}: -d {d} was given, but the sample looks like {doubt.sentence()}")
     progress("write", 0.0)
     kept = None if truth is None else (truth_name, truth)  # stored with the result: reopened, it is judged again
     if report is None:
@@ -294,12 +305,6 @@ def reconstruct_file(
     return summary_row(path, rec, seconds, output, report, estimate, level)
 
 
-def _empty_side(c) -> str:
-    """Why a comparison has no Hausdorff distance: which of the two complexes is empty."""
-    empty = [what for what, t in (("M_S", c.result_topology), ("the mesh", c.mesh_topology)) if t.n_simplices == 0]
-    return " and ".join(empty) + (" is empty" if len(empty) == 1 else " are empty") if empty else "not measured"
-
-
 def _stored_mesh(path: Path, d: int) -> tuple[str, Any] | None:
     """The mesh truth stored in a result ``.npz`` (:mod:`crustview.resulttruth`) when it is for this ``d``."""
     from crustview.io import read_run_parameters
@@ -309,18 +314,11 @@ def _stored_mesh(path: Path, d: int) -> tuple[str, Any] | None:
     return stored if stored is not None and stored[1].shape[1] == d + 1 else None
 
 
-def verdict_line(level: str, sentence: str, features: bool = False) -> str:
-    """The last printed line: how sure the result is, as the window's coloured verdict says it.
+def _doubted(points, d: int, mesh) -> Any:
+    """The estimate where it contradicts an explicit ``-d`` (:func:`.dimension.contradiction`)."""
+    from crustview.core.analysis.dimension import contradiction
 
-    ``features``: the result has uncertain features (the report lists them, with where each is).
-    """
-    more = (
-        "; the report (--report) lists where each uncertain feature is (where the sample is much coarser than "
-        "the object, the truth may differ by more than they say)"
-        if level == "uncertain" and features
-        else ""
-    )
-    return f"Verdict: {level.upper()} -- {sentence}{more}."
+    return contradiction(points, d, mesh)
 
 
 def _report_extra(rec, attributes: dict, estimate) -> dict[str, Any]:
@@ -424,98 +422,3 @@ def _say(args: argparse.Namespace, bar=None, summary: list[str] | None = None):
             print(f"{PROG}: {kind}: {text}", file=sys.stderr, flush=True)
 
     return say
-
-
-# ---------------------------------------------------------------- summaries
-def result_summary(rec, seconds: float, output: Path) -> str:
-    """The first summary line: the shape, its topology, the time and the output."""
-    from crustview.core.analysis.features import summary_suffix
-
-    top = rec.topology
-    word = {1: "curve", 2: "surface"}.get(rec.d, f"{rec.d}-manifold")
-    merged = len(rec.input_points) - rec.n
-    dup = f" ({merged} duplicates merged)" if merged else ""
-    closed = "a closed manifold" if top.closed_manifold else "NOT a closed manifold"
-    if top.closed_manifold:  # named, as the window's title names it: "a closed manifold (genus-4 surface)"
-        from crustview.scene.shapes import name_of
-
-        b = tuple(int(v) for v in top.betti)
-        total = f", total genus {b[1] // 2}" if rec.d == 2 and b[0] > 1 and top.orientable else ""
-        closed += f" ({name_of(top, rec.d)}{total})"
-    parts = [
-        f"Reconstructed a {word} in R^{rec.k} from {rec.n} points{dup}: {top.n_simplices} {rec.d}-simplices, {closed}",
-        f"Betti numbers (Z/2) {tuple(int(b) for b in top.betti)}, Euler characteristic {top.euler}",
-    ]
-    if top.orientable is not None:
-        parts.append("orientable" if top.orientable else "non-orientable")
-    if not top.closed_manifold:
-        parts.append(
-            f"{top.boundary_faces} boundary and {top.nonmanifold_faces} non-manifold faces, "
-            f"{top.unused_samples} unused samples"
-        )
-    text = "; ".join(parts) + f"; {seconds:.2f} s; wrote {output}."
-    notes = set(rec.extraction.notes)  # said on the extraction line
-    from crustview.core.uncertainty import UNDECIDED  # said by the summary's "(uncertain: ...)" suffix
-
-    messages = [m for m in top.messages if m not in notes and not m.startswith(UNDECIDED)]
-    if messages:
-        text += " Note: " + "; ".join(str(m).rstrip(".") for m in messages) + "."
-    suffix = summary_suffix(rec.features)
-    return text + (f" {suffix}" if suffix else "")
-
-
-def extraction_summary(rec) -> str:
-    """One sentence: which extraction ran, why, and how many steps of each rule.
-
-    Parameters
-    ----------
-    rec : Reconstruction
-
-    Returns
-    -------
-    str
-        E.g. ``"extraction: robust (the paper's Algorithm 3 was abandoned after
-        127 steps, ...); 2160 steps: seed 1, grow 2068, ..."`` or
-        ``"extraction: paper's Algorithm 3; 12 steps: prune-sharp 0,
-        resolve-nonmanifold 12."``.  A robust run lists only the rules it
-        used; a paper run lists both of the paper's rules.
-    """
-    ext = rec.extraction
-    if rec.mode == "paper":
-        head = "extraction: paper's Algorithm 3"
-        if not rec.prune_boundary:
-            head += " with boundary faces kept (--keep-boundary)"
-    else:
-        why = "; ".join(str(n).rstrip(".") for n in ext.notes)
-        head = "extraction: robust" + (f" ({why})" if why else "")
-    counts = ext.counts_by_rule()
-    shown = [f"{rule} {c['steps']}" for rule, c in counts.items() if c["steps"] or rec.mode == "paper"]
-    steps = f"{ext.n_steps} step" + ("" if ext.n_steps == 1 else "s")
-    return f"{head}; {steps}" + (": " + ", ".join(shown) if shown else "") + "."
-
-
-def comparison_summary(c, name: str) -> str:
-    """One sentence: M_S against the mesh's faces."""
-    from crustview.core.analysis.compare import MeshComparison
-
-    def top(t) -> str:
-        g = MeshComparison.genus(t)
-        shape = f"closed, genus {g}" if g is not None else ("closed" if t.closed_manifold else "not closed")
-        return f"{shape}, Betti {tuple(int(b) for b in t.betti)}"
-
-    h = c.hausdorff
-    collapsed = f" ({c.collapsed_faces} collapsed by duplicate merging)" if c.collapsed_faces else ""
-    if c.extra == 0 and c.recovered == c.mesh_faces and c.mesh_faces:
-        distance = "Hausdorff distance 0 (the same faces)"
-    elif math.isfinite(h.distance):
-        distance = (
-            f"Hausdorff distance {h.words()} (sampled on grids over both complexes, whose covering radius "
-            f"{h.error_bound:.2g} bounds the error)"
-        )
-    else:
-        distance = f"no Hausdorff distance ({_empty_side(c)})"
-    return (
-        f"Against the faces of {name}: {c.recovered} of {c.mesh_faces} mesh faces recovered "
-        f"({100 * c.recovered_share:.1f}%){collapsed}, {c.extra} extra; mesh {top(c.mesh_topology)}; "
-        f"M_S {top(c.result_topology)}; {distance}."
-    )

@@ -126,7 +126,8 @@ def report_dict(
     extra : dict, optional
         More keys, added last: e.g. ``input`` (what the file held besides
         coordinates, and the angles between its normals and AN_s) and
-        ``dimension_estimate`` (how ``-d auto`` chose d).
+        ``dimension_estimate`` (how ``-d auto`` chose d, or, with ``given_d``, the
+        estimate that contradicts a ``-d`` given by hand).
     """
     from crustview.core.analysis.quality import SamplingQuality, sampling_quality, summary
 

@@ -10,6 +10,7 @@ import meshio
 import numpy as np
 import pytest
 
+from crustview.core.analysis.dimension import CONTRADICTION_SHARE
 from crustview.core.analysis.topology import analyse
 from crustview.core.samples.manifolds import MANIFOLDS
 
@@ -196,6 +197,43 @@ def test_reconstruct_torus_npz(torus_file, tmp_path):
     # the estimated normals are close to the true ones
     true_tangents = MANIFOLDS["torus"].sample(1500, seed=0).tangents
     assert np.median(np.linalg.norm(np.einsum("nk,nkd->nd", normals[:, :, 0], true_tangents), axis=1)) < 0.1
+
+
+def test_a_given_d_the_sample_contradicts_is_named_after_the_run(capsys, torus_file, tmp_path):
+    """A surface reconstructed as a curve (-d 1) used to be accepted without a word: the result now says that
+    local PCA sees another d (on the command line and in the report), and the run still uses the d given."""
+    out, report = tmp_path / "t.npz", tmp_path / "t.json"
+    proc = run_main(capsys, "reconstruct", torus_file, "-d", 1, "-o", out, "--report", report)
+    notes = [line for line in proc.stderr.splitlines() if "was given" in line]
+    assert len(notes) == 1 and "-d 1 was given, but the sample looks like d = 2 (a surface)" in notes[0]
+    est = json.loads(report.read_text())["dimension_estimate"]
+    assert est["d"] == 2 and est["given_d"] == 1 and est["confidence"] > CONTRADICTION_SHARE
+    with np.load(out) as z:
+        assert z["simplices"].shape[1] == 2  # the run used d = 1, as asked
+    # the d the sample shows: no note, no estimate in the report
+    proc = run_main(capsys, "reconstruct", torus_file, "-d", 2, "-o", out, "--report", report)
+    assert proc.returncode == 0 and proc.stderr == ""
+    assert "dimension_estimate" not in json.loads(report.read_text())
+
+
+def test_a_split_vote_or_too_few_points_questions_no_d(tmp_path):
+    """A contradiction needs a majority of local PCA's votes for one other d; fewer than k + 2 points give
+    no estimate at all, so a run that then fails keeps its one error line (checked in the bad-input tests)."""
+    from crustview.core.analysis.dimension import contradiction
+
+    rng = np.random.default_rng(4)
+    square = np.c_[rng.random((400, 2)), np.zeros(400)]  # a flat square in R^3: d = 2 for nearly every vote
+    assert contradiction(square, 2) is None
+    assert contradiction(square, 1).d == 2
+    # a segment, a square and a cube far apart in R^4, a third of the points each: every d gets about a third
+    # of the votes, and none of them contradicts a given d
+    parts = [np.c_[rng.random((400, j)), np.zeros((400, 4 - j))] + 10.0 * j for j in (1, 2, 3)]
+    split = np.concatenate(parts)[rng.permutation(1200)]
+    assert all(contradiction(split, d) is None for d in (1, 2, 3))
+    segment = np.c_[rng.random((800, 1)), np.zeros((800, 3))] + 10.0
+    assert contradiction(np.concatenate([segment, parts[1]]), 2).d == 1  # two thirds on a segment: 67 % for d = 1
+    assert contradiction(square[:4], 1) is None  # k + 1 distinct points: no estimate
+    assert contradiction(square[:, :2], 2) is None  # the plane: nothing to estimate
 
 
 @pytest.mark.parametrize("suffix", [".ply", ".obj", ".off", ".vtk", ".stl"])

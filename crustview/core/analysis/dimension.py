@@ -31,6 +31,9 @@ SCALES = (2, 4)
 MIN_NEIGHBOURS = 6
 #: Local variance below this share of the total is taken as noise (the spectrum is floored there).
 NOISE_FLOOR = 0.01
+#: A d the user gave is questioned (:func:`contradiction`) when more than this share of the local votes chose
+#: one other d: a majority of the centres and neighbourhood sizes sees another dimension, not a split vote.
+CONTRADICTION_SHARE = 0.5
 
 
 @dataclass(frozen=True)
@@ -185,3 +188,22 @@ def estimate_dimension(points: np.ndarray) -> DimensionEstimate:
     shares = {int(i): float(votes[i] / total) for i in range(1, k)}
     gap = float(np.median(gaps[d])) if gaps.get(d) else float("inf")
     return DimensionEstimate(d, shares[d], shares, gap, sizes, len(centres))
+
+
+def contradiction(points: np.ndarray, d: int, mesh: object | None = None) -> DimensionEstimate | None:
+    """The file's estimate (:func:`estimate_file_dimension`) where it contradicts a given ``d``; else None.
+
+    A contradiction is an estimate of another d that a majority of the local votes chose (more than
+    :data:`CONTRADICTION_SHARE`), or a mesh file's faces that fit another d only.  None where no estimate
+    is made: fewer than k + 2 distinct points, or points in the plane (one dimension to reconstruct).
+    The reconstruction runs with the given d either way; this is what a result says about it.
+    """
+    try:
+        est = estimate_file_dimension(points, mesh)
+    except InputError:
+        return None
+    if est.d == d or not est.neighbours:
+        return None
+    if est.samples_d is None and est.confidence <= CONTRADICTION_SHARE:
+        return None
+    return est
