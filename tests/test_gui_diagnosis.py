@@ -65,17 +65,27 @@ def test_epsilon_colouring_marks_the_paper_bounds_and_the_histogram_counts_every
     assert dark(int(hist.x_of(0.6))) == 0
 
 
-def test_holes_layer_counts_the_single_simplex_faces_of_t_s(qtbot, window):
+def test_holes_layer_counts_the_holes_of_t_s_as_its_legend_does(qtbot, window):
+    """The layer's count is the number of holes, the legend's number: a new user read the Layers dock's count
+    of hole edges (session 50: 3,992) beside the legend's count of holes as two answers to one question."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
     from crustview.scene import geometry as geo
 
     rec = run(qtbot, window, knight_points(), "paper")
     layer = window.model.layers["holes"]
-    # independent count: (d-1)-faces of T_S (the test's candidates at theta) in one simplex
+    # independent counts: (d-1)-faces of T_S (the test's candidates at theta) in one simplex, and the groups
+    # of them that share a sample
     faces, inc = geo.facets(rec.candidates.select(rec.test, rec.theta))
-    expected = int((np.bincount(inc.ravel(), minlength=len(faces)) == 1).sum())
-    assert expected > 0 and layer.count == expected
+    edges = faces[np.bincount(inc.ravel(), minlength=len(faces)) == 1]
+    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(rec.n, rec.n))
+    groups = connected_components(graph, directed=False)[1]
+    holes = len(np.unique(groups[edges[:, 0]]))
+    assert len(edges) > holes > 1 and layer.count == holes
     layer.visible = True
-    assert window.view.adapters["holes"].part.mesh.n_lines == expected  # one thick line per hole edge
+    assert any(label.startswith(f"Holes of T_S: {holes:,} ") for label, _ in window.view.legend_entries())
+    assert window.view.adapters["holes"].part.mesh.n_lines == len(edges)  # one thick line per hole edge
 
 
 def test_clicking_a_cascade_frames_its_origin_and_highlights_every_simplex_it_removed(qtbot, window):

@@ -98,7 +98,7 @@ class HolesAdapter(LayerAdapter):
         self.project()
         set_cells(self.part.mesh, **face_cells(holes))
         set_cells(self.parts[1].mesh, polys=patch if len(patch) else None)
-        self.layer.count = len(holes)
+        self.layer.count = len(self.rims)  # holes, as the legend counts them (their faces are drawn one line each)
 
     def project(self) -> None:
 
