@@ -62,6 +62,15 @@ def test_select_by_index(qtbot, window):
     box.setText(str(rec.n + 5))
     box.returnPressed.emit()
     assert "samples" in window.statusBar().currentMessage() and "#fdecea" in box.styleSheet()
+    # a row of the file, as the inspector's "input row" names it: samples are numbered in spatial order
+    row = int(np.flatnonzero(rec.input_index != np.arange(len(rec.input_index)))[0])
+    box.setText(f"row {row}")
+    box.returnPressed.emit()
+    assert sel.sample == rec.input_index[row] != row and box.styleSheet() == ""
+    assert f"(input row {row})" in window.info_panel.selection.text()
+    box.setText(f"r {len(rec.input_index)}")
+    box.returnPressed.emit()
+    assert "rows" in window.statusBar().currentMessage()
 
 
 def test_cascade_first_step_and_play_alone(qtbot, window):

@@ -158,9 +158,10 @@ class InfoPanel(QWidget):
         area.setFixedHeight(SELECTION_LINES * self.fontMetrics().lineSpacing() + 8)
         sl.addWidget(area)
         self.lookup = QLineEdit(sel)
-        self.lookup.setPlaceholderText("select by index: 12, s 40, or 12 40 41 — Enter")
+        self.lookup.setPlaceholderText("select by index: 12, r 7, s 40, or 12 40 41 — Enter")
         self.lookup.setToolTip(
-            "A sample number; 's N' for T_S simplex N (the number the steps use); d + 1 sample numbers for "
+            "A sample number; 'r N' for the sample of the file's row N (from 0; samples are numbered in "
+            "spatial order); 's N' for T_S simplex N (the number the steps use); d + 1 sample numbers for "
             "a simplex, d for a face. Enter selects it and frames it in the view."
         )
         self.lookup.returnPressed.connect(self._lookup)

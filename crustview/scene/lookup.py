@@ -12,7 +12,9 @@ from . import geometry as geo
 def select_by_text(model, text: str) -> tuple[str, np.ndarray] | str:
     """Select what ``text`` names in ``model.selection``.
 
-    ``"12"`` or ``"sample 12"``: sample 12; ``"s 40"``/``"simplex 40"``: T_S
+    ``"12"`` or ``"sample 12"``: sample 12; ``"r 7"``/``"row 7"``: the sample of the file's row 7 (rows
+    from 0, as the inspector's "input row" counts them; samples are numbered in spatial order, and
+    repeated rows share one sample); ``"s 40"``/``"simplex 40"``: T_S
     simplex 40 (the number the steps use); ``d + 1`` numbers (``"12 40 41"``,
     ``"(12, 40, 41)"``): the simplex on those samples; ``d`` numbers: that
     (d-1)-face.  Returns ``(kind, samples)`` with the sample indices to frame,
@@ -29,6 +31,14 @@ def select_by_text(model, text: str) -> tuple[str, np.ndarray] | str:
         return "indices are 0 or more"
     sel = model.selection
     ext = rec.extraction
+    if len(nums) == 1 and re.match(r"^(r|row|input row)\b", words):
+        r = nums[0]
+        rows = len(rec.input_index)
+        if r >= rows:
+            return f"the file has {rows:,} rows (0 … {rows - 1})"
+        i = int(rec.input_index[r])
+        sel.select_sample(i)
+        return "sample", np.array([i])
     if len(nums) == 1 and re.match(r"^(s|simplex|t_s|ts)\b", words):
         e = nums[0]
         if e >= len(ext.simplices):
