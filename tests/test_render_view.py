@@ -151,7 +151,8 @@ def test_selected_cell_and_poles(scene):
 def test_flat_input_has_no_phantom_poles():
     """A curve in a plane of R^3: the normal orthogonal to the plane has no pole (index -1)."""
     from crustview.core import reconstruct
-    from crustview.scene.describe import interpretation_rows, sample_text
+    from crustview.scene.describe import interpretation_rows
+    from crustview.scene.inspector_text import sample_text
 
     t = np.linspace(0, 2 * np.pi, 80, endpoint=False)
     rec = reconstruct(np.c_[np.cos(t), 2 * np.sin(t), np.zeros_like(t)], 1)

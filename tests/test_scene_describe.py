@@ -5,7 +5,8 @@ import pytest
 
 from crustview.core import CANDIDATE_TESTS, reextract
 from crustview.scene import SceneModel
-from crustview.scene.describe import interpretation_rows, sample_text, simplex_text, verdict
+from crustview.scene.describe import interpretation_rows, verdict
+from crustview.scene.inspector_text import sample_text, simplex_text
 
 
 @pytest.fixture()

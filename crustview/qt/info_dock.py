@@ -21,15 +21,8 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from ..scene.describe import (
-    face_text,
-    fmt_tuple,
-    interpretation_rows,
-    sample_text,
-    simplex_text,
-    topology_rows,
-    verdict,
-)
+from ..scene.describe import fmt_tuple, interpretation_rows, topology_rows, verdict
+from ..scene.inspector_text import face_text, sample_text, simplex_text
 from ..scene.model import SceneModel
 from .compare_panel import ComparePanel
 from .diagnosis import DiagnosisPanel

@@ -6,15 +6,13 @@ import numpy as np
 import pyvista as pv
 
 from ..scene.describe import verdict
-from ..scene.layers import CASCADE_COLOR, COMPARE_COLORS, STEP_COLORS
 from ..scene.model import SceneModel
 from ..scene.projection import TOUR_SLIDERS as WINDOW_ONLY
 from ..scene.subset import even_subset
 from ..scene.viewnotes import view_notes
-from .base import NAN_COLOR, LayerAdapter
+from .base import LayerAdapter
 from .compare import CompareAdapter
 from .complexes import (
-    RULE_COLORS,
     CandidatesAdapter,
     ManifoldAdapter,
     RemovedAdapter,
@@ -24,10 +22,11 @@ from .complexes import (
 from .diagnosis import CascadeAdapter, HolesAdapter, OrientationAdapter, UncertainAdapter
 from .frames import FrameGate
 from .inspect import SelectionAdapter, VoronoiAdapter
+from .legend_entries import COLORED_SWATCH, THEOREMS_FIRST, legend_entries  # noqa: F401 - also imported from here
 from .lod import LevelOfDetail
 from .navigation import CameraControl
 from .overlay import NOTE_COLOR, OK_COLOR, WARN_COLOR, Legend
-from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter, lighter
+from .samples import NormalsAdapter, PointsAdapter, PolesAdapter, TruthAdapter
 from .shelf import unshelve
 
 #: Adapter of each layer (by layer name), in drawing order.
@@ -54,11 +53,6 @@ BACKGROUND = ("#ffffff", "#dde3ea")  # bottom, top
 #: Characters above which a scalar bar's title puts its parenthesis on a second line (the bar is 0.38 of the view
 #: wide: at 640 px about 240 px, some 30 characters of its 14-point title).
 BAR_TITLE_LINE = 30
-#: Why a built-in's colouring by its true manifold draws nothing yet (it was "needs the true manifold of a
-#: built-in sample" on a built-in, and M_S's "distance to M" said nothing at all).
-THEOREMS_FIRST = "press Check Theorems 2 and 10 in the Information panel first"
-#: The legend's swatch for a complex coloured by a scalar (its colours are those of the bar named beside it).
-COLORED_SWATCH = "#9aa7b8"
 #: Most raw points the preview draws (an even subset of a bigger file).
 PREVIEW_POINTS = 250_000
 
@@ -415,89 +409,8 @@ class SceneView(CameraControl):
                 self._bars[title] = (mapper, lut)
 
     def legend_entries(self) -> list[tuple[str, str]]:
-        """(label, colour) of the visible solid-colour layers and the step highlight."""
-        out = []
-        layers = self.model.layers
-        for name in (
-            "points",
-            "manifold",
-            "slice",
-            "removed",
-            "holes",
-            "candidates",
-            "normals",
-            "poles",
-            "voronoi",
-            "uncertain",
-            "orientation",
-            "truth",
-        ):
-            layer = layers[name]
-            a = self.adapters[name]
-            if not layer.visible or a.shown_cells() == 0:
-                continue
-            if name == "points" and getattr(a, "scalar_title", None) and a.n_missing:
-                out.append((f"{a.scalar_title}: none (pole at infinity)", NAN_COLOR))
-            rgb = getattr(a, "direct_rgb", False)  # the file's own colours: no bar, nothing missing
-            if name == "points" and layer.colorby != "none" and not getattr(a, "scalar_title", None) and not rgb:
-                why = (
-                    "needs points in R^4 or more"
-                    if layer.colorby == "hidden depth"
-                    else "no such coordinate"
-                    if layer.colorby.startswith("x")
-                    else THEOREMS_FIRST
-                    if self.model.builtin is not None and self.model.theorems is None
-                    else "needs the true manifold of a built-in sample"
-                )
-                out.append((f"{layer.colorby}: not available here ({why})", NAN_COLOR))
-            if name == "manifold" and layer.colorby == "distance to M" and self.model.theorems is None:
-                out.append((f"distance to M: not available yet ({THEOREMS_FIRST})", NAN_COLOR))
-            if getattr(a, "scalar_title", None):
-                if name != "points":  # the samples' bar names them; a complex's layer is named here
-                    what = a.scalar_title.partition(" (")[0]
-                    out.append((f"{layer.title}: coloured by {what} (bar)", COLORED_SWATCH))
-                continue
-            if name == "removed" and layer.colorby == "rule":
-                codes = self.model.rule_codes()
-                used = {codes.names[c] for c in np.unique(codes.codes[: self.model.player.position])}
-                out.extend((f"removed by {r}", c) for r, c in RULE_COLORS.items() if r in used)
-                continue
-            if name == "poles" and a.n_infinite:
-                if a.parts[0].n_cells:
-                    out.append((layer.title, layer.color))
-                out.append(("Pole at infinity (hull sample)", lighter(layer.color)))
-                continue
-            if name in ("truth", "holes"):
-                out.append((a.legend_label(), layer.color))
-                continue
-            if name == "orientation":
-                out.append((f"one-sided loop ({layer.count} triangles): the normal flips once around it", layer.color))
-                continue
-            if name == "uncertain":
-                from ..scene.features import uncertain_features, uncertain_summary
-
-                final = "" if self.model.player.position >= self.model.player.n_steps else " (of the final M_S)"
-                out.append((uncertain_summary(uncertain_features(self.model.rec)) + final, layer.color))
-                continue
-            out.append((layer.title, layer.color))
-        step = self.model.player.shown_step
-        if layers["step"].visible and step is not None:
-            out.append(("tau (face of the step)", STEP_COLORS["tau"]))
-            if step.kept:
-                out.append(("kept pair", STEP_COLORS["kept"]))
-            if step.removed or not step.added:
-                out.append(("removed now", STEP_COLORS["removed"]))
-            if step.added:
-                out.append(("added now (robust extension)", STEP_COLORS["added"]))
-        cmp = self.model.comparison
-        if layers["compare"].visible and cmp is not None and cmp.diff.matched:
-            out.append(("in both A and B", layers["compare"].color))
-            out.append((f"only in A: {len(cmp.diff.only_a):,}", COMPARE_COLORS["A"]))
-            out.append((f"only in B: {len(cmp.diff.only_b):,}", COMPARE_COLORS["B"]))
-        c = self.model.cascade
-        if layers["cascade"].visible and c is not None:
-            out.append((f"cascade from step {c.origin + 1}: {c.removed:,} removed", CASCADE_COLOR))
-        return out
+        """(label, colour) of the visible solid-colour layers and the step highlight (:mod:`.legend_entries`)."""
+        return legend_entries(self)
 
     def update_legend(self) -> None:
         level = verdict(self.model.rec, self.model.truth)[0] if self.model.rec is not None else "ok"
