@@ -42,6 +42,7 @@ COLUMNS = (
     "k",
     "d",
     "d_auto_confidence",
+    "d_estimate_contradicts",
     "closed",
     "betti",
     "uncertain_handles",
@@ -117,6 +118,12 @@ def _show(show, row: dict[str, Any], lines: list[str]) -> None:
             show(f"  {line}")
 
 
+def _contradicted(row: dict[str, Any]) -> str:
+    """What a row adds after a given d that local PCA contradicts, e.g. ``(given; the sample looks like d = 2)``."""
+    other = row.get("d_estimate_contradicts")
+    return "" if other is None else f" (given; the sample looks like d = {other})"
+
+
 def row_line(row: dict[str, Any]) -> str:
     """One printed row."""
     name = Path(row["file"]).name
@@ -127,7 +134,8 @@ def row_line(row: dict[str, Any]) -> str:
     closed = "closed" if row["closed"] else "not closed"
     unc = row["uncertain_handles"] + row["uncertain_holes"] + row["uncertain_components"]
     return (
-        f"{name}: {row['verdict']}: {row['points']} points, d = {row['d']}, {closed}, Betti {tuple(row['betti'])}, "
+        f"{name}: {row['verdict']}: {row['points']} points, d = {row['d']}{_contradicted(row)}, {closed}, "
+        f"Betti {tuple(row['betti'])}, "
         f"{unc} uncertain feature(s) ({row['uncertain_handles']} handles, {row['uncertain_holes']} holes, "
         f"{row['uncertain_components']} components), {row['seconds']:.1f} s"
     )

@@ -51,7 +51,11 @@ def add_parser(sub, angle_type) -> None:
     p = sub.add_parser("reconstruct", help="reconstruct a manifold and write the result (one file, or many)")
     p.add_argument("input", type=Path, nargs="+", help="point file(s); several need --out-dir")
     p.add_argument(
-        "-d", type=dimension_arg, required=True, help="intrinsic dimension, or 'auto' to estimate it from the sample"
+        "-d",
+        type=dimension_arg,
+        required=True,
+        help="intrinsic dimension, or 'auto' to estimate it from the sample (a d given that most of the local "
+        "estimate's votes contradict is used, and named after the run)",
     )
     p.add_argument(
         "-o",
@@ -238,7 +242,6 @@ def reconstruct_file(
     d, estimate = choose_d(points, args.d, mesh)
     if estimate is not None:
         say("note", f"{path.name}: -d auto chose {estimate.sentence()}")
-    doubt = None if estimate is not None else _doubted(points, d, mesh)
     k = points.shape[1]
     truth = mesh.simplices(d) if mesh is not None and 1 <= d < k else None
     truth_name = path.name
@@ -273,11 +276,12 @@ def reconstruct_file(
 
         progress("compare", 0.0)
         comparison = compare_to_mesh(rec, truth)
+    # a -d given by hand that the sample contradicts: estimated after the run, on its distinct samples (a file
+    # the run refuses gets its one error line and nothing else), said once both outputs are written
+    doubt = None if estimate is not None else _doubted(rec, d, mesh)
     extra = _report_extra(rec, attributes, estimate or doubt)
     if doubt is not None:
         extra["dimension_estimate"]["given_d"] = d
-        # after the run, so that a file the run refuses still gets its one error line and nothing else
-        say("note", f"{path.name}: -d {d} was given, but the sample looks like {doubt.sentence()}")
     progress("write", 0.0)
     kept = None if truth is None else (truth_name, truth)  # stored with the result: reopened, it is judged again
     if report is None:
@@ -292,6 +296,8 @@ def reconstruct_file(
             _put_back(report, old)
             raise
     progress("write", 1.0)
+    if doubt is not None:
+        say("note", f"{path.name}: -d {d} was given, but the sample looks like {doubt.sentence()}")
     from crustview.report import result_verdict
 
     level, sentence = result_verdict(rec, comparison)
@@ -302,7 +308,7 @@ def reconstruct_file(
     for line in _attribute_lines(extra):
         say("summary", line)
     say("summary", verdict_line(level, sentence, bool(rec.uncertain_features)))
-    return summary_row(path, rec, seconds, output, report, estimate, level)
+    return summary_row(path, rec, seconds, output, report, estimate, level, doubt)
 
 
 def _stored_mesh(path: Path, d: int) -> tuple[str, Any] | None:
@@ -314,11 +320,11 @@ def _stored_mesh(path: Path, d: int) -> tuple[str, Any] | None:
     return stored if stored is not None and stored[1].shape[1] == d + 1 else None
 
 
-def _doubted(points, d: int, mesh) -> Any:
-    """The estimate where it contradicts an explicit ``-d`` (:func:`.dimension.contradiction`)."""
+def _doubted(rec, d: int, mesh) -> Any:
+    """The estimate where it contradicts an explicit ``-d`` (:func:`.dimension.contradiction`), on the run's samples."""
     from crustview.core.analysis.dimension import contradiction
 
-    return contradiction(points, d, mesh)
+    return contradiction(rec.points, d, mesh, distinct=True)
 
 
 def _report_extra(rec, attributes: dict, estimate) -> dict[str, Any]:
@@ -344,9 +350,13 @@ def _attribute_lines(extra: dict[str, Any]) -> list[str]:
 
 
 def summary_row(
-    path: Path, rec, seconds: float, output: Path, report: Path | None, estimate, verdict: str
+    path: Path, rec, seconds: float, output: Path, report: Path | None, estimate, verdict: str, doubt=None
 ) -> dict[str, Any]:
-    """One row of the batch summary (``verdict``: :func:`crustview.report.result_verdict`'s word)."""
+    """One row of the batch summary.
+
+    ``verdict``: :func:`crustview.report.result_verdict`'s word; ``doubt``: the estimate that contradicts a
+    ``-d`` given by hand, if any.
+    """
     top = rec.topology
     kinds = {kind: sum(f.kind == kind for f in rec.uncertain_features) for kind in ("handle", "hole", "component")}
     return {
@@ -357,6 +367,7 @@ def summary_row(
         "k": int(rec.k),
         "d": int(rec.d),
         "d_auto_confidence": None if estimate is None else round(float(estimate.confidence), 3),
+        "d_estimate_contradicts": None if doubt is None else int(doubt.d),
         "closed": bool(top.closed_manifold),
         "betti": [int(b) for b in top.betti],
         "uncertain_handles": kinds["handle"],

@@ -210,6 +210,9 @@ def test_a_given_d_the_sample_contradicts_is_named_after_the_run(capsys, torus_f
     assert est["d"] == 2 and est["given_d"] == 1 and est["confidence"] > CONTRADICTION_SHARE
     with np.load(out) as z:
         assert z["simplices"].shape[1] == 2  # the run used d = 1, as asked
+    # a write that fails after the run: its one error line and no note (a review: the note came first)
+    proc = run_main(capsys, "reconstruct", torus_file, "-d", 1, "-o", tmp_path / "t.stl")
+    assert proc.returncode != 0 and len(proc.stderr.splitlines()) == 1 and "error" in proc.stderr
     # the d the sample shows: no note, no estimate in the report
     proc = run_main(capsys, "reconstruct", torus_file, "-d", 2, "-o", out, "--report", report)
     assert proc.returncode == 0 and proc.stderr == ""

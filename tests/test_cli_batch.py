@@ -252,6 +252,24 @@ def test_a_failed_verdict_exits_1_alone_and_in_a_batch(samples, tmp_path, capsys
     assert "2 of 2 files reconstructed (0 could not be); verdicts: 1 sure, 1 failed;" in lines[-1]
 
 
+def test_a_given_d_the_sample_contradicts_is_in_the_batch_rows_and_summaries(samples, tmp_path, capsys):
+    """A batch at -d 1 over a surface and a curve: the surface's row and its summaries name the d local PCA sees
+    (a review: only its report did); the curve's do not."""
+    from crustview.__main__ import main
+
+    out = tmp_path / "o"
+    main(["reconstruct", str(samples / "sphere.xyz"), str(samples / "trefoil.csv"), "-d", "1", "--out-dir", str(out)])
+    lines = capsys.readouterr().out.splitlines()
+    (sphere,) = [line for line in lines if line.startswith("sphere.xyz: ")]
+    (trefoil,) = [line for line in lines if line.startswith("trefoil.csv: ")]
+    assert "d = 1 (given; the sample looks like d = 2)," in sphere and "looks like" not in trefoil
+    rows = {Path(r["file"]).name: r for r in json.loads((out / "summary.json").read_text())["rows"]}
+    assert rows["sphere.xyz"]["d_estimate_contradicts"] == 2 and rows["trefoil.csv"]["d_estimate_contradicts"] is None
+    with open(out / "summary.csv", newline="") as f:
+        table = {Path(r["file"]).name: r for r in csv.DictReader(f)}
+    assert table["sphere.xyz"]["d_estimate_contradicts"] == "2" and table["trefoil.csv"]["d_estimate_contradicts"] == ""
+
+
 def test_ctrl_c_in_a_batch_keeps_a_summary_of_the_files_done(samples, tmp_path, capsys, monkeypatch):
     """A new user pressed Ctrl-C after some files of a batch were done: their results stayed but no summary
     listed them.  Now the summary lists them, and the files not reached as cancelled.  The interrupt is

@@ -79,3 +79,19 @@ def test_a_cad_cylinder_meshed_on_its_end_circles_is_reconstructed_as_a_surface(
     assert proc.returncode == 0, proc.stderr
     assert "-d auto chose d = 2 (a surface), taken from the file's faces" in proc.stderr
     assert "Reconstructed a surface in R^3" in proc.stdout
+    # the d its faces fit, given by hand: local PCA's 1 does not question it (the faces are the file's own word)
+    from crustview.core.analysis.dimension import contradiction
+    from crustview.io import read_mesh
+
+    mesh = read_mesh(path)
+    assert contradiction(mesh.points, 2, mesh) is None and contradiction(mesh.points, 2).d == 1
+    # a strip of quads in R^4 fits d = 2 and d = 3: a given 3 is the file's word too, and was questioned by a
+    # "d = 2, taken from the file's faces" on half the votes (a review)
+    strip = tmp_path / "strip.off"
+    n = 300
+    verts = [f"{x} {y} 0 0" for x in range(n) for y in (0, 1)]
+    quads = [f"4 {2 * i} {2 * i + 2} {2 * i + 3} {2 * i + 1}" for i in range(n - 1)]
+    strip.write_text("\n".join(["nOFF", "4", f"{2 * n} {n - 1} 0", *verts, *quads]) + "\n")
+    quad_mesh = read_mesh(strip)
+    assert {2, 3} <= set(quad_mesh.fitting_dimensions())
+    assert contradiction(quad_mesh.points, 3, quad_mesh) is None

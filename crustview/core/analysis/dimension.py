@@ -136,12 +136,15 @@ def estimate_file_dimension(points: np.ndarray, mesh: object | None = None) -> D
     return estimate if mesh is None else with_faces(estimate, mesh.fitting_dimensions())  # type: ignore[attr-defined]
 
 
-def estimate_dimension(points: np.ndarray) -> DimensionEstimate:
+def estimate_dimension(points: np.ndarray, *, distinct: bool = False) -> DimensionEstimate:
     """Estimate the intrinsic dimension of a sample (see the module docstring).
 
     Parameters
     ----------
     points : ndarray of shape (n, k)
+    distinct : bool
+        The points are known to be distinct (a reconstruction's merged samples): they are not made unique
+        again, which at a million points took most of the time.
 
     Returns
     -------
@@ -152,7 +155,9 @@ def estimate_dimension(points: np.ndarray) -> DimensionEstimate:
     InputError
         When there are too few distinct points to estimate d.
     """
-    pts = np.unique(np.asarray(points, dtype=np.float64), axis=0)
+    pts = np.asarray(points, dtype=np.float64)
+    if not distinct:
+        pts = np.unique(pts, axis=0)
     n, k = pts.shape
     if k < 2:
         raise InputError(f"Cannot estimate d: points need at least 2 coordinates, these have {k}.")
@@ -190,20 +195,24 @@ def estimate_dimension(points: np.ndarray) -> DimensionEstimate:
     return DimensionEstimate(d, shares[d], shares, gap, sizes, len(centres))
 
 
-def contradiction(points: np.ndarray, d: int, mesh: object | None = None) -> DimensionEstimate | None:
-    """The file's estimate (:func:`estimate_file_dimension`) where it contradicts a given ``d``; else None.
+def contradiction(
+    points: np.ndarray, d: int, mesh: object | None = None, *, distinct: bool = False
+) -> DimensionEstimate | None:
+    """Local PCA's estimate (:func:`estimate_dimension`) where it contradicts a given ``d``; else None.
 
     A contradiction is an estimate of another d that a majority of the local votes chose (more than
-    :data:`CONTRADICTION_SHARE`), or a mesh file's faces that fit another d only.  None where no estimate
-    is made: fewer than k + 2 distinct points, or points in the plane (one dimension to reconstruct).
-    The reconstruction runs with the given d either way; this is what a result says about it.
+    :data:`CONTRADICTION_SHARE`).  None where no estimate is made (fewer than k + 2 distinct points, or
+    points in the plane, where there is one dimension to reconstruct), and for a mesh file whose faces fit
+    ``d``: its faces are its own statement of d (:func:`with_faces`).  ``distinct``: as for
+    :func:`estimate_dimension`.  The reconstruction runs with the given d either way; this is what a result
+    says about it.
     """
+    if mesh is not None and d in mesh.fitting_dimensions():  # type: ignore[attr-defined]
+        return None
     try:
-        est = estimate_file_dimension(points, mesh)
+        est = estimate_dimension(points, distinct=distinct)
     except InputError:
         return None
-    if est.d == d or not est.neighbours:
-        return None
-    if est.samples_d is None and est.confidence <= CONTRADICTION_SHARE:
+    if est.d == d or not est.neighbours or est.confidence <= CONTRADICTION_SHARE:
         return None
     return est
