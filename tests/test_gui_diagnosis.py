@@ -86,6 +86,14 @@ def test_holes_layer_counts_the_holes_of_t_s_as_its_legend_does(qtbot, window):
     layer.visible = True
     assert any(label.startswith(f"Holes of T_S: {holes:,} ") for label, _ in window.view.legend_entries())
     assert window.view.adapters["holes"].part.mesh.n_lines == len(edges)  # one thick line per hole edge
+    qtbot.waitUntil(lambda: window.layers_panel.rows["holes"].count.text() == f"{holes:,}", timeout=5000)
+    assert "holes" in window.layers_panel.rows["holes"].count.toolTip()
+    # the robust run's note counts the faces on holes, not holes (a review: "(244 holes in T_S)" beside 44)
+    from crustview.core import reconstruct
+
+    robust = reconstruct(knight_points(), 2)  # the robust extraction, which notes why the paper's was abandoned
+    (note,) = [m for m in robust.topology.messages if "lost its last simplex" in m]
+    assert f"({len(edges):,} edges on holes of T_S)" in note
 
 
 def test_clicking_a_cascade_frames_its_origin_and_highlights_every_simplex_it_removed(qtbot, window):

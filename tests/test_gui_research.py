@@ -71,6 +71,19 @@ def test_select_by_index(qtbot, window):
     box.setText(f"r {len(rec.input_index)}")
     box.returnPressed.emit()
     assert "rows" in window.statusBar().currentMessage()
+    # the other ways of writing a row, the inspector's own words pasted back included (a review: they selected
+    # the sample of that number); several numbers after 'r' are refused, not read as a face
+    for text in (f"r{row}", f"rows {row}", f"(input row {row})"):
+        sel.select_sample(0)
+        box.setText(text)
+        box.returnPressed.emit()
+        assert sel.sample == rec.input_index[row], text
+    box.setText("r 1 2")
+    box.returnPressed.emit()
+    assert "one row number" in window.statusBar().currentMessage() and sel.sample == rec.input_index[row]
+    box.setText("row")
+    box.returnPressed.emit()
+    assert "'r N'" in window.statusBar().currentMessage()
 
 
 def test_cascade_first_step_and_play_alone(qtbot, window):

@@ -6,7 +6,8 @@ import pytest
 from crustview.core import CANDIDATE_TESTS, reextract
 from crustview.scene import SceneModel
 from crustview.scene.describe import interpretation_rows, verdict
-from crustview.scene.inspector_text import sample_text, simplex_text
+from crustview.scene.inspector_text import input_rows_words, sample_text, simplex_text
+from crustview.scene.lookup import select_by_text
 
 
 @pytest.fixture()
@@ -276,3 +277,20 @@ def test_a_3_sphere_less_one_tetrahedron_is_a_3_manifold_with_boundary(s3_run):
     level, text = verdict(ball)
     assert level == "warn" and "M_S is a 3-manifold with boundary through every sample (1 hole" in text
     assert "open scan" not in text
+
+
+def test_a_row_merged_into_another_names_both_and_selects_their_sample():
+    """Rows 5 and 300 are one point: 'row 300' selects their sample, whose inspector text lists both rows (a
+    review: it named row 5 alone, and row 300 seemed to select another point)."""
+    from crustview.core import reconstruct
+    from crustview.core.samples.manifolds import get_manifold
+
+    pts = get_manifold("sphere").sample(300, seed=2).points
+    rec = reconstruct(np.vstack([pts, pts[5]]), 2)
+    i = int(rec.input_index[300])
+    assert i == rec.input_index[5] and input_rows_words(rec, i) == "input rows 5, 300 (one point)"
+    assert input_rows_words(rec, int(rec.input_index[6])) == f"input row {6}"
+    m = SceneModel()
+    m.set_reconstruction(rec, source="sphere")
+    assert select_by_text(m, "row 300")[0] == "sample" and m.selection.sample == i
+    assert "input rows 5, 300 (one point)" in sample_text(m, i)

@@ -40,6 +40,9 @@ ORDER = (
 )
 
 
+#: The count column's tooltip, and where a layer's count is not of its drawn elements.
+COUNT_TIP = "Number of elements in the layer at the current step"
+COUNT_TIPS = {"holes": "Number of holes of T_S (each drawn as its rim of faces on one simplex only)"}
 #: Widths (px) of the opacity slider, the size box and an option menu in a narrow dock.
 COMPACT_SLIDER, COMPACT_SIZE, COMPACT_OPTION = 36, 46, 78
 
@@ -59,7 +62,7 @@ class LayerRow:
         self.visible.toggled.connect(lambda v: setattr(layer, "visible", bool(v)))
         self.count = QLabel(parent)
         self.count.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
-        self.count.setToolTip("Number of elements in the layer at the current step")
+        self.count.setToolTip(COUNT_TIP)
         self.color = QToolButton(parent)
         self.color.setFixedSize(22, 18)
         self.color.setToolTip("Colour (used when no scalar colouring is active)")
@@ -167,7 +170,7 @@ class LayerRow:
                 # in a narrow dock, drawn of total on two lines: the column stays as narrow as a count
                 sep = "\n" if self.compacted else " "
                 self.count.setText(f"{layer.count:,}{sep}of {layer.total:,}" if thinned else f"{layer.count:,}")
-                self.count.setToolTip(layer.note if thinned else "Number of elements in the layer at the current step")
+                self.count.setToolTip(layer.note if thinned else COUNT_TIPS.get(layer.name, COUNT_TIP))
             if isinstance(self.extra, QComboBox):
                 value = layer.colorby if layer.colorings else layer.mode
                 i = self.extra.findText(value)

@@ -14,7 +14,7 @@ def sample_text(model: SceneModel, i: int) -> str:
     """Details of sample ``i``: coordinates, poles, normal error."""
     rec = model.rec
     assert rec is not None
-    lines = [f"<b>Sample {i}</b> (input row {int(rec.point_input[i])})"]
+    lines = [f"<b>Sample {i}</b> ({input_rows_words(rec, i)})"]
     lines.append("x = (" + ", ".join(f"{v:.4g}" for v in rec.points[i]) + ")")
     lines.append(f"local spacing {model.spacing[i]:.4g}")
     lines.append(epsilon_line(model, i))
@@ -97,3 +97,17 @@ def face_text(model: SceneModel, face) -> str:
     inc = simplices_at_face(rec.extraction.simplices[alive], face)
     kind = "boundary" if len(inc) == 1 else ("non-manifold" if len(inc) > 2 else "manifold")
     return f"<b>Face {fmt_tuple(face)}</b>: {len(inc)} incident simplices at this step ({kind})"
+
+
+#: Most input rows the inspector lists for one sample (the others are counted).
+ROWS_LISTED = 4
+
+
+def input_rows_words(rec, i: int) -> str:
+    """E.g. "input row 5", or "input rows 5, 9 (one point)" for rows merged into sample ``i``."""
+    rows = np.flatnonzero(np.asarray(rec.input_index) == i)
+    if len(rows) <= 1:
+        return f"input row {int(rec.point_input[i])}"
+    shown = ", ".join(str(int(r)) for r in rows[:ROWS_LISTED])
+    more = f" and {len(rows) - ROWS_LISTED:,} more" if len(rows) > ROWS_LISTED else ""
+    return f"input rows {shown}{more} (one point)"

@@ -12,9 +12,10 @@ from . import geometry as geo
 def select_by_text(model, text: str) -> tuple[str, np.ndarray] | str:
     """Select what ``text`` names in ``model.selection``.
 
-    ``"12"`` or ``"sample 12"``: sample 12; ``"r 7"``/``"row 7"``: the sample of the file's row 7 (rows
-    from 0, as the inspector's "input row" counts them; samples are numbered in spatial order, and
-    repeated rows share one sample); ``"s 40"``/``"simplex 40"``: T_S
+    ``"12"`` or ``"sample 12"``: sample 12; ``"r 7"``, ``"r7"``, ``"row 7"``, ``"rows 7"`` or
+    ``"(input row 7)"``: the sample of the input's row 7 (rows from 0, as the inspector's "input row" counts
+    them; samples are numbered in spatial order, and repeated rows share one sample; a built-in's rows are
+    its drawn points); ``"s 40"``/``"simplex 40"``: T_S
     simplex 40 (the number the steps use); ``d + 1`` numbers (``"12 40 41"``,
     ``"(12, 40, 41)"``): the simplex on those samples; ``d`` numbers: that
     (d-1)-face.  Returns ``(kind, samples)`` with the sample indices to frame,
@@ -23,19 +24,25 @@ def select_by_text(model, text: str) -> tuple[str, np.ndarray] | str:
     rec = model.rec
     if rec is None:
         return "nothing is shown yet"
-    words = text.strip().lower()
+    words = text.strip().lower().strip("()[] ")
     nums = [int(v) for v in re.findall(r"-?\d+", words)]
+    by_row = re.match(r"^(input\s*)?(r|rows?)(\b|\d)", words) is not None
     if not nums:
-        return f"type a sample number (0 … {rec.n - 1}) or the {rec.d + 1} samples of a simplex"
+        return (
+            f"type a sample number (0 … {rec.n - 1}), 'r N' for the input's row N, or the {rec.d + 1} samples "
+            "of a simplex"
+        )
     if any(v < 0 for v in nums):
         return "indices are 0 or more"
     sel = model.selection
     ext = rec.extraction
-    if len(nums) == 1 and re.match(r"^(r|row|input row)\b", words):
-        r = nums[0]
+    if by_row:
         rows = len(rec.input_index)
+        if len(nums) != 1:
+            return "give one row number after 'r'"
+        r = nums[0]
         if r >= rows:
-            return f"the file has {rows:,} rows (0 … {rows - 1})"
+            return f"the input has {rows:,} rows (0 … {rows - 1})"
         i = int(rec.input_index[r])
         sel.select_sample(i)
         return "sample", np.array([i])

@@ -177,10 +177,13 @@ def extract_robust(
             note_paper = "the paper's Algorithm 3 ended with a pinched complex"
         elif paper.stopped == "sample-lost":
             n_steps, n_holes = paper.n_steps, len(paper.holes)
+            # the faces on holes, not holes: the holes layer and its legend count the holes (a review)
+            size = len(paper.holes[0]) if n_holes else 0  # samples per face on a hole: d
+            unit = {1: "end", 2: "edge", 3: "triangle"}.get(size, "face")
             note_paper = (
                 f"the paper's Algorithm 3 was abandoned after {n_steps} step{'' if n_steps == 1 else 's'}, "
                 f"when {paper.notes[-1].split(' lost')[0]} lost its last simplex "
-                f"({n_holes} hole{'' if n_holes == 1 else 's'} in T_S)"
+                f"({n_holes} {unit}{'' if n_holes == 1 else 's'} on holes of T_S)"
             )
         else:
             note_paper = f"the paper's Algorithm 3 ended {paper.stopped}"
