@@ -15,6 +15,7 @@ from ..core.analysis.dimension import estimate_file_dimension
 from ..core.errors import CrustviewError
 from ..scene.truth import MeshTruth
 from .dialogs import BuiltinDialog, ask_dimension, ask_overwrite_input
+from .running import d_doubt
 
 MAX_RECENT = 8
 
@@ -187,6 +188,7 @@ class FileActions:
             if saved is not None and saved.get("mode") not in (None, mode) and not note:
                 note = f"{name} was saved in {saved['mode']} mode; reconstructing in {mode} mode as asked."
             params["mode"] = mode
+        asked = False  # d asked here, with the estimate shown; otherwise a d given is checked against it
         if d is not None and not 1 <= d < k:
             self.statusBar().showMessage(f"d = {d} is not possible for points in R^{k}; choose 1 … {k - 1}.", 10000)
             d = None
@@ -197,6 +199,7 @@ class FileActions:
                 self.show_error(str(err))
                 return False
             d = ask_dimension(self, k, estimate.d, name, estimate.sentence())
+            asked = True
             if d is None:
                 self.statusBar().showMessage("Opening cancelled: no dimension given.", 5000)
                 return False
@@ -218,6 +221,9 @@ class FileActions:
             self.model.layers["points"].colorby = "file colours"
         elif attributes.get("normals") is not None:
             self.model.layers["points"].colorby = "file normal angle"
+        doubt = None if asked else d_doubt(points, int(d), mesh)
+        if doubt:
+            read_notes.append(doubt)  # said with the result
         if self.model.rec is not None and not self.runner.busy:
             self._shelve_shown(points, name)  # the last file's result aside while this one runs
         if not self.start_reconstruction(points, int(d), truth=truth, source=name, origin=origin, **params):

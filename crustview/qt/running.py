@@ -24,6 +24,18 @@ def _quality(rec, progress, cancel=None):
     return sampling_quality(rec, progress=lambda f: progress("quality", f), cancel=cancel)
 
 
+def d_doubt(points: np.ndarray, d: int, mesh=None) -> str | None:
+    """The status line's note on a d given to the window that local PCA contradicts, or None.
+
+    :func:`~crustview.core.analysis.dimension.contradiction`, as ``crustview reconstruct -d`` says it: a d from
+    ``view -d``, a session, a saved result or the Run panel (the window's own question shows the estimate).
+    """
+    from ..core.analysis.dimension import contradiction
+
+    doubt = contradiction(points, int(d), mesh)
+    return None if doubt is None else f"d = {d} was given, but the sample looks like {doubt.sentence()}"
+
+
 def _same_simplices(rec, saved: np.ndarray) -> bool:
     """Whether ``rec``'s M_S, in input rows, is the saved simplex list."""
     mine = np.asarray(rec.point_input)[np.asarray(rec.manifold, dtype=np.intp)].reshape(-1, rec.d + 1)
@@ -248,18 +260,20 @@ class RunActions:
                 job, label, points=self.points, truth=self.model.truth, source=self.model.source, keep_view=True
             ):
                 self.run_panel.sync_prune()
-        else:
-            self.start_reconstruction(
-                self.points,
-                d,
-                truth=self.model.truth,
-                source=self.model.source,
-                test=test,
-                theta=theta,
-                prune_boundary=prune,
-                origin=self.origin,
-                new_data=False,
-            )
+        elif self.start_reconstruction(
+            self.points,
+            d,
+            truth=self.model.truth,
+            source=self.model.source,
+            test=test,
+            theta=theta,
+            prune_boundary=prune,
+            origin=self.origin,
+            new_data=False,
+        ) and (rec is None or rec.d != d):  # a d chosen in the Run panel: said with the result if the sample doubts it
+            note = d_doubt(self.points, d)
+            if note:
+                self._pending.setdefault("notes", []).append(note)
 
     def _job_done(self, result) -> None:
         # the model's events for a new result each ask for a frame: one is drawn, at the end (render.frames)
