@@ -77,9 +77,10 @@ class Legend:
         first = self._first_line()
         for j, note in enumerate(notes):
             lines.append((" " + note + " ", note_color, first - step * j, 8, True, None))
-        top = len(notes) + (0.3 if notes else 0)
+        # the entries 0.3 of a line below the notes, or just below them where the notes had to come down
+        below = min(0.965 - step * (len(notes) + 0.3), first - step * len(notes)) if notes else first
         for j, (label, color) in enumerate(entries):
-            y = first - step * (j + top)
+            y = below - step * j
             lines.append(("   ", "#222222", y, 8, False, color))
             lines.append((" " + label + " ", "#222222", y, 8 + self.font_size * 1.4, False, None))
         while len(self.actors) > len(lines):
